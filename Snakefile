@@ -1,0 +1,22 @@
+# railgrowth: rail roughness growth on tangent track (Sheng, Thompson & Jones).
+# `snakemake -j2` builds every report figure; studies are named targets (see README).
+
+from snakemake.utils import min_version
+
+min_version("9.0")
+
+
+configfile: "config/config.yaml"
+
+
+report: "workflow/report/workflow.rst"
+
+
+include: "workflow/rules/common.smk"
+include: "workflow/rules/halfspace.smk"
+
+
+rule all:
+    input:
+        paper_figures(),
+    default_target: True

@@ -1,0 +1,105 @@
+"""Datasets behind the report's figures: physics from the modules below, units and names here.
+
+Each function returns an xarray Dataset whose every variable carries ``units`` and
+``long_name``; ``rail.io.finalize`` adds the configuration and versions.
+"""
+
+from __future__ import annotations
+
+import numpy as np
+import xarray as xr
+
+from . import halfspace
+from .halfspace import ElasticMaterial, HalfSpaceNumerics
+from .params import HalfSpaceFigureSettings
+
+__all__ = ["fig02", "fig03", "fig04", "radiation", "fig05", "fig06"]
+
+
+def _var(dims, data, units, long_name, **extra):
+    return (dims, np.asarray(data), {"units": units, "long_name": long_name, **extra})
+
+
+def _wavenumber_attrs(omega, material):
+    b1, b2, bR = halfspace.wavenumbers(omega, material)
+    return {
+        "beta_P_rad_per_m": float(b1),
+        "beta_S_rad_per_m": float(b2),
+        "beta_R_rad_per_m": float(bR),
+    }
+
+
+def fig02(material: ElasticMaterial, fig: HalfSpaceFigureSettings, points: int = 600) -> xr.Dataset:
+    """Fig. 2: real and imaginary parts of the folded integrand of eq (14), 0 < beta < beta_R."""
+    omega = 2 * np.pi * fig.frequency
+    _, _, bR = halfspace.wavenumbers(omega, material)
+    beta = (np.arange(points) + 0.5) / points * bR  # midpoints: beta = 0 and beta_R excluded
+    f = halfspace.folded_integrand(beta, omega, fig.radius, material)
+    return xr.Dataset(
+        {
+            "integrand_real": _var("wavenumber", f.real, "m^2/N", "real part of the integrand of the first integral of eq (14)"),
+            "integrand_imag": _var("wavenumber", f.imag, "m^2/N", "imaginary part of the integrand of the first integral of eq (14)"),
+        },
+        coords={"wavenumber": _var("wavenumber", beta, "rad/m", "radial wavenumber beta")},
+        attrs={"frequency_Hz": fig.frequency, "radius_m": fig.radius, **_wavenumber_attrs(omega, material)},
+    )
+
+
+def fig03(material: ElasticMaterial, fig: HalfSpaceFigureSettings, points: int = 400, upper: float = 20.0) -> xr.Dataset:
+    """Fig. 3: beta G(beta, omega) for 2 beta_R <= beta <= ``upper`` beta_R and its limit, eq (15)."""
+    omega = 2 * np.pi * fig.frequency
+    _, _, bR = halfspace.wavenumbers(omega, material)
+    beta = np.linspace(2 * bR, upper * bR, points)
+    bG = (beta * halfspace.kernel_G(beta, omega, material)).real
+    limit = np.full_like(beta, halfspace.static_limit_beta_G(material))
+    return xr.Dataset(
+        {
+            "beta_G": _var("wavenumber", bG, "m^2/N", "beta G(beta, omega), eq (9)"),
+            "static_limit": _var("wavenumber", limit, "m^2/N", "limit 2 (1 - nu^2) / E, eq (15)"),
+        },
+        coords={"wavenumber": _var("wavenumber", beta, "rad/m", "radial wavenumber beta")},
+        attrs={"frequency_Hz": fig.frequency, **_wavenumber_attrs(omega, material)},
+    )
+
+
+def fig04(material: ElasticMaterial, fig: HalfSpaceFigureSettings, numerics: HalfSpaceNumerics) -> xr.Dataset:
+    """Fig. 4: displacement under a unit harmonic load from eq (16) and Boussinesq's eq (17)."""
+    omega = 2 * np.pi * fig.frequency
+    w = halfspace.surface_displacement(fig.radii, omega, material, 1.0, numerics)
+    return xr.Dataset(
+        {
+            "displacement_real": _var("radius", w.real, "m", "real part of the vertical displacement, eq (16), unit load"),
+            "displacement_imag": _var("radius", w.imag, "m", "imaginary part of the vertical displacement, eq (16) with the Rayleigh residue, unit load"),
+            "displacement_boussinesq": _var("radius", halfspace.boussinesq(fig.radii, material), "m", "static displacement, Boussinesq eq (17), unit load"),
+        },
+        coords={"radius": _var("radius", fig.radii, "m", "distance r from the loading point")},
+        attrs={"frequency_Hz": fig.frequency, "load_N": 1.0},
+    )
+
+
+def radiation(material: ElasticMaterial, fig: HalfSpaceFigureSettings, numerics: HalfSpaceNumerics) -> xr.Dataset:
+    """Im w0(0), radiated power per unit load and the contact loss factor over frequency."""
+    f = fig.frequencies
+    omega = 2 * np.pi * f
+    im = halfspace.point_receptance_imag(omega, material, numerics)
+    power = halfspace.radiated_power(omega, material, 1.0, numerics)
+    eta = halfspace.contact_loss_factor(omega, fig.hertz_stiffness, material, numerics)
+    return xr.Dataset(
+        {
+            "receptance_imag": _var("frequency", im, "m/N", "imaginary part of the half-space driving-point receptance Im w0(0)"),
+            "radiated_power": _var("frequency", power, "W", "power radiated into the half-space by a 1 N harmonic load"),
+            "loss_factor": _var("frequency", eta, "1", "contact-spring loss factor eta_H = -2 k_H Im w0(0)"),
+        },
+        coords={"frequency": _var("frequency", f, "Hz", "frequency")},
+        attrs={"hertz_stiffness_N_per_m": fig.hertz_stiffness, "load_N": 1.0},
+    )
+
+
+def fig05(rad: xr.Dataset) -> xr.Dataset:
+    """Fig. 5: radiated power for a unit load against frequency."""
+    return rad[["radiated_power"]].assign_attrs(load_N=rad.attrs["load_N"])
+
+
+def fig06(rad: xr.Dataset) -> xr.Dataset:
+    """Fig. 6: contact-spring loss factor against frequency."""
+    return rad[["loss_factor"]].assign_attrs(hertz_stiffness_N_per_m=rad.attrs["hertz_stiffness_N_per_m"])

@@ -1,0 +1,57 @@
+"""Turn a validated configuration mapping into frozen parameter dataclasses (SI units).
+
+This is the one place where dictionaries become dataclasses; everything below takes
+dataclasses and arrays.
+"""
+
+from __future__ import annotations
+
+from dataclasses import dataclass
+
+import numpy as np
+
+from .halfspace import ElasticMaterial, HalfSpaceNumerics
+
+__all__ = ["HalfSpaceFigureSettings", "material", "halfspace_numerics", "halfspace_figures"]
+
+
+@dataclass(frozen=True, slots=True)
+class HalfSpaceFigureSettings:
+    """What Figs 2-6 show.
+
+    frequency       : Hz, frequency of Figs 2-4
+    radius          : m, observer distance of Fig. 2
+    radii           : m, observer distances of Fig. 4
+    frequencies     : Hz, frequencies of Figs 5-6 (from 0)
+    hertz_stiffness : N/m, k_H of Fig. 6
+    """
+
+    frequency: float
+    radius: float
+    radii: np.ndarray
+    frequencies: np.ndarray
+    hertz_stiffness: float
+
+
+def material(cfg: dict) -> ElasticMaterial:
+    """Rail steel as an elastic half-space (config key ``material``)."""
+    m = cfg["material"]
+    return ElasticMaterial(float(m["youngs_modulus"]), float(m["poisson_ratio"]), float(m["density"]))
+
+
+def halfspace_numerics(cfg: dict) -> HalfSpaceNumerics:
+    """Quadrature settings of eq (16) (config key ``numerics.halfspace``)."""
+    n = cfg["numerics"]["halfspace"]
+    return HalfSpaceNumerics(epsrel=float(n["epsrel"]), limit=int(n["limit"]))
+
+
+def halfspace_figures(cfg: dict) -> HalfSpaceFigureSettings:
+    """Settings of Figs 2-6 (config key ``figures.halfspace`` and ``contact.hertz_stiffness``)."""
+    f = cfg["figures"]["halfspace"]
+    return HalfSpaceFigureSettings(
+        frequency=float(f["frequency"]),
+        radius=float(f["radius"]),
+        radii=np.linspace(float(f["radius_min"]), float(f["radius_max"]), int(f["radius_count"])),
+        frequencies=np.linspace(0.0, float(f["frequency_max"]), int(f["frequency_count"])),
+        hertz_stiffness=float(cfg["contact"]["hertz_stiffness"]),
+    )

@@ -1,0 +1,87 @@
+"""Configuration: the defaults validate; bad values fail with the key, the value and the range."""
+
+import copy
+
+import pytest
+
+from rail import config as rconfig
+from rail import params
+
+
+@pytest.fixture(scope="module")
+def schema(root):
+    return rconfig.load_yaml(root / "config/schema/config.schema.yaml")
+
+
+@pytest.fixture(scope="module")
+def defaults(root):
+    return rconfig.load_yaml(root / "config/config.yaml")
+
+
+def test_default_config_is_valid_and_builds_parameters(defaults, schema):
+    cfg = rconfig.validate_config(copy.deepcopy(defaults), schema)
+    m = params.material(cfg)
+    assert (m.youngs_modulus, m.poisson_ratio, m.density) == (2.1e11, 0.3, 7850.0)
+
+
+def test_unknown_key_names_key_value_and_allowed_keys(defaults, schema):
+    cfg = rconfig.deep_merge(defaults, {"track": {"pad": {"stifness": 3.5e8}}})
+    with pytest.raises(rconfig.ConfigError, match=r"scen.yaml: unknown key track\.pad\.stifness = 350000000\.0; the keys allowed under track\.pad are: loss_factor, stiffness"):
+        rconfig.validate_config(cfg, schema, source="scen.yaml")
+
+
+def test_negative_modulus_names_value_and_range(defaults, schema):
+    cfg = rconfig.deep_merge(defaults, {"material": {"youngs_modulus": -2.1e11}})
+    with pytest.raises(rconfig.ConfigError, match=r"material\.youngs_modulus = -210000000000\.0 Pa is not allowed: it must be > 0 Pa \(valid range \(0, inf\) Pa\)"):
+        rconfig.validate_config(cfg, schema)
+
+
+@pytest.mark.parametrize("nu", [0.5, 0.7])
+def test_poisson_ratio_of_half_or_more_is_rejected(defaults, schema, nu):
+    cfg = rconfig.deep_merge(defaults, {"material": {"poisson_ratio": nu}})
+    with pytest.raises(rconfig.ConfigError, match=rf"material\.poisson_ratio = {nu} is not allowed: it must be < 0\.5 \(valid range \(-1, 0\.5\)\)"):
+        rconfig.validate_config(cfg, schema)
+
+
+def test_every_problem_is_listed_at_once(defaults, schema):
+    cfg = rconfig.deep_merge(defaults, {"material": {"poisson_ratio": 0.5, "density": -1.0}, "wear": {"coefficent": 1.0}})
+    with pytest.raises(rconfig.ConfigError) as info:
+        rconfig.validate_config(cfg, schema)
+    text = str(info.value)
+    assert "poisson_ratio" in text and "density" in text and "wear.coefficent" in text
+
+
+def test_yaml_exponent_without_dot_gets_a_hint(defaults, schema):
+    cfg = rconfig.deep_merge(defaults, {"track": {"pad": {"stiffness": "3.5e8"}}})
+    with pytest.raises(rconfig.ConfigError, match=r"track\.pad\.stiffness = '3\.5e8' has the wrong type: it must be of type number \(YAML reads 3\.5e8 as text"):
+        rconfig.validate_config(cfg, schema)
+
+
+def test_static_friction_below_dynamic_is_rejected(defaults, schema):
+    cfg = rconfig.deep_merge(defaults, {"contact": {"friction_static": 0.2}})
+    with pytest.raises(rconfig.ConfigError, match=r"contact\.friction_static = 0\.2 is not allowed: it must be >= contact\.friction_dynamic = 0\.3"):
+        rconfig.validate_config(cfg, schema)
+
+
+def test_scenario_merge_keeps_unchanged_defaults(defaults, schema):
+    cfg = rconfig.resolve(defaults, schema, {"track": {"pad": {"stiffness": 7.0e7}}}, source="soft_pad.yaml")
+    assert cfg["track"]["pad"] == {"stiffness": 7.0e7, "loss_factor": 0.25}
+    assert defaults["track"]["pad"]["stiffness"] == 3.5e8  # defaults untouched
+
+
+def test_schema_states_a_unit_and_description_for_every_leaf(schema):
+    # Every configurable number must say its unit; a schema leaf without one is a defect.
+    def leaves(node, path):
+        if node.get("type") == "object":
+            for key, sub in node.get("properties", {}).items():
+                yield from leaves(sub, f"{path}.{key}")
+        else:
+            yield path, node
+
+    defs = schema["$defs"]
+    for path, node in leaves(schema, "config"):
+        if "$ref" in node:
+            node = {**defs[node["$ref"].split("/")[-1]], **node}
+        assert "description" in node, path
+        if node.get("type") in ("number", "integer"):
+            assert "unit" in node, path

@@ -1,0 +1,20 @@
+"""Figs 5-6: select the figure's variables from the radiation dataset, write and draw them."""
+
+import sys
+
+import xarray as xr
+
+from rail import datasets, figures, io
+
+
+def main(nn, config, in_path, data_path, figure_path):
+    with xr.open_dataset(in_path) as rad:
+        ds = getattr(datasets, f"fig{nn}")(rad.load())
+    ds = io.finalize(ds, config, title=f"Figure {int(nn)}", source=f"rail.datasets.fig{nn}")
+    io.write_netcdf(ds, data_path)
+    getattr(figures, f"fig{nn}")(ds).savefig(figure_path, dpi=150)
+
+
+if __name__ == "__main__":
+    sys.stderr = open(snakemake.log[0], "w")  # noqa: F821
+    main(snakemake.wildcards.nn, snakemake.config, snakemake.input[0], snakemake.output.data, snakemake.output.figure)  # noqa: F821
