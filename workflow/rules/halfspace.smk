@@ -7,7 +7,7 @@ rule halfspace_figure:
         data="results/data/fig{nn}.nc",
         figure=report(
             "results/figures/fig{nn}.png",
-            caption="../report/fig{nn}.rst",
+            caption="../report/halfspace_figure.rst",
             category="Section 3: half-space",
         ),
     wildcard_constraints:
@@ -36,7 +36,7 @@ rule radiation_figure:
         data="results/data/fig{nn}.nc",
         figure=report(
             "results/figures/fig{nn}.png",
-            caption="../report/fig{nn}.rst",
+            caption="../report/radiation_figure.rst",
             category="Section 3: half-space",
         ),
     wildcard_constraints:
