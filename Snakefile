@@ -14,6 +14,7 @@ report: "workflow/report/workflow.rst"
 
 include: "workflow/rules/common.smk"
 include: "workflow/rules/halfspace.smk"
+include: "workflow/rules/track.smk"
 
 
 rule all:

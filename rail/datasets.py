@@ -13,7 +13,7 @@ from . import halfspace
 from .halfspace import ElasticMaterial, HalfSpaceNumerics
 from .params import HalfSpaceFigureSettings
 
-__all__ = ["fig02", "fig03", "fig04", "radiation", "fig05", "fig06"]
+__all__ = ["fig02", "fig03", "fig04", "radiation", "fig05", "fig06", "receptance_table"]
 
 
 def _var(dims, data, units, long_name, **extra):
@@ -103,3 +103,29 @@ def fig05(rad: xr.Dataset) -> xr.Dataset:
 def fig06(rad: xr.Dataset) -> xr.Dataset:
     """Fig. 6: contact-spring loss factor against frequency."""
     return rad[["loss_factor"]].assign_attrs(hertz_stiffness_N_per_m=rad.attrs["hertz_stiffness_N_per_m"])
+
+
+def receptance_table(tab, track) -> xr.Dataset:
+    """Moving-load receptance matrices A_d[p, k] = a_{p-k}(k Omega_0, d) of rail.moving.receptance_table."""
+    K = tab.harmonics
+    h = np.arange(-K, K + 1)
+    dims = ("offset", "response_harmonic", "force_harmonic")
+    return xr.Dataset(
+        {
+            "receptance_real": _var(dims, tab.A.real, "m/N", "real part of a_{p-k}(k Omega_0, d): response harmonic p at offset d per unit force harmonic k"),
+            "receptance_imag": _var(dims, tab.A.imag, "m/N", "imaginary part of a_{p-k}(k Omega_0, d)"),
+            "quadrature_error": _var(dims, tab.error, "m/N", "estimated absolute error of the wavenumber quadrature"),
+        },
+        coords={
+            "offset": _var("offset", tab.offsets, "m", "offset d of the receiving point ahead of the load"),
+            "response_harmonic": _var("response_harmonic", h, "1", "harmonic p of the sleeper-passing frequency in the response"),
+            "force_harmonic": _var("force_harmonic", h, "1", "harmonic k of the sleeper-passing frequency in the force"),
+        },
+        attrs={
+            "speed_m_per_s": tab.speed,
+            "sleeper_passing_frequency_Hz": tab.speed / track.L,
+            "damping_model": track.damping,
+            "quadrature_nodes": tab.nodes,
+            "convention": "harmonic p of the rail displacement at offset d equals sum_k A[d, p, k] P_k for force harmonics P_k; time factor exp(+i p Omega_0 t); displacement and force positive downwards",
+        },
+    )

@@ -11,8 +11,9 @@ from dataclasses import dataclass
 import numpy as np
 
 from .halfspace import ElasticMaterial, HalfSpaceNumerics
+from .track import Ballast, Pad, Rail, Sleeper, Track
 
-__all__ = ["HalfSpaceFigureSettings", "material", "halfspace_numerics", "halfspace_figures"]
+__all__ = ["HalfSpaceFigureSettings", "material", "halfspace_numerics", "halfspace_figures", "track"]
 
 
 @dataclass(frozen=True, slots=True)
@@ -54,4 +55,26 @@ def halfspace_figures(cfg: dict) -> HalfSpaceFigureSettings:
         radii=np.linspace(float(f["radius_min"]), float(f["radius_max"]), int(f["radius_count"])),
         frequencies=np.linspace(0.0, float(f["frequency_max"]), int(f["frequency_count"])),
         hertz_stiffness=float(cfg["contact"]["hertz_stiffness"]),
+    )
+
+
+def track(cfg: dict) -> Track:
+    """Table 1 track (config key ``track``)."""
+    t = cfg["track"]
+    r, p, s, b = t["rail"], t["pad"], t["sleeper"], t["ballast"]
+    return Track(
+        rail=Rail(
+            youngs_modulus=float(r["youngs_modulus"]),
+            shear_modulus=float(r["shear_modulus"]),
+            density=float(r["density"]),
+            area=float(r["area"]),
+            second_moment_of_area=float(r["second_moment_of_area"]),
+            shear_coefficient=float(r["shear_coefficient"]),
+            loss_factor=float(r["loss_factor"]),
+            damping_time=float(r["damping_time"]),
+        ),
+        pad=Pad(float(p["stiffness"]), float(p["loss_factor"]), float(p["viscous_damping"])),
+        sleeper=Sleeper(float(s["mass"]), float(s["spacing"])),
+        ballast=Ballast(float(b["stiffness"]), float(b["loss_factor"]), float(b["viscous_damping"])),
+        damping=str(t["damping"]),
     )

@@ -26,7 +26,7 @@ def test_default_config_is_valid_and_builds_parameters(defaults, schema):
 
 def test_unknown_key_names_key_value_and_allowed_keys(defaults, schema):
     cfg = rconfig.deep_merge(defaults, {"track": {"pad": {"stifness": 3.5e8}}})
-    with pytest.raises(rconfig.ConfigError, match=r"scen.yaml: unknown key track\.pad\.stifness = 350000000\.0; the keys allowed under track\.pad are: loss_factor, stiffness"):
+    with pytest.raises(rconfig.ConfigError, match=r"scen.yaml: unknown key track\.pad\.stifness = 350000000\.0; the keys allowed under track\.pad are: loss_factor, stiffness, viscous_damping"):
         rconfig.validate_config(cfg, schema, source="scen.yaml")
 
 
@@ -65,7 +65,7 @@ def test_static_friction_below_dynamic_is_rejected(defaults, schema):
 
 def test_scenario_merge_keeps_unchanged_defaults(defaults, schema):
     cfg = rconfig.resolve(defaults, schema, {"track": {"pad": {"stiffness": 7.0e7}}}, source="soft_pad.yaml")
-    assert cfg["track"]["pad"] == {"stiffness": 7.0e7, "loss_factor": 0.25}
+    assert cfg["track"]["pad"] == {"stiffness": 7.0e7, "loss_factor": 0.25, "viscous_damping": 2.8e4}
     assert defaults["track"]["pad"]["stiffness"] == 3.5e8  # defaults untouched
 
 

@@ -19,3 +19,22 @@ def paper_figures():
     return expand(
         ["results/figures/fig{nn}.png", "results/data/fig{nn}.nc"], nn=HALFSPACE_FIGURES
     )
+
+
+def speed_label(v):
+    """Speed in a file name: 40.0 -> '40', 37.5 -> '37.5'."""
+    return f"{float(v):g}"
+
+
+def wheel_offsets():
+    """Offsets d between every ordered pair of wheels (0 first): the transfer receptances needed."""
+    pos = [float(x) for x in config["wheels"]["positions"]]
+    return sorted({0.0} | {round(a - b, 9) for a in pos for b in pos if a != b}, key=abs)
+
+
+def receptance_tables():
+    """Receptance tables of the default track at every configured speed."""
+    return expand(
+        "results/receptance/default/V{speed}.nc",
+        speed=[speed_label(v) for v in config["speeds"]],
+    )

@@ -1,0 +1,233 @@
+"""Moving harmonic loads on the periodically supported rail: the wavenumber method (report ref. [18]).
+
+A load F exp(i Omega t) moves at speed V along the rail (position V t, a support at x = 0 at
+t = 0).  The rail displacement at the load, and at points moving with it at offsets d, is
+
+    w(V t + d, t) = F exp(i Omega t) sum_n a_n(Omega, d) exp(i n Omega_0 t),  Omega_0 = 2 pi V / L,
+
+with (docs/track.md, derived by a space-time Fourier transform and Poisson summation)
+
+    a_n(Omega, d) = delta_n0 / (2 pi) int g_0(beta) e^{-i beta d} d beta
+                    - 1 / (2 pi L) int w(beta) g_0(beta) g_n(beta) e^{-i (beta - n beta0) d} d beta,
+    g_j(beta) = H(beta - j beta0, omega),  omega = Omega + beta V,
+    w(beta)   = L K_s(omega) / (L + K_s(omega) S(beta, omega)).
+
+For Omega = k Omega_0 the shift beta -> beta + k beta0 maps every harmonic onto one table of
+h_j(beta) = H(beta - j beta0, beta V): the whole receptance matrix for the periodic problem,
+
+    A_d[p, k] = a_{p-k}(k Omega_0, d) = delta_pk / (2 pi) int h_k e_k^d - 1/(2 pi L) int w h_k h_p e_p^d,
+
+(e_j^d = exp(-i (beta - j beta0) d)) comes from a single weighted Gram product.  The diagonal is
+integrated in the combined form h (L + K_s (S - h)) / (L + K_s S), in which the divergences of
+the free-rail term and the support term at the static point (beta -> 0, omega -> 0) cancel.
+"""
+
+from __future__ import annotations
+
+from dataclasses import dataclass
+
+import numpy as np
+from scipy import special
+
+from .quadrature import adaptive_panels
+from .track import Track, free_receptance, periodic_sum, rail_stiffnesses, support_stiffness
+
+__all__ = ["MovingReceptance", "receptance_table", "moving_coefficients"]
+
+
+@dataclass(frozen=True)
+class MovingReceptance:
+    """Receptance matrices of the moving-load problem at one speed.
+
+    speed     : V, m/s
+    harmonics : K; rows p and columns k run over -K..K
+    offsets   : d, m (0 = at the load)
+    A         : complex (offset, p, k), m/N: response harmonic p at offset d per unit force harmonic k
+    error     : estimated absolute quadrature error of A (same shape), m/N
+    nodes     : number of wavenumber quadrature nodes
+    """
+
+    speed: float
+    harmonics: int
+    offsets: np.ndarray
+    A: np.ndarray
+    error: np.ndarray
+    nodes: int
+
+    def a(self, n: int, k: int, offset_index: int = 0) -> complex:
+        """a_n(k Omega_0, d): needs |k| <= K and |k + n| <= K."""
+        K = self.harmonics
+        if abs(k) > K or abs(k + n) > K:
+            raise ValueError(f"a_n(k Omega_0) with n = {n}, k = {k} needs |k| <= {K} and |k + n| <= {K}.")
+        return complex(self.A[offset_index, k + n + K, k + K])
+
+
+def _static_tail(beta, omega, track, M):
+    """sum over |m| > M of the quasi-static H_0(beta + m beta0) = 1/(EI b^4) + 1/(kGA b^2), via polygamma."""
+    EI, kGA = rail_stiffnesses(track, omega)
+    b0 = track.beta0
+    a = beta / b0
+    s2 = (special.polygamma(1, M + 1 + a) + special.polygamma(1, M + 1 - a)) / b0**2
+    s4 = (special.polygamma(3, M + 1 + a) + special.polygamma(3, M + 1 - a)) / (6 * b0**4)
+    return s4 / EI + s2 / kGA
+
+
+def _sum_excluding(beta, omega, m_star, track, M=40):
+    """sum over m != m_star of H(beta + m beta0, omega), by explicit summation and a static tail.
+
+    Used near the static point, where the closed-form periodic sum would lose every digit
+    to the cancellation with the m_star term, which diverges like 1/(EI beta^4).
+    """
+    b0 = track.beta0
+    out = _static_tail(beta + m_star * b0, omega, track, M)
+    for m in range(-M, M + 1):
+        if m != 0:
+            out = out + free_receptance(beta + (m_star + m) * b0, omega, track)
+    return out
+
+
+def _node_tables(beta, Omega, V, js, track, static_j):
+    """Columns g_j = H(beta - j beta0, Omega + beta V), support weight parts, and the combined
+    diagonal factor at the wavenumber nodes ``beta``.  ``static_j``: index j whose column
+    diverges at the static point (None if there is none)."""
+    b0, L = track.beta0, track.L
+    omega = Omega + beta * V
+    G = free_receptance(beta[:, None] - js[None, :] * b0, omega[:, None], track)
+    Ks = support_stiffness(track, omega)
+    S = np.empty(beta.shape, dtype=complex)
+    near = np.zeros(beta.shape, dtype=bool)
+    if static_j is not None:
+        near = np.abs(beta - static_j * b0) < b0 / 2
+    far = ~near
+    if far.any():
+        S[far] = periodic_sum(beta[far], omega[far], track)
+    S_excl = None
+    if near.any():
+        S_excl = _sum_excluding(beta[near], omega[near], -static_j, track)
+        S[near] = S_excl + free_receptance(beta[near] - static_j * b0, omega[near], track)
+    denom = L + Ks * S
+    # combined diagonal factor (L + K_s (S - g_j)) / (L + K_s S), stable at the static point
+    diag_factor = (L + Ks[:, None] * (S[:, None] - G)) / denom[:, None]
+    if near.any():
+        col = int(np.where(js == static_j)[0][0])
+        diag_factor[near, col] = (L + Ks[near] * S_excl) / denom[near]
+    w = L * Ks / denom
+    return G, w, diag_factor
+
+
+def _assemble(G, w, diag_factor, beta, weights, js, offsets, track):
+    """A_d[p, k] on a node set: Gram product for the off-diagonal, combined form on the diagonal."""
+    b0, L = track.beta0, track.L
+    out = np.empty((len(offsets), len(js), len(js)), dtype=complex)
+    Wg = (G * (w * weights)[:, None]).T  # (J, N)
+    for i, d in enumerate(offsets):
+        phase = np.exp(-1j * (beta[:, None] - js[None, :] * b0) * d)  # (N, J)
+        Gd = G * phase
+        M = Wg @ Gd  # M[k, p] = int w g_k g_p e_p^d
+        A = -M.T / (2 * np.pi * L)  # A[p, k]
+        diag = (weights[:, None] * Gd * diag_factor).sum(axis=0) / (2 * np.pi)
+        A[np.arange(len(js)), np.arange(len(js))] = diag
+        out[i] = A
+    return out
+
+
+def _edges_theta(Bmap, points, cut=None, panels=96):
+    """Initial panel edges in theta (beta = Bmap tan theta), with the given beta breakpoints."""
+    th = list(np.linspace(-np.pi / 2, np.pi / 2, panels + 1))
+    for b in points:
+        th.append(np.arctan(b / Bmap))
+    if cut is not None:
+        th += [np.arctan(-cut / Bmap), np.arctan(cut / Bmap), np.arctan(-2 * cut / Bmap), np.arctan(2 * cut / Bmap)]
+    return np.unique(np.array(th))
+
+
+def _taper(beta, cut):
+    """Window for the transfer (d != 0) integrals: 1 for |beta| <= cut, cos^2 down to 0 at 2 cut.
+
+    An abrupt truncation of an oscillating integrand leaves an error f(cut) / d; the C^1 window
+    removes that boundary term, leaving O(f / (d^3 cut^2)).
+    """
+    u = np.clip((np.abs(beta) - cut) / cut, 0.0, 1.0)
+    return np.cos(0.5 * np.pi * u) ** 2
+
+
+def _integrate(track, V, Omega, js, offsets, static_j, rtol, cut, order=16, max_panels=40000):
+    """Adaptive wavenumber quadrature of the receptance matrices (shared by the table and the
+    single-frequency coefficients).  Returns (A, error, nodes)."""
+    b0 = track.beta0
+    offsets = np.asarray(offsets, dtype=float)
+    Bmap = (np.max(np.abs(js)) + 4) * b0
+    beta_s = -Omega / V  # where omega = 0: hysteretic damping changes sign
+    has_offsets = np.any(offsets != 0)
+
+    def to_beta(th):
+        return Bmap * np.tan(th), Bmap / np.cos(th) ** 2
+
+    def proxy(th):
+        beta, jac = to_beta(th)
+        G, w, dfac = _node_tables(beta, Omega, V, js, track, static_j)
+        parts = [G * dfac, w[:, None] * G * G[:, :1], w[:, None] * G * np.roll(G, 1, axis=1)]
+        if has_offsets:
+            inside = _taper(beta, cut)[:, None]
+            for d in offsets[offsets != 0]:
+                ph = np.exp(-1j * (beta[:, None] - js[None, :] * b0) * d)
+                parts += [G * dfac * ph * inside, w[:, None] * G[:, :1] * G * ph * inside]
+        return np.concatenate(parts, axis=1) * jac[:, None]
+
+    edges = _edges_theta(Bmap, [beta_s], cut if has_offsets else None)
+    q = adaptive_panels(proxy, edges, rtol=rtol, order=order, max_panels=max_panels)
+    th, wt = q.nodes, q.weights
+    beta, jac = to_beta(th)
+    G, w, dfac = _node_tables(beta, Omega, V, js, track, static_j)
+    weights = wt * jac
+    A = np.empty((len(offsets), len(js), len(js)), dtype=complex)
+    for i, d in enumerate(offsets):
+        wd = weights if d == 0 else weights * _taper(beta, cut)
+        A[i] = _assemble(G, w, dfac, beta, wd, js, [d], track)[0]
+    # error estimate of the whole matrix: the same product on every other node (one Gauss rule
+    # per half panel -> a rule per panel half as fine is not available; use the proxy estimate
+    # scaled to each entry's magnitude)
+    rel = np.max(q.error / np.maximum(np.abs(q.integral), 1e-300))
+    err = np.abs(A) * rel + (0 if q.converged else np.inf)
+    return A, err, len(th)
+
+
+def receptance_table(track: Track, speed: float, harmonics: int, offsets=(0.0,), rtol: float = 1e-6) -> MovingReceptance:
+    """Receptance matrices A_d[p, k] = a_{p-k}(k Omega_0, d) for |p|, |k| <= K at one speed.
+
+    track : Track; speed : V, m/s (> 0); harmonics : K (>= 0); offsets : d, m, points moving with
+    the load (other wheels: d = position of the receiving wheel minus that of the loading one);
+    rtol : relative tolerance of the adaptive wavenumber quadrature.
+    """
+    if not speed > 0:
+        raise ValueError(f"speed = {speed!r} m/s is not allowed: it must be > 0 (use rail.track.stationary_receptance for V = 0).")
+    if int(harmonics) != harmonics or harmonics < 0:
+        raise ValueError(f"harmonics = {harmonics!r} is not allowed: it must be an integer >= 0.")
+    K = int(harmonics)
+    js = np.arange(-K, K + 1)
+    offsets = np.atleast_1d(np.asarray(offsets, dtype=float))
+    cut = (K + 12) * track.beta0
+    A, err, n = _integrate(track, speed, 0.0, js, offsets, 0, rtol, cut)
+    return MovingReceptance(float(speed), K, offsets, A, err, n)
+
+
+def moving_coefficients(track: Track, speed: float, Omega: float, n_max: int, offset: float = 0.0, rtol: float = 1e-6):
+    """a_n(Omega, d) for |n| <= n_max at any excitation frequency Omega (rad/s), one speed.
+
+    Returns (n, a_n, error).  For Omega = k Omega_0 this equals column k of receptance_table.
+    """
+    if not speed > 0:
+        raise ValueError(f"speed = {speed!r} m/s is not allowed: it must be > 0.")
+    ns = np.arange(-n_max, n_max + 1)
+    js = ns.copy()
+    Omega0 = track.beta0 * speed
+    kk = Omega / Omega0
+    static_j = None
+    if abs(kk - round(kk)) < 1e-12:
+        # omega = 0 at beta = -Omega/V = -k beta0: column j = -k diverges there
+        j = -int(round(kk))
+        static_j = j if abs(j) <= n_max else None
+    cut = (n_max + 12) * track.beta0 + abs(Omega) / speed
+    A, err, _ = _integrate(track, speed, Omega, js, [offset], static_j, rtol, cut)
+    col = n_max  # j = 0 is the load's own column
+    return ns, A[0, :, col], err[0, :, col]

@@ -1,0 +1,122 @@
+"""Adaptive composite Gauss-Legendre quadrature for vector integrands with narrow peaks.
+
+Wavenumber integrals of the track model have peaks as narrow as the damping allows (free and
+Floquet waves).  The interval is cut into panels; each panel is integrated with n Gauss points
+on the whole and on each half, and the difference is its error estimate.  Panels are halved,
+largest error first, until the summed error of every component is below its tolerance.  The
+final nodes and weights are returned, so an expensive product (a Gram matrix) can be formed
+once on them.
+"""
+
+from __future__ import annotations
+
+from dataclasses import dataclass
+
+import numpy as np
+
+__all__ = ["QuadratureResult", "adaptive_panels"]
+
+
+@dataclass(frozen=True)
+class QuadratureResult:
+    """nodes, weights : final rule; integral : per component; error : estimated absolute error
+    per component; panels : number of panels; converged : tolerance reached within max_panels."""
+
+    nodes: np.ndarray
+    weights: np.ndarray
+    integral: np.ndarray
+    error: np.ndarray
+    panels: int
+    converged: bool
+
+
+def _gauss(n):
+    x, w = np.polynomial.legendre.leggauss(n)
+    return x, w
+
+
+def adaptive_panels(f, edges, rtol=1e-6, atol=0.0, order=16, max_panels=20000, scale=None) -> QuadratureResult:
+    """Integrate the vector function ``f`` over the union of panels given by ``edges``.
+
+    f      : callable, f(x) for a 1-D array x returns an array (len(x), m) (or (len(x),)).
+    edges  : sorted breakpoints; discontinuities of f must be among them.
+    rtol   : relative tolerance per component, against ``scale`` (default: integral of |f_c|).
+    atol   : absolute tolerance floor per component.
+    order  : Gauss points per half panel.
+    """
+    xg, wg = _gauss(order)
+    edges = np.asarray(edges, dtype=float)
+    a, b = edges[:-1], edges[1:]
+
+    def halves(a, b):
+        m = 0.5 * (a + b)
+        h = 0.25 * (b - a)
+        # nodes of the left and right halves, shape (panels, 2 order)
+        xl = 0.5 * (a + m)[:, None] + h[:, None] * xg[None, :]
+        xr = 0.5 * (m + b)[:, None] + h[:, None] * xg[None, :]
+        xs = np.concatenate([xl, xr], axis=1)
+        ws = np.concatenate([np.outer(h, wg), np.outer(h, wg)], axis=1)
+        return xs, ws
+
+    def evaluate(a, b):
+        xs, ws = halves(a, b)
+        xf = 0.5 * (a + b)[:, None] + 0.5 * (b - a)[:, None] * xg[None, :]
+        wf = np.outer(0.5 * (b - a), wg)
+        P = len(a)
+        vals_h = np.asarray(f(xs.ravel()))
+        vals_f = np.asarray(f(xf.ravel()))
+        if vals_h.ndim == 1:
+            vals_h, vals_f = vals_h[:, None], vals_f[:, None]
+        m = vals_h.shape[1]
+        vh = vals_h.reshape(P, 2 * order, m)
+        vf = vals_f.reshape(P, order, m)
+        I_h = np.einsum("pn,pnm->pm", ws, vh)
+        I_f = np.einsum("pn,pnm->pm", wf, vf)
+        A_h = np.einsum("pn,pnm->pm", ws, np.abs(vh))
+        return xs, ws, I_h, np.abs(I_h - I_f), A_h
+
+    done_x, done_w, done_I, done_E = [], [], [], []
+    xs, ws, I_p, E_p, A_p = evaluate(a, b)
+    if scale is None:
+        scale = A_p.sum(axis=0)
+    scale = np.maximum(np.asarray(scale, dtype=float), 1e-300)
+    tol = rtol * scale + atol
+    n_panels = len(a)
+    converged = True
+    while True:
+        total_err = E_p.sum(axis=0) + (np.sum(done_E, axis=0) if done_E else 0.0)
+        norm = (E_p / tol).max(axis=1)  # worst component per active panel
+        if np.all(total_err <= tol):
+            split = np.zeros(len(a), dtype=bool)
+        else:
+            # halve every panel carrying more than its share of the worst component's budget
+            split = norm > 1.0 / max(n_panels, 1)
+            if not split.any():
+                split = norm >= norm.max()
+        if n_panels + split.sum() > max_panels:
+            converged = not split.any()
+            split[:] = False
+        keep = ~split
+        done_x.append(xs[keep].ravel())
+        done_w.append(ws[keep].ravel())
+        done_I.append(I_p[keep].sum(axis=0))
+        done_E.append(E_p[keep].sum(axis=0))
+        if not split.any():
+            break
+        am, bm = a[split], b[split]
+        mid = 0.5 * (am + bm)
+        a = np.concatenate([am, mid])
+        b = np.concatenate([mid, bm])
+        n_panels += split.sum()
+        xs, ws, I_p, E_p, A_p = evaluate(a, b)
+    nodes = np.concatenate(done_x)
+    weights = np.concatenate(done_w)
+    order_idx = np.argsort(nodes)
+    return QuadratureResult(
+        nodes=nodes[order_idx],
+        weights=weights[order_idx],
+        integral=np.sum(done_I, axis=0),
+        error=np.sum(done_E, axis=0),
+        panels=int(n_panels),
+        converged=bool(converged),
+    )

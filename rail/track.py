@@ -1,0 +1,390 @@
+"""Timoshenko rail on periodic discrete supports: stationary and moving-load receptances.
+
+Report section 4.2 and its ref. [18]; the derivation is in ``docs/track.md``.
+
+Conventions
+-----------
+* Time dependence ``exp(+i omega t)``; spatial Fourier transform
+  ``W(beta) = int w(x) exp(+i beta x) dx``, ``w(x) = (1/2pi) int W(beta) exp(-i beta x) d beta``.
+* Vertical displacement w and forces positive downwards (in the direction of the wheel load).
+* Supports (railpad - sleeper mass - ballast) at x = j L, j integer.  Position x in a bay is
+  measured from a support.
+* Hysteretic damping: a stiffness k becomes k (1 + i eta sign(omega)) (report's choice).
+  Viscous damping: k becomes k + i omega c; the rail's E and G become E (1 + i omega tau).
+* Units SI throughout: m, kg, s, N, Pa, rad/s, rad/m; receptances in m/N.
+"""
+
+from __future__ import annotations
+
+from dataclasses import dataclass
+
+import numpy as np
+
+__all__ = [
+    "Rail",
+    "Pad",
+    "Sleeper",
+    "Ballast",
+    "Track",
+    "rail_stiffnesses",
+    "support_stiffness",
+    "free_receptance",
+    "free_receptance_poles",
+    "periodic_sum",
+    "phased_periodic_sum",
+    "free_green",
+    "stationary_receptance",
+    "continuous_support_receptance",
+    "pinned_pinned_frequency",
+    "characteristic_frequencies",
+]
+
+
+def _positive(name, value):
+    if not (np.isfinite(value) and value > 0):
+        raise ValueError(f"{name} = {value!r} is not allowed: it must be > 0 (valid range (0, inf)).")
+
+
+def _nonnegative(name, value):
+    if not (np.isfinite(value) and value >= 0):
+        raise ValueError(f"{name} = {value!r} is not allowed: it must be >= 0 (valid range [0, inf)).")
+
+
+@dataclass(frozen=True, slots=True)
+class Rail:
+    """Timoshenko rail (report Table 1).
+
+    youngs_modulus        : E, Pa, > 0
+    shear_modulus         : G, Pa, > 0
+    density               : rho, kg/m^3, > 0
+    area                  : A, m^2, > 0
+    second_moment_of_area : I, m^4, > 0
+    shear_coefficient     : kappa, -, > 0
+    loss_factor           : eta_R, -, >= 0 (hysteretic model)
+    damping_time          : tau_R, s, >= 0 (viscous model: E (1 + i omega tau_R), G likewise)
+    """
+
+    youngs_modulus: float
+    shear_modulus: float
+    density: float
+    area: float
+    second_moment_of_area: float
+    shear_coefficient: float
+    loss_factor: float = 0.0
+    damping_time: float = 0.0
+
+    def __post_init__(self):
+        for name in ("youngs_modulus", "shear_modulus", "density", "area", "second_moment_of_area", "shear_coefficient"):
+            _positive(f"track.rail.{name}", getattr(self, name))
+        _nonnegative("track.rail.loss_factor", self.loss_factor)
+        _nonnegative("track.rail.damping_time", self.damping_time)
+
+
+@dataclass(frozen=True, slots=True)
+class Pad:
+    """Railpad under one rail seat: stiffness N/m (> 0), loss_factor - (>= 0), viscous_damping N s/m (>= 0)."""
+
+    stiffness: float
+    loss_factor: float = 0.0
+    viscous_damping: float = 0.0
+
+    def __post_init__(self):
+        _positive("track.pad.stiffness", self.stiffness)
+        _nonnegative("track.pad.loss_factor", self.loss_factor)
+        _nonnegative("track.pad.viscous_damping", self.viscous_damping)
+
+
+@dataclass(frozen=True, slots=True)
+class Sleeper:
+    """Half sleeper: mass kg (>= 0), spacing L m (> 0)."""
+
+    mass: float
+    spacing: float
+
+    def __post_init__(self):
+        _nonnegative("track.sleeper.mass", self.mass)
+        _positive("track.sleeper.spacing", self.spacing)
+
+
+@dataclass(frozen=True, slots=True)
+class Ballast:
+    """Ballast under half a sleeper: stiffness N/m (> 0), loss_factor - (>= 0), viscous_damping N s/m (>= 0)."""
+
+    stiffness: float
+    loss_factor: float = 0.0
+    viscous_damping: float = 0.0
+
+    def __post_init__(self):
+        _positive("track.ballast.stiffness", self.stiffness)
+        _nonnegative("track.ballast.loss_factor", self.loss_factor)
+        _nonnegative("track.ballast.viscous_damping", self.viscous_damping)
+
+
+@dataclass(frozen=True, slots=True)
+class Track:
+    """One rail on half sleepers (Table 1). damping: 'hysteretic' (loss factors) or 'viscous'."""
+
+    rail: Rail
+    pad: Pad
+    sleeper: Sleeper
+    ballast: Ballast
+    damping: str = "hysteretic"
+
+    def __post_init__(self):
+        if self.damping not in ("hysteretic", "viscous"):
+            raise ValueError(f"track.damping = {self.damping!r} is not allowed: it must be 'hysteretic' or 'viscous'.")
+
+    @property
+    def L(self) -> float:
+        """Sleeper spacing, m."""
+        return self.sleeper.spacing
+
+    @property
+    def beta0(self) -> float:
+        """Lattice wavenumber 2 pi / L, rad/m."""
+        return 2 * np.pi / self.sleeper.spacing
+
+
+def _damped(k, eta, c, omega, model):
+    """Complex stiffness: k (1 + i eta sign(omega)) (hysteretic) or k + i omega c (viscous)."""
+    omega = np.asarray(omega, dtype=float)
+    if model == "hysteretic":
+        return k * (1 + 1j * eta * np.sign(omega))
+    return k + 1j * omega * c
+
+
+def rail_stiffnesses(track: Track, omega):
+    """Complex bending and shear stiffness (EI, kappa G A) of the rail, N m^2 and N."""
+    r = track.rail
+    omega = np.asarray(omega, dtype=float)
+    if track.damping == "hysteretic":
+        f = 1 + 1j * r.loss_factor * np.sign(omega)
+    else:
+        f = 1 + 1j * omega * r.damping_time
+    return r.youngs_modulus * r.second_moment_of_area * f, r.shear_coefficient * r.shear_modulus * r.area * f
+
+
+def support_stiffness(track: Track, omega):
+    """Dynamic stiffness of one support seen by the rail, K_s(omega), N/m.
+
+    Pad k_P in series with the sleeper mass m_S on ballast k_B:
+    K_s = k_P (k_B - m_S omega^2) / (k_P + k_B - m_S omega^2), complex stiffnesses.
+    """
+    omega = np.asarray(omega, dtype=float)
+    kp = _damped(track.pad.stiffness, track.pad.loss_factor, track.pad.viscous_damping, omega, track.damping)
+    kb = _damped(track.ballast.stiffness, track.ballast.loss_factor, track.ballast.viscous_damping, omega, track.damping)
+    kbm = kb - track.sleeper.mass * omega**2
+    return kp * kbm / (kp + kbm)
+
+
+def free_receptance(beta, omega, track: Track):
+    """Receptance H(beta, omega) of the free infinite Timoshenko rail in the wavenumber domain, m^2/N... per unit
+    length of wavenumber: W(beta) = H F for a point force F at x = 0.
+
+    H = (EI beta^2 + kGA - rho I omega^2) /
+        (kGA beta^2 (EI beta^2 - rho I omega^2) - rho A omega^2 (EI beta^2 + kGA - rho I omega^2)).
+    beta : rad/m, omega : rad/s (broadcast together).
+    """
+    beta = np.asarray(beta, dtype=float)
+    omega = np.asarray(omega, dtype=float)
+    EI, kGA = rail_stiffnesses(track, omega)
+    rho, A, I = track.rail.density, track.rail.area, track.rail.second_moment_of_area
+    b2 = beta**2
+    num = EI * b2 + kGA - rho * I * omega**2
+    return num / (kGA * b2 * (EI * b2 - rho * I * omega**2) - rho * A * omega**2 * num)
+
+
+def free_receptance_poles(omega, track: Track):
+    """Partial fractions H = sum_j c_j / (beta^2 - s_j), j = 1, 2, for omega != 0 (array-like).
+
+    Returns (c, p), each of shape (2,) + shape(omega), with p_j = sqrt(s_j) chosen with
+    Im p_j >= 0 (p_j real > 0 if undamped and propagating).  Denominator of H as a quadratic in
+    B = beta^2: a B^2 + b B + c0 with a = kGA EI, b = -omega^2 (kGA rho I + rho A EI),
+    c0 = -rho A omega^2 (kGA - rho I omega^2).
+    """
+    omega = np.asarray(omega, dtype=float)
+    if np.any(omega == 0.0):
+        raise ValueError("free_receptance_poles needs omega != 0 (the static receptance has a double pole at 0).")
+    EI, kGA = rail_stiffnesses(track, omega)
+    rho, A, I = track.rail.density, track.rail.area, track.rail.second_moment_of_area
+    a = kGA * EI
+    b = -(omega**2) * (kGA * rho * I + rho * A * EI)
+    c0 = -rho * A * omega**2 * (kGA - rho * I * omega**2)
+    disc = np.sqrt(b * b - 4 * a * c0 + 0j)
+    # numerically stable roots of the quadratic (no cancellation between -b and disc)
+    q = -0.5 * (b + np.where(np.real(np.conj(b) * disc) >= 0, 1, -1) * disc)
+    s = np.stack([q / a, c0 / q])
+    numer = EI * s + kGA - rho * I * omega**2
+    c = np.stack([numer[0] / (a * (s[0] - s[1])), numer[1] / (a * (s[1] - s[0]))])
+    p = np.sqrt(s + 0j)
+    p = np.where(p.imag < 0, -p, p)
+    p = np.where((p.imag == 0) & (p.real < 0), -p, p)
+    return c, p
+
+
+def periodic_sum(beta, omega, track: Track):
+    """S(beta, omega) = sum_m H(beta + m beta0, omega), closed form, m^2/N... (see docs/track.md).
+
+    sum_m 1/((beta + m beta0)^2 - p^2) = (L / (2p)) sin(pL) / (cos(pL) - cos(beta L)), evaluated as
+    (L / (2p)) (z^2 - 1) / (i (1 + z^2 - 2 z cos(beta L))), z = exp(i p L), |z| <= 1.
+    beta : rad/m, omega : rad/s (!= 0); arrays broadcast together.
+    """
+    beta, omega = np.broadcast_arrays(np.asarray(beta, dtype=float), np.asarray(omega, dtype=float))
+    c, p = free_receptance_poles(omega, track)
+    L = track.L
+    cb = np.cos(beta * L)
+    out = 0j
+    for cj, pj in zip(c, p):
+        z = np.exp(1j * pj * L)
+        out = out + cj * (L / (2 * pj)) * (z * z - 1) / (1j * (1 + z * z - 2 * z * cb))
+    return out
+
+
+def phased_periodic_sum(kappa, x, omega, track: Track):
+    """S_x(kappa) = sum_m H(kappa + m beta0, omega) exp(i (kappa + m beta0) x), closed form.
+
+    kappa : rad/m array, x : m scalar (any real), omega : rad/s scalar != 0.
+    For 0 < x < L each partial fraction gives (docs/track.md)
+      sum_m e^{i(kappa+m beta0)x}/(kappa+m beta0-p) =  i L e^{ipx} / (1 - e^{i(p-kappa)L})
+      sum_m e^{i(kappa+m beta0)x}/(kappa+m beta0+p) = -i L e^{ip(L-x)} e^{i kappa L} / (1 - e^{i(p+kappa)L})
+    x = 0 takes the mean of the limits from both sides (the sum of H itself is continuous);
+    other x follow from S_{x+L} = e^{i kappa L} S_x.
+    """
+    kappa = np.asarray(kappa, dtype=float)
+    L = track.L
+    j = np.floor(x / L)
+    xr = x - j * L
+    c, p = free_receptance_poles(omega, track)
+    eKL = np.exp(1j * kappa * L)
+
+    def inside(xx):
+        out = 0j
+        for cj, pj in zip(c, p):
+            t1 = 1j * L * np.exp(1j * pj * xx) / (1 - np.exp(1j * (pj - kappa) * L))
+            t2 = -1j * L * np.exp(1j * pj * (L - xx)) * eKL / (1 - np.exp(1j * (pj + kappa) * L))
+            out = out + cj / (2 * pj) * (t1 - t2)
+        return out
+
+    if xr == 0.0:
+        val = 0.5 * (inside(0.0) + inside(L) / eKL)
+    else:
+        val = inside(xr)
+    return val * np.exp(1j * kappa * L * j)
+
+
+def free_green(x, omega, track: Track):
+    """Displacement of the free infinite rail at x under a unit harmonic force at 0, m/N.
+
+    Residues of H: closing the contour in the half-plane where exp(-i beta x) decays picks the
+    pole -p_j for x > 0, so w(x) = sum_j c_j (i / (2 p_j)) exp(i p_j |x|), Im p_j > 0 (decaying).
+    """
+    c, p = free_receptance_poles(omega, track)
+    ax = np.abs(np.asarray(x, dtype=float))
+    return sum(cj * (1j / (2 * pj)) * np.exp(1j * pj * ax) for cj, pj in zip(c, p))
+
+
+def stationary_receptance(x, x0, omega, track: Track, rtol: float = 1e-7, return_error=False):
+    """Receptance alpha(x, x0; omega) of the periodically supported rail, m/N.
+
+    Harmonic unit force at x0, displacement at x (any positions; arrays broadcast), omega != 0:
+      alpha = G(x - x0) - (K_s / 2pi) int_BZ S_{x0}(kappa) S_x(-kappa) / (L + K_s S(kappa)) d kappa
+    over the Brillouin zone |kappa| <= beta0 / 2, with G the free-rail Green's function, S the
+    periodic sum and S_x the phased sum (docs/track.md).  The zone integrand has peaks at the
+    Floquet waves of the track, as narrow as the damping allows; it is integrated adaptively
+    (rail.quadrature) to ``rtol``.  With ``return_error`` the estimated absolute error is returned too.
+    """
+    from .quadrature import adaptive_panels
+
+    x = np.asarray(x, dtype=float)
+    x0 = np.asarray(x0, dtype=float)
+    x, x0 = np.broadcast_arrays(x, x0)
+    xs, x0s = x.ravel(), x0.ravel()
+    Ks = complex(support_stiffness(track, omega))
+    L = track.L
+
+    def integrand(kap):
+        S = periodic_sum(kap, omega, track)
+        cols = [
+            phased_periodic_sum(kap, float(b), omega, track) * phased_periodic_sum(-kap, float(a), omega, track)
+            for a, b in zip(xs, x0s)
+        ]
+        return np.stack(cols, axis=1) / (L + Ks * S)[:, None]
+
+    b0 = track.beta0
+    q = adaptive_panels(integrand, np.linspace(-b0 / 2, b0 / 2, 9), rtol=rtol)
+    alpha = (free_green(xs - x0s, omega, track) - Ks / (2 * np.pi) * q.integral).reshape(x.shape)
+    if return_error:
+        return alpha, (abs(Ks) / (2 * np.pi) * q.error).reshape(x.shape)
+    return alpha
+
+
+def continuous_support_receptance(omega, track: Track):
+    """Point receptance of the rail on a continuous foundation K_s(omega) / L per metre, m/N.
+
+    Residues of 1 / (1/H + k_f): the denominator is again a quadratic in beta^2.
+    """
+    omega = float(omega)
+    EI, kGA = rail_stiffnesses(track, omega)
+    rho, A, I = track.rail.density, track.rail.area, track.rail.second_moment_of_area
+    kf = support_stiffness(track, omega) / track.L
+    # 1/H + kf = [D(B) + kf N(B)] / N(B); D = a B^2 + b B + c0, N = EI B + kGA - rho I w^2
+    a = kGA * EI
+    b = -(omega**2) * (kGA * rho * I + rho * A * EI) + kf * EI
+    n0 = kGA - rho * I * omega**2
+    c0 = -rho * A * omega**2 * n0 + kf * n0
+    disc = np.sqrt(b * b - 4 * a * c0 + 0j)
+    s = np.array([(-b + disc) / (2 * a), (-b - disc) / (2 * a)])
+    numer = EI * s + n0
+    c = np.array([numer[0] / (a * (s[0] - s[1])), numer[1] / (a * (s[1] - s[0]))])
+    p = np.sqrt(s + 0j)
+    p = np.where(p.imag < 0, -p, p)
+    return complex(np.sum(c * (1j / (2 * p))))
+
+
+def pinned_pinned_frequency(track: Track) -> float:
+    """First pinned-pinned frequency of the rail, Hz: lowest bending mode of a simply supported
+    Timoshenko beam of span L (undamped), from the frequency equation for mode number 1:
+      rho I kappa' w^4 - (EI kGA... ) written as: for k = pi / L,
+      (rho I rho A / kGA) w^4 - (rho A + rho I k^2 + rho A EI k^2 / kGA) w^2 + EI k^4 = 0.
+    """
+    r = track.rail
+    EI = r.youngs_modulus * r.second_moment_of_area
+    kGA = r.shear_coefficient * r.shear_modulus * r.area
+    rA, rI = r.density * r.area, r.density * r.second_moment_of_area
+    k = np.pi / track.L
+    a = rI * rA / kGA
+    b = -(rA + rI * k**2 + rA * EI * k**2 / kGA)
+    c = EI * k**4
+    w2 = (-b - np.sqrt(b * b - 4 * a * c)) / (2 * a)
+    return float(np.sqrt(w2) / (2 * np.pi))
+
+
+def characteristic_frequencies(track: Track, f_min=20.0, f_max=3000.0, points=600) -> dict[str, float]:
+    """Characteristic frequencies of the track, Hz, identified from its stationary point receptance.
+
+    track_on_ballast : first maximum of |alpha| above a sleeper (track mass on the ballast)
+    out_of_phase     : second maximum of |alpha| above a sleeper (rail and sleepers out of phase)
+    pinned_pinned    : maximum of |alpha| at mid-span above the out-of-phase resonance
+    Each is refined by a parabola through the three grid points around the maximum.
+    """
+    f = np.geomspace(f_min, f_max, points)
+    om = 2 * np.pi * f
+    a_s = np.abs([stationary_receptance(0.0, 0.0, o, track, 1e-4) for o in om])
+    a_m = np.abs([stationary_receptance(track.L / 2, track.L / 2, o, track, 1e-4) for o in om])
+
+    def peaks(a):
+        i = np.where((a[1:-1] > a[:-2]) & (a[1:-1] >= a[2:]))[0] + 1
+        out = []
+        for j in i:
+            y0, y1, y2 = np.log(a[j - 1 : j + 2])
+            d = 0.5 * (y0 - y2) / (y0 - 2 * y1 + y2)
+            out.append(float(np.exp(np.log(f[j]) + d * np.log(f[j + 1] / f[j]))))
+        return out
+
+    ps = peaks(a_s)
+    pm = [p for p in peaks(a_m) if len(ps) > 1 and p > ps[1]]
+    return {
+        "track_on_ballast": ps[0] if ps else float("nan"),
+        "out_of_phase": ps[1] if len(ps) > 1 else float("nan"),
+        "pinned_pinned": pm[0] if pm else float("nan"),
+    }
