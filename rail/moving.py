@@ -166,7 +166,9 @@ def _integrate(track, V, Omega, js, offsets, static_j, rtol, cut, order=16, max_
     def proxy(th):
         beta, jac = to_beta(th)
         G, w, dfac = _node_tables(beta, Omega, V, js, track, static_j)
-        parts = [G * dfac, w[:, None] * G * G[:, :1], w[:, None] * G * np.roll(G, 1, axis=1)]
+        # diagonal integrands (free-wave peaks of every column) and the support weight w
+        # (Floquet-wave peaks) carry every feature of the off-diagonal integrands w h_k h_p
+        parts = [G * dfac, (w * G[:, np.argmin(np.abs(js))])[:, None]]
         if has_offsets:
             inside = _taper(beta, cut)[:, None]
             for d in offsets[offsets != 0]:
