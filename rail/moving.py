@@ -194,12 +194,15 @@ def _integrate(track, V, Omega, js, offsets, static_j, rtol, cut, order=16, max_
     return A, err, len(th)
 
 
-def receptance_table(track: Track, speed: float, harmonics: int, offsets=(0.0,), rtol: float = 1e-4) -> MovingReceptance:
+def receptance_table(
+    track: Track, speed: float, harmonics: int, offsets=(0.0,), rtol: float = 1e-4, transfer_cut: float | None = None
+) -> MovingReceptance:
     """Receptance matrices A_d[p, k] = a_{p-k}(k Omega_0, d) for |p|, |k| <= K at one speed.
 
     track : Track; speed : V, m/s (> 0); harmonics : K (>= 0); offsets : d, m, points moving with
     the load (other wheels: d = position of the receiving wheel minus that of the loading one);
-    rtol : relative tolerance of the adaptive wavenumber quadrature.
+    rtol : relative tolerance of the adaptive wavenumber quadrature;
+    transfer_cut : rad/m, start of the cos^2 window of the d != 0 integrands (default (K + 12) beta0).
     """
     if not speed > 0:
         raise ValueError(f"speed = {speed!r} m/s is not allowed: it must be > 0 (use rail.track.stationary_receptance for V = 0).")
@@ -208,7 +211,7 @@ def receptance_table(track: Track, speed: float, harmonics: int, offsets=(0.0,),
     K = int(harmonics)
     js = np.arange(-K, K + 1)
     offsets = np.atleast_1d(np.asarray(offsets, dtype=float))
-    cut = (K + 12) * track.beta0
+    cut = (K + 12) * track.beta0 if transfer_cut is None else float(transfer_cut)
     A, err, n = _integrate(track, speed, 0.0, js, offsets, 0, rtol, cut)
     return MovingReceptance(float(speed), K, offsets, A, err, n)
 
