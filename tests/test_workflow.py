@@ -72,3 +72,26 @@ def test_fig06_run_writes_labelled_data_and_picture(root, workdir):
         eta, f = ds["loss_factor"].values, ds["frequency"].values
         assert eta[0] == 0.0
         assert (eta[1:] / f[1:]).std() < 1e-8 * (eta[1:] / f[1:]).mean()
+
+
+def test_bad_scenario_file_is_named_and_stops_before_any_job(root, workdir):
+    (workdir / "config/scenarios/soft_pad.yaml").write_text("track:\n  pad:\n    stiffness: -7.0e+7\n")
+    out = snakemake(root, "-j1", cwd=workdir)
+    assert out.returncode != 0
+    assert re.search(
+        r"config/scenarios/soft_pad\.yaml: track\.pad\.stiffness = -70000000\.0 N/m is not allowed: it must be > 0 N/m",
+        out.stderr + out.stdout,
+    ), out.stderr
+    assert not (workdir / "results").exists()
+
+
+def test_receptance_rule_holds_only_the_offsets_of_scenarios_sharing_the_track(root, workdir):
+    # a two-wheel scenario on the default track adds its wheel spacing to the default table;
+    # a scenario with a different track gets its own table
+    (workdir / "config/scenarios/bogie.yaml").write_text("wheels:\n  positions: [0.0, 3.3]\n")
+    (workdir / "config/scenarios/soft.yaml").write_text("track:\n  pad:\n    stiffness: 7.0e+7\n")
+    out = snakemake(root, "-n", "-p", "results/receptance/default/V40.nc", "results/receptance/soft/V40.nc", cwd=workdir)
+    assert out.returncode == 0, out.stderr
+    assert job_counts(out.stdout) == {"receptance": 2}
+    assert "receptance table: track default, V = 40 m/s, offsets [0.0, -3.3, 3.3] m" in out.stdout
+    assert "receptance table: track soft, V = 40 m/s, offsets [0.0] m" in out.stdout

@@ -1,14 +1,40 @@
 # Helpers that turn the configuration into target lists. Rules live in the other .smk files.
 
+from pathlib import Path
+
 from snakemake.utils import validate
 
-from rail.config import load_yaml, validate_config
+from rail.config import load_yaml, resolve, validate_config
 
 # Clear, actionable messages first (key, value, unit, valid range), then snakemake's own
 # validation against the same schema.
 SCHEMA = load_yaml(workflow.source_path("../../config/schema/config.schema.yaml"))
 validate_config(config, SCHEMA, source="configuration (config/config.yaml and --config/--configfile)")
 validate(config, "../../config/schema/config.schema.yaml")
+
+# Scenarios: config/scenarios/<name>.yaml holds only the keys that differ from the defaults.
+# Each is merged onto the validated defaults and validated itself (errors name its file), at
+# start-up, before any job runs. "default" is the configuration itself.
+SCENARIO_DIR = Path("config/scenarios")
+SCENARIOS = {"default": config}
+for _path in sorted(SCENARIO_DIR.glob("*.yaml")):
+    SCENARIOS[_path.stem] = resolve(config, SCHEMA, load_yaml(_path), source=str(_path))
+
+
+def scenario_config(wildcards):
+    """Resolved configuration of the scenario named by the wildcard 'scenario'."""
+    return SCENARIOS[wildcards.scenario]
+
+
+def track_name(name):
+    """Tracks are shared: a scenario whose track equals the default track uses 'default'."""
+    return "default" if SCENARIOS[name]["track"] == config["track"] else name
+
+
+def track_config(wildcards):
+    """Resolved configuration owning the track named by the wildcard 'track'."""
+    return SCENARIOS[wildcards.track]
+
 
 # Report figures produced so far, by section of the report.
 HALFSPACE_FIGURES = ["02", "03", "04", "05", "06"]
@@ -26,10 +52,15 @@ def speed_label(v):
     return f"{float(v):g}"
 
 
-def wheel_offsets():
-    """Offsets d between every ordered pair of wheels (0 first): the transfer receptances needed."""
-    pos = [float(x) for x in config["wheels"]["positions"]]
-    return sorted({0.0} | {round(a - b, 9) for a in pos for b in pos if a != b}, key=abs)
+def wheel_offsets(wildcards):
+    """Offsets d between every ordered pair of wheels (0 first) over all scenarios that share
+    the track: only the transfer receptances some scenario needs are computed."""
+    offsets = {0.0}
+    for name, cfg in SCENARIOS.items():
+        if track_name(name) == wildcards.track:
+            pos = [float(x) for x in cfg["wheels"]["positions"]]
+            offsets |= {round(a - b, 9) for a in pos for b in pos if a != b}
+    return sorted(offsets, key=lambda d: (abs(d), d))
 
 
 def receptance_tables():

@@ -5,10 +5,11 @@ rule receptance:
     """Receptance matrices a_{p-k}(k Omega_0, d) for one track and speed (rail.moving)."""
     output:
         "results/receptance/{track}/V{speed}.nc",
-    wildcard_constraints:
-        track="default",
     params:
-        offsets=wheel_offsets(),
+        cfg=track_config,
+        offsets=wheel_offsets,
+    message:
+        "receptance table: track {wildcards.track}, V = {wildcards.speed} m/s, offsets {params.offsets} m"
     log:
         "logs/receptance/{track}/V{speed}.log",
     benchmark:

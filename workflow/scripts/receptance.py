@@ -15,4 +15,4 @@ def main(config, speed, offsets, out_path):
 
 if __name__ == "__main__":
     sys.stderr = open(snakemake.log[0], "w")  # noqa: F821
-    main(snakemake.config, float(snakemake.wildcards.speed), snakemake.params.offsets, snakemake.output[0])  # noqa: F821
+    main(snakemake.params.cfg, float(snakemake.wildcards.speed), snakemake.params.offsets, snakemake.output[0])  # noqa: F821
