@@ -1,0 +1,280 @@
+"""Normal wheel/rail forces for wheels moving over a rail with bay-periodic roughness (report sec. 4.2).
+
+Conventions
+-----------
+* Time factor exp(+i p Omega_0 t), Omega_0 = 2 pi V / L.  Wheel l is at x = a_l + V t; x = 0 is a
+  support.
+* Roughness z(x) = sum_k Z_k exp(i k beta0 x) is the rail-head height, positive upwards (eq 18).
+* Rail displacement u and wheel displacement z_w positive downwards; the contact force P is the
+  compression of the contact (positive when pressing), acting downwards on the rail.
+* Contact spring: P = k_H (1 + i eta_H(omega)) (z_w - u + z) for the dynamic part; the
+  mean force of every wheel equals its static load.
+
+Harmonic balance (eq 21), for every wheel l and harmonic p != 0:
+    (1 / k_H(omega_p) - 1 / (M omega_p^2)) P_lp + sum_j sum_k A^{lj}[p, k] P_jk = Z_lp,
+    A^{lj}[p, k] = A_{a_l - a_j}[p, k] exp(i (p - k) beta0 a_j),   Z_lp = Z_p exp(i p beta0 a_l),
+where A_d is the moving-load receptance table (rail.moving) and the k = 0 terms, with
+P_j0 = the static load, are the parametric excitation by the supports.  The wheel is a rigid mass
+(receptance -1/(M omega^2)).
+"""
+
+from __future__ import annotations
+
+from dataclasses import dataclass
+
+import numpy as np
+
+from .moving import MovingReceptance
+
+__all__ = [
+    "Wheels",
+    "ContactSpring",
+    "Roughness",
+    "ContactLossError",
+    "ForceResult",
+    "allowed_wavelengths",
+    "solve_forces",
+    "force_history",
+    "tail_coefficients",
+]
+
+
+@dataclass(frozen=True)
+class Wheels:
+    """Rigid wheels of one train (section 6).
+
+    mass        : kg, > 0 (each wheel)
+    radius      : m, > 0
+    static_load : N, > 0 (each wheel; the mean contact force)
+    positions   : m, positions a_l along the train (the first wheel passes a support at t = 0)
+    """
+
+    mass: float
+    radius: float
+    static_load: float
+    positions: tuple
+
+    def __post_init__(self):
+        for name in ("mass", "radius", "static_load"):
+            v = getattr(self, name)
+            if not (np.isfinite(v) and v > 0):
+                raise ValueError(f"wheels.{name} = {v!r} is not allowed: it must be > 0.")
+        if len(self.positions) < 1:
+            raise ValueError("wheels.positions = [] is not allowed: give at least one wheel position.")
+        if len(set(self.positions)) != len(self.positions):
+            raise ValueError(f"wheels.positions = {list(self.positions)} is not allowed: two wheels at one position.")
+
+
+@dataclass(frozen=True)
+class ContactSpring:
+    """Linearised Hertz contact spring k_H (1 + i eta_H(omega)), N/m.
+
+    hertz_stiffness : k_H, N/m, > 0
+    loss_slope      : s/rad; eta_H = loss_slope * omega (the half-space model, Fig. 6, is exactly
+                      proportional to frequency, i.e. a dashpot k_H * loss_slope)
+    loss_factor     : constant eta_H (hysteretic, sign(omega)), used when loss_slope is 0
+    """
+
+    hertz_stiffness: float
+    loss_slope: float = 0.0
+    loss_factor: float = 0.0
+
+    def stiffness(self, omega):
+        omega = np.asarray(omega, dtype=float)
+        eta = self.loss_slope * omega + self.loss_factor * np.sign(omega)
+        return self.hertz_stiffness * (1 + 1j * eta)
+
+
+@dataclass(frozen=True)
+class Roughness:
+    """Rail-head roughness periodic over one bay: Z_k for k = -K..K, m (eqs 18-19), Z_0 = 0."""
+
+    Z: np.ndarray
+
+    @property
+    def harmonics(self) -> int:
+        return (len(self.Z) - 1) // 2
+
+    @staticmethod
+    def smooth(K: int) -> "Roughness":
+        return Roughness(np.zeros(2 * K + 1, dtype=complex))
+
+    @staticmethod
+    def harmonic(amplitude: float, wavelength: float, L: float, K: int) -> "Roughness":
+        """z(x) = amplitude cos(2 pi x / wavelength), x = 0 at a sleeper (section 6)."""
+        m = bay_harmonic(wavelength, L)
+        if m > K:
+            raise ValueError(
+                f"roughness wavelength {wavelength} m is harmonic {m} of the bay: it needs "
+                f"numerics.track.harmonics >= {m} (now {K})."
+            )
+        Z = np.zeros(2 * K + 1, dtype=complex)
+        Z[K + m] = Z[K - m] = amplitude / 2
+        return Roughness(Z)
+
+    @staticmethod
+    def from_coefficients(k, A, B, K: int) -> "Roughness":
+        """z(x) = sum_k A_k cos(k beta0 x) + B_k sin(k beta0 x), k >= 1 (eq 18-19)."""
+        Z = np.zeros(2 * K + 1, dtype=complex)
+        for kk, a, b in zip(k, A, B):
+            kk = int(kk)
+            if kk < 1 or kk > K:
+                raise ValueError(f"roughness harmonic k = {kk} is not allowed: it must lie in [1, {K}].")
+            Z[K + kk] = 0.5 * (a - 1j * b)
+            Z[K - kk] = 0.5 * (a + 1j * b)
+        return Roughness(Z)
+
+    def profile(self, x, beta0):
+        """z(x), m."""
+        K = self.harmonics
+        k = np.arange(-K, K + 1)
+        return np.real(np.exp(1j * np.outer(np.asarray(x), k * beta0)) @ self.Z)
+
+
+def allowed_wavelengths(wavelength: float, L: float) -> tuple[float, float]:
+    """The two wavelengths L / m nearest to ``wavelength`` that fit a whole number of times in the bay."""
+    m = L / wavelength
+    lo, hi = max(int(np.floor(m)), 1), max(int(np.ceil(m)), 1)
+    return L / hi, L / lo
+
+
+def bay_harmonic(wavelength: float, L: float, rtol: float = 1e-6) -> int:
+    """Harmonic number m = L / wavelength; a clear error if it is not a whole number."""
+    if not (np.isfinite(wavelength) and wavelength > 0):
+        raise ValueError(f"roughness wavelength = {wavelength!r} m is not allowed: it must be > 0.")
+    m = L / wavelength
+    if abs(m - round(m)) > rtol * m or round(m) < 1:
+        a, b = allowed_wavelengths(wavelength, L)
+        raise ValueError(
+            f"roughness wavelength = {wavelength:.6g} m does not fit a whole number of times into the "
+            f"sleeper bay L = {L} m (L / wavelength = {m:.4f}); the nearest allowed wavelengths are "
+            f"{a:.6g} m and {b:.6g} m (L / {round(L / a)} and L / {round(L / b)})."
+        )
+    return int(round(m))
+
+
+class ContactLossError(RuntimeError):
+    """The contact force falls to zero or below: the linear wheel/rail model no longer holds."""
+
+
+@dataclass(frozen=True)
+class ForceResult:
+    """Force harmonics P[l, p] (N) of every wheel, p = -K..K (P[l, 0] = static load)."""
+
+    P: np.ndarray
+    speed: float
+    L: float
+    positions: np.ndarray
+
+    @property
+    def harmonics(self) -> int:
+        return (self.P.shape[1] - 1) // 2
+
+
+def _coupling(tab: MovingReceptance, positions, beta0):
+    """A^{lj}[p, k] = A_{a_l - a_j}[p, k] exp(i (p - k) beta0 a_j), shape (l, j, p, k)."""
+    K = tab.harmonics
+    h = np.arange(-K, K + 1)
+    n = len(positions)
+    out = np.empty((n, n, 2 * K + 1, 2 * K + 1), dtype=complex)
+    for l, al in enumerate(positions):
+        for j, aj in enumerate(positions):
+            d = al - aj
+            idx = np.where(np.isclose(tab.offsets, d, atol=1e-9))[0]
+            if len(idx) == 0:
+                raise ValueError(f"the receptance table holds no offset d = {d} m (wheels {l} and {j}); it has {list(tab.offsets)}.")
+            phase = np.exp(1j * np.subtract.outer(h, h) * beta0 * aj)
+            out[l, j] = tab.A[idx[0]] * phase
+    return out
+
+
+def solve_forces(
+    tab: MovingReceptance, wheels: Wheels, contact: ContactSpring, roughness: Roughness, beta0: float, L: float
+) -> ForceResult:
+    """Solve the coupled harmonic balance for the force harmonics of every wheel (eq 21).
+
+    tab : receptance table at the train's speed with every wheel offset; roughness harmonics
+    are truncated or zero-padded to the table's K.  Raises ContactLossError where any wheel's
+    force P_l(x) falls to zero or below.
+    """
+    K = tab.harmonics
+    h = np.arange(-K, K + 1)
+    Z = np.zeros(2 * K + 1, dtype=complex)
+    Kr = roughness.harmonics
+    m = min(K, Kr)
+    Z[K - m : K + m + 1] = roughness.Z[Kr - m : Kr + m + 1]
+    if Kr > K and np.any(roughness.Z[: Kr - K] != 0):
+        raise ValueError(f"the roughness has harmonics above K = {K}; raise numerics.track.harmonics.")
+    pos = np.asarray(wheels.positions, dtype=float)
+    n = len(pos)
+    A = _coupling(tab, pos, beta0)
+    omega = h * tab.speed * beta0
+    dyn = h != 0
+    om = omega[dyn]
+    self_term = 1.0 / contact.stiffness(om) - 1.0 / (wheels.mass * om**2)
+    nd = dyn.sum()
+    M = np.zeros((n * nd, n * nd), dtype=complex)
+    rhs = np.zeros(n * nd, dtype=complex)
+    for l in range(n):
+        rows = slice(l * nd, (l + 1) * nd)
+        rhs[rows] = Z[dyn] * np.exp(1j * h[dyn] * beta0 * pos[l])
+        for j in range(n):
+            cols = slice(j * nd, (j + 1) * nd)
+            M[rows, cols] = A[l, j][np.ix_(dyn, dyn)]
+            rhs[rows] -= A[l, j][dyn, K] * wheels.static_load
+        M[rows, rows] += np.diag(self_term)
+    sol = np.linalg.solve(M, rhs)
+    P = np.zeros((n, 2 * K + 1), dtype=complex)
+    P[:, K] = wheels.static_load
+    P[:, dyn] = sol.reshape(n, nd)
+    result = ForceResult(P, tab.speed, L, pos)
+    _check_contact(result, beta0)
+    return result
+
+
+def tail_coefficients(result: ForceResult, beta0: float):
+    """C_l = K^2 P_lK exp(-i K beta0 a_l): the harmonics of every wheel's force beyond K, in its own
+    bay frame, modelled as C_l / p^2 (p > 0; conjugate for p < 0).
+
+    The rail deflection under a moving wheel has a slope discontinuity at every support, so the
+    force harmonics fall like 1/p^2 and a plain truncation at K errs by O(1/K) at the sleeper
+    (review notes).  p^2 P_p settles to a constant within a few per cent beyond p ~ 30 (tested).
+    """
+    K = result.harmonics
+    return K**2 * result.P[:, 2 * K] * np.exp(-1j * K * beta0 * result.positions)
+
+
+def force_history(result: ForceResult, x, beta0: float, tail: bool = True, tail_harmonics: int | None = None):
+    """P_l(x): force of every wheel when it is at position x in the bay (m), shape (wheels, len(x)), N.
+
+    With ``tail`` the harmonics K < p <= K + tail_harmonics (default 16 K) are added from the 1/p^2
+    model of tail_coefficients; the remaining truncation is O(1/(17 K)) instead of O(1/K).
+    """
+    K = result.harmonics
+    h = np.arange(-K, K + 1)
+    x = np.asarray(x, dtype=float)
+    out = np.empty((len(result.positions), len(x)))
+    for l, a in enumerate(result.positions):
+        out[l] = np.real(np.exp(1j * np.outer(x - a, h * beta0)) @ result.P[l])
+    if tail and K > 0:
+        C = tail_coefficients(result, beta0)
+        M = tail_harmonics if tail_harmonics is not None else 16 * K
+        p = np.arange(K + 1, K + M + 1)
+        for start in range(0, len(x), 512):
+            xs = x[start : start + 512]
+            E = np.exp(1j * np.outer(xs, p * beta0)) / p**2  # (x, p)
+            S = E.sum(axis=1)
+            out[:, start : start + 512] += 2 * np.real(np.outer(C, S))
+    return out
+
+
+def _check_contact(result: ForceResult, beta0: float, points: int = 2048):
+    x = np.linspace(0, result.L, points, endpoint=False)
+    Pl = force_history(result, x, beta0)
+    for l, row in enumerate(Pl):
+        i = int(np.argmin(row))
+        if row[i] <= 0:
+            raise ContactLossError(
+                f"contact lost: wheel {l} at x = {x[i]:.4f} m in the bay, minimum force {row[i] / 1e3:.2f} kN; "
+                f"the linear wheel/rail model needs a positive force - reduce the roughness amplitude."
+            )
