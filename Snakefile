@@ -15,6 +15,7 @@ report: "workflow/report/workflow.rst"
 include: "workflow/rules/common.smk"
 include: "workflow/rules/halfspace.smk"
 include: "workflow/rules/track.smk"
+include: "workflow/rules/forces.smk"
 
 
 rule all:

@@ -13,7 +13,7 @@ from . import halfspace
 from .halfspace import ElasticMaterial, HalfSpaceNumerics
 from .params import HalfSpaceFigureSettings
 
-__all__ = ["fig02", "fig03", "fig04", "radiation", "fig05", "fig06", "receptance_table"]
+__all__ = ["fig02", "fig03", "fig04", "radiation", "fig05", "fig06", "receptance_table", "read_receptance_table", "fig08", "fig22"]
 
 
 def _var(dims, data, units, long_name, **extra):
@@ -128,4 +128,51 @@ def receptance_table(tab, track) -> xr.Dataset:
             "quadrature_nodes": tab.nodes,
             "convention": "harmonic p of the rail displacement at offset d equals sum_k A[d, p, k] P_k for force harmonics P_k; time factor exp(+i p Omega_0 t); displacement and force positive downwards",
         },
+    )
+
+
+def read_receptance_table(ds: xr.Dataset):
+    """The MovingReceptance stored by receptance_table (inverse of it)."""
+    from .moving import MovingReceptance
+
+    A = ds["receptance_real"].values + 1j * ds["receptance_imag"].values
+    K = (A.shape[1] - 1) // 2
+    return MovingReceptance(
+        float(ds.attrs["speed_m_per_s"]), K, ds["offset"].values, A, ds["quadrature_error"].values, int(ds.attrs["quadrature_nodes"])
+    )
+
+
+def _force_history_vars(results, track, x, labels):
+    """Force histories over the bay, one variable per result, N."""
+    from .interaction import force_history
+
+    out = {}
+    for key, (res, long_name) in zip(labels, results):
+        out[key] = _var("position", force_history(res, x, track.beta0)[0], "N", long_name)
+    return out
+
+
+def fig08(result, track, roughness, settings: dict, points: int = 601) -> xr.Dataset:
+    """Fig. 8: normal contact force of one wheel over a bay with harmonic roughness, and that roughness."""
+    x = np.linspace(0.0, track.L, points)
+    data = _force_history_vars([(result, "normal contact force")], track, x, ["force"])
+    data["dynamic_force"] = _var("position", data["force"][1] - result.P[0, result.harmonics].real, "N", "normal dynamic contact force (force minus static load)")
+    data["roughness"] = _var("position", roughness.profile(x, track.beta0), "m", "rail-head roughness (upwards positive)")
+    return xr.Dataset(
+        data,
+        coords={"position": _var("position", x, "m", "wheel position in the sleeper bay (0 = above a sleeper)")},
+        attrs={"speed_m_per_s": settings["speed"], "roughness_frequency_Hz": settings["frequency"], "roughness_amplitude_m": settings["amplitude"], "damping_model": track.damping},
+    )
+
+
+def fig22(results: dict, track, points: int = 601) -> xr.Dataset:
+    """Fig. 22: normal contact force of one wheel over a smooth rail, one variable per speed."""
+    x = np.linspace(0.0, track.L, points)
+    data = {}
+    for V, res in results.items():
+        data.update(_force_history_vars([(res, f"normal contact force at {V:g} m/s, smooth rail")], track, x, [f"force_V{V:g}"]))
+    return xr.Dataset(
+        data,
+        coords={"position": _var("position", x, "m", "wheel position in the sleeper bay (0 = above a sleeper)")},
+        attrs={"speeds_m_per_s": list(results), "damping_model": track.damping},
     )

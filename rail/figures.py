@@ -13,7 +13,7 @@ matplotlib.use("Agg")
 import matplotlib.pyplot as plt  # noqa: E402
 import xarray as xr  # noqa: E402
 
-__all__ = ["fig02", "fig03", "fig04", "fig05", "fig06"]
+__all__ = ["fig02", "fig03", "fig04", "fig05", "fig06", "fig08", "fig22"]
 
 _SIZE = (6.0, 4.0)
 
@@ -83,4 +83,38 @@ def fig06(ds: xr.Dataset):
     ax.set_xlabel("frequency (Hz)")
     ax.set_ylabel(r"contact-spring loss factor $\eta_H$ (-)")
     ax.set_title(f"$k_H$ = {ds.attrs['hertz_stiffness_N_per_m']:.3g} N/m", fontsize=9)
+    return fig
+
+
+def fig08(ds: xr.Dataset):
+    """Fig. 8: position-history of the normal dynamic contact force (solid), roughness (dotted, not to scale)."""
+    fig, ax = _new()
+    x = ds["position"]
+    ax.plot(x, ds["dynamic_force"] / 1e3, "-", color="k", label="dynamic contact force")
+    ax.set_xlabel("wheel position in the sleeper bay (m)")
+    ax.set_ylabel("normal dynamic contact force (kN)")
+    ax2 = ax.twinx()
+    ax2.plot(x, ds["roughness"] * 1e6, ":", color="tab:blue", label="roughness")
+    ax2.set_ylabel("roughness (um)")
+    lines = ax.get_lines() + ax2.get_lines()
+    ax.legend(lines, [ln.get_label() for ln in lines], loc="upper right", fontsize=8)
+    ax.set_title(
+        f"V = {ds.attrs['speed_m_per_s']:g} m/s, {1e6 * ds.attrs['roughness_amplitude_m']:g} um at "
+        f"{ds.attrs['roughness_frequency_Hz']:g} Hz",
+        fontsize=9,
+    )
+    return fig
+
+
+def fig22(ds: xr.Dataset):
+    """Fig. 22: normal contact force over a smooth rail at each speed (solid, dashed, ...)."""
+    fig, ax = _new()
+    styles = ["-", "--", "-.", ":"]
+    for i, name in enumerate(v for v in ds.data_vars if v.startswith("force_V")):
+        V = name.removeprefix("force_V")
+        ax.plot(ds["position"], ds[name] / 1e3, styles[i % 4], color="k", label=f"{V} m/s")
+    ax.set_xlabel("wheel position in the sleeper bay (m)")
+    ax.set_ylabel("normal contact force (kN)")
+    ax.set_title("smooth rail", fontsize=9)
+    ax.legend()
     return fig

@@ -11,9 +11,13 @@ from dataclasses import dataclass
 import numpy as np
 
 from .halfspace import ElasticMaterial, HalfSpaceNumerics
+from .interaction import ContactSpring, Roughness, Wheels
 from .track import Ballast, Pad, Rail, Sleeper, Track
 
-__all__ = ["HalfSpaceFigureSettings", "material", "halfspace_numerics", "halfspace_figures", "track"]
+__all__ = [
+    "HalfSpaceFigureSettings", "material", "halfspace_numerics", "halfspace_figures", "track",
+    "wheels", "contact_spring", "roughness", "harmonics",
+]
 
 
 @dataclass(frozen=True, slots=True)
@@ -78,3 +82,40 @@ def track(cfg: dict) -> Track:
         ballast=Ballast(float(b["stiffness"]), float(b["loss_factor"]), float(b["viscous_damping"])),
         damping=str(t["damping"]),
     )
+
+
+def harmonics(cfg: dict) -> int:
+    """K, the number of sleeper-passing harmonics (config key ``numerics.track.harmonics``)."""
+    return int(cfg["numerics"]["track"]["harmonics"])
+
+
+def wheels(cfg: dict) -> Wheels:
+    """The train's wheels (config key ``wheels``)."""
+    w = cfg["wheels"]
+    return Wheels(float(w["mass"]), float(w["radius"]), float(w["static_load"]), tuple(float(a) for a in w["positions"]))
+
+
+def contact_spring(cfg: dict) -> ContactSpring:
+    """Linearised Hertz spring; its damping from the half-space model (Fig. 6), a constant or none."""
+    from .halfspace import contact_loss_factor
+
+    c = cfg["contact"]
+    kH = float(c["hertz_stiffness"])
+    model = c["loss_factor_model"]
+    if model == "halfspace":
+        om = 2 * np.pi * 1000.0  # eta_H is exactly proportional to frequency: one value gives the slope
+        return ContactSpring(kH, loss_slope=float(contact_loss_factor(om, kH, material(cfg)) / om))
+    if model == "constant":
+        return ContactSpring(kH, loss_factor=float(c["loss_factor"]))
+    return ContactSpring(kH)
+
+
+def roughness(cfg: dict, speed: float, L: float, K: int) -> Roughness:
+    """Initial roughness (config key ``roughness``) at the given speed, m."""
+    r = cfg["roughness"]
+    if r["kind"] == "smooth":
+        return Roughness.smooth(K)
+    wavelength = r.get("wavelength")
+    if wavelength is None:
+        wavelength = speed / float(r["frequency"])
+    return Roughness.harmonic(float(r["amplitude"]), float(wavelength), L, K)

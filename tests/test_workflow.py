@@ -35,10 +35,18 @@ def test_fig06_alone_runs_only_the_radiation_jobs(root, workdir):
     assert job_counts(out.stdout) == {"halfspace_radiation": 1, "radiation_figure": 1}
 
 
-def test_default_target_builds_every_halfspace_figure(root, workdir):
+def test_default_target_builds_every_figure_and_only_the_receptances_they_need(root, workdir):
     out = snakemake(root, "-n", cwd=workdir)
     assert out.returncode == 0, out.stderr
-    assert job_counts(out.stdout) == {"halfspace_figure": 3, "halfspace_radiation": 1, "radiation_figure": 2, "all": 1}
+    assert job_counts(out.stdout) == {
+        "halfspace_figure": 3,
+        "halfspace_radiation": 1,
+        "radiation_figure": 2,
+        "receptance": 2,  # 20 and 40 m/s for Figs 8 and 22, not the 60 and 80 m/s of the speed list
+        "fig08": 1,
+        "fig22": 1,
+        "all": 1,
+    }
 
 
 @pytest.mark.parametrize(

@@ -40,10 +40,14 @@ def track_config(wildcards):
 HALFSPACE_FIGURES = ["02", "03", "04", "05", "06"]
 
 
+FORCE_FIGURES = ["08", "22"]
+
+
 def paper_figures():
     """Every report figure: its picture and its plotted data."""
     return expand(
-        ["results/figures/fig{nn}.png", "results/data/fig{nn}.nc"], nn=HALFSPACE_FIGURES
+        ["results/figures/fig{nn}.png", "results/data/fig{nn}.nc"],
+        nn=HALFSPACE_FIGURES + FORCE_FIGURES,
     )
 
 
