@@ -45,6 +45,7 @@ __all__ = [
     "TangentialSolution",
     "solve_tangential",
     "rolling_grid",
+    "checkerboard_measure",
 ]
 
 
@@ -216,6 +217,24 @@ class TangentialSolution:
     iterations: int
 
 
+def checkerboard_measure(q, stick, p0, mu):
+    """Largest second difference of the traction inside the stick zones (at least three nodes from
+    a zone boundary), relative to mu p0. A smooth solution keeps it at O((Delta / a)^2); measured
+    <= 0.11 after the first transit for the default closure, 0.29-0.83 for the report's diverging
+    closure (docs/contact.md)."""
+    core = stick.copy()
+    core[1:] &= stick[:-1]
+    core[:-1] &= stick[1:]
+    inner = core[1:-1] & core[2:] & core[:-2]
+    if not inner.any():
+        return 0.0
+    d2 = np.abs(q[2:] - 2 * q[1:-1] + q[:-2])
+    return float(d2[inner].max() / (mu * p0))
+
+
+CHECKERBOARD_LIMIT = 0.25
+
+
 def rolling_grid(a_max: float, L: float, nodes: int):
     """Grid spacing Delta = L / N_x with N_x integer, at least ``nodes`` nodes across 2 a_max.
 
@@ -356,6 +375,15 @@ def solve_tangential(P, a, m: ContactMaterial, speed: float, delta: float, M: in
             raise ContactError(f"the stick/slip iteration did not converge at step {i} (a = {a[i]:.4g} m).")
         total_iter += it + 1
         s[stick] = 0.0
+        if i > nn and P[i] > 0:
+            cb = checkerboard_measure(qn, stick & inside, P[i] / (np.pi * a[i] * m.half_width), mu_d)
+            if cb > CHECKERBOARD_LIMIT:
+                raise ContactError(
+                    f"the tangential solution diverged at step {i} (closure '{closure}', s = {closure_scale}): "
+                    f"node-to-node oscillation {cb:.2f} mu p0 in the stick zone (limit {CHECKERBOARD_LIMIT}). "
+                    "The report's closure u(0,t) = q(0,t)/sigma (eqs 32-33) is ill-posed for unsteady rolling "
+                    "(docs/paper-discrepancies.md); use contact.closure: default."
+                )
         q_hist[i] = qn
         s_hist[i] = s
         Q_hist[i] = b2 * col_w @ qn

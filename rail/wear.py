@@ -1,0 +1,127 @@
+"""Frictional-work wear of the rail over one sleeper bay (report section 5, eqs 49-54).
+
+One wheel rolls over the bay with the force history of rail.interaction and the rail-head
+profile of the current roughness. rail.contact gives the traction and slip of every rail point
+as it crosses the patch. The wear depth is the frictional work done on that point times K / rho
+(eq 49). Its discrete Fourier transform over the bay, with Delta Z_0 = 0, gives the new profile
+Z_k - Delta Z_k (eq 54).
+
+Positions: rail points x_k = k Delta (k = 0..N_x - 1, x = 0 above a sleeper). The contact is
+solved over two bays, the first as spin-up from zero traction; the work of the second bay's
+points is used. The change of the traction state over the second bay is returned as a measure
+of periodicity.
+"""
+
+from __future__ import annotations
+
+from dataclasses import dataclass
+
+import numpy as np
+
+from .contact import ContactMaterial, equivalent_radius, hertz_half_length, rolling_grid, solve_tangential
+from .interaction import ForceResult, Roughness, force_history
+
+__all__ = ["WearResult", "bay_wear", "wear_spectrum", "apply_wear"]
+
+
+@dataclass(frozen=True)
+class WearResult:
+    """Wear of one wheel passage over a bay.
+
+    x        : (N_x,) rail positions in the bay, m
+    depth    : (N_x,) removed height Delta z(x_k), m (eq 51)
+    Z        : (2K+1,) Fourier coefficients Delta Z_k of the depth over the bay, Delta Z_0 = 0, m
+    P, a     : (N_x,) normal force (N) and half-length (m) with the wheel centre at x_k
+    Q        : (N_x,) tangential force with the wheel centre at x_k, N
+    q, s, xi : traction (Pa) and slip velocity (m/s) at the patch nodes xi (m) with the wheel at x_k
+    periodicity : max change of the traction state between the starts of the two bays, relative
+                  to max |q|
+    """
+
+    x: np.ndarray
+    depth: np.ndarray
+    Z: np.ndarray
+    P: np.ndarray
+    a: np.ndarray
+    Q: np.ndarray
+    q: np.ndarray
+    s: np.ndarray
+    xi: np.ndarray
+    periodicity: float
+
+
+def wear_spectrum(depth, K: int):
+    """Delta Z_k = (1/N_x) sum_k depth e^{-i k beta0 x_k} for k = -K..K, with Delta Z_0 = 0, m."""
+    N = len(depth)
+    F = np.fft.fft(depth) / N
+    k = np.arange(-K, K + 1)
+    Z = F[k % N]
+    Z[K] = 0.0
+    return Z
+
+
+def apply_wear(roughness: Roughness, dZ, passages: float = 1.0) -> Roughness:
+    """New roughness Z_k - passages * Delta Z_k (eq 54)."""
+    return Roughness(roughness.Z - passages * np.asarray(dZ))
+
+
+def bay_wear(forces: ForceResult, wheel_index: int, roughness: Roughness, material: ContactMaterial, density: float,
+             wear_coefficient: float, beta0: float, L: float, nodes: int = 81, closure: str = "default",
+             closure_scale: float = 1.0, grid_offset: float = 0.0, a_max: float | None = None) -> WearResult:
+    """Wear of one passage of wheel ``wheel_index`` over the bay (eqs 22-24, 26-52).
+
+    forces : the normal force harmonics (their histories include the 1/p^2 tail);
+    roughness : the current profile (curvature kappa = -z'', eq 20; multiple contact is an error);
+    density, wear_coefficient : rho (kg/m^3) and K (kg/(N m)) of eq 49;
+    nodes : grid nodes across the largest patch (the grid spacing divides the bay);
+    grid_offset : shift of the rail points against the supports, in grid spacings [0, 1): the wear
+    at the shifted points is interpolated back onto x_k, so that a discretisation error tied to
+    the grid position can be averaged out between updates.
+    """
+    K = roughness.harmonics
+    speed = forces.speed
+    a_est = a_max
+    if a_est is None:
+        xs = np.linspace(0, L, 512, endpoint=False)
+        P_s = force_history(forces, xs, beta0)[wheel_index]
+        kap_s = _curvature(roughness, xs, beta0)
+        a_est = float(np.max(hertz_half_length(P_s, equivalent_radius(kap_s, material), material))) * 1.02
+    delta, Nx, M = rolling_grid(a_est, L, nodes)
+    steps = 2 * Nx + 2 * M + 1
+    x_wheel = (np.arange(steps) + grid_offset) * delta  # wheel centre at each step (absolute)
+    P = force_history(forces, x_wheel % L, beta0)[wheel_index]
+    kappa = _curvature(roughness, x_wheel % L, beta0)
+    R = equivalent_radius(kappa, material)
+    a = hertz_half_length(P, R, material)
+    sol = solve_tangential(P, a, material, speed, delta, M, closure=closure, closure_scale=closure_scale)
+    # particle j is at x = (j - M + grid_offset) Delta; the second bay's points are j - M = Nx .. 2Nx-1
+    j = np.arange(Nx, 2 * Nx) + M
+    depth = wear_coefficient / density * sol.work[j]
+    if grid_offset:
+        # interpolate from the shifted points back onto x_k = k Delta (periodic, linear)
+        xk = np.arange(Nx) * delta
+        depth = np.interp(xk, (np.arange(Nx) + grid_offset) * delta, depth, period=L)
+    x = np.arange(Nx) * delta
+    # states with the wheel centre at x_k in the second bay: step i = Nx + k
+    i = Nx + np.arange(Nx)
+    qscale = max(np.abs(sol.q).max(), 1e-300)
+    periodicity = float(np.abs(sol.q[2 * Nx] - sol.q[Nx]).max() / qscale)
+    return WearResult(
+        x=x,
+        depth=depth,
+        Z=wear_spectrum(depth, K),
+        P=P[i],
+        a=a[i],
+        Q=sol.Q[i],
+        q=sol.q[i],
+        s=sol.s[i],
+        xi=sol.xi,
+        periodicity=periodicity,
+    )
+
+
+def _curvature(roughness: Roughness, x, beta0):
+    """kappa = -z''(x) = sum (k beta0)^2 Z_k e^{i k beta0 x} (eq 20), 1/m."""
+    K = roughness.harmonics
+    k = np.arange(-K, K + 1)
+    return np.real(np.exp(1j * np.outer(np.asarray(x), k * beta0)) @ ((k * beta0) ** 2 * roughness.Z))
