@@ -16,6 +16,7 @@ include: "workflow/rules/common.smk"
 include: "workflow/rules/halfspace.smk"
 include: "workflow/rules/track.smk"
 include: "workflow/rules/forces.smk"
+include: "workflow/rules/wear.smk"
 
 
 rule all:

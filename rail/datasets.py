@@ -13,7 +13,7 @@ from . import halfspace
 from .halfspace import ElasticMaterial, HalfSpaceNumerics
 from .params import HalfSpaceFigureSettings
 
-__all__ = ["fig02", "fig03", "fig04", "radiation", "fig05", "fig06", "receptance_table", "read_receptance_table", "fig08", "fig22"]
+__all__ = ["fig02", "fig03", "fig04", "radiation", "fig05", "fig06", "receptance_table", "read_receptance_table", "fig08", "fig22", "wear_case", "fig09", "fig10_11", "fig_wear", "fig_wear_spectrum"]
 
 
 def _var(dims, data, units, long_name, **extra):
@@ -176,3 +176,74 @@ def fig22(results: dict, track, points: int = 601) -> xr.Dataset:
         coords={"position": _var("position", x, "m", "wheel position in the sleeper bay (0 = above a sleeper)")},
         attrs={"speeds_m_per_s": list(results), "damping_model": track.damping},
     )
+
+
+def wear_case(result, forces, roughness, track, settings: dict, frequency: float) -> xr.Dataset:
+    """One wheel passage over a harmonic roughness: contact and wear along the bay (Figs 9-19)."""
+    x = result.x
+    K = roughness.harmonics
+    k = np.arange(1, K + 1)
+    P0 = forces.P[0, forces.harmonics].real
+    return xr.Dataset(
+        {
+            "wear_depth": _var("position", result.depth, "m", "height of rail removed by one wheel passage (eq 51)"),
+            "normal_force": _var("position", result.P, "N", "normal contact force with the wheel at the position"),
+            "dynamic_normal_force": _var("position", result.P - P0, "N", "normal dynamic contact force (minus the static load)"),
+            "tangential_force": _var("position", result.Q, "N", "tangential contact force 2b int q"),
+            "half_length": _var("position", result.a, "m", "contact patch half-length a (eq 23)"),
+            "roughness": _var("position", roughness.profile(x, track.beta0), "m", "initial rail-head roughness (upwards positive)"),
+            "traction": _var(("position", "patch"), result.q, "Pa", "tangential traction q(xi) with the wheel at the position"),
+            "slip_velocity": _var(("position", "patch"), result.s, "m/s", "slip velocity s(xi) (step average, eq 26)"),
+            "wear_spectrum": _var("harmonic", 2 * np.abs(result.Z[K + 1 :]), "m", "amplitude of the wear's Fourier components, 2 |Delta Z_k|"),
+            "wear_spectrum_real": _var("harmonic", result.Z[K + 1 :].real, "m", "real part of Delta Z_k"),
+            "wear_spectrum_imag": _var("harmonic", result.Z[K + 1 :].imag, "m", "imaginary part of Delta Z_k"),
+        },
+        coords={
+            "position": _var("position", x, "m", "wheel (contact centre) position in the sleeper bay, 0 above a sleeper"),
+            "patch": _var("patch", result.xi, "m", "position xi in the contact patch (leading edge positive)"),
+            "harmonic": _var("harmonic", k, "1", "harmonic k of the sleeper bay"),
+            "wavenumber": _var("harmonic", k * track.beta0, "rad/m", "wavenumber k beta0"),
+        },
+        attrs={
+            "speed_m_per_s": settings["speed"],
+            "roughness_frequency_Hz": frequency,
+            "roughness_wavelength_m": settings["speed"] / frequency,
+            "roughness_amplitude_m": settings["amplitude"],
+            "mean_wear_m": float(result.depth.mean()),
+            "periodicity_error": result.periodicity,
+            "damping_model": track.damping,
+        },
+    )
+
+
+def _attrs(ds):
+    return {k: ds.attrs[k] for k in ("speed_m_per_s", "roughness_frequency_Hz", "roughness_amplitude_m", "mean_wear_m") if k in ds.attrs}
+
+
+def fig09(case: xr.Dataset) -> xr.Dataset:
+    """Fig. 9: tangential contact force against wheel position."""
+    return case[["tangential_force", "normal_force"]].assign_attrs(_attrs(case))
+
+
+def fig10_11(case: xr.Dataset, variable: str, instants_s=(0.0, 0.25e-3, 0.5e-3, 0.75e-3, 1.0e-3)) -> xr.Dataset:
+    """Figs 10 and 11: traction or slip velocity across the patch at instants of one excitation period."""
+    V = case.attrs["speed_m_per_s"]
+    x = case["position"].values
+    out = {}
+    for t in instants_s:
+        i = int(np.argmin(np.abs(x - V * t)))
+        out[f"t{1e3 * t:.2f}ms".replace(".", "_")] = _var(
+            "patch", case[variable].values[i], case[variable].attrs["units"], f"{case[variable].attrs['long_name']} at t = {1e3 * t:.2f} ms (x = {x[i]:.4f} m)"
+        )
+    return xr.Dataset(out, coords={"patch": case["patch"]}, attrs=_attrs(case))
+
+
+def fig_wear(case: xr.Dataset) -> xr.Dataset:
+    """Figs 12, 14, 16, 18: wear after one passage with the initial roughness and the dynamic force."""
+    return case[["wear_depth", "roughness", "dynamic_normal_force"]].assign_attrs(_attrs(case))
+
+
+def fig_wear_spectrum(case: xr.Dataset, k_max: float) -> xr.Dataset:
+    """Figs 13, 15, 17, 19: amplitude spectrum of the wear up to k_max rad/m."""
+    sel = case["wavenumber"].values <= k_max + 1e-9
+    return case[["wear_spectrum"]].isel(harmonic=np.where(sel)[0]).assign_attrs(_attrs(case))

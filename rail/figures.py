@@ -11,9 +11,10 @@ import matplotlib
 
 matplotlib.use("Agg")
 import matplotlib.pyplot as plt  # noqa: E402
+import numpy as np  # noqa: E402
 import xarray as xr  # noqa: E402
 
-__all__ = ["fig02", "fig03", "fig04", "fig05", "fig06", "fig08", "fig22"]
+__all__ = ["fig02", "fig03", "fig04", "fig05", "fig06", "fig08", "fig09", "fig10", "fig11", "fig_wear", "fig_wear_spectrum", "fig22"]
 
 _SIZE = (6.0, 4.0)
 
@@ -117,4 +118,72 @@ def fig22(ds: xr.Dataset):
     ax.set_ylabel("normal contact force (kN)")
     ax.set_title("smooth rail", fontsize=9)
     ax.legend()
+    return fig
+
+
+def _case_title(ds):
+    return f"V = {ds.attrs['speed_m_per_s']:g} m/s, {1e6 * ds.attrs['roughness_amplitude_m']:g} um at {ds.attrs['roughness_frequency_Hz']:.0f} Hz"
+
+
+def fig09(ds: xr.Dataset):
+    """Fig. 9: position-history of the tangential contact force."""
+    fig, ax = _new()
+    ax.plot(ds["position"], ds["tangential_force"] / 1e3, "-", color="k")
+    ax.set_xlabel("wheel position in the sleeper bay (m)")
+    ax.set_ylabel("tangential contact force (kN)")
+    ax.set_title(_case_title(ds), fontsize=9)
+    return fig
+
+
+_INSTANT_STYLES = ["-", "--", "-.", ":", (0, (5, 1, 1, 1, 1, 1))]
+
+
+def _instants(ds, scale, ylabel):
+    fig, ax = _new()
+    for style, name in zip(_INSTANT_STYLES, ds.data_vars):
+        label = ds[name].attrs["long_name"].split(" at ")[-1]
+        ax.plot(1e3 * ds["patch"], ds[name] * scale, linestyle=style, color="k", label=label)
+    ax.set_xlabel("position in the contact patch (mm, leading edge positive)")
+    ax.set_ylabel(ylabel)
+    ax.set_title(_case_title(ds), fontsize=9)
+    ax.legend(fontsize=8)
+    return fig
+
+
+def fig10(ds: xr.Dataset):
+    """Fig. 10: tangential contact stress at five instants of one excitation period."""
+    return _instants(ds, 1e-6, "tangential contact stress (MPa)")
+
+
+def fig11(ds: xr.Dataset):
+    """Fig. 11: slip velocity at five instants (meaningless outside the patch, plotted as 0)."""
+    return _instants(ds, 1.0, "slip velocity (m/s)")
+
+
+def fig_wear(ds: xr.Dataset):
+    """Figs 12, 14, 16, 18: wear (solid), initial roughness (dotted) and dynamic force (dashed), the
+    last two scaled to the wear's range (not to scale, as in the report)."""
+    fig, ax = _new()
+    x = ds["position"]
+    wear = ds["wear_depth"] * 1e9
+    ax.plot(x, wear, "-", color="k", label="wear after one passage")
+    span = float(wear.max() - wear.min()) / 2
+    mid = float(wear.mean())
+    for name, style, label in (("roughness", ":", "initial roughness (not to scale)"), ("dynamic_normal_force", "--", "dynamic normal force (not to scale)")):
+        v = ds[name]
+        ax.plot(x, mid + span * v / float(np.abs(v).max()), style, color="0.4", label=label)
+    ax.set_xlabel("position in the sleeper bay (m)")
+    ax.set_ylabel("wear depth after one passage (nm)")
+    ax.set_title(_case_title(ds), fontsize=9)
+    ax.legend(fontsize=8, loc="lower right")
+    return fig
+
+
+def fig_wear_spectrum(ds: xr.Dataset):
+    """Figs 13, 15, 17, 19: amplitude spectrum of the wear after one passage."""
+    fig, ax = _new()
+    ax.plot(ds["wavenumber"], ds["wear_spectrum"] * 1e12, "-o", color="k", ms=2.5)
+    ax.set_xlabel("wavenumber (rad/m)")
+    ax.set_ylabel("wear amplitude after one passage (pm)")
+    ax.set_title(_case_title(ds), fontsize=9)
     return fig

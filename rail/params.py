@@ -11,12 +11,13 @@ from dataclasses import dataclass
 import numpy as np
 
 from .halfspace import ElasticMaterial, HalfSpaceNumerics
+from .contact import ContactMaterial
 from .interaction import ContactSpring, Roughness, Wheels
 from .track import Ballast, Pad, Rail, Sleeper, Track
 
 __all__ = [
     "HalfSpaceFigureSettings", "material", "halfspace_numerics", "halfspace_figures", "track",
-    "wheels", "contact_spring", "roughness", "harmonics",
+    "wheels", "contact_spring", "roughness", "harmonics", "contact_material",
 ]
 
 
@@ -119,3 +120,17 @@ def roughness(cfg: dict, speed: float, L: float, K: int) -> Roughness:
     if wavelength is None:
         wavelength = speed / float(r["frequency"])
     return Roughness.harmonic(float(r["amplitude"]), float(wavelength), L, K)
+
+
+def contact_material(cfg: dict) -> ContactMaterial:
+    """Contact parameters of sections 4.2-4.3 (config keys ``material``, ``contact``, ``wheels``)."""
+    c, mat = cfg["contact"], cfg["material"]
+    return ContactMaterial(
+        youngs_modulus=float(mat["youngs_modulus"]),
+        poisson_ratio=float(mat["poisson_ratio"]),
+        half_width=float(c["half_width"]),
+        wheel_radius=float(cfg["wheels"]["radius"]),
+        friction_dynamic=float(c["friction_dynamic"]),
+        friction_static=float(c["friction_static"]),
+        creepage=float(c["creepage"]),
+    )

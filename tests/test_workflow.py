@@ -45,6 +45,8 @@ def test_default_target_builds_every_figure_and_only_the_receptances_they_need(r
         "receptance": 2,  # 20 and 40 m/s for Figs 8 and 22, not the 60 and 80 m/s of the speed list
         "fig08": 1,
         "fig22": 1,
+        "wear_case": 4,  # 533, 1000, 1200, 1600 Hz at 40 m/s
+        "wear_figure": 11,  # Figs 9-19
         "all": 1,
     }
 

@@ -41,13 +41,35 @@ HALFSPACE_FIGURES = ["02", "03", "04", "05", "06"]
 
 
 FORCE_FIGURES = ["08", "22"]
+WEAR_FIGURES = [f"{n:02d}" for n in range(9, 20)]
+
+
+def wear_frequency_label(f):
+    """Excitation frequency in a file name: 533.333 -> '533'."""
+    return f"{float(f):.0f}"
+
+
+def wear_case_file(wildcards):
+    """The wear case behind a figure of Figs 9-19 (Figs 9-11 use the second frequency, 1000 Hz)."""
+    s = config["figures"]["wear"]
+    n = int(wildcards.nn)
+    index = 1 if n <= 11 else (n - 12) // 2
+    return f"results/wear/default/V{speed_label(s['speed'])}_f{wear_frequency_label(s['frequencies'][index])}.nc"
+
+
+def wear_frequency(wildcards):
+    """The configured frequency (Hz) whose label is the wildcard 'freq'."""
+    for f in config["figures"]["wear"]["frequencies"]:
+        if wear_frequency_label(f) == wildcards.freq:
+            return float(f)
+    raise ValueError(f"no configured wear frequency has the label {wildcards.freq}")
 
 
 def paper_figures():
     """Every report figure: its picture and its plotted data."""
     return expand(
         ["results/figures/fig{nn}.png", "results/data/fig{nn}.nc"],
-        nn=HALFSPACE_FIGURES + FORCE_FIGURES,
+        nn=HALFSPACE_FIGURES + FORCE_FIGURES + WEAR_FIGURES,
     )
 
 

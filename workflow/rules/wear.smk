@@ -1,0 +1,33 @@
+# Sections 4.3 and 5: tangential contact and wear of one passage (Figs 9-19).
+
+
+rule wear_case:
+    """One wheel passage over a harmonic roughness: contact and wear along the bay."""
+    input:
+        table="results/receptance/{track}/V{speed}.nc",
+    output:
+        "results/wear/{track}/V{speed}_f{freq}.nc",
+    params:
+        cfg=track_config,
+        frequency=wear_frequency,
+    log:
+        "logs/wear/{track}/V{speed}_f{freq}.log",
+    benchmark:
+        "benchmarks/wear/{track}/V{speed}_f{freq}.tsv"
+    script:
+        "../scripts/wear_case.py"
+
+
+rule wear_figure:
+    """Figs 9-19 from the wear cases."""
+    input:
+        wear_case_file,
+    output:
+        data="results/data/fig{nn}.nc",
+        figure=report("results/figures/fig{nn}.png", caption="../report/wear_figure.rst", category="Sections 4.3 and 5: contact and wear"),
+    wildcard_constraints:
+        nn="09|1[0-9]",
+    log:
+        "logs/fig{nn}.log",
+    script:
+        "../scripts/wear_figure.py"
