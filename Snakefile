@@ -17,6 +17,8 @@ include: "workflow/rules/halfspace.smk"
 include: "workflow/rules/track.smk"
 include: "workflow/rules/forces.smk"
 include: "workflow/rules/wear.smk"
+include: "workflow/rules/growth.smk"
+include: "workflow/rules/characterisation.smk"
 
 
 rule all:

@@ -6,6 +6,8 @@ Each function returns an xarray Dataset whose every variable carries ``units`` a
 
 from __future__ import annotations
 
+import re
+
 import numpy as np
 import xarray as xr
 
@@ -13,7 +15,7 @@ from . import halfspace
 from .halfspace import ElasticMaterial, HalfSpaceNumerics
 from .params import HalfSpaceFigureSettings
 
-__all__ = ["fig02", "fig03", "fig04", "radiation", "fig05", "fig06", "receptance_table", "read_receptance_table", "fig08", "fig22", "wear_case", "fig09", "fig10_11", "fig_wear", "fig_wear_spectrum"]
+__all__ = ["fig02", "fig03", "fig04", "radiation", "fig05", "fig06", "receptance_table", "read_receptance_table", "fig08", "fig22", "wear_case", "fig09", "fig10_11", "fig_wear", "fig_wear_spectrum", "growth", "growth_figure"]
 
 
 def _var(dims, data, units, long_name, **extra):
@@ -247,3 +249,72 @@ def fig_wear_spectrum(case: xr.Dataset, k_max: float) -> xr.Dataset:
     """Figs 13, 15, 17, 19: amplitude spectrum of the wear up to k_max rad/m."""
     sel = case["wavenumber"].values <= k_max + 1e-9
     return case[["wear_spectrum"]].isel(harmonic=np.where(sel)[0]).assign_attrs(_attrs(case))
+
+
+def growth(history, track, speed: float, n_wheels: int, points: int = 601) -> xr.Dataset:
+    """Roughness growth: levels per harmonic and profiles at every saved passage count."""
+    from .growth import levels_dB
+    from .interaction import Roughness
+
+    Z = history.Z
+    K = (Z.shape[1] - 1) // 2
+    k = np.arange(1, K + 1)
+    x = np.linspace(0.0, track.L, points)
+    profiles = np.array([Roughness(z).profile(x, track.beta0) for z in Z])
+    levels = levels_dB(Z)
+    n = history.passages
+    half = n >= n[-1] / 2
+    if half.sum() >= 2:
+        slope = np.polyfit(n[half], levels[half], 1)[0] * 1e4
+    else:
+        slope = np.full(K, np.nan)
+    return xr.Dataset(
+        {
+            "level": _var(("passage", "harmonic"), levels, "dB re 1 um", "rms roughness level of each harmonic of the bay"),
+            "profile": _var(("passage", "position"), profiles, "m", "rail-head roughness profile over the bay (upwards positive)"),
+            "Z_real": _var(("passage", "harmonic_all"), Z.real, "m", "real part of the roughness coefficients Z_k, k = -K..K"),
+            "Z_imag": _var(("passage", "harmonic_all"), Z.imag, "m", "imaginary part of the roughness coefficients Z_k"),
+            "growth_rate": _var("harmonic", slope, "dB per 10000 passages", "growth rate of the level over the second half of the run"),
+        },
+        coords={
+            "passage": _var("passage", n, "1", "wheel passages (a train of n wheels counts n)"),
+            "harmonic": _var("harmonic", k, "1", "harmonic k of the sleeper bay"),
+            "wavenumber": _var("harmonic", k * track.beta0, "rad/m", "wavenumber k beta0"),
+            "harmonic_all": _var("harmonic_all", np.arange(-K, K + 1), "1", "harmonic index k of Z_k"),
+            "position": _var("position", x, "m", "position in the sleeper bay, 0 above a sleeper"),
+        },
+        attrs={"speed_m_per_s": speed, "wheels": n_wheels, "damping_model": track.damping, "pad_stiffness_N_per_m": track.pad.stiffness},
+    )
+
+
+def _slug(prefix: str, label: str) -> str:
+    """A netCDF-safe variable name for a plotted line: 'level' + '20 m/s' -> 'level_20_m_per_s'."""
+    return prefix + "_" + re.sub(r"[^0-9A-Za-z.+-]+", "_", label.replace("/", " per ")).strip("_")
+
+
+def growth_figure(runs: dict, kind: str, k_max_rad_per_m: float = 525.0) -> xr.Dataset:
+    """Data of Figs 20-27 from growth datasets: kind 'profiles' (every save of one run),
+    'spectra' (final levels of each run) or 'final_profiles' (final profile of each run)."""
+    first = next(iter(runs.values()))
+    if kind == "profiles":
+        ds = first
+        out = {f"profile_{int(n)}": _var("position", ds["profile"].values[i], "m", f"roughness profile after {int(n)} passages") for i, n in enumerate(ds["passage"].values)}
+        return xr.Dataset(out, coords={"position": ds["position"]}, attrs=dict(ds.attrs))
+    if kind == "final_profiles":
+        out = {
+            _slug("profile", label): _var("position", ds["profile"].values[-1], "m", f"roughness profile after {int(ds['passage'].values[-1])} passages, {label}", label=label)
+            for label, ds in runs.items()
+        }
+        return xr.Dataset(out, coords={"position": first["position"]})
+    sel = first["wavenumber"].values <= k_max_rad_per_m
+    out = {
+        _slug("level", label): _var("harmonic", ds["level"].values[-1][sel], "dB re 1 um", f"roughness level after {int(ds['passage'].values[-1])} passages, {label}", label=label)
+        for label, ds in runs.items()
+    }
+    return xr.Dataset(
+        out,
+        coords={
+            "harmonic": _var("harmonic", first["harmonic"].values[sel], "1", "harmonic k of the sleeper bay"),
+            "wavenumber": _var("harmonic", first["wavenumber"].values[sel], "rad/m", "wavenumber k beta0"),
+        },
+    )

@@ -14,7 +14,7 @@ import matplotlib.pyplot as plt  # noqa: E402
 import numpy as np  # noqa: E402
 import xarray as xr  # noqa: E402
 
-__all__ = ["fig02", "fig03", "fig04", "fig05", "fig06", "fig08", "fig09", "fig10", "fig11", "fig_wear", "fig_wear_spectrum", "fig22"]
+__all__ = ["fig02", "fig03", "fig04", "fig05", "fig06", "fig08", "fig09", "fig10", "fig11", "fig_wear", "fig_wear_spectrum", "fig22", "growth_profiles", "growth_spectra", "growth_final_profiles", "growth_3d"]
 
 _SIZE = (6.0, 4.0)
 
@@ -186,4 +186,57 @@ def fig_wear_spectrum(ds: xr.Dataset):
     ax.set_xlabel("wavenumber (rad/m)")
     ax.set_ylabel("wear amplitude after one passage (pm)")
     ax.set_title(_case_title(ds), fontsize=9)
+    return fig
+
+
+_STYLES = ["-", "--", "-.", ":"]
+
+
+def growth_profiles(ds: xr.Dataset):
+    """Figs 20, 21: roughness profiles every saved passage count (10,000 apart), offset for clarity."""
+    fig, ax = _new()
+    names = list(ds.data_vars)
+    vals = [ds[n].values * 1e6 for n in names]
+    step = max(float(np.ptp(vals[-1])), 1e-12)
+    for i, (n, v) in enumerate(zip(names, vals)):
+        ax.plot(ds["position"], v + i * step * 0.6, "-", color="k", lw=0.8)
+        ax.annotate(n.split("_")[1], (ds["position"].values[-1], v[-1] + i * step * 0.6), fontsize=6, ha="left", va="center")
+    ax.set_xlabel("position in the sleeper bay (m)")
+    ax.set_ylabel("roughness, profiles offset (um)")
+    ax.set_title(f"from a smooth rail, V = {ds.attrs.get('speed_m_per_s', 0):g} m/s; labels: passages", fontsize=9)
+    return fig
+
+
+def growth_spectra(ds: xr.Dataset):
+    """Figs 23, 25, 26, 27: roughness level spectra of several runs (solid, dashed, dash-dot, dotted)."""
+    fig, ax = _new()
+    for style, name in zip(_STYLES, ds.data_vars):
+        ax.plot(ds["wavenumber"], ds[name], linestyle=style, color="k", label=ds[name].attrs.get("label", name))
+    ax.set_xlabel("wavenumber (rad/m)")
+    ax.set_ylabel("roughness level (dB re 1 um)")
+    ax.legend(fontsize=8)
+    return fig
+
+
+def growth_final_profiles(ds: xr.Dataset):
+    """Fig. 24: final roughness profiles of two runs (solid, dashed)."""
+    fig, ax = _new()
+    for style, name in zip(_STYLES, ds.data_vars):
+        ax.plot(ds["position"], ds[name] * 1e6, linestyle=style, color="k", label=ds[name].attrs.get("label", name))
+    ax.set_xlabel("position in the sleeper bay (m)")
+    ax.set_ylabel("roughness (um)")
+    ax.legend(fontsize=8)
+    return fig
+
+
+def growth_3d(ds: xr.Dataset):
+    """The three-dimensional plot of section 5: level over wavenumber and passages."""
+    fig = plt.figure(figsize=(7.0, 5.0), layout="constrained")
+    ax = fig.add_subplot(projection="3d")
+    kk, nn = np.meshgrid(ds["wavenumber"].values, ds["passage"].values)
+    ax.plot_surface(kk, nn / 1e3, ds["level"].values, cmap="viridis", linewidth=0)
+    ax.set_xlabel("wavenumber (rad/m)")
+    ax.set_ylabel("passages (thousands)")
+    ax.set_zlabel("level (dB re 1 um)")
+    ax.set_title(f"roughness growth, V = {ds.attrs['speed_m_per_s']:g} m/s", fontsize=9)
     return fig

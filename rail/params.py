@@ -17,7 +17,7 @@ from .track import Ballast, Pad, Rail, Sleeper, Track
 
 __all__ = [
     "HalfSpaceFigureSettings", "material", "halfspace_numerics", "halfspace_figures", "track",
-    "wheels", "contact_spring", "roughness", "harmonics", "contact_material",
+    "wheels", "contact_spring", "roughness", "harmonics", "contact_material", "growth_settings",
 ]
 
 
@@ -133,4 +133,20 @@ def contact_material(cfg: dict) -> ContactMaterial:
         friction_dynamic=float(c["friction_dynamic"]),
         friction_static=float(c["friction_static"]),
         creepage=float(c["creepage"]),
+    )
+
+
+def growth_settings(cfg: dict):
+    """Growth loop settings (config keys ``growth``, ``numerics.contact``, ``contact.closure``)."""
+    from .growth import GrowthSettings
+
+    g, c = cfg["growth"], cfg["contact"]
+    return GrowthSettings(
+        passages=int(g["passages"]),
+        passages_per_update=int(g["passages_per_update"]),
+        save_every=int(g["save_every"]),
+        nodes=int(cfg["numerics"]["contact"]["nodes"]),
+        closure=str(c["closure"]),
+        closure_scale=float(c["closure_scale"]),
+        vary_grid_offset=bool(g["vary_grid_offset"]),
     )

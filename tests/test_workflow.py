@@ -42,11 +42,14 @@ def test_default_target_builds_every_figure_and_only_the_receptances_they_need(r
         "halfspace_figure": 3,
         "halfspace_radiation": 1,
         "radiation_figure": 2,
-        "receptance": 2,  # 20 and 40 m/s for Figs 8 and 22, not the 60 and 80 m/s of the speed list
+        "receptance": 5,  # default track at 20, 40, 60, 80 m/s; soft_pad track at 40 m/s only
         "fig08": 1,
         "fig22": 1,
         "wear_case": 4,  # 533, 1000, 1200, 1600 Hz at 40 m/s
         "wear_figure": 11,  # Figs 9-19
+        "growth": 7,  # default at 4 speeds, soft_pad at 40, class87 at 20 and 40 m/s
+        "growth_figure": 7,  # Figs 20, 21, 23-27
+        "growth_3d": 1,
         "all": 1,
     }
 
@@ -97,7 +100,9 @@ def test_bad_scenario_file_is_named_and_stops_before_any_job(root, workdir):
 
 def test_receptance_rule_holds_only_the_offsets_of_scenarios_sharing_the_track(root, workdir):
     # a two-wheel scenario on the default track adds its wheel spacing to the default table;
-    # a scenario with a different track gets its own table
+    # a scenario with a different track gets its own table (the report's scenarios are removed)
+    for f in (workdir / "config/scenarios").glob("*.yaml"):
+        f.unlink()
     (workdir / "config/scenarios/bogie.yaml").write_text("wheels:\n  positions: [0.0, 3.3]\n")
     (workdir / "config/scenarios/soft.yaml").write_text("track:\n  pad:\n    stiffness: 7.0e+7\n")
     out = snakemake(root, "-n", "-p", "results/receptance/default/V40.nc", "results/receptance/soft/V40.nc", cwd=workdir)

@@ -32,8 +32,15 @@ def track_name(name):
 
 
 def track_config(wildcards):
-    """Resolved configuration owning the track named by the wildcard 'track'."""
-    return SCENARIOS[wildcards.track]
+    """The part of the configuration a receptance table depends on (its track and numerics), so
+    that changing anything else does not recompute it."""
+    cfg = SCENARIOS[wildcards.track]
+    return {"track": cfg["track"], "numerics": {"track": cfg["numerics"]["track"]}}
+
+
+def physics_config(wildcards):
+    """A scenario's configuration without the figure settings (which no computation reads)."""
+    return {k: v for k, v in SCENARIOS[wildcards.scenario].items() if k != "figures"}
 
 
 # Report figures produced so far, by section of the report.
@@ -42,6 +49,37 @@ HALFSPACE_FIGURES = ["02", "03", "04", "05", "06"]
 
 FORCE_FIGURES = ["08", "22"]
 WEAR_FIGURES = [f"{n:02d}" for n in range(9, 20)]
+GROWTH_FIGURES = ["20", "21", "23", "24", "25", "26", "27"]
+
+
+def growth_table(wildcards):
+    """The receptance table a growth run needs: its scenario's track at its speed."""
+    return f"results/receptance/{track_name(wildcards.scenario)}/V{wildcards.speed}.nc"
+
+
+def growth_figure_inputs(wildcards):
+    """The growth runs behind each of Figs 20, 21, 23-27, as {label: file}."""
+    g = config["figures"]["growth"]
+    v = [speed_label(x) for x in g["speeds"]]
+    run = lambda scen, V: f"results/growth/{scen}/V{V}.nc"  # noqa: E731
+    n = int(wildcards.nn)
+    if n in (20, 21):
+        return {f"{v[n - 20]} m/s": run("default", v[n - 20])}
+    if n == 23:
+        return {f"{x} m/s": run("default", x) for x in v}
+    if n in (24, 25):
+        cfg = SCENARIOS[g["pad_scenario"]]
+        return {
+            f"railpad {config['track']['pad']['stiffness']:.2g} N/m": run("default", "40"),
+            f"railpad {cfg['track']['pad']['stiffness']:.2g} N/m": run(g["pad_scenario"], "40"),
+        }
+    V = v[n - 26]
+    return {"single wheel": run("default", V), f"{len(SCENARIOS[g['wheels_scenario']]['wheels']['positions'])} wheels": run(g["wheels_scenario"], V)}
+
+
+def growth_runs():
+    """The 3-D growth plot of the default track at 40 m/s (section 5)."""
+    return ["results/growth/default/V40_3d.png"]
 
 
 def wear_frequency_label(f):
@@ -69,8 +107,8 @@ def paper_figures():
     """Every report figure: its picture and its plotted data."""
     return expand(
         ["results/figures/fig{nn}.png", "results/data/fig{nn}.nc"],
-        nn=HALFSPACE_FIGURES + FORCE_FIGURES + WEAR_FIGURES,
-    )
+        nn=HALFSPACE_FIGURES + FORCE_FIGURES + WEAR_FIGURES + GROWTH_FIGURES,
+    ) + growth_runs()
 
 
 def speed_label(v):

@@ -7,8 +7,9 @@ rule wear_case:
         table="results/receptance/{track}/V{speed}.nc",
     output:
         "results/wear/{track}/V{speed}_f{freq}.nc",
+    wildcard_constraints:
+        track="default",
     params:
-        cfg=track_config,
         frequency=wear_frequency,
     log:
         "logs/wear/{track}/V{speed}_f{freq}.log",

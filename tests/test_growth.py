@@ -1,0 +1,191 @@
+"""Roughness growth (section 5): resumable runs, convergence in the update step, and the
+report's conclusions (section 7) as statements about the model's own reduced runs."""
+
+import io
+import os
+import signal
+import subprocess
+import sys
+import textwrap
+import time
+
+import numpy as np
+import pytest
+
+from rail import contact as C
+from rail import growth as G
+from rail import halfspace
+from rail import interaction as I
+from rail import moving
+from rail import track as T
+
+K = 48
+NODES = 41  # reduced contact grid for tests (the default 81 is checked in tests/test_contact.py)
+
+
+def track(pad=3.5e8):
+    return T.Track(T.Rail(2.1e11, 0.81e11, 7850.0, 7.69e-3, 30.55e-6, 0.4, 0.01), T.Pad(pad, 0.25), T.Sleeper(162.0, 0.6), T.Ballast(50e6, 1.0))
+
+
+def contact_spring():
+    steel = halfspace.ElasticMaterial(2.1e11, 0.3, 7850.0)
+    om = 2 * np.pi * 1000
+    return I.ContactSpring(1.4e9, halfspace.contact_loss_factor(om, 1.4e9, steel) / om)
+
+
+MATERIAL = C.ContactMaterial(2.1e11, 0.3, 0.008, 0.575, 0.3, 0.3, -0.001)
+
+
+def run(tr, V, positions=(0.0,), passages=20000, step=10000, checkpoint=None, stop=None, rough=None):
+    offsets = sorted({0.0} | {a - b for a in positions for b in positions if a != b})
+    tab = moving.receptance_table(tr, V, K, offsets=offsets)
+    return G.run_growth(
+        tab, I.Wheels(1350.0, 0.575, 1e5, tuple(positions)), contact_spring(), MATERIAL, 7850.0, 2.5e-9,
+        rough if rough is not None else I.Roughness.smooth(K), tr.beta0, tr.L,
+        G.GrowthSettings(passages, step, step, nodes=NODES), checkpoint=checkpoint, identity={"V": V, "positions": positions},
+        progress=io.StringIO(), stop_after_updates=stop,
+    )
+
+
+def rms_level(Z):
+    """Overall rms roughness level (all harmonics), dB re 1 um."""
+    Kz = (len(Z) - 1) // 2
+    return 20 * np.log10(np.sqrt(2 * np.sum(np.abs(Z[Kz + 1 :]) ** 2)) / 1e-6)
+
+
+@pytest.fixture(scope="module")
+def single40():
+    return run(track(), 40.0)
+
+
+def test_levels_are_rms_levels_in_dB_re_1um():
+    # a 10 um amplitude harmonic is 17 dB (report section 6)
+    Z = np.zeros(2 * K + 1, dtype=complex)
+    Z[K + 15] = Z[K - 15] = 5e-6
+    assert G.levels_dB(Z)[14] == pytest.approx(20 * np.log10(1e-5 / np.sqrt(2) / 1e-6), abs=1e-12)
+    assert round(float(G.levels_dB(Z)[14])) == 17
+
+
+def test_conclusion_1_parametric_excitation_initiates_roughness_from_a_smooth_rail(single40):
+    # From an exactly smooth rail roughness appears, strongest at the sleeper-spacing wavelength
+    # (harmonic 1, 10.5 rad/m) and its low multiples, and it keeps growing.
+    levels = G.levels_dB(single40.Z)
+    assert np.all(levels[0] < -200)  # saved at passage 0: smooth
+    assert levels[-1][0] > levels[1][0] > -40
+    assert np.argmax(levels[-1]) in (0, 1, 2)
+
+
+def test_conclusion_2_growth_depends_strongly_on_excitation_frequency():
+    # Wear of one passage over a 10 um harmonic roughness at 40 m/s, for the four frequencies of
+    # Figs 12-19. What the model shows (identical at 41 and 81 contact nodes):
+    # - the wear at the roughness harmonic grows from 2 % of the mean wear at 533 Hz to 20 % at
+    #   1600 Hz: the amount of growth depends strongly on frequency (report conclusion 2);
+    # - that wear is mostly in quadrature with the roughness; its in-phase part makes the roughness
+    #   grow at 533 and 1000 Hz and decay at 1200 and 1600 Hz. The report's maximum near
+    #   pinned-pinned is not reproduced (docs/paper-discrepancies.md).
+    from rail import wear as W
+
+    tr = track()
+    tab = moving.receptance_table(tr, 40.0, K)
+    amplitude, rate = {}, {}
+    for m in (8, 15, 18, 24):
+        rough = I.Roughness.harmonic(1e-5, tr.L / m, tr.L, K)
+        F = I.solve_forces(tab, I.Wheels(1350.0, 0.575, 1e5, (0.0,)), contact_spring(), rough, tr.beta0, tr.L)
+        w = W.bay_wear(F, 0, rough, MATERIAL, 7850.0, 2.5e-9, tr.beta0, tr.L, nodes=NODES)
+        amplitude[m] = 2 * abs(w.Z[K + m]) / w.depth.mean()
+        rate[m] = -np.real(w.Z[K + m] / rough.Z[K + m])
+    assert amplitude[24] > 5 * amplitude[8]
+    assert rate[8] > 0 and rate[15] > 0 and rate[18] < 0 and rate[24] < 0
+
+
+def _short_wavelength_after_sleeper(Z, L=0.6, k_min=5):
+    """rms of the roughness with wavelengths <= L / k_min over the first third of the bay (just
+    after a sleeper, in the direction of travel) over its rms in the middle third (mid-span)."""
+    Kz = (len(Z) - 1) // 2
+    k = np.arange(-Kz, Kz + 1)
+    x = np.linspace(0, L, 601)
+    prof = np.real(np.exp(1j * np.outer(x, k * 2 * np.pi / L)) @ np.where(np.abs(k) >= k_min, Z, 0))
+    rms = lambda sel: np.sqrt(np.mean(prof[sel] ** 2))  # noqa: E731
+    return rms(x < L / 3) / rms((x >= L / 3) & (x < 2 * L / 3))
+
+
+def test_conclusion_3_short_wavelength_roughness_starts_after_sleepers_and_spreads_with_speed(single40):
+    # At 20 m/s the short-wavelength roughness is concentrated just after the sleepers; at 40 m/s
+    # it has spread towards mid-span (the full 100,000-passage runs give ratios 8.6 and 2.2; at
+    # 60 and 80 m/s 2.3 and 4.1, so the spreading is not monotone above 40 m/s).
+    single20 = run(track(), 20.0)
+    r20 = _short_wavelength_after_sleeper(single20.Z[-1])
+    r40 = _short_wavelength_after_sleeper(single40.Z[-1])
+    assert r20 > 3.0
+    assert r40 < 0.6 * r20
+
+
+def test_conclusion_4_softer_railpad_gives_lower_overall_roughness(single40):
+    soft = run(track(pad=0.7e8), 40.0)
+    assert rms_level(soft.Z[-1]) < rms_level(single40.Z[-1])
+
+
+def test_conclusion_5_four_wheels_and_one_wheel_per_wheel_passage(single40):
+    # Class 87: four wheels, bogie wheelbase 3.3 m, bogie centres 10 m; equal wheel passages.
+    # The model gives slightly less overall roughness for the four wheels, but by a fraction of a
+    # dB, not the clear reduction of the report's Figs 26-27 (docs/paper-discrepancies.md).
+    four = run(track(), 40.0, positions=(0.0, 3.3, 10.0, 13.3))
+    diff = rms_level(four.Z[-1]) - rms_level(single40.Z[-1])
+    assert diff < 0
+    assert diff > -1.0
+
+
+def test_growth_converges_as_the_update_step_falls():
+    # 40,000 passages at 40 m/s with 40k, 20k and 10k passages per update: the levels of the
+    # five strongest harmonics change by less each time the step halves
+    tr = track()
+    out = {}
+    for step in (40000, 20000, 10000):
+        h = run(tr, 40.0, passages=40000, step=step)
+        out[step] = G.levels_dB(h.Z[-1])
+    top = np.argsort(out[10000])[::-1][:5]
+    d1 = np.abs(out[40000][top] - out[10000][top]).max()
+    d2 = np.abs(out[20000][top] - out[10000][top]).max()
+    assert d2 < d1
+    assert d2 < 0.5  # dB
+
+
+def test_bad_update_step_is_rejected_before_any_computation():
+    with pytest.raises(ValueError, match=r"growth\.passages_per_update = 0 is not allowed: it must lie in \[1, growth\.passages = 1000\]"):
+        G.GrowthSettings(1000, 0, 1000)
+    with pytest.raises(ValueError, match=r"growth\.save_every = 300 must be a multiple of growth\.passages_per_update = 200"):
+        G.GrowthSettings(1200, 200, 300)
+
+
+_CHILD = textwrap.dedent(
+    """
+    import sys
+    sys.path.insert(0, {tests!r})
+    import test_growth as tg
+    tg.run(tg.track(), 40.0, passages=40000, step=10000, checkpoint={ck!r})
+    """
+)
+
+
+def test_killed_run_resumes_and_ends_with_the_uninterrupted_result(tmp_path):
+    ck = tmp_path / "run.npz"
+    child = subprocess.Popen([sys.executable, "-c", _CHILD.format(tests=os.path.dirname(__file__), ck=str(ck))])
+    deadline = time.time() + 120
+    while not ck.exists() and time.time() < deadline and child.poll() is None:
+        time.sleep(0.05)
+    assert ck.exists(), "the child wrote no checkpoint"
+    child.send_signal(signal.SIGKILL)  # killed at an arbitrary moment after its first save
+    child.wait()
+    done_before = int(np.load(ck)["done"])
+    assert 0 < done_before < 40000
+    resumed = run(track(), 40.0, passages=40000, step=10000, checkpoint=ck)
+    straight = run(track(), 40.0, passages=40000, step=10000)
+    np.testing.assert_array_equal(resumed.passages, straight.passages)
+    np.testing.assert_allclose(resumed.Z, straight.Z, rtol=0, atol=1e-18)
+
+
+def test_checkpoint_of_another_configuration_is_refused(tmp_path):
+    ck = tmp_path / "run.npz"
+    run(track(), 40.0, passages=20000, step=10000, checkpoint=ck, stop=1)
+    with pytest.raises(ValueError, match=r"written for another configuration"):
+        run(track(), 20.0, passages=20000, step=10000, checkpoint=ck)

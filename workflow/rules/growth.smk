@@ -1,0 +1,48 @@
+# Section 5: roughness growth over many passages (Figs 20, 21, 23-27).
+
+
+rule growth:
+    """Roughness growth of one scenario at one speed from its initial roughness."""
+    input:
+        table=growth_table,
+    output:
+        "results/growth/{scenario}/V{speed}.nc",
+    params:
+        cfg=physics_config,
+        checkpoint="results/checkpoints/{scenario}_V{speed}.npz",
+    log:
+        "logs/growth/{scenario}/V{speed}.log",
+    benchmark:
+        "benchmarks/growth/{scenario}/V{speed}.tsv"
+    resources:
+        mem_mb=1500,
+        runtime=30,
+    script:
+        "../scripts/growth.py"
+
+
+rule growth_3d:
+    """The three-dimensional plot of section 5: level over wavenumber and passages."""
+    input:
+        "results/growth/{scenario}/V{speed}.nc",
+    output:
+        report("results/growth/{scenario}/V{speed}_3d.png", caption="../report/growth_3d.rst", category="Section 5: roughness growth"),
+    log:
+        "logs/growth/{scenario}/V{speed}_3d.log",
+    script:
+        "../scripts/growth_figure.py"
+
+
+rule growth_figure:
+    """Figs 20, 21, 23-27 from the growth runs."""
+    input:
+        unpack(growth_figure_inputs),
+    output:
+        data="results/data/fig{nn}.nc",
+        figure=report("results/figures/fig{nn}.png", caption="../report/growth_figure.rst", category="Section 5: roughness growth"),
+    wildcard_constraints:
+        nn="2[013-7]",
+    log:
+        "logs/fig{nn}.log",
+    script:
+        "../scripts/growth_figure.py"

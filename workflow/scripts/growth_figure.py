@@ -1,0 +1,31 @@
+"""Figs 20, 21, 23-27 and the 3-D growth plot from growth datasets."""
+
+import sys
+
+import xarray as xr
+
+from rail import datasets, figures, io
+
+
+def _load(path):
+    with xr.open_dataset(path) as ds:
+        return ds.load()
+
+
+def main(rule, nn, config, inputs, outputs):
+    if rule == "growth_3d":
+        figures.growth_3d(_load(inputs[0])).savefig(outputs[0], dpi=130)
+        return
+    runs = {label: _load(path) for label, path in inputs.items()}
+    n = int(nn)
+    kind = {20: "profiles", 21: "profiles", 24: "final_profiles"}.get(n, "spectra")
+    ds = datasets.growth_figure(runs, kind, float(config["figures"]["wear"]["spectrum_max_wavenumber"]))
+    ds = io.finalize(ds, config, title=f"Figure {n}", source="rail.datasets.growth_figure")
+    io.write_netcdf(ds, outputs.data)
+    draw = {"profiles": figures.growth_profiles, "final_profiles": figures.growth_final_profiles}.get(kind, figures.growth_spectra)
+    draw(ds).savefig(outputs.figure, dpi=150)
+
+
+if __name__ == "__main__":
+    sys.stderr = open(snakemake.log[0], "w")  # noqa: F821
+    main(snakemake.rule, snakemake.wildcards.get("nn", ""), snakemake.config, snakemake.input, snakemake.output)  # noqa: F821
