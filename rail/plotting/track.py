@@ -12,7 +12,7 @@ matplotlib.use("Agg")
 import matplotlib.pyplot as plt  # noqa: E402
 import numpy as np  # noqa: E402
 import xarray as xr  # noqa: E402
-from matplotlib.ticker import FixedLocator, NullFormatter, NullLocator  # noqa: E402
+from matplotlib.ticker import FixedFormatter, FixedLocator, NullFormatter, NullLocator  # noqa: E402
 
 __all__ = ["track_receptance", "moving_receptance", "track_decay_rate"]
 
@@ -27,9 +27,9 @@ def _title(ds, what):
     return f"{what}, track '{ds.attrs.get('track_name', 'default')}' (L = {ds.attrs.get('sleeper_spacing_m', float('nan')):g} m)"
 
 
-def _mark(ax, f, label, y=0.97):
+def _mark(ax, f, label, y=0.03):
     ax.axvline(f, color="0.5", lw=0.8, ls=":")
-    ax.annotate(f"{label}\n{f:.0f} Hz", (f, y), xycoords=("data", "axes fraction"), ha="right", va="top", fontsize=7, rotation=90)
+    ax.annotate(f"{label}\n{f:.0f} Hz", (f, y), xycoords=("data", "axes fraction"), ha="right", va="bottom" if y < 0.5 else "top", fontsize=7, rotation=90)
 
 
 def track_receptance(ds: xr.Dataset):
@@ -54,7 +54,7 @@ def track_receptance(ds: xr.Dataset):
     ax_p.set_ylim(-185, 5)
     ax_p.set_xlabel("frequency (Hz)")
     ax_p.set_xlim(float(f.min()), float(f.max()))
-    ax_m.legend(loc="lower left", fontsize=8)
+    ax_m.legend(loc="upper right", fontsize=8)
     ax_m.set_title(_title(ds, "Vertical point receptance"), fontsize=9)
     return fig
 
@@ -72,7 +72,7 @@ def moving_receptance(ds: xr.Dataset):
     bay = ds["stationary_receptance_real"] + 1j * ds["stationary_receptance_imag"]
     ax.loglog(f, np.abs(bay), "--", color="k", lw=1.2, label="stationary, averaged over the bay")
     if "pinned_pinned_closed_form_Hz" in ds.attrs:
-        _mark(ax, ds.attrs["pinned_pinned_closed_form_Hz"], "pinned-pinned")
+        _mark(ax, ds.attrs["pinned_pinned_closed_form_Hz"], "pinned-pinned", y=0.97)
     ax.grid(True, which="both", alpha=0.3)
     ax.set_xlim(float(f.min()), float(f.max()))
     ax.set_xlabel(r"excitation frequency $\Omega / 2\pi$ (Hz)")
@@ -102,13 +102,15 @@ def track_decay_rate(ds: xr.Dataset, measured: xr.Dataset | None = None):
     ax.set_yscale("log")
     ticks = [f for f in (100, 125, 160, 200, 250, 315, 400, 500, 630, 800, 1000, 1250, 1600, 2000, 2500, 3150, 4000, 5000) if fc.min() <= f <= fc.max()]
     ax.xaxis.set_major_locator(FixedLocator(ticks))
-    ax.xaxis.set_major_formatter(matplotlib.ticker.FixedFormatter([f"{t:g}" for t in ticks]))
+    ax.xaxis.set_major_formatter(FixedFormatter([f"{t:g}" for t in ticks]))
     ax.xaxis.set_minor_locator(NullLocator())
     ax.xaxis.set_minor_formatter(NullFormatter())
     ax.tick_params(axis="x", labelrotation=90, labelsize=8)
     ax.grid(True, which="both", alpha=0.3)
     ax.set_xlabel("one-third-octave band centre frequency (Hz)")
     ax.set_ylabel("vertical track decay rate (dB/m)")
-    ax.legend(fontsize=8)
+    lo, hi = ax.get_ylim()
+    ax.set_ylim(lo, hi * 4)  # room for the legend above the curves
+    ax.legend(loc="upper right", fontsize=7)
     ax.set_title(_title(ds, f"Track decay rate, EN 15461, {ds.attrs.get('frequencies_per_band', '?')} frequencies per band"), fontsize=9)
     return fig
