@@ -101,6 +101,9 @@ def _cross_checks(cfg: dict, source: str) -> list[str]:
             f"{source}: contact.friction_static = {c['friction_static']!r} is not allowed: it must be "
             f">= contact.friction_dynamic = {c['friction_dynamic']!r} (static friction at least the dynamic)."
         )
+    r = cfg.get("roughness", {})
+    if r.get("kind") == "file" and not r.get("file"):
+        out.append(f"{source}: roughness.kind = 'file' needs roughness.file, a CSV with header k,A_m,B_m.")
     h = cfg.get("figures", {}).get("halfspace", {})
     if {"radius_min", "radius_max"} <= set(h) and not h["radius_min"] < h["radius_max"]:
         out.append(

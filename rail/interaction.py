@@ -33,6 +33,7 @@ __all__ = [
     "ContactLossError",
     "ForceResult",
     "allowed_wavelengths",
+    "read_roughness_coefficients",
     "solve_forces",
     "force_history",
     "tail_coefficients",
@@ -151,6 +152,33 @@ def bay_harmonic(wavelength: float, L: float, rtol: float = 1e-6) -> int:
             f"{a:.6g} m and {b:.6g} m (L / {round(L / a)} and L / {round(L / b)})."
         )
     return int(round(m))
+
+
+def read_roughness_coefficients(path):
+    """Read eq (18) coefficients from a CSV file with the header ``k,A_m,B_m``: harmonic k >= 1 of the
+    bay and the cosine and sine amplitudes in m. Errors name the file and the line."""
+    import csv
+
+    ks, A, B = [], [], []
+    with open(path, newline="") as fh:
+        rows = list(csv.reader(fh))
+    if not rows or [c.strip() for c in rows[0]] != ["k", "A_m", "B_m"]:
+        raise ValueError(f"{path}, line 1: the header must be 'k,A_m,B_m' (got {','.join(rows[0]) if rows else 'an empty file'}).")
+    for n, row in enumerate(rows[1:], start=2):
+        if not row or all(not c.strip() for c in row):
+            continue
+        if len(row) != 3:
+            raise ValueError(f"{path}, line {n}: expected 3 values k,A_m,B_m, got {len(row)}.")
+        try:
+            k, a, b = int(row[0]), float(row[1]), float(row[2])
+        except ValueError:
+            raise ValueError(f"{path}, line {n}: {','.join(row)!r} is not an integer k and two numbers in m.") from None
+        if k < 1:
+            raise ValueError(f"{path}, line {n}: harmonic k = {k} is not allowed: it must be >= 1.")
+        ks.append(k)
+        A.append(a)
+        B.append(b)
+    return ks, A, B
 
 
 class ContactLossError(RuntimeError):

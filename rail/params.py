@@ -116,6 +116,11 @@ def roughness(cfg: dict, speed: float, L: float, K: int) -> Roughness:
     r = cfg["roughness"]
     if r["kind"] == "smooth":
         return Roughness.smooth(K)
+    if r["kind"] == "file":
+        from .interaction import read_roughness_coefficients
+
+        k, A, B = read_roughness_coefficients(r["file"])
+        return Roughness.from_coefficients(k, A, B, K)
     wavelength = r.get("wavelength")
     if wavelength is None:
         wavelength = speed / float(r["frequency"])

@@ -131,3 +131,21 @@ def test_roughness_coefficients_follow_eq19():
     x = np.linspace(0, 0.6, 7)
     b0 = 2 * np.pi / 0.6
     np.testing.assert_allclose(r.profile(x, b0), 3e-6 * np.cos(2 * b0 * x) + 4e-6 * np.sin(2 * b0 * x), atol=1e-18)
+
+
+def test_roughness_from_a_file_and_its_errors(tmp_path):
+    good = tmp_path / "rough.csv"
+    good.write_text("k,A_m,B_m\n15,1e-5,0\n2,0,3e-6\n")
+    k, A, B = I.read_roughness_coefficients(good)
+    r = I.Roughness.from_coefficients(k, A, B, 20)
+    x = np.linspace(0, 0.6, 9)
+    b0 = 2 * np.pi / 0.6
+    np.testing.assert_allclose(r.profile(x, b0), 1e-5 * np.cos(15 * b0 * x) + 3e-6 * np.sin(2 * b0 * x), atol=1e-18)
+    bad = tmp_path / "bad.csv"
+    bad.write_text("k,A_m,B_m\n3,1e-6,0\nfour,1e-6,0\n")
+    with pytest.raises(ValueError, match=r"bad\.csv, line 3: 'four,1e-6,0' is not an integer k and two numbers in m"):
+        I.read_roughness_coefficients(bad)
+    header = tmp_path / "header.csv"
+    header.write_text("harmonic,A,B\n")
+    with pytest.raises(ValueError, match=r"header\.csv, line 1: the header must be 'k,A_m,B_m'"):
+        I.read_roughness_coefficients(header)

@@ -57,6 +57,12 @@ def growth_table(wildcards):
     return f"results/receptance/{track_name(wildcards.scenario)}/V{wildcards.speed}.nc"
 
 
+def roughness_file(wildcards):
+    """A scenario's roughness file, as an input so that editing it reruns the growth."""
+    r = SCENARIOS[wildcards.scenario]["roughness"]
+    return [r["file"]] if r["kind"] == "file" else []
+
+
 def growth_figure_inputs(wildcards):
     """The growth runs behind each of Figs 20, 21, 23-27, as {label: file}."""
     g = config["figures"]["growth"]

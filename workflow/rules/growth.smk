@@ -5,6 +5,7 @@ rule growth:
     """Roughness growth of one scenario at one speed from its initial roughness."""
     input:
         table=growth_table,
+        roughness=roughness_file,
     output:
         "results/growth/{scenario}/V{speed}.nc",
     params:
