@@ -18,6 +18,7 @@ include: "workflow/rules/track.smk"
 include: "workflow/rules/forces.smk"
 include: "workflow/rules/wear.smk"
 include: "workflow/rules/growth.smk"
+include: "workflow/rules/sweeps.smk"
 include: "workflow/rules/characterisation.smk"
 
 

@@ -11,10 +11,12 @@ from __future__ import annotations
 import copy
 from pathlib import Path
 
+import numpy as np
+
 import yaml
 from jsonschema import Draft202012Validator
 
-__all__ = ["ConfigError", "load_yaml", "deep_merge", "validate_config", "resolve"]
+__all__ = ["ConfigError", "load_yaml", "deep_merge", "validate_config", "resolve", "expand_sweep"]
 
 
 class ConfigError(ValueError):
@@ -136,3 +138,44 @@ def resolve(defaults: dict, schema: dict, scenario: dict | None = None, source: 
     """
     merged = deep_merge(defaults, scenario or {})
     return validate_config(merged, schema, source)
+
+
+def _set_dotted(d: dict, dotted: str, value) -> dict:
+    out = copy.deepcopy(d)
+    node = out
+    keys = dotted.split(".")
+    for k in keys[:-1]:
+        node = node.setdefault(k, {})
+    node[keys[-1]] = value
+    return out
+
+
+def expand_sweep(defaults: dict, schema: dict, scenario: dict, source: str):
+    """Expand a scenario with a ``sweep:`` mapping (dotted config key or ``speed`` -> list of values)
+    into its grid points.
+
+    Returns (keys, values, points) with points a list of (index tuple, assignment dict, resolved
+    config). Every point is validated like a scenario; an error names the file, the point and the key.
+    """
+    sweep = scenario.get("sweep")
+    if not isinstance(sweep, dict) or not sweep:
+        raise ConfigError(f"{source}: sweep must map config keys (dotted, or 'speed') to lists of values.")
+    base = {k: v for k, v in scenario.items() if k != "sweep"}
+    keys = list(sweep)
+    values = []
+    for k in keys:
+        v = sweep[k]
+        if not isinstance(v, list) or not v:
+            raise ConfigError(f"{source}: sweep.{k} = {v!r} is not allowed: it must be a non-empty list of values.")
+        values.append(v)
+    points = []
+    for index in np.ndindex(*[len(v) for v in values]):
+        assignment = {k: values[i][j] for i, (k, j) in enumerate(zip(keys, index))}
+        override = base
+        for k, v in assignment.items():
+            if k != "speed":
+                override = _set_dotted(override, k, v)
+        label = ", ".join(f"{k} = {v}" for k, v in assignment.items())
+        cfg = resolve(defaults, schema, override, source=f"{source} (sweep point {label})")
+        points.append((index, assignment, cfg))
+    return keys, values, points

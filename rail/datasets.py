@@ -15,7 +15,7 @@ from . import halfspace
 from .halfspace import ElasticMaterial, HalfSpaceNumerics
 from .params import HalfSpaceFigureSettings
 
-__all__ = ["fig02", "fig03", "fig04", "radiation", "fig05", "fig06", "receptance_table", "read_receptance_table", "fig08", "fig22", "wear_case", "fig09", "fig10_11", "fig_wear", "fig_wear_spectrum", "growth", "growth_figure"]
+__all__ = ["fig02", "fig03", "fig04", "radiation", "fig05", "fig06", "receptance_table", "read_receptance_table", "fig08", "fig22", "wear_case", "fig09", "fig10_11", "fig_wear", "fig_wear_spectrum", "growth", "growth_figure", "sweep"]
 
 
 def _var(dims, data, units, long_name, **extra):
@@ -264,10 +264,12 @@ def growth(history, track, speed: float, n_wheels: int, points: int = 601) -> xr
     levels = levels_dB(Z)
     n = history.passages
     half = n >= n[-1] / 2
+    rms = np.sqrt(2) * np.abs(Z[:, K + 1 :])
     if half.sum() >= 2:
         slope = np.polyfit(n[half], levels[half], 1)[0] * 1e4
+        amp_slope = np.polyfit(n[half], rms[half], 1)[0] * 1e4
     else:
-        slope = np.full(K, np.nan)
+        slope = amp_slope = np.full(K, np.nan)
     return xr.Dataset(
         {
             "level": _var(("passage", "harmonic"), levels, "dB re 1 um", "rms roughness level of each harmonic of the bay"),
@@ -275,6 +277,7 @@ def growth(history, track, speed: float, n_wheels: int, points: int = 601) -> xr
             "Z_real": _var(("passage", "harmonic_all"), Z.real, "m", "real part of the roughness coefficients Z_k, k = -K..K"),
             "Z_imag": _var(("passage", "harmonic_all"), Z.imag, "m", "imaginary part of the roughness coefficients Z_k"),
             "growth_rate": _var("harmonic", slope, "dB per 10000 passages", "growth rate of the level over the second half of the run"),
+            "amplitude_growth_rate": _var("harmonic", amp_slope, "m per 10000 passages", "growth rate of the rms amplitude over the second half of the run"),
         },
         coords={
             "passage": _var("passage", n, "1", "wheel passages (a train of n wheels counts n)"),
@@ -318,3 +321,39 @@ def growth_figure(runs: dict, kind: str, k_max_rad_per_m: float = 525.0) -> xr.D
             "wavenumber": _var("harmonic", first["wavenumber"].values[sel], "rad/m", "wavenumber k beta0"),
         },
     )
+
+
+def sweep(runs, keys, values, indices) -> xr.Dataset:
+    """A sweep study: growth results on the grid of swept keys (one dimension per key)."""
+    dims = tuple(k.replace(".", "_") for k in keys)
+    shape = tuple(len(v) for v in values)
+    first = runs[0]
+    K = first.sizes["harmonic"]
+    level = np.full(shape + (K,), np.nan)
+    rate = np.full(shape + (K,), np.nan)
+    for run, idx in zip(runs, indices):
+        level[tuple(idx)] = run["level"].values[-1]
+        rate[tuple(idx)] = run["amplitude_growth_rate"].values
+    overall = 10 * np.log10(np.sum(10 ** (level / 10), axis=-1))
+    fastest = np.nanargmax(rate, axis=-1)
+    wavelength = 2 * np.pi / first["wavenumber"].values[fastest]
+    coords = {d: (d, np.asarray(v), {"units": _unit_of(k), "long_name": f"swept parameter {k}"}) for d, k, v in zip(dims, keys, values)}
+    coords["harmonic"] = _var("harmonic", first["harmonic"].values, "1", "harmonic k of the sleeper bay")
+    coords["wavenumber"] = _var("harmonic", first["wavenumber"].values, "rad/m", "wavenumber k beta0")
+    return xr.Dataset(
+        {
+            "level": _var(dims + ("harmonic",), level, "dB re 1 um", "rms roughness level of each harmonic at the end of the run"),
+            "overall_level": _var(dims, overall, "dB re 1 um", "overall rms roughness level at the end of the run"),
+            "max_growth_rate": _var(dims, np.nanmax(rate, axis=-1) * 1e6, "um per 10000 passages", "rms amplitude growth rate of the fastest-growing wavelength"),
+            "fastest_wavelength": _var(dims, wavelength, "m", "wavelength that grows fastest"),
+        },
+        coords=coords,
+        attrs={"swept_keys": list(keys), "passages": int(first["passage"].values[-1])},
+    )
+
+
+_UNITS = {"speed": "m/s", "stiffness": "N/m", "loss_factor": "1", "creepage": "1", "friction_dynamic": "1", "friction_static": "1", "mass": "kg", "spacing": "m", "closure_scale": "1", "static_load": "N"}
+
+
+def _unit_of(key: str) -> str:
+    return _UNITS.get(key.split(".")[-1], "see config/schema")

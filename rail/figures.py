@@ -14,7 +14,7 @@ import matplotlib.pyplot as plt  # noqa: E402
 import numpy as np  # noqa: E402
 import xarray as xr  # noqa: E402
 
-__all__ = ["fig02", "fig03", "fig04", "fig05", "fig06", "fig08", "fig09", "fig10", "fig11", "fig_wear", "fig_wear_spectrum", "fig22", "growth_profiles", "growth_spectra", "growth_final_profiles", "growth_3d"]
+__all__ = ["fig02", "fig03", "fig04", "fig05", "fig06", "fig08", "fig09", "fig10", "fig11", "fig_wear", "fig_wear_spectrum", "fig22", "growth_profiles", "growth_spectra", "growth_final_profiles", "growth_3d", "sweep_map"]
 
 _SIZE = (6.0, 4.0)
 
@@ -239,4 +239,29 @@ def growth_3d(ds: xr.Dataset):
     ax.set_ylabel("passages (thousands)")
     ax.set_zlabel("level (dB re 1 um)")
     ax.set_title(f"roughness growth, V = {ds.attrs['speed_m_per_s']:g} m/s", fontsize=9)
+    return fig
+
+
+def sweep_map(ds: xr.Dataset):
+    """Growth rate of the fastest-growing wavelength over a sweep's grid (map for two swept keys,
+    lines for one or more than two)."""
+    fig, ax = _new()
+    dims = [d for d in ds["max_growth_rate"].dims]
+    z = ds["max_growth_rate"]
+    if len(dims) == 2:
+        m = ax.pcolormesh(ds[dims[1]], ds[dims[0]], z.values, shading="nearest", cmap="viridis")
+        fig.colorbar(m, ax=ax, label="fastest growth (um rms per 10,000 passages)")
+        for i, y in enumerate(ds[dims[0]].values):
+            for j, x in enumerate(ds[dims[1]].values):
+                ax.annotate(f"{1e3 * float(ds['fastest_wavelength'].values[i, j]):.0f} mm", (x, y), ha="center", va="center", fontsize=7, color="w")
+        ax.set_xlabel(f"{dims[1]} ({ds[dims[1]].attrs['units']})")
+        ax.set_ylabel(f"{dims[0]} ({ds[dims[0]].attrs['units']})")
+    else:
+        x = dims[0]
+        other = z.stack(points=dims[1:]) if len(dims) > 1 else z.expand_dims(points=[0])
+        for i in range(other.sizes["points"]):
+            ax.plot(ds[x], other.isel(points=i), "-o", color="k", ms=3)
+        ax.set_xlabel(f"{x} ({ds[x].attrs['units']})")
+        ax.set_ylabel("fastest growth (um rms per 10,000 passages)")
+    ax.set_title("labels: fastest-growing wavelength", fontsize=9)
     return fig

@@ -84,8 +84,16 @@ def levels_dB(Z):
     return 20 * np.log10(np.maximum(rms, 1e-30) / 1e-6)
 
 
+def _code_hash() -> str:
+    """Hash of the physics source, so a checkpoint written by other code is never resumed."""
+    h = hashlib.sha256()
+    for f in sorted(Path(__file__).parent.glob("*.py")):
+        h.update(f.read_bytes())
+    return h.hexdigest()[:16]
+
+
 def _fingerprint(obj) -> str:
-    return hashlib.sha256(json.dumps(obj, sort_keys=True, default=str).encode()).hexdigest()[:16]
+    return hashlib.sha256(json.dumps({"run": obj, "code": _code_hash()}, sort_keys=True, default=str).encode()).hexdigest()[:16]
 
 
 def _save_checkpoint(path: Path, fingerprint: str, done: int, Z, history: GrowthHistory, update: int):
@@ -109,11 +117,13 @@ def run_growth(
     identity: dict | None = None,
     progress=sys.stderr,
     stop_after_updates: int | None = None,
+    on_mismatch: str = "error",
 ) -> GrowthHistory:
     """Grow the roughness over ``settings.passages`` wheel passages.
 
-    checkpoint : file to resume from and to write (atomically) at every save; a checkpoint
-    written for a different ``identity`` (the resolved configuration) is refused, not reused.
+    checkpoint : file to resume from and to write (atomically) at every save. A checkpoint written
+    for a different ``identity`` (the resolved configuration) or by different physics code is
+    never reused: on_mismatch = 'error' raises, 'restart' discards it and starts afresh.
     stop_after_updates : stop early (for tests of the resume path).
     """
     n_wheels = len(wheels.positions)
@@ -127,10 +137,13 @@ def run_growth(
     if ck is not None and ck.exists():
         data = np.load(ck, allow_pickle=False)
         if str(data["fingerprint"]) != fp:
-            raise ValueError(f"checkpoint {ck} was written for another configuration; delete it to start afresh.")
-        done, Z, update = int(data["done"]), data["Z"].copy(), int(data["update"])
-        history = GrowthHistory(data["hist_passages"].copy(), data["hist_Z"].copy())
-        print(f"resuming from {ck}: {done} of {settings.passages} passages done", file=progress)
+            if on_mismatch != "restart":
+                raise ValueError(f"checkpoint {ck} was written for another configuration or code; delete it to start afresh.")
+            print(f"checkpoint {ck} belongs to another configuration or code: starting afresh", file=progress)
+        else:
+            done, Z, update = int(data["done"]), data["Z"].copy(), int(data["update"])
+            history = GrowthHistory(data["hist_passages"].copy(), data["hist_Z"].copy())
+            print(f"resuming from {ck}: {done} of {settings.passages} passages done", file=progress)
     t0, done0 = time.perf_counter(), done
     n_updates = 0
     while done < settings.passages:

@@ -187,5 +187,5 @@ def test_killed_run_resumes_and_ends_with_the_uninterrupted_result(tmp_path):
 def test_checkpoint_of_another_configuration_is_refused(tmp_path):
     ck = tmp_path / "run.npz"
     run(track(), 40.0, passages=20000, step=10000, checkpoint=ck, stop=1)
-    with pytest.raises(ValueError, match=r"written for another configuration"):
+    with pytest.raises(ValueError, match=r"written for another configuration or code"):
         run(track(), 20.0, passages=20000, step=10000, checkpoint=ck)

@@ -110,3 +110,35 @@ def test_receptance_rule_holds_only_the_offsets_of_scenarios_sharing_the_track(r
     assert job_counts(out.stdout) == {"receptance": 2}
     assert "receptance table: track default, V = 40 m/s, offsets 0.0 -3.3 3.3 m" in out.stdout
     assert "receptance table: track soft, V = 40 m/s, offsets 0.0 m" in out.stdout
+
+
+def test_sweep_expands_into_one_growth_run_per_grid_point(root, workdir):
+    for f in (workdir / "config/scenarios").glob("*.yaml"):
+        f.unlink()
+    (workdir / "config/scenarios/grid.yaml").write_text(
+        "sweep:\n  speed: [20.0, 40.0]\n  contact.creepage: [-0.001, -0.002, -0.003]\n"
+    )
+    out = snakemake(root, "-n", "sweeps", cwd=workdir)
+    assert out.returncode == 0, out.stderr
+    counts = job_counts(out.stdout)
+    assert counts["growth"] == 6 and counts["sweep_aggregate"] == 1
+    assert counts["receptance"] == 2  # creepage does not change the track: tables shared per speed
+
+
+def test_bad_sweep_value_names_the_file_and_the_point(root, workdir):
+    (workdir / "config/scenarios/grid.yaml").write_text("sweep:\n  track.pad.stiffness: [3.5e+8, -1.0e+8]\n")
+    out = snakemake(root, "-n", "sweeps", cwd=workdir)
+    assert out.returncode != 0
+    assert re.search(
+        r"config/scenarios/grid\.yaml \(sweep point track\.pad\.stiffness = -100000000\.0\): track\.pad\.stiffness = -100000000\.0 N/m is not allowed",
+        out.stderr + out.stdout,
+    ), out.stderr
+
+
+def test_slurm_profile_plans_the_default_target(root, workdir):
+    import shutil as sh
+
+    sh.copytree(root / "profiles", workdir / "profiles")
+    out = snakemake(root, "--profile", "profiles/slurm", "-n", "results/figures/fig06.png", cwd=workdir)
+    assert out.returncode == 0, out.stderr
+    assert job_counts(out.stdout) == {"halfspace_radiation": 1, "radiation_figure": 1}

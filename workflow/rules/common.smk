@@ -4,7 +4,7 @@ from pathlib import Path
 
 from snakemake.utils import validate
 
-from rail.config import load_yaml, resolve, validate_config
+from rail.config import expand_sweep, load_yaml, resolve, validate_config
 
 # Clear, actionable messages first (key, value, unit, valid range), then snakemake's own
 # validation against the same schema.
@@ -15,10 +15,23 @@ validate(config, "../../config/schema/config.schema.yaml")
 # Scenarios: config/scenarios/<name>.yaml holds only the keys that differ from the defaults.
 # Each is merged onto the validated defaults and validated itself (errors name its file), at
 # start-up, before any job runs. "default" is the configuration itself.
+# A scenario with a top-level "sweep:" (dotted key or "speed" -> list) is a study: it expands into
+# one scenario per grid point, named <study>-p<n>, aggregated into results/sweeps/<study>.nc.
 SCENARIO_DIR = Path("config/scenarios")
 SCENARIOS = {"default": config}
+SWEEPS = {}
 for _path in sorted(SCENARIO_DIR.glob("*.yaml")):
-    SCENARIOS[_path.stem] = resolve(config, SCHEMA, load_yaml(_path), source=str(_path))
+    _scen = load_yaml(_path)
+    if "sweep" in _scen:
+        _keys, _values, _points = expand_sweep(config, SCHEMA, _scen, str(_path))
+        SWEEPS[_path.stem] = {"keys": _keys, "values": _values, "points": []}
+        for _n, (_index, _assignment, _cfg) in enumerate(_points):
+            _name = f"{_path.stem}-p{_n}"
+            SCENARIOS[_name] = _cfg
+            _speeds = [_assignment["speed"]] if "speed" in _assignment else _cfg["speeds"][:1]
+            SWEEPS[_path.stem]["points"].append({"name": _name, "index": _index, "speed": _speeds[0]})
+    else:
+        SCENARIOS[_path.stem] = resolve(config, SCHEMA, _scen, source=str(_path))
 
 
 def scenario_config(wildcards):
@@ -139,3 +152,28 @@ def receptance_tables():
         "results/receptance/default/V{speed}.nc",
         speed=[speed_label(v) for v in config["speeds"]],
     )
+
+
+def sweep_runs(wildcards):
+    """Growth runs of every point of a sweep study, in grid order."""
+    return [f"results/growth/{p['name']}/V{speed_label(p['speed'])}.nc" for p in SWEEPS[wildcards.study]["points"]]
+
+
+def sweep_targets():
+    """Aggregated dataset and map figure of every sweep study."""
+    return expand(["results/sweeps/{study}.nc", "results/sweeps/{study}.png"], study=sorted(SWEEPS))
+
+
+def sweep_keys(wildcards):
+    """Swept keys of a study (dotted config keys or 'speed')."""
+    return SWEEPS[wildcards.study]["keys"]
+
+
+def sweep_values(wildcards):
+    """Values of each swept key."""
+    return SWEEPS[wildcards.study]["values"]
+
+
+def sweep_indices(wildcards):
+    """Grid index of every point, in the order of sweep_runs."""
+    return [list(p["index"]) for p in SWEEPS[wildcards.study]["points"]]

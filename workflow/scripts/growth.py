@@ -18,7 +18,7 @@ def main(config, table_path, speed, checkpoint, out_path, log):
         tab, params.wheels(config), params.contact_spring(config), params.contact_material(config),
         float(config["material"]["density"]), float(config["wear"]["coefficient"]),
         params.roughness(config, speed, track.L, K), track.beta0, track.L, params.growth_settings(config),
-        checkpoint=checkpoint, identity={"config": config, "speed": speed}, progress=log,
+        checkpoint=checkpoint, identity={"config": config, "speed": speed}, progress=log, on_mismatch="restart",
     )
     ds = datasets.growth(history, track, speed, len(config["wheels"]["positions"]))
     io.write_netcdf(io.finalize(ds, config, title=f"Roughness growth at {speed:g} m/s", source="rail.growth.run_growth"), out_path)

@@ -1,0 +1,23 @@
+"""Aggregate the growth runs of a sweep study into one dataset and a map figure."""
+
+import sys
+
+import xarray as xr
+
+from rail import datasets, figures, io
+
+
+def main(config, study, keys, values, indices, run_paths, data_path, figure_path):
+    runs = []
+    for path in run_paths:
+        with xr.open_dataset(path) as ds:
+            runs.append(ds.load())
+    ds = datasets.sweep(runs, keys, values, indices)
+    ds = io.finalize(ds, config, title=f"Sweep study {study}", source="rail.datasets.sweep")
+    io.write_netcdf(ds, data_path)
+    figures.sweep_map(ds).savefig(figure_path, dpi=150)
+
+
+if __name__ == "__main__":
+    sys.stderr = open(snakemake.log[0], "w")  # noqa: F821
+    main(snakemake.config, snakemake.wildcards.study, snakemake.params.swept, snakemake.params.grid, snakemake.params.indices, list(snakemake.input), snakemake.output.data, snakemake.output.figure)  # noqa: F821
