@@ -56,6 +56,28 @@ def physics_config(wildcards):
     return {k: v for k, v in SCENARIOS[wildcards.scenario].items() if k != "figures"}
 
 
+# Code dependencies: a rule's params hold a hash of the rail modules it uses, so that changing a
+# module reruns exactly the jobs that depend on it (params changes are a rerun trigger).
+import hashlib
+
+_MODULES = {
+    "halfspace": ["halfspace"],
+    "track": ["track", "moving", "quadrature"],
+    "forces": ["track", "moving", "quadrature", "interaction", "halfspace", "contact"],
+    "wear": ["track", "moving", "quadrature", "interaction", "halfspace", "contact", "wear"],
+    "growth": ["track", "moving", "quadrature", "interaction", "halfspace", "contact", "wear", "growth"],
+    "present": ["datasets", "figures", "io", "params", "config"],
+}
+
+
+def code(*groups):
+    """Hash of the source of the rail modules in the given groups."""
+    h = hashlib.sha256()
+    for name in sorted({m for g in groups for m in _MODULES[g]}):
+        h.update(Path(workflow.basedir, "rail", f"{name}.py").read_bytes())
+    return h.hexdigest()[:12]
+
+
 # Report figures produced so far, by section of the report.
 HALFSPACE_FIGURES = ["02", "03", "04", "05", "06"]
 

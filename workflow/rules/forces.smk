@@ -8,6 +8,8 @@ rule fig08:
     output:
         data="results/data/fig08.nc",
         figure=report("results/figures/fig08.png", caption="../report/fig08.rst", category="Section 4.2: wheel/rail forces"),
+    params:
+        code=code("forces", "present"),
     log:
         "logs/fig08.log",
     script:
@@ -21,6 +23,8 @@ rule fig22:
     output:
         data="results/data/fig22.nc",
         figure=report("results/figures/fig22.png", caption="../report/fig22.rst", category="Section 4.2: wheel/rail forces"),
+    params:
+        code=code("forces", "present"),
     log:
         "logs/fig22.log",
     script:

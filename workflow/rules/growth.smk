@@ -9,6 +9,7 @@ rule growth:
     output:
         "results/growth/{scenario}/V{speed}.nc",
     params:
+        code=code("growth", "present"),
         cfg=physics_config,
         checkpoint="results/checkpoints/{scenario}_V{speed}.npz",
     log:
@@ -28,6 +29,8 @@ rule growth_3d:
         "results/growth/{scenario}/V{speed}.nc",
     output:
         report("results/growth/{scenario}/V{speed}_3d.png", caption="../report/growth_3d.rst", category="Section 5: roughness growth"),
+    params:
+        code=code("present"),
     log:
         "logs/growth/{scenario}/V{speed}_3d.log",
     script:
@@ -43,6 +46,8 @@ rule growth_figure:
         figure=report("results/figures/fig{nn}.png", caption="../report/growth_figure.rst", category="Section 5: roughness growth"),
     wildcard_constraints:
         nn="2[013-7]",
+    params:
+        code=code("present"),
     log:
         "logs/fig{nn}.log",
     script:

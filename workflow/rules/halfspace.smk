@@ -12,6 +12,8 @@ rule halfspace_figure:
         ),
     wildcard_constraints:
         nn="02|03|04",
+    params:
+        code=code("halfspace", "present"),
     log:
         "logs/fig{nn}.log",
     script:
@@ -22,6 +24,8 @@ rule halfspace_radiation:
     """Im w0(0), radiated power and contact loss factor over frequency (feeds Figs 5-6)."""
     output:
         "results/halfspace/radiation.nc",
+    params:
+        code=code("halfspace", "present"),
     log:
         "logs/halfspace_radiation.log",
     script:
@@ -41,6 +45,8 @@ rule radiation_figure:
         ),
     wildcard_constraints:
         nn="05|06",
+    params:
+        code=code("present"),
     log:
         "logs/fig{nn}.log",
     script:

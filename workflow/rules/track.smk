@@ -6,6 +6,7 @@ rule receptance:
     output:
         "results/receptance/{track}/V{speed}.nc",
     params:
+        code=code("track", "present"),
         cfg=track_config,
         offsets=wheel_offsets,
     message:

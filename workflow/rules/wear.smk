@@ -10,6 +10,7 @@ rule wear_case:
     wildcard_constraints:
         track="default",
     params:
+        code=code("wear", "present"),
         frequency=wear_frequency,
     log:
         "logs/wear/{track}/V{speed}_f{freq}.log",
@@ -28,6 +29,8 @@ rule wear_figure:
         figure=report("results/figures/fig{nn}.png", caption="../report/wear_figure.rst", category="Sections 4.3 and 5: contact and wear"),
     wildcard_constraints:
         nn="09|1[0-9]",
+    params:
+        code=code("present"),
     log:
         "logs/fig{nn}.log",
     script:
