@@ -52,8 +52,9 @@ def track_config(wildcards):
 
 
 def physics_config(wildcards):
-    """A scenario's configuration without the figure settings (which no computation reads)."""
-    return {k: v for k, v in SCENARIOS[wildcards.scenario].items() if k != "figures"}
+    """A scenario's configuration without the figure settings and site measurements (which no
+    growth computation reads)."""
+    return {k: v for k, v in SCENARIOS[wildcards.scenario].items() if k not in ("figures", "measured")}
 
 
 # Code dependencies: a rule's params hold a hash of the rail modules it uses, so that changing a
