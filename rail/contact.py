@@ -158,7 +158,13 @@ def carter(xi, P, m: ContactMaterial, speed: float, R: float):
 def _log_hat(j):
     """int over the unit hat centred at j of ln|t| dt (t in units of the spacing): c(j)."""
 
-    return _half_hat(j, 1.0, +1) + _half_hat(j, 1.0, -1)
+    j = np.asarray(j, dtype=float)
+    t = np.stack([j - 1, j, j + 1])
+    g0, g1 = _G0(t), _G1(t)
+    # left half (from j-1 up to j) and right half (from j down to j+1) of the unit hat
+    left = (g1[1] - g1[0]) + (1 - j) * (g0[1] - g0[0])
+    right = (j + 1) * (g0[2] - g0[1]) - (g1[2] - g1[1])
+    return left + right
 
 
 def _G0(t):
@@ -284,28 +290,35 @@ def solve_tangential(P, a, m: ContactMaterial, speed: float, delta: float, M: in
 
     rows = np.arange(nn + 1)
 
+    # full half hats of every column at every row, tabulated once (the edge columns replace them)
+    cols = np.arange(nn)
+    H_right = _half_hat(cols[:, None] - rows[None, :], 1.0, +1)  # (column, row)
+    H_left = _half_hat(cols[:, None] - rows[None, :], 1.0, -1)
+    base_row = {}
+
+    def edge_geometry(ai):
+        lead = int(np.floor(ai / delta - 1e-12)) + M  # last node with xi < a
+        return lead, 2 * M - lead, ai / delta - (lead - M)  # (a - xi_lead) / Delta in (0, 1]
+
     def edge_columns(ai):
         """Base matrix with the two outermost hats ending exactly at -a and +a (continuous in a)."""
+        lead, trail, e = edge_geometry(ai)
         Bm = B.copy()
         w = col_w.copy()
-        lead = int(np.floor(ai / delta - 1e-12)) + M  # last node with xi < a
-        trail = 2 * M - lead  # first node with xi > -a (symmetric grid)
-        e = ai / delta - (lead - M)  # (a - xi_lead) / Delta in (0, 1]
-        for n, side in ((lead, +1), (trail, -1)):
-            j = n - rows
-            Bm[:, n] += -k * delta * (_half_hat(j, e, side) - _half_hat(j, 1.0, side))
-            w[n] = delta * 0.5 * (1 + e)
+        Bm[:, lead] += -k * delta * (_half_hat(lead - rows, e, +1) - H_right[lead])
+        Bm[:, trail] += -k * delta * (_half_hat(trail - rows, e, -1) - H_left[trail])
+        w[:] = delta
+        w[lead] = w[trail] = delta * 0.5 * (1 + e)
         return Bm, w
 
     def row_at(x_pt, ai, w):
         """-k int hat_n ln|x_pt - zeta| d zeta for every column n (edge hats as in edge_columns)."""
-        lead = int(np.floor(ai / delta - 1e-12)) + M
-        trail = 2 * M - lead
-        e = ai / delta - (lead - M)
+        lead, trail, e = edge_geometry(ai)
         j = (xi - x_pt) / delta
         r = -k * delta * _log_hat(j)
-        for n, side in ((lead, +1), (trail, -1)):
-            r[n] += -k * delta * (_half_hat(j[n], e, side) - _half_hat(j[n], 1.0, side))
+        jj = np.array([j[lead], j[trail]])
+        r[lead] += -k * delta * (_half_hat(jj[:1], e, +1)[0] - _half_hat(jj[:1], 1.0, +1)[0])
+        r[trail] += -k * delta * (_half_hat(jj[1:], e, -1)[0] - _half_hat(jj[1:], 1.0, -1)[0])
         return r - k * np.log(delta) * w
 
     def full_matrix(ai):
