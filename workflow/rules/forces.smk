@@ -10,6 +10,9 @@ rule fig08:
         figure=report("results/figures/fig08.png", caption="../report/fig08.rst", category="Section 4.2: wheel/rail forces"),
     params:
         code=code("forces", "present"),
+    resources:
+        mem_mb=1000,
+        runtime=5,
     log:
         "logs/fig08.log",
     script:
@@ -25,6 +28,9 @@ rule fig22:
         figure=report("results/figures/fig22.png", caption="../report/fig22.rst", category="Section 4.2: wheel/rail forces"),
     params:
         code=code("forces", "present"),
+    resources:
+        mem_mb=1000,
+        runtime=5,
     log:
         "logs/fig22.log",
     script:

@@ -31,6 +31,9 @@ rule growth_3d:
         report("results/growth/{scenario}/V{speed}_3d.png", caption="../report/growth_3d.rst", category="Section 5: roughness growth"),
     params:
         code=code("present"),
+    resources:
+        mem_mb=500,
+        runtime=5,
     log:
         "logs/growth/{scenario}/V{speed}_3d.log",
     script:
@@ -48,6 +51,9 @@ rule growth_figure:
         nn="2[013-7]",
     params:
         code=code("present"),
+    resources:
+        mem_mb=500,
+        runtime=5,
     log:
         "logs/fig{nn}.log",
     script:

@@ -14,6 +14,9 @@ rule halfspace_figure:
         nn="02|03|04",
     params:
         code=code("halfspace", "present"),
+    resources:
+        mem_mb=500,
+        runtime=5,
     log:
         "logs/fig{nn}.log",
     script:
@@ -26,6 +29,9 @@ rule halfspace_radiation:
         "results/halfspace/radiation.nc",
     params:
         code=code("halfspace", "present"),
+    resources:
+        mem_mb=500,
+        runtime=5,
     log:
         "logs/halfspace_radiation.log",
     script:
@@ -47,6 +53,9 @@ rule radiation_figure:
         nn="05|06",
     params:
         code=code("present"),
+    resources:
+        mem_mb=500,
+        runtime=5,
     log:
         "logs/fig{nn}.log",
     script:

@@ -13,6 +13,9 @@ rule sweep_aggregate:
         swept=sweep_keys,
         grid=sweep_values,
         indices=sweep_indices,
+    resources:
+        mem_mb=500,
+        runtime=5,
     log:
         "logs/sweeps/{study}.log",
     script:

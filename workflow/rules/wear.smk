@@ -12,6 +12,9 @@ rule wear_case:
     params:
         code=code("wear", "present"),
         frequency=wear_frequency,
+    resources:
+        mem_mb=1000,
+        runtime=10,
     log:
         "logs/wear/{track}/V{speed}_f{freq}.log",
     benchmark:
@@ -31,6 +34,9 @@ rule wear_figure:
         nn="09|1[0-9]",
     params:
         code=code("present"),
+    resources:
+        mem_mb=500,
+        runtime=5,
     log:
         "logs/fig{nn}.log",
     script:
