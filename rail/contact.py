@@ -294,7 +294,6 @@ def solve_tangential(P, a, m: ContactMaterial, speed: float, delta: float, M: in
     cols = np.arange(nn)
     H_right = _half_hat(cols[:, None] - rows[None, :], 1.0, +1)  # (column, row)
     H_left = _half_hat(cols[:, None] - rows[None, :], 1.0, -1)
-    base_row = {}
 
     def edge_geometry(ai):
         lead = int(np.floor(ai / delta - 1e-12)) + M  # last node with xi < a
