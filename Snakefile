@@ -20,6 +20,8 @@ include: "workflow/rules/wear.smk"
 include: "workflow/rules/growth.smk"
 include: "workflow/rules/sweeps.smk"
 include: "workflow/rules/characterisation.smk"
+include: "workflow/rules/closure.smk"
+include: "workflow/rules/studies.smk"
 
 
 rule all:

@@ -103,6 +103,21 @@ def _cross_checks(cfg: dict, source: str) -> list[str]:
             f"{source}: contact.friction_static = {c['friction_static']!r} is not allowed: it must be "
             f">= contact.friction_dynamic = {c['friction_dynamic']!r} (static friction at least the dynamic)."
         )
+    t = cfg.get("track", {})
+    rail = t.get("rail", {})
+    from .track import MIN_RAIL_DAMPING_TIME, MIN_RAIL_LOSS_FACTOR
+
+    if t.get("damping", "hysteretic") == "hysteretic" and rail.get("loss_factor", 1.0) < MIN_RAIL_LOSS_FACTOR:
+        out.append(
+            f"{source}: track.rail.loss_factor = {rail['loss_factor']!r} is not allowed with track.damping = 'hysteretic': "
+            f"the moving-load wavenumber integrals need rail damping (undamped free waves put poles on the real "
+            f"wavenumber axis); it must be >= {MIN_RAIL_LOSS_FACTOR:g}."
+        )
+    if t.get("damping") == "viscous" and rail.get("damping_time", 1.0) < MIN_RAIL_DAMPING_TIME:
+        out.append(
+            f"{source}: track.rail.damping_time = {rail['damping_time']!r} s is not allowed with track.damping = 'viscous': "
+            f"the moving-load wavenumber integrals need rail damping; it must be >= {MIN_RAIL_DAMPING_TIME:.3g} s."
+        )
     r = cfg.get("roughness", {})
     if r.get("kind") == "file" and not r.get("file"):
         out.append(f"{source}: roughness.kind = 'file' needs roughness.file, a CSV with header k,A_m,B_m.")

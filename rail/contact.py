@@ -46,6 +46,7 @@ __all__ = [
     "solve_tangential",
     "rolling_grid",
     "checkerboard_measure",
+    "perturbation_growth",
 ]
 
 
@@ -140,7 +141,10 @@ def carter(xi, P, m: ContactMaterial, speed: float, R: float):
     d = a - c  # centre of the stick zone
     inside_stick = np.abs(xi - d) < c
     q = sgn * mu * p.copy()
-    q_stick = sgn * mu * p0 * (c / a) * np.sqrt(np.clip(1 - ((xi - d) / max(c, 1e-300)) ** 2, 0, None))
+    if c > 0:
+        q_stick = sgn * mu * p0 * (c / a) * np.sqrt(np.clip(1 - ((xi - d) / c) ** 2, 0, None))
+    else:  # saturated: full slip, no stick zone
+        q_stick = np.zeros_like(xi)
     q = q - np.where(inside_stick, q_stick, 0.0)
     # slip velocity s = V gamma - V du/dxi, du/dxi = -k PV int q / (xi - zeta)
     # full ellipse: PV int p0 sqrt(1 - z^2/a^2)/(xi - z) = pi p0 xi / a (|xi| < a)
@@ -209,6 +213,8 @@ class TangentialSolution:
               particle j is at node m = j - i at step i (x = x_wheel(i) + (j - i - M) Delta)
     power   : (steps,) frictional power per unit area of the patch, summed over it, W/m (per unit width)
     delta   : grid spacing = V dt, m
+    stick_nodes : (steps,) number of stick nodes in the patch; 0 while loaded means full slip
+              (saturated creepage or fast unloading: no stick zone, the traction is mu_d p)
     """
 
     q: np.ndarray
@@ -221,6 +227,7 @@ class TangentialSolution:
     power: np.ndarray
     delta: float
     iterations: int
+    stick_nodes: np.ndarray
 
 
 def checkerboard_measure(q, stick, p0, mu):
@@ -285,6 +292,7 @@ def solve_tangential(P, a, m: ContactMaterial, speed: float, delta: float, M: in
     Q_hist = np.zeros(steps)
     work = np.zeros(steps + nn)
     power = np.zeros(steps)
+    stick_count = np.zeros(steps, dtype=int)
     q = np.zeros(nn) if q0 is None else np.asarray(q0, dtype=float).copy()
     col_w = np.full(nn, delta)  # int hat_n (updated with the edge hats each step)
 
@@ -388,7 +396,10 @@ def solve_tangential(P, a, m: ContactMaterial, speed: float, delta: float, M: in
         else:
             raise ContactError(f"the stick/slip iteration did not converge at step {i} (a = {a[i]:.4g} m).")
         total_iter += it + 1
+        if not np.all(np.isfinite(qn)):
+            raise ContactError(f"the tangential traction is not finite at step {i} (a = {a[i]:.4g} m, P = {P[i]:.4g} N).")
         s[stick] = 0.0
+        stick_count[i] = int(np.count_nonzero(stick & inside))
         if closure == "report" and i > nn and P[i] > 0:
             cb = checkerboard_measure(qn, stick & inside, P[i] / (np.pi * a[i] * m.half_width), mu_d)
             if cb > CHECKERBOARD_LIMIT:
@@ -418,4 +429,33 @@ def solve_tangential(P, a, m: ContactMaterial, speed: float, delta: float, M: in
         u_edge_old = r_edge @ qn
         stick_prev = stick
         sign_prev = np.where(stick, np.sign(qn), sign)
-    return TangentialSolution(q_hist, s_hist, xi, a, P, Q_hist, work, power, delta, total_iter)
+    return TangentialSolution(q_hist, s_hist, xi, a, P, Q_hist, work, power, delta, total_iter, stick_count)
+
+
+def perturbation_growth(m: ContactMaterial, P: float, speed: float, nodes: int, closure: str = "default",
+                        closure_scale: float = 1.0, L: float = 0.6, eps: float = 1e-6, transits: int = 8,
+                        spin_up: int = 12, seed: int = 1) -> float:
+    """Well-posedness measure of the unsteady tangential problem: growth factor per patch transit
+    (2a / V) of a small perturbation of the steady rolling state, constant load P (N).
+
+    The discrete steady state is computed with the default closure (the closures differ only by a
+    rigid term that is constant in steady rolling, so it is the fixed point of every closure). A
+    random perturbation of relative size ``eps`` (of max |q|, on the loaded nodes) is added, and
+    the perturbed and unperturbed states are both time-stepped with the closure under test. The
+    growth per transit is (d_last / d_first)^(1 / (transits - 1)), with d_n the largest traction
+    difference over transit n. Below 1: perturbations decay (well-posed); above 1 they grow. The
+    report's closure (eqs 32-33) gives about 15 at 81 nodes and more on finer grids
+    (docs/contact.md). Cost: (spin_up + 2 transits) transits of the solver.
+    """
+    a = float(hertz_half_length(P, m.wheel_radius, m))
+    delta, _, M = rolling_grid(1.05 * a, L, nodes)
+    nn = 2 * M + 1
+    n_tr = max(int(round(2 * a / delta)), 1)  # steps per transit
+    base = solve_tangential(np.full(spin_up * n_tr, P), np.full(spin_up * n_tr, a), m, speed, delta, M).q[-1]
+    pert = eps * np.abs(base).max() * np.random.default_rng(seed).standard_normal(nn) * (base != 0)
+    steps = transits * n_tr
+    kw = dict(closure=closure, closure_scale=closure_scale)
+    ref = solve_tangential(np.full(steps, P), np.full(steps, a), m, speed, delta, M, q0=base, **kw).q
+    per = solve_tangential(np.full(steps, P), np.full(steps, a), m, speed, delta, M, q0=base + pert, **kw).q
+    d = np.abs(per - ref).max(axis=1).reshape(transits, n_tr).max(axis=1)
+    return float((d[-1] / max(d[0], 1e-300)) ** (1.0 / (transits - 1)))

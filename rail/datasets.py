@@ -278,6 +278,8 @@ def growth(history, track, speed: float, n_wheels: int, points: int = 601) -> xr
             "Z_imag": _var(("passage", "harmonic_all"), Z.imag, "m", "imaginary part of the roughness coefficients Z_k"),
             "growth_rate": _var("harmonic", slope, "dB per 10000 passages", "growth rate of the level over the second half of the run"),
             "amplitude_growth_rate": _var("harmonic", amp_slope, "m per 10000 passages", "growth rate of the rms amplitude over the second half of the run"),
+            "step_error": _var("update", history.step_error, "1", "estimated local error of each update relative to the roughness (rail.growth.step_error)"),
+            "full_slip": _var("update", history.full_slip, "1", "largest fraction of the bay with no stick zone in the contact, per update"),
         },
         coords={
             "passage": _var("passage", n, "1", "wheel passages (a train of n wheels counts n)"),
@@ -357,3 +359,4 @@ _UNITS = {"speed": "m/s", "stiffness": "N/m", "loss_factor": "1", "creepage": "1
 
 def _unit_of(key: str) -> str:
     return _UNITS.get(key.split(".")[-1], "see config/schema")
+

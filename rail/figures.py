@@ -265,3 +265,4 @@ def sweep_map(ds: xr.Dataset):
         ax.set_ylabel("fastest growth (um rms per 10,000 passages)")
     ax.set_title("labels: fastest-growing wavelength", fontsize=9)
     return fig
+

@@ -23,6 +23,7 @@ import os
 import sys
 import time
 from dataclasses import dataclass
+from dataclasses import field as dataclass_field
 from pathlib import Path
 
 import numpy as np
@@ -32,7 +33,7 @@ from .interaction import ContactSpring, Roughness, Wheels, solve_forces
 from .moving import MovingReceptance
 from .wear import apply_wear, bay_wear
 
-__all__ = ["GrowthSettings", "GrowthHistory", "levels_dB", "run_growth"]
+__all__ = ["GrowthSettings", "GrowthHistory", "GrowthStepError", "levels_dB", "run_growth", "step_error"]
 
 GOLDEN = (np.sqrt(5) - 1) / 2
 
@@ -45,6 +46,8 @@ class GrowthSettings:
     nodes                : contact grid nodes across the largest patch
     closure, closure_scale : tangential contact closure (rail.contact)
     vary_grid_offset     : shift the contact grid between updates (averages grid-tied error)
+    step_tolerance       : largest accepted estimate of one update's error, relative to the
+                           roughness (see run_growth); a larger one stops the run with an error
     """
 
     passages: int
@@ -54,6 +57,7 @@ class GrowthSettings:
     closure: str = "default"
     closure_scale: float = 1.0
     vary_grid_offset: bool = True
+    step_tolerance: float = 0.05
 
     def __post_init__(self):
         if self.passages_per_update < 1 or self.passages < self.passages_per_update:
@@ -70,10 +74,14 @@ class GrowthSettings:
 
 @dataclass
 class GrowthHistory:
-    """passages : (n,) wheel passages at each save; Z : (n, 2K+1) roughness coefficients, m."""
+    """passages : (n,) wheel passages at each save; Z : (n, 2K+1) roughness coefficients, m.
+    step_error : (updates,) estimated local error of each update relative to the roughness, -;
+    full_slip  : (updates,) largest fraction of the bay without a stick zone over the wheels, -."""
 
     passages: np.ndarray
     Z: np.ndarray
+    step_error: np.ndarray = dataclass_field(default_factory=lambda: np.zeros(0))
+    full_slip: np.ndarray = dataclass_field(default_factory=lambda: np.zeros(0))
 
 
 def levels_dB(Z):
@@ -98,8 +106,25 @@ def _fingerprint(obj) -> str:
 
 def _save_checkpoint(path: Path, fingerprint: str, done: int, Z, history: GrowthHistory, update: int):
     tmp = path.with_suffix(".tmp.npz")
-    np.savez(tmp, fingerprint=fingerprint, done=done, Z=Z, hist_passages=history.passages, hist_Z=history.Z, update=update)
+    np.savez(tmp, fingerprint=fingerprint, done=done, Z=Z, hist_passages=history.passages, hist_Z=history.Z, update=update,
+             step_error=history.step_error, full_slip=history.full_slip)
     os.replace(tmp, path)  # atomic: a run killed at any moment leaves the old or the new checkpoint
+
+
+class GrowthStepError(RuntimeError):
+    """The update step (growth.passages_per_update) is too large for growth.step_tolerance."""
+
+
+def step_error(rate_before, rate_after, Z_after, train_passages: float) -> float:
+    """Estimated local error of one explicit update Z' = Z - h W(Z), relative to the roughness.
+
+    The error of the update is (h / 2) |W(Z') - W(Z)| to leading order (the step is first
+    order), with h the train passages per update and W the wear per train passage (m). Its L2
+    norm over the harmonics is divided by that of the roughness Z'. The next update computes
+    W(Z') anyway, so the estimate costs nothing but one extra evaluation after the last update.
+    """
+    num = 0.5 * train_passages * np.linalg.norm(np.asarray(rate_after) - np.asarray(rate_before))
+    return float(num / max(np.linalg.norm(Z_after), 1e-300))
 
 
 def run_growth(
@@ -125,6 +150,13 @@ def run_growth(
     for a different ``identity`` (the resolved configuration) or by different physics code is
     never reused: on_mismatch = 'error' raises, 'restart' discards it and starts afresh.
     stop_after_updates : stop early (for tests of the resume path).
+
+    Checks: each update's local error is estimated (step_error) and a value above
+    settings.step_tolerance stops the run with GrowthStepError, naming a step that would pass;
+    the wear rate is evaluated once more after the last update for this. Force, traction and
+    wear are checked finite where they are computed; contact loss and multiple contact raise
+    their errors (rail.interaction, rail.contact). Updates with no stick zone over part of the
+    bay (full slip) are reported to ``progress`` and kept in the history.
     """
     n_wheels = len(wheels.positions)
     order = np.argsort(wheels.positions)[::-1]  # the leading wheel (largest position) passes first
@@ -142,32 +174,67 @@ def run_growth(
             print(f"checkpoint {ck} belongs to another configuration or code: starting afresh", file=progress)
         else:
             done, Z, update = int(data["done"]), data["Z"].copy(), int(data["update"])
-            history = GrowthHistory(data["hist_passages"].copy(), data["hist_Z"].copy())
+            history = GrowthHistory(data["hist_passages"].copy(), data["hist_Z"].copy(), data["step_error"].copy(), data["full_slip"].copy())
             print(f"resuming from {ck}: {done} of {settings.passages} passages done", file=progress)
-    t0, done0 = time.perf_counter(), done
-    n_updates = 0
-    while done < settings.passages:
+
+    def train_wear(Z, update):
+        """Wear per train passage at roughness Z (each wheel on the profile the one before left)."""
         rough = Roughness(Z)
         forces = solve_forces(table, wheels, contact, rough, beta0, L)
         offset = (update * GOLDEN) % 1.0 if settings.vary_grid_offset else 0.0
-        dZ_train = np.zeros_like(Z)
-        current = rough
+        dZ = np.zeros_like(Z)
+        current, slip = rough, 0.0
         for l in order:
             w = bay_wear(forces, int(l), current, material, density, wear_coefficient, beta0, L, nodes=settings.nodes,
                          closure=settings.closure, closure_scale=settings.closure_scale, grid_offset=offset)
-            dZ_train += w.Z
+            dZ += w.Z
+            slip = max(slip, w.full_slip)
             current = apply_wear(current, w.Z)
+        if slip > 0:
+            print(f"warning: no stick zone in the contact over {100 * slip:.1f} % of the bay at {done} passages "
+                  "(full slip: saturated creepage or fast unloading; the traction is mu_d p there)", file=progress, flush=True)
+        return dZ, slip
+
+    def check(rate_before, rate_after, Z_after, passages_after):
+        err = step_error(rate_before, rate_after, Z_after, train_passages_per_update)
+        history.step_error = np.append(history.step_error, err)
+        if not np.isfinite(err) or err > settings.step_tolerance:
+            ppu = settings.passages_per_update
+            suggest = max(int(ppu * settings.step_tolerance / err), 1) if np.isfinite(err) and err > 0 else 1
+            raise GrowthStepError(
+                f"growth.passages_per_update = {ppu} is too large: the update ending at {passages_after} passages has an "
+                f"estimated error of {100 * err:.3g} % of the roughness (growth.step_tolerance = {settings.step_tolerance:g}); "
+                f"use at most about {suggest} passages per update (the error is first order in the step). "
+                + (f"The roughness saved up to {int(history.passages[-1])} passages is in {ck}." if ck is not None else "")
+            )
+
+    t0, done0 = time.perf_counter(), done
+    n_updates = 0
+    rate_before = None
+    while done < settings.passages:
+        dZ_train, slip = train_wear(Z, update)
+        if rate_before is not None:
+            check(rate_before, dZ_train, Z, done)
+        history.full_slip = np.append(history.full_slip, slip)
         Z = Z - train_passages_per_update * dZ_train
+        if not np.all(np.isfinite(Z)):
+            raise FloatingPointError(f"the roughness is not finite after {done + settings.passages_per_update} passages.")
+        rate_before = dZ_train
         done += settings.passages_per_update
         update += 1
         n_updates += 1
         if done % settings.save_every == 0:
-            history = GrowthHistory(np.append(history.passages, done), np.vstack([history.Z, Z[None, :]]))
+            history = GrowthHistory(np.append(history.passages, done), np.vstack([history.Z, Z[None, :]]), history.step_error, history.full_slip)
             if ck is not None:
                 _save_checkpoint(ck, fp, done, Z, history, update)
         rate = (done - done0) / max(time.perf_counter() - t0, 1e-9)
         left = (settings.passages - done) / rate if rate > 0 else float("inf")
         print(f"{done} of {settings.passages} passages, {rate:.0f} passages/s, {left:.0f} s left", file=progress, flush=True)
         if stop_after_updates is not None and n_updates >= stop_after_updates:
-            break
+            return history
+    if rate_before is not None:
+        dZ_end, _ = train_wear(Z, update)
+        check(rate_before, dZ_end, Z, done)
+        print(f"largest estimated update error {100 * history.step_error.max():.3g} % of the roughness "
+              f"(growth.step_tolerance {100 * settings.step_tolerance:g} %)", file=progress, flush=True)
     return history

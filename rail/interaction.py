@@ -252,6 +252,11 @@ def solve_forces(
             rhs[rows] -= A[l, j][dyn, K] * wheels.static_load
         M[rows, rows] += np.diag(self_term)
     sol = np.linalg.solve(M, rhs)
+    if not np.all(np.isfinite(sol)):
+        raise FloatingPointError(
+            f"the force harmonics are not finite at V = {tab.speed:g} m/s (the coupled wheel/track system is singular: "
+            f"an undamped resonance at a multiple of the sleeper-passing frequency); check the damping of the track and contact."
+        )
     P = np.zeros((n, 2 * K + 1), dtype=complex)
     P[:, K] = wheels.static_load
     P[:, dyn] = sol.reshape(n, nd)

@@ -30,7 +30,7 @@ import numpy as np
 from scipy import special
 
 from .quadrature import adaptive_panels
-from .track import Track, free_receptance, periodic_sum, rail_stiffnesses, support_stiffness
+from .track import Track, damping_problem, free_receptance, periodic_sum, rail_stiffnesses, support_stiffness
 
 __all__ = ["MovingReceptance", "receptance_table", "moving_coefficients"]
 
@@ -208,6 +208,8 @@ def receptance_table(
         raise ValueError(f"speed = {speed!r} m/s is not allowed: it must be > 0 (use rail.track.stationary_receptance for V = 0).")
     if int(harmonics) != harmonics or harmonics < 0:
         raise ValueError(f"harmonics = {harmonics!r} is not allowed: it must be an integer >= 0.")
+    if (problem := damping_problem(track)) is not None:
+        raise ValueError(problem)
     K = int(harmonics)
     js = np.arange(-K, K + 1)
     offsets = np.atleast_1d(np.asarray(offsets, dtype=float))
@@ -223,6 +225,8 @@ def moving_coefficients(track: Track, speed: float, Omega: float, n_max: int, of
     """
     if not speed > 0:
         raise ValueError(f"speed = {speed!r} m/s is not allowed: it must be > 0.")
+    if (problem := damping_problem(track)) is not None:
+        raise ValueError(problem)
     ns = np.arange(-n_max, n_max + 1)
     js = ns.copy()
     Omega0 = track.beta0 * speed

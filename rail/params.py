@@ -154,4 +154,5 @@ def growth_settings(cfg: dict):
         closure=str(c["closure"]),
         closure_scale=float(c["closure_scale"]),
         vary_grid_offset=bool(g["vary_grid_offset"]),
+        step_tolerance=float(g["step_tolerance"]),
     )

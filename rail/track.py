@@ -145,6 +145,27 @@ class Track:
         return 2 * np.pi / self.sleeper.spacing
 
 
+# Smallest rail damping the moving-load wavenumber integrals accept. Without rail damping the
+# free waves of the rail put poles on the real wavenumber axis and the integrals of docs/track.md
+# are singular (the quadrature then returns numbers, but no converged ones). Down to this value
+# the quadrature converges: at eta_R = 1e-4 the force harmonics at rtol 1e-4 and 1e-6 agree to
+# 2e-8 of the force fluctuation (the stability study, README).
+MIN_RAIL_LOSS_FACTOR = 1.0e-4
+MIN_RAIL_DAMPING_TIME = MIN_RAIL_LOSS_FACTOR / (2 * np.pi * 1000.0)  # same loss factor at 1 kHz
+
+
+def damping_problem(track: Track) -> str | None:
+    """Why the track's rail damping is too small for the moving-load integrals, or None."""
+    r = track.rail
+    if track.damping == "hysteretic" and not r.loss_factor >= MIN_RAIL_LOSS_FACTOR:
+        return (f"track.rail.loss_factor = {r.loss_factor!r} is not allowed: the moving-load wavenumber integrals need "
+                f"rail damping (undamped free waves put poles on the real wavenumber axis); it must be >= {MIN_RAIL_LOSS_FACTOR:g}.")
+    if track.damping == "viscous" and not r.damping_time >= MIN_RAIL_DAMPING_TIME:
+        return (f"track.rail.damping_time = {r.damping_time!r} s is not allowed with track.damping = 'viscous': the moving-load "
+                f"wavenumber integrals need rail damping; it must be >= {MIN_RAIL_DAMPING_TIME:.3g} s (loss factor {MIN_RAIL_LOSS_FACTOR:g} at 1 kHz).")
+    return None
+
+
 def _damped(k, eta, c, omega, model):
     """Complex stiffness: k (1 + i eta sign(omega)) (hysteretic) or k + i omega c (viscous)."""
     omega = np.asarray(omega, dtype=float)
@@ -388,3 +409,23 @@ def characteristic_frequencies(track: Track, f_min=20.0, f_max=3000.0, points=60
         "out_of_phase": ps[1] if len(ps) > 1 else float("nan"),
         "pinned_pinned": pm[0] if pm else float("nan"),
     }
+
+
+def critical_speed(track: Track, v_min: float = 20.0, v_max: float = 1000.0, step: float = 10.0, rtol: float = 1e-5) -> float:
+    """Critical speed of the track, m/s: the speed at which the mean rail deflection under a
+    moving constant load, |a_0(0)| of the moving-load receptance (docs/track.md), is largest.
+
+    The supports are discrete and damped, so the resonance is a broad maximum rather than a
+    singularity; the scan is on a grid of ``step`` m/s refined by a parabola through the
+    largest value. (A smeared-support free-wave estimate is not used: its sleeper-mass branch is
+    flat, and its smallest phase velocity tends to zero.)
+    """
+    from .moving import moving_coefficients
+
+    V = np.arange(v_min, v_max + step / 2, step)
+    amp = np.array([abs(moving_coefficients(track, v, 0.0, 0, rtol=rtol)[1][0]) for v in V])
+    i = int(np.argmax(amp))
+    if i in (0, len(V) - 1):
+        return float(V[i])
+    y0, y1, y2 = amp[i - 1 : i + 2]
+    return float(V[i] + 0.5 * step * (y0 - y2) / (y0 - 2 * y1 + y2))

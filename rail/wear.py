@@ -36,6 +36,9 @@ class WearResult:
     q, s, xi : traction (Pa) and slip velocity (m/s) at the patch nodes xi (m) with the wheel at x_k
     periodicity : max change of the traction state between the starts of the two bays, relative
                   to max |q|
+    full_slip   : fraction of the bay's positions with no stick zone in the loaded patch (0 in
+                  the report's regime; 1 with saturated creepage). Reported, not an error: the
+                  traction is then mu_d p everywhere, which the model handles.
     """
 
     x: np.ndarray
@@ -48,6 +51,7 @@ class WearResult:
     s: np.ndarray
     xi: np.ndarray
     periodicity: float
+    full_slip: float = 0.0
 
 
 def wear_spectrum(depth, K: int):
@@ -106,6 +110,10 @@ def bay_wear(forces: ForceResult, wheel_index: int, roughness: Roughness, materi
     i = Nx + np.arange(Nx)
     qscale = max(np.abs(sol.q).max(), 1e-300)
     periodicity = float(np.abs(sol.q[2 * Nx] - sol.q[Nx]).max() / qscale)
+    if not np.all(np.isfinite(depth)):
+        raise FloatingPointError(f"the wear depth of wheel {wheel_index} is not finite (V = {speed:g} m/s).")
+    loaded = P[i] > 0
+    full_slip = float(np.mean((sol.stick_nodes[i] == 0) & loaded))
     return WearResult(
         x=x,
         depth=depth,
@@ -117,6 +125,7 @@ def bay_wear(forces: ForceResult, wheel_index: int, roughness: Roughness, materi
         s=sol.s[i],
         xi=sol.xi,
         periodicity=periodicity,
+        full_slip=full_slip,
     )
 
 

@@ -40,8 +40,13 @@ def scenario_config(wildcards):
 
 
 def track_name(name):
-    """Tracks are shared: a scenario whose track equals the default track uses 'default'."""
-    return "default" if SCENARIOS[name]["track"] == config["track"] else name
+    """Tracks are shared: a scenario uses the table of the first scenario ('default' first, then
+    in file order) whose track and track numerics equal its own."""
+    key = (SCENARIOS[name]["track"], SCENARIOS[name]["numerics"]["track"])
+    for other, cfg in SCENARIOS.items():
+        if (cfg["track"], cfg["numerics"]["track"]) == key:
+            return other
+    return name
 
 
 def track_config(wildcards):
@@ -68,6 +73,9 @@ _MODULES = {
     "wear": ["track", "moving", "quadrature", "interaction", "halfspace", "contact", "wear"],
     "growth": ["track", "moving", "quadrature", "interaction", "halfspace", "contact", "wear", "growth"],
     "present": ["datasets", "figures", "io", "params", "config"],
+    "studies": ["studies", "conclusions"],
+    "stability": ["stability"],
+    "convergence": ["convergence"],
 }
 
 
@@ -200,3 +208,59 @@ def sweep_values(wildcards):
 def sweep_indices(wildcards):
     """Grid index of every point, in the order of sweep_runs."""
     return [list(p["index"]) for p in SWEEPS[wildcards.study]["points"]]
+
+
+# Closure sensitivity study (named target closure_study): three sweep files over
+# contact.closure_scale, single wheel at two speeds, softer railpad and four wheels.
+CLOSURE_STUDIES = {"run": "closure", "soft": "closure_soft_pad", "four": "closure_class87"}
+
+
+def closure_values():
+    """The closure values s of the study, the same in each of its sweep files."""
+    found = {}
+    for tag, study in CLOSURE_STUDIES.items():
+        if study not in SWEEPS or "contact.closure_scale" not in SWEEPS[study]["keys"]:
+            return []
+        sw = SWEEPS[study]
+        found[study] = [float(x) for x in sw["values"][sw["keys"].index("contact.closure_scale")]]
+    values = next(iter(found.values()))
+    if any(v != values for v in found.values()):
+        raise ValueError(f"the closure study's sweep files must use the same contact.closure_scale values: {found}")
+    return values
+
+
+def closure_label(s):
+    """Closure value in a file name: 0.01 -> '0.01'."""
+    return f"{float(s):g}"
+
+
+def closure_inputs(wildcards=None):
+    """Every file the closure study aggregates, and what each is: ([paths], [[kind, s, speed or Hz]])."""
+    paths, meta = [], []
+    for tag, study in CLOSURE_STUDIES.items():
+        sw = SWEEPS[study]
+        ki = sw["keys"].index("contact.closure_scale")
+        for p in sw["points"]:
+            paths.append(f"results/growth/{p['name']}/V{speed_label(p['speed'])}.nc")
+            meta.append([tag, float(sw["values"][ki][p["index"][ki]]), float(p["speed"])])
+    w = config["figures"]["wear"]
+    for s in closure_values():
+        for f in w["frequencies"]:
+            paths.append(f"results/closure/wear/s{closure_label(s)}_f{wear_frequency_label(f)}.nc")
+            meta.append(["wear", s, float(f)])
+    paths.append("results/closure/wellposedness.nc")
+    meta.append(["wellposed", 0.0, 0.0])
+    return paths, meta
+
+
+def closure_wear_config(wildcards):
+    """The default configuration with the closure value of the wildcard 's'."""
+    s = next(x for x in closure_values() if closure_label(x) == wildcards.s)
+    return {**config, "contact": {**config["contact"], "closure_scale": s}}
+
+
+def closure_targets():
+    """Outputs of the closure study (empty when its sweep files are absent)."""
+    if not closure_values():
+        return []
+    return [f"results/closure/{n}" for n in ("closure.nc", "spectra.png", "wear_spectra.png", "conclusions.md", "conclusions.html")]

@@ -27,4 +27,5 @@ def main(config, table_path, frequency, out_path):
 
 if __name__ == "__main__":
     sys.stderr = open(snakemake.log[0], "w")  # noqa: F821
-    main(snakemake.config, snakemake.input.table, snakemake.params.frequency, snakemake.output[0])  # noqa: F821
+    cfg = getattr(snakemake.params, "cfg", None) or snakemake.config  # noqa: F821
+    main(cfg, snakemake.input.table, snakemake.params.frequency, snakemake.output[0])  # noqa: F821

@@ -1,0 +1,119 @@
+"""Stability suite: stiff, soft and extreme cases that must end in a checked result or a clear error.
+
+A case is a set of overrides of the default configuration (config/stability.yaml). ``run_case``
+computes, in the order of the growth workflow: the configuration (validated), the receptance
+table at the case's speed, the normal forces, the wear of one passage and a short growth run.
+Any exception is caught and recorded with its type and message; a result that completes is put
+through checks that can fail:
+
+* every number finite;
+* mean normal force equal to the static load (the k = 0 balance, eq 36);
+* the contact state periodic over the bay (the second bay repeats the first);
+* the mean tangential force against Carter's for the static load (steady theory), within 10 %
+  for a dynamic load (it varies along the bay) and 0.5 % when the whole patch slips (mu_d P);
+* the growth run's update error below growth.step_tolerance (otherwise GrowthStepError).
+
+The outcome is 'ok' (all checks pass), 'error' (a clear, anticipated error: configuration,
+contact loss, multiple contact, update step too large) or 'failed' (anything else: an
+unanticipated exception or a failed check). The suite expects no 'failed' outcome.
+"""
+
+from __future__ import annotations
+
+import io
+import re
+import time
+import traceback
+
+import numpy as np
+
+from . import contact, growth, interaction, moving, params, wear
+from .config import ConfigError, deep_merge, resolve
+
+__all__ = ["CLEAR_ERRORS", "run_case", "outcome_matches"]
+
+# Error types that name their cause (the parameter and its range, or the physical assumption
+# that stopped holding). Anything else is an unanticipated failure.
+CLEAR_ERRORS = (ConfigError, ValueError, contact.ContactError, interaction.ContactLossError, growth.GrowthStepError)
+
+
+def _checks(cfg, forces, w, hist, material, L):
+    """List of (name, value, limit, passed)."""
+    out = []
+    finite = bool(np.all(np.isfinite(forces.P)) and np.all(np.isfinite(w.depth)) and np.all(np.isfinite(w.q)) and np.all(np.isfinite(hist.Z)))
+    out.append(("all results finite", float(finite), 1.0, finite))
+    P0 = float(cfg["wheels"]["static_load"])
+    K = forces.harmonics
+    mean_err = abs(forces.P[0, K] - P0) / P0
+    out.append(("mean normal force / static load - 1", float(mean_err), 1e-9, mean_err < 1e-9))
+    out.append(("contact state periodicity over the bay", float(w.periodicity), 1e-3, w.periodicity < 1e-3))
+    R = material.wheel_radius
+    if material.creepage != 0:
+        Qc = float(contact.carter(np.zeros(1), P0, material, forces.speed, R)[2])
+        dev = abs(np.mean(w.Q) / Qc - 1)
+        limit = 5e-3 if w.full_slip == 1.0 else 0.1
+        out.append(("mean tangential force / Carter's - 1", float(dev), limit, dev < limit))
+    else:
+        rel = float(np.max(np.abs(w.Q)) / (material.friction_dynamic * P0))
+        out.append(("|tangential force| / mu_d P (zero creepage)", rel, 0.05, rel < 0.05))
+    err = float(hist.step_error.max()) if hist.step_error.size else 0.0
+    tol = float(cfg["growth"]["step_tolerance"])
+    out.append(("largest estimated update error", err, tol, err <= tol))
+    return out
+
+
+def run_case(defaults: dict, schema: dict, name: str, case: dict, numerics: dict | None = None) -> dict:
+    """Run one stability case; returns a record (JSON-friendly dict).
+
+    case : {'description', 'overrides' (config keys), 'speed' (m/s), 'passages', 'passages_per_update'}.
+    numerics : optional overrides of ``numerics`` (reduced resolution for the test suite).
+    """
+    rec = {"case": name, "description": case.get("description", ""), "status": "failed", "stage": "config",
+           "error_type": "", "message": "", "checks": [], "full_slip": 0.0, "cpu_s": 0.0}
+    t0 = time.process_time()
+    try:
+        over = deep_merge(case.get("overrides", {}), {"numerics": numerics} if numerics else {})
+        g = {"growth": {k: case[k] for k in ("passages", "passages_per_update") if k in case}}
+        if g["growth"]:
+            g["growth"]["save_every"] = g["growth"].get("passages_per_update", defaults["growth"]["passages_per_update"])
+        cfg = resolve(defaults, schema, deep_merge(over, g), source=f"stability case {name}")
+        speed = float(case.get("speed", 40.0))
+        tr = params.track(cfg)
+        K = params.harmonics(cfg)
+        rec["stage"] = "receptance table"
+        tab = moving.receptance_table(tr, speed, K, rtol=float(cfg["numerics"]["track"]["rtol"]))
+        rec["stage"] = "normal forces"
+        one = params.wheels(cfg)
+        rough = params.roughness(cfg, speed, tr.L, K)
+        forces = interaction.solve_forces(tab, one, params.contact_spring(cfg), rough, tr.beta0, tr.L)
+        rec["stage"] = "contact and wear"
+        material = params.contact_material(cfg)
+        settings = params.growth_settings(cfg)
+        w = wear.bay_wear(forces, 0, rough, material, float(cfg["material"]["density"]), float(cfg["wear"]["coefficient"]),
+                          tr.beta0, tr.L, nodes=settings.nodes, closure=settings.closure, closure_scale=settings.closure_scale)
+        rec["full_slip"] = float(w.full_slip)
+        rec["stage"] = "growth"
+        log = io.StringIO()
+        hist = growth.run_growth(tab, one, params.contact_spring(cfg), material, float(cfg["material"]["density"]),
+                                 float(cfg["wear"]["coefficient"]), rough, tr.beta0, tr.L, settings, progress=log)
+        rec["stage"] = "checks"
+        checks = _checks(cfg, forces, w, hist, material, tr.L)
+        rec["checks"] = [{"name": n, "value": v, "limit": lim, "passed": bool(p)} for n, v, lim, p in checks]
+        rec["status"] = "ok" if all(p for *_, p in checks) else "failed"
+        if rec["full_slip"] > 0:
+            rec["message"] = f"full slip (no stick zone) over {100 * rec['full_slip']:.0f} % of the bay, reported"
+        rec["stage"] = "done"
+    except CLEAR_ERRORS as e:
+        rec["status"], rec["error_type"], rec["message"] = "error", type(e).__name__, str(e)
+    except Exception as e:  # noqa: BLE001 - recorded as an unanticipated failure
+        rec["status"], rec["error_type"] = "failed", type(e).__name__
+        rec["message"] = f"{e} | {traceback.format_exc(limit=3)}"
+    rec["cpu_s"] = time.process_time() - t0
+    return rec
+
+
+def outcome_matches(rec: dict, expect) -> bool:
+    """Whether a case's record is what config/stability.yaml expects: 'ok', or {'error': regex}."""
+    if expect == "ok":
+        return rec["status"] == "ok"
+    return rec["status"] == "error" and re.search(expect["error"], rec["message"]) is not None

@@ -1,0 +1,67 @@
+# How much the corrugation prediction depends on the tangential contact closure (docs/contact.md):
+# named target closure_study (README). The growth runs come from the sweep files
+# config/scenarios/closure*.yaml.
+
+
+rule closure_wear:
+    """One passage over a harmonic roughness (Figs 12-19) with closure value s."""
+    input:
+        table=f"results/receptance/default/V{speed_label(config['figures']['wear']['speed'])}.nc",
+    output:
+        "results/closure/wear/s{s}_f{freq}.nc",
+    params:
+        code=code("wear", "present"),
+        frequency=wear_frequency,
+        cfg=closure_wear_config,
+    resources:
+        mem_mb=1000,
+        runtime=10,
+    log:
+        "logs/closure/wear_s{s}_f{freq}.log",
+    script:
+        "../scripts/wear_case.py"
+
+
+rule closure_wellposedness:
+    """Perturbation growth per patch transit of every closure value on three grids."""
+    output:
+        "results/closure/wellposedness.nc",
+    params:
+        code=code("wear", "present"),
+        values=closure_values(),
+        nodes=[41, 81, 161],
+    resources:
+        mem_mb=500,
+        runtime=15,
+    log:
+        "logs/closure/wellposedness.log",
+    script:
+        "../scripts/closure_wellposedness.py"
+
+
+rule closure_aggregate:
+    """The closure study's dataset, spectra figures and conclusions table."""
+    input:
+        closure_inputs()[0] if closure_values() else [],
+    output:
+        data="results/closure/closure.nc",
+        spectra=report("results/closure/spectra.png", caption="../report/closure.rst", category="Closure sensitivity study"),
+        wear=report("results/closure/wear_spectra.png", caption="../report/closure.rst", category="Closure sensitivity study"),
+        table="results/closure/conclusions.md",
+        html=report("results/closure/conclusions.html", caption="../report/closure.rst", category="Closure sensitivity study"),
+    params:
+        code=code("present", "studies"),
+        meta=closure_inputs()[1] if closure_values() else [],
+    resources:
+        mem_mb=1000,
+        runtime=5,
+    log:
+        "logs/closure/aggregate.log",
+    script:
+        "../scripts/closure_aggregate.py"
+
+
+rule closure_study:
+    """Named target: the closure sensitivity study."""
+    input:
+        closure_targets(),

@@ -1,0 +1,41 @@
+"""Aggregate the closure sensitivity study: dataset, spectra figures and the conclusions table."""
+
+import sys
+
+import xarray as xr
+
+from rail import conclusions, io, params, studies, track
+
+
+def main(config, paths, meta, out):
+    runs, soft, four, wear, wellposed = {}, {}, {}, {}, None
+    for path, (kind, s, x) in zip(paths, meta):
+        with xr.open_dataset(path) as ds:
+            ds = ds.load()
+        if kind == "run":
+            runs[(s, x)] = ds
+        elif kind == "soft":
+            soft[s] = ds
+        elif kind == "four":
+            four[s] = ds
+        elif kind == "wear":
+            wear[(s, x)] = ds
+        else:
+            wellposed = ds
+    tr = params.track(config)
+    ds = studies.closure_study(runs, soft, four, wear, wellposed, tr.L, track.pinned_pinned_frequency(tr),
+                                k_max_rad_per_m=float(config["figures"]["wear"]["spectrum_max_wavenumber"]))
+    io.write_netcdf(io.finalize(ds, config, title="Closure sensitivity study", source="rail.studies.closure_study"), out["data"])
+    studies.closure_spectra(ds).savefig(out["spectra"], dpi=150)
+    studies.closure_wear_spectra(ds).savefig(out["wear"], dpi=150)
+    rows = conclusions.closure_table(ds)
+    with open(out["table"], "w") as f:
+        f.write(conclusions.markdown_table(rows))
+    with open(out["html"], "w") as f:
+        f.write(conclusions.html_table(rows, "Report conclusions (section 7) per closure value s"))
+
+
+if __name__ == "__main__":
+    sys.stderr = open(snakemake.log[0], "w")  # noqa: F821
+    o = snakemake.output  # noqa: F821
+    main(snakemake.config, list(snakemake.input), snakemake.params.meta, {k: o[k] for k in ("data", "spectra", "wear", "table", "html")})  # noqa: F821

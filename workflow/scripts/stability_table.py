@@ -1,0 +1,28 @@
+"""Outcome table of the stability suite: netCDF, markdown and HTML (for the report)."""
+
+import json
+import sys
+
+from rail import conclusions, io, params, studies, track
+
+
+def main(config, paths, expect, out):
+    records = []
+    for p in paths:
+        with open(p) as f:
+            records.append(json.load(f))
+    vc = track.critical_speed(params.track(config))
+    ds = studies.stability_dataset(records, expect, vc)
+    io.write_netcdf(io.finalize(ds, config, title="Stability suite", source="rail.stability.run_case"), out["data"])
+    rows = studies.stability_rows(ds)
+    note = f"Critical speed of the default track (largest mean deflection under a moving load): {vc:.0f} m/s.\n\n"
+    with open(out["table"], "w") as f:
+        f.write(note + conclusions.markdown_table(rows))
+    with open(out["html"], "w") as f:
+        f.write(conclusions.html_table(rows, f"Stability suite. {note.strip()}"))
+
+
+if __name__ == "__main__":
+    sys.stderr = open(snakemake.log[0], "w")  # noqa: F821
+    o = snakemake.output  # noqa: F821
+    main(snakemake.config, list(snakemake.input), snakemake.params.expect, {k: o[k] for k in ("data", "table", "html")})  # noqa: F821
