@@ -202,3 +202,109 @@ def stability_rows(ds: xr.Dataset) -> list[list[str]]:
         rows.append([str(c), str(ds["description"].values[i]), str(ds["status"].values[i]),
                      "yes" if ds["as_expected"].values[i] else "NO", ev.replace("|", "/"), f"{float(ds['cpu_time'].values[i]):.1f}"])
     return rows
+
+
+def _cz(ds, re_name, im_name):
+    return ds[re_name].values + 1j * ds[im_name].values
+
+
+def convergence_dataset(points: dict, study: dict, defaults: dict) -> xr.Dataset:
+    """Errors of the convergence study against each setting's reference (rail.convergence).
+
+    points : {(setting, value): point dataset}; study : config/convergence.yaml;
+    defaults : {setting: default value}. One entry per non-reference point, dimension 'point'.
+    For growth points, error is the relative amplitude error and error_dB the level error; for
+    wear points, the largest error over the wear frequencies.
+    """
+    from .convergence import force_error, growth_error, level_error_dB, pareto_front, wear_error
+
+    rows = []
+    for name, s in study["settings"].items():
+        ref = points[(name, float(s["reference"]))]
+        ref_time = float(ref["cpu_time"])
+        for v in s["values"]:
+            p = points[(name, float(v))]
+            q = s["quantity"]
+            e_db = np.nan
+            if q == "force":
+                e = force_error(p["force"].values, ref["force"].values)
+            elif q == "wear":
+                Zr, Zp = _cz(ref, "wear_real", "wear_imag"), _cz(p, "wear_real", "wear_imag")
+                e = max(wear_error(Zp[i], Zr[i], float(ref["mean_wear"].values[i])) for i in range(Zr.shape[0]))
+            else:
+                Zr, Zp = _cz(ref, "Z_real", "Z_imag"), _cz(p, "Z_real", "Z_imag")
+                e = growth_error(Zp, Zr)
+                e_db = level_error_dB(Zp, Zr, k_max=50)
+            rows.append((name, q, float(v), float(p["cpu_time"]), e, e_db, float(v) == float(defaults[name]), float(s["reference"]), ref_time))
+    settings = np.array([r[0] for r in rows])
+    times = np.array([r[3] for r in rows])
+    errors = np.array([r[4] for r in rows])
+    front = np.zeros(len(rows), dtype=bool)
+    for name in study["settings"]:
+        sel = settings == name
+        front[sel] = pareto_front(times[sel], errors[sel])
+    return xr.Dataset(
+        {
+            "cpu_time": _var("point", times, "s", "CPU time of the computation (one core)"),
+            "error": _var("point", errors, "1", "error against the reference: force / fluctuation, wear / mean wear, or roughness / its maximum"),
+            "error_dB": _var("point", np.array([r[5] for r in rows]), "dB", "largest roughness level error within 20 dB of the highest level (growth points)"),
+            "is_default": _var("point", np.array([int(r[6]) for r in rows]), "1", "1 for the default value of the setting"),
+            "on_pareto_front": _var("point", front.astype(int), "1", "1 when no value of the same setting is both faster and more accurate"),
+            "reference_value": _var("point", np.array([r[7] for r in rows]), "1", "value of the setting in the reference"),
+            "reference_cpu_time": _var("point", np.array([r[8] for r in rows]), "s", "CPU time of the reference"),
+        },
+        coords={
+            "setting": _var("point", settings, "1", "numerical setting (config/convergence.yaml)"),
+            "quantity": _var("point", np.array([r[1] for r in rows]), "1", "figure quantity whose error is measured"),
+            "value": _var("point", np.array([r[2] for r in rows]), "1", "value of the setting"),
+        },
+        attrs={"speed_m_per_s": float(study["speed"])},
+    )
+
+
+_QUANTITY_TEXT = {"force": "normal force along the bay (Fig. 22)", "wear": "wear spectrum of one passage (Figs 13, 19)",
+                  "growth": "roughness after 100,000 passages (Fig. 23)"}
+
+
+def convergence_figure(ds: xr.Dataset):
+    """Error against CPU time, log-log, one panel per quantity and a line per setting; the default
+    value is a filled marker, the others open; each point is labelled with its value."""
+    quantities = list(dict.fromkeys(ds["quantity"].values))
+    fig, axes = plt.subplots(1, len(quantities), figsize=(5.0 * len(quantities), 4.2), layout="constrained", squeeze=False)
+    markers = ["o", "s", "^", "D", "v"]
+    for ax, q in zip(axes[0], quantities):
+        names = list(dict.fromkeys(ds["setting"].values[ds["quantity"].values == q]))
+        for m, name in zip(markers, names):
+            sel = ds["setting"].values == name
+            t, e = ds["cpu_time"].values[sel], np.maximum(ds["error"].values[sel], 1e-12)
+            order = np.argsort(t)
+            ax.loglog(t[order], e[order], "-", color="k", lw=0.8, marker=m, mfc="none", label=name)
+            d = ds["is_default"].values[sel].astype(bool)
+            ax.loglog(t[d], e[d], m, color="k")
+            for ti, ei, v in zip(t, e, ds["value"].values[sel]):
+                ax.annotate(f"{v:g}", (ti, ei), fontsize=6, xytext=(3, 3), textcoords="offset points")
+        ax.set_xlabel("CPU time (s, one core)")
+        ax.set_ylabel("relative error")
+        ax.set_title(_QUANTITY_TEXT.get(q, q), fontsize=9)
+        ax.legend(fontsize=7, title="setting (filled: default)", title_fontsize=7)
+    return fig
+
+
+def convergence_rows(ds: xr.Dataset) -> list[list[str]]:
+    """Rows (header first) of the convergence summary: each setting's default, its error and time,
+    the reference, and whether the default is on the Pareto front."""
+    rows = [["setting", "quantity", "default", "error of the default", "CPU time (s)", "reference (CPU s)", "on the Pareto front",
+             "all values: value -> error"]]
+    for name in dict.fromkeys(ds["setting"].values):
+        sel = ds["setting"].values == name
+        d = np.where(sel & (ds["is_default"].values == 1))[0]
+        allv = ", ".join(f"{v:g} -> {e:.2g}" + (f" ({db:.2f} dB)" if np.isfinite(db) else "")
+                         for v, e, db in zip(ds["value"].values[sel], ds["error"].values[sel], ds["error_dB"].values[sel]))
+        if len(d):
+            i = d[0]
+            err = f"{ds['error'].values[i]:.2g}" + (f" ({ds['error_dB'].values[i]:.2f} dB)" if np.isfinite(ds["error_dB"].values[i]) else "")
+            rows.append([str(name), str(ds["quantity"].values[i]), f"{ds['value'].values[i]:g}", err, f"{ds['cpu_time'].values[i]:.1f}",
+                         f"{ds['reference_value'].values[i]:g} ({ds['reference_cpu_time'].values[i]:.1f})", "yes" if ds["on_pareto_front"].values[i] else "no", allv])
+        else:
+            rows.append([str(name), "", "(not in the study)", "", "", "", "", allv])
+    return rows

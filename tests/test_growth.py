@@ -13,6 +13,7 @@ import numpy as np
 import pytest
 
 from rail import contact as C
+from rail.conclusions import overall_level_dB, short_wavelength_ratio
 from rail import growth as G
 from rail import halfspace
 from rail import interaction as I
@@ -49,8 +50,7 @@ def run(tr, V, positions=(0.0,), passages=20000, step=10000, checkpoint=None, st
 
 def rms_level(Z):
     """Overall rms roughness level (all harmonics), dB re 1 um."""
-    Kz = (len(Z) - 1) // 2
-    return 20 * np.log10(np.sqrt(2 * np.sum(np.abs(Z[Kz + 1 :]) ** 2)) / 1e-6)
+    return overall_level_dB(Z)
 
 
 @pytest.fixture(scope="module")
@@ -99,14 +99,7 @@ def test_conclusion_2_growth_depends_strongly_on_excitation_frequency():
 
 
 def _short_wavelength_after_sleeper(Z, L=0.6, k_min=5):
-    """rms of the roughness with wavelengths <= L / k_min over the first third of the bay (just
-    after a sleeper, in the direction of travel) over its rms in the middle third (mid-span)."""
-    Kz = (len(Z) - 1) // 2
-    k = np.arange(-Kz, Kz + 1)
-    x = np.linspace(0, L, 601)
-    prof = np.real(np.exp(1j * np.outer(x, k * 2 * np.pi / L)) @ np.where(np.abs(k) >= k_min, Z, 0))
-    rms = lambda sel: np.sqrt(np.mean(prof[sel] ** 2))  # noqa: E731
-    return rms(x < L / 3) / rms((x >= L / 3) & (x < 2 * L / 3))
+    return short_wavelength_ratio(Z, L, k_min)
 
 
 def test_conclusion_3_short_wavelength_roughness_starts_after_sleepers_and_spreads_with_speed(single40):

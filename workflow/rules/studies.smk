@@ -47,3 +47,66 @@ rule stability:
     """Named target: the stability suite."""
     input:
         rules.stability_table.output,
+
+
+CONVERGENCE = load_yaml(workflow.source_path("../../config/convergence.yaml"))
+
+
+def convergence_points():
+    """Every point of the convergence study: (setting, value label), references included."""
+    return [(name, f"{v:g}") for name, s in CONVERGENCE["settings"].items() for v in s["values"] + [s["reference"]]]
+
+
+def convergence_table(wildcards):
+    """The receptance table a contact or growth point uses (the default track at the study's speed)."""
+    if CONVERGENCE["settings"][wildcards.setting]["quantity"] == "force":
+        return {}
+    return {"table": f"results/receptance/default/V{speed_label(CONVERGENCE['speed'])}.nc"}
+
+
+rule convergence_point:
+    """One point of the convergence study (a figure quantity at one value of one setting)."""
+    input:
+        unpack(convergence_table),
+    output:
+        "results/convergence/points/{setting}/{value}.nc",
+    params:
+        code=code("growth", "present", "convergence"),
+        study=CONVERGENCE,
+        values=lambda w: CONVERGENCE["settings"][w.setting]["values"] + [CONVERGENCE["settings"][w.setting]["reference"]],
+    wildcard_constraints:
+        setting="|".join(CONVERGENCE["settings"]),
+    resources:
+        mem_mb=2000,
+        runtime=30,
+    log:
+        "logs/convergence/{setting}_{value}.log",
+    script:
+        "../scripts/convergence_point.py"
+
+
+rule convergence_aggregate:
+    """Error against CPU time for every setting: dataset, log-log figure and summary table."""
+    input:
+        [f"results/convergence/points/{s}/{v}.nc" for s, v in convergence_points()],
+    output:
+        data="results/convergence/convergence.nc",
+        figure=report("results/convergence/error_vs_time.png", caption="../report/convergence.rst", category="Numerical studies"),
+        table="results/convergence/summary.md",
+        html=report("results/convergence/summary.html", caption="../report/convergence.rst", category="Numerical studies"),
+    params:
+        code=code("present", "studies", "convergence"),
+        study=CONVERGENCE,
+    resources:
+        mem_mb=1000,
+        runtime=5,
+    log:
+        "logs/convergence/aggregate.log",
+    script:
+        "../scripts/convergence_aggregate.py"
+
+
+rule convergence:
+    """Named target: the convergence study."""
+    input:
+        rules.convergence_aggregate.output,

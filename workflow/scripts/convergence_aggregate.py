@@ -1,0 +1,36 @@
+"""Aggregate the convergence study: dataset, error-against-time figure and summary table."""
+
+import sys
+
+import xarray as xr
+
+from rail import conclusions, io, studies
+
+
+def main(config, study, paths, out):
+    points = {}
+    for p in paths:
+        with xr.open_dataset(p) as ds:
+            ds = ds.load()
+        points[(ds.attrs["setting"], float(ds.attrs["value"]))] = ds
+    defaults = {
+        "rtol": config["numerics"]["track"]["rtol"],
+        "harmonics": config["numerics"]["track"]["harmonics"],
+        "nodes": config["numerics"]["contact"]["nodes"],
+        "nodes_growth": config["numerics"]["contact"]["nodes"],
+        "passages_per_update": config["growth"]["passages_per_update"],
+    }
+    ds = studies.convergence_dataset(points, study, defaults)
+    io.write_netcdf(io.finalize(ds, config, title="Convergence study", source="rail.convergence"), out["data"])
+    studies.convergence_figure(ds).savefig(out["figure"], dpi=150)
+    rows = studies.convergence_rows(ds)
+    with open(out["table"], "w") as f:
+        f.write(conclusions.markdown_table(rows))
+    with open(out["html"], "w") as f:
+        f.write(conclusions.html_table(rows, "Convergence study: error of the defaults against a 4-times refined reference"))
+
+
+if __name__ == "__main__":
+    sys.stderr = open(snakemake.log[0], "w")  # noqa: F821
+    o = snakemake.output  # noqa: F821
+    main(snakemake.config, snakemake.params.study, list(snakemake.input), {k: o[k] for k in ("data", "figure", "table", "html")})  # noqa: F821
