@@ -120,3 +120,29 @@ def test_quasi_static_end_follows_carter_for_fast_load_variation_as_the_grid_is_
     d161 = {s: _carter_tracking(s, 1000.0, nodes=161, periods=3) for s in (0.1, 1.0)}
     assert d161[0.1] < 0.6 * d81[0.1] and d161[0.1] < 1e-2
     assert d161[1.0] > 3e-2 and abs(d161[1.0] / d81[1.0] - 1) < 0.1
+
+
+def test_conclusions_table_leaves_out_values_that_are_not_well_posed():
+    # the table's verdict uses only well-posed closure values; an ill-posed one is marked
+    import xarray as xr
+
+    from rail.conclusions import closure_table, evaluate
+
+    base = dict(levels_first=-30.0, levels_final=-10.0, argmax_harmonic=1, wear_rate={533.0: 1e-7, 1000.0: 2e-7},
+                ratio_slow=8.0, ratio_fast=2.0, overall_default=-9.0, overall_soft=-13.0, overall_single=-9.0,
+                overall_four=-9.2, pinned_pinned_Hz=1069.0)
+    good = evaluate(wear_amplitude={533.0: 0.02, 1000.0: 0.2}, **base)
+    bad = evaluate(wear_amplitude={533.0: 0.02, 1000.0: 0.05}, **{**base, "wear_rate": {533.0: 1e-7, 1000.0: -2e-7}})
+    assert good[2][0] and good["2b"][0] and good["2c"][0]
+    assert not bad[2][0] and not bad["2c"][0]
+    keys = list(good)
+    holds = np.array([[int(good[k][0]) for k in keys], [int(bad[k][0]) for k in keys], [-1] * len(keys)])
+    ds = xr.Dataset(
+        {"well_posed": ("closure_scale", [1, 1, 0]), "conclusion_holds": (("closure_scale", "conclusion"), holds),
+         "conclusion_evidence": (("closure_scale", "conclusion"), np.full(holds.shape, "n"))},
+        coords={"closure_scale": [0.1, 1.0, 4.0], "conclusion": [str(k) for k in keys], "conclusion_text": ("conclusion", [str(k) for k in keys])},
+    )
+    rows = closure_table(ds)
+    verdict = {r[0].split(".")[0]: r[1] for r in rows[1:]}
+    assert verdict["1"] == "holds for every s" and verdict["2"] == "depends on s" and verdict["2c"] == "depends on s"
+    assert rows[0][-1] == "s = 4 (not well-posed)" and all(r[-1].startswith("excluded") for r in rows[1:])
