@@ -12,6 +12,7 @@ rerun the growth jobs (each rule's params hold a hash of the modules it uses).
 from __future__ import annotations
 
 import matplotlib
+import matplotlib.ticker
 
 matplotlib.use("Agg")
 import matplotlib.pyplot as plt  # noqa: E402
@@ -283,6 +284,8 @@ def convergence_figure(ds: xr.Dataset):
             ax.loglog(t[d], e[d], m, color="k")
             for ti, ei, v in zip(t, e, ds["value"].values[sel]):
                 ax.annotate(f"{v:g}", (ti, ei), fontsize=6, xytext=(3, 3), textcoords="offset points")
+        ax.xaxis.set_minor_formatter(matplotlib.ticker.NullFormatter())
+        ax.yaxis.set_minor_formatter(matplotlib.ticker.NullFormatter())
         ax.set_xlabel("CPU time (s, one core)")
         ax.set_ylabel("relative error")
         ax.set_title(_QUANTITY_TEXT.get(q, q), fontsize=9)
