@@ -7,6 +7,7 @@ Any exception is caught and recorded with its type and message; a result that co
 through checks that can fail:
 
 * every number finite;
+* the wavenumber quadrature converged (its error bound within 10 times numerics.track.rtol);
 * mean normal force equal to the static load (the k = 0 balance, eq 36);
 * the contact state periodic over the bay (the second bay repeats the first);
 * the mean tangential force against Carter's for the static load (steady theory), within 10 %
@@ -37,9 +38,15 @@ __all__ = ["CLEAR_ERRORS", "run_case", "outcome_matches"]
 CLEAR_ERRORS = (ConfigError, ValueError, contact.ContactError, interaction.ContactLossError, growth.GrowthStepError)
 
 
-def _checks(cfg, forces, w, hist, material, L):
+def _checks(cfg, tab, forces, w, hist, material, L):
     """List of (name, value, limit, passed)."""
     out = []
+    # the wavenumber quadrature converged: its error bound (the half-node rule's difference) on
+    # the diagonal, relative to the diagonal, at most 10 times the requested tolerance
+    d = np.arange(tab.A.shape[1])
+    qerr = float(np.max(tab.error[0, d, d] / np.abs(tab.A[0, d, d])))
+    rtol = float(cfg["numerics"]["track"]["rtol"])
+    out.append(("quadrature error bound / |a_0| on the diagonal", qerr, 10 * rtol, qerr <= 10 * rtol))
     finite = bool(np.all(np.isfinite(forces.P)) and np.all(np.isfinite(w.depth)) and np.all(np.isfinite(w.q)) and np.all(np.isfinite(hist.Z)))
     out.append(("all results finite", float(finite), 1.0, finite))
     P0 = float(cfg["wheels"]["static_load"])
@@ -97,7 +104,7 @@ def run_case(defaults: dict, schema: dict, name: str, case: dict, numerics: dict
         hist = growth.run_growth(tab, one, params.contact_spring(cfg), material, float(cfg["material"]["density"]),
                                  float(cfg["wear"]["coefficient"]), rough, tr.beta0, tr.L, settings, progress=log)
         rec["stage"] = "checks"
-        checks = _checks(cfg, forces, w, hist, material, tr.L)
+        checks = _checks(cfg, tab, forces, w, hist, material, tr.L)
         rec["checks"] = [{"name": n, "value": v, "limit": lim, "passed": bool(p)} for n, v, lim, p in checks]
         rec["status"] = "ok" if all(p for *_, p in checks) else "failed"
         if rec["full_slip"] > 0:
