@@ -118,6 +118,7 @@ def _cross_checks(cfg: dict, source: str) -> list[str]:
             f"{source}: track.rail.damping_time = {rail['damping_time']!r} s is not allowed with track.damping = 'viscous': "
             f"the moving-load wavenumber integrals need rail damping; it must be >= {MIN_RAIL_DAMPING_TIME:.3g} s."
         )
+    out += _harmonics_checks(cfg, source)
     r = cfg.get("roughness", {})
     if r.get("kind") == "file" and not r.get("file"):
         out.append(f"{source}: roughness.kind = 'file' needs roughness.file, a CSV with header k,A_m,B_m.")
@@ -127,6 +128,37 @@ def _cross_checks(cfg: dict, source: str) -> list[str]:
             f"{source}: figures.halfspace.radius_min = {h['radius_min']!r} m is not allowed: it must be "
             f"< figures.halfspace.radius_max = {h['radius_max']!r} m."
         )
+    return out
+
+
+def configured_speeds(cfg: dict) -> list[float]:
+    """Every train speed a configuration computes at (speeds and the figures' speeds), m/s."""
+    f = cfg.get("figures", {})
+    v = set(cfg.get("speeds", []))
+    v |= set(f.get("fig22", {}).get("speeds", [])) | set(f.get("growth", {}).get("speeds", []))
+    v |= {x for x in (f.get("fig08", {}).get("speed"), f.get("wear", {}).get("speed")) if x is not None}
+    return sorted(float(x) for x in v)
+
+
+def _harmonics_checks(cfg: dict, source: str) -> list[str]:
+    """numerics.track.harmonics must reach the pinned-pinned frequency at every speed."""
+    from .params import track as make_track
+    from .track import min_harmonics, pinned_pinned_frequency
+
+    try:
+        tr = make_track(cfg)
+        K = int(cfg["numerics"]["track"]["harmonics"])
+    except (KeyError, TypeError, ValueError):
+        return []
+    out = []
+    for V in configured_speeds(cfg):
+        need = min_harmonics(tr, V)
+        if K < need:
+            out.append(
+                f"{source}: numerics.track.harmonics = {K} is not allowed at V = {V:g} m/s: K V / L = {K * V / tr.L:.0f} Hz "
+                f"does not reach the pinned-pinned frequency {pinned_pinned_frequency(tr):.0f} Hz, below which the force needs "
+                f"every harmonic; it must be >= {need} at this speed."
+            )
     return out
 
 
@@ -188,8 +220,7 @@ def expand_sweep(defaults: dict, schema: dict, scenario: dict, source: str):
         assignment = {k: values[i][j] for i, (k, j) in enumerate(zip(keys, index))}
         override = base
         for k, v in assignment.items():
-            if k != "speed":
-                override = _set_dotted(override, k, v)
+            override = _set_dotted(override, "speeds", [v]) if k == "speed" else _set_dotted(override, k, v)
         label = ", ".join(f"{k} = {v}" for k, v in assignment.items())
         cfg = resolve(defaults, schema, override, source=f"{source} (sweep point {label})")
         points.append((index, assignment, cfg))

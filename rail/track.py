@@ -154,6 +154,16 @@ MIN_RAIL_LOSS_FACTOR = 1.0e-4
 MIN_RAIL_DAMPING_TIME = MIN_RAIL_LOSS_FACTOR / (2 * np.pi * 1000.0)  # same loss factor at 1 kHz
 
 
+def min_harmonics(track: Track, speed: float) -> int:
+    """Least number of harmonics K of the sleeper-passing frequency V/L for a moving-load force
+    calculation at speed V (m/s): K V / L must reach the pinned-pinned frequency. Below it the
+    track has its resonances and every harmonic is needed; above it the force harmonics fall like
+    1/p^2 (the quasi-static sleeper kink), which the tail model of rail.interaction adds.
+    Measured at 5 m/s: K = 64 (533 Hz) differs from K = 32 by 11 % of the force fluctuation,
+    K = 128 (1067 Hz) from K = 64 by 0.6 % (the stability suite)."""
+    return int(np.ceil(pinned_pinned_frequency(track) * track.L / speed - 1e-9))
+
+
 def damping_problem(track: Track) -> str | None:
     """Why the track's rail damping is too small for the moving-load integrals, or None."""
     r = track.rail
