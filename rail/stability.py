@@ -64,7 +64,7 @@ def _checks(cfg, tab, forces, rough, w, hist, material, L):
     d = np.arange(tab.A.shape[1])
     qerr = float(np.max(tab.error[0, d, d] / np.abs(tab.A[0, d, d])))
     rtol = float(cfg["numerics"]["track"]["rtol"])
-    out.append(("quadrature error bound / |a_0| on the diagonal", qerr, 10 * rtol, qerr <= 10 * rtol))
+    out.append(("quadrature error bound over a_0 on the diagonal", qerr, 10 * rtol, qerr <= 10 * rtol))
     finite = bool(np.all(np.isfinite(forces.P)) and np.all(np.isfinite(w.depth)) and np.all(np.isfinite(w.q)) and np.all(np.isfinite(hist.Z)))
     out.append(("all results finite", float(finite), 1.0, finite))
     P0 = float(cfg["wheels"]["static_load"])
@@ -80,7 +80,7 @@ def _checks(cfg, tab, forces, rough, w, hist, material, L):
         out.append(("mean tangential force / Carter's - 1", float(dev), limit, dev < limit))
     else:
         rel = float(np.max(np.abs(w.Q)) / (material.friction_dynamic * P0))
-        out.append(("|tangential force| / mu_d P (zero creepage)", rel, 0.05, rel < 0.05))
+        out.append(("largest tangential force / mu_d P (zero creepage: 0 for identical materials)", rel, 0.05, rel < 0.05))
     err = float(hist.step_error.max()) if hist.step_error.size else 0.0
     tol = float(cfg["growth"]["step_tolerance"])
     out.append(("largest estimated update error", err, tol, err <= tol))

@@ -200,8 +200,9 @@ def stability_rows(ds: xr.Dataset) -> list[list[str]]:
         ev = str(ds["checks"].values[i]) if str(ds["status"].values[i]) == "ok" else f"{ds['error_type'].values[i]}: {ds['message'].values[i]}"
         if str(ds["status"].values[i]) == "ok" and str(ds["message"].values[i]):
             ev = f"{ds['message'].values[i]}; {ev}"
+        ev = " ".join(ev.replace("|", "/").split())  # one line per table cell
         rows.append([str(c), str(ds["description"].values[i]), str(ds["status"].values[i]),
-                     "yes" if ds["as_expected"].values[i] else "NO", ev.replace("|", "/"), f"{float(ds['cpu_time'].values[i]):.1f}"])
+                     "yes" if ds["as_expected"].values[i] else "NO", ev, f"{float(ds['cpu_time'].values[i]):.1f}"])
     return rows
 
 
