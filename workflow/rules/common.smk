@@ -264,3 +264,20 @@ def closure_targets():
     if not closure_values():
         return []
     return [f"results/closure/{n}" for n in ("closure.nc", "spectra.png", "wear_spectra.png", "conclusions.md", "conclusions.html")]
+
+
+# Numerical studies (workflow/rules/studies.smk): the stability suite and the convergence study.
+STABILITY = load_yaml(workflow.source_path("../../config/stability.yaml"))
+CONVERGENCE = load_yaml(workflow.source_path("../../config/convergence.yaml"))
+
+
+def convergence_points():
+    """Every point of the convergence study: (setting, value label), references included."""
+    return [(name, f"{v:g}") for name, s in CONVERGENCE["settings"].items() for v in s["values"] + [s["reference"]]]
+
+
+def convergence_table(wildcards):
+    """The receptance table a contact or growth point uses (the default track at the study's speed)."""
+    if CONVERGENCE["settings"][wildcards.setting]["quantity"] == "force":
+        return {}
+    return {"table": f"results/receptance/default/V{speed_label(CONVERGENCE['speed'])}.nc"}

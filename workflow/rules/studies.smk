@@ -2,9 +2,6 @@
 #   stability    - the stability suite of config/stability.yaml: outcome table
 #   convergence  - error of the figure quantities against run time for every numerical setting
 
-STABILITY = load_yaml(workflow.source_path("../../config/stability.yaml"))
-
-
 rule stability_case:
     """One case of the stability suite: a checked result or a clear error (never NaN)."""
     output:
@@ -47,21 +44,6 @@ rule stability:
     """Named target: the stability suite."""
     input:
         rules.stability_table.output,
-
-
-CONVERGENCE = load_yaml(workflow.source_path("../../config/convergence.yaml"))
-
-
-def convergence_points():
-    """Every point of the convergence study: (setting, value label), references included."""
-    return [(name, f"{v:g}") for name, s in CONVERGENCE["settings"].items() for v in s["values"] + [s["reference"]]]
-
-
-def convergence_table(wildcards):
-    """The receptance table a contact or growth point uses (the default track at the study's speed)."""
-    if CONVERGENCE["settings"][wildcards.setting]["quantity"] == "force":
-        return {}
-    return {"table": f"results/receptance/default/V{speed_label(CONVERGENCE['speed'])}.nc"}
 
 
 rule convergence_point:
