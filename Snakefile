@@ -28,3 +28,10 @@ rule all:
     input:
         paper_figures(),
     default_target: True
+
+
+rule report_all:
+    """The report's figures and every study already built: snakemake --report report.html report_all."""
+    input:
+        paper_figures(),
+        built_studies(),

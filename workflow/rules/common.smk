@@ -281,3 +281,11 @@ def convergence_table(wildcards):
     if CONVERGENCE["settings"][wildcards.setting]["quantity"] == "force":
         return {}
     return {"table": f"results/receptance/default/V{speed_label(CONVERGENCE['speed'])}.nc"}
+
+
+def built_studies():
+    """Outputs of the named studies that exist on disk (for the HTML report: report_all)."""
+    candidates = closure_targets() + sweep_targets() + [
+        "results/stability/outcomes.html", "results/convergence/error_vs_time.png", "results/convergence/summary.html",
+    ]
+    return [f for f in candidates if Path(f).exists()]
