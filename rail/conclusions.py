@@ -133,3 +133,12 @@ def html_table(rows, title: str) -> str:
     return (f"<html><head><meta charset='utf-8'><title>{escape(title)}</title><style>td,th{{border:1px solid #999;"
             f"padding:4px;font-size:12px;vertical-align:top}}table{{border-collapse:collapse}}</style></head><body>"
             f"<h3>{escape(title)}</h3><table><tr>{head}</tr>{body}</table></body></html>\n")
+
+
+def write_tables(rows, markdown_path, html_path, title: str, note: str = "") -> None:
+    """Write a table (rows, header first) as markdown and as an HTML page, with an optional note
+    above it."""
+    with open(markdown_path, "w") as f:
+        f.write((note + "\n\n" if note else "") + markdown_table(rows))
+    with open(html_path, "w") as f:
+        f.write(html_table(rows, f"{title}. {note}".strip() if note else title))

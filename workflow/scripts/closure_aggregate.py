@@ -28,11 +28,7 @@ def main(config, paths, meta, out):
     io.write_netcdf(io.finalize(ds, config, title="Closure sensitivity study", source="rail.studies.closure_study"), out["data"])
     studies.closure_spectra(ds).savefig(out["spectra"], dpi=150)
     studies.closure_wear_spectra(ds).savefig(out["wear"], dpi=150)
-    rows = conclusions.closure_table(ds)
-    with open(out["table"], "w") as f:
-        f.write(conclusions.markdown_table(rows))
-    with open(out["html"], "w") as f:
-        f.write(conclusions.html_table(rows, "Report conclusions (section 7) per closure value s"))
+    conclusions.write_tables(conclusions.closure_table(ds), out["table"], out["html"], "Report conclusions (section 7) per closure value s")
 
 
 if __name__ == "__main__":

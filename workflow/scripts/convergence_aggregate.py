@@ -23,11 +23,7 @@ def main(config, study, paths, out):
     ds = studies.convergence_dataset(points, study, defaults)
     io.write_netcdf(io.finalize(ds, config, title="Convergence study", source="rail.convergence"), out["data"])
     studies.convergence_figure(ds).savefig(out["figure"], dpi=150)
-    rows = studies.convergence_rows(ds)
-    with open(out["table"], "w") as f:
-        f.write(conclusions.markdown_table(rows))
-    with open(out["html"], "w") as f:
-        f.write(conclusions.html_table(rows, "Convergence study: error of the defaults against a 4-times refined reference"))
+    conclusions.write_tables(studies.convergence_rows(ds), out["table"], out["html"], "Convergence study: error of the defaults against a 4-times refined reference")
 
 
 if __name__ == "__main__":

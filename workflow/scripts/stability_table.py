@@ -14,12 +14,8 @@ def main(config, paths, expect, out):
     vc = track.critical_speed(params.track(config))
     ds = studies.stability_dataset(records, expect, vc)
     io.write_netcdf(io.finalize(ds, config, title="Stability suite", source="rail.stability.run_case"), out["data"])
-    rows = studies.stability_rows(ds)
-    note = f"Critical speed of the default track (largest mean deflection under a moving load): {vc:.0f} m/s.\n\n"
-    with open(out["table"], "w") as f:
-        f.write(note + conclusions.markdown_table(rows))
-    with open(out["html"], "w") as f:
-        f.write(conclusions.html_table(rows, f"Stability suite. {note.strip()}"))
+    note = f"Critical speed of the default track (largest mean deflection under a moving load): {vc:.0f} m/s."
+    conclusions.write_tables(studies.stability_rows(ds), out["table"], out["html"], "Stability suite", note)
 
 
 if __name__ == "__main__":
