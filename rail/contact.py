@@ -33,6 +33,7 @@ import math
 from dataclasses import dataclass
 
 import numpy as np
+from numba import njit
 
 __all__ = [
     "ContactMaterial",
@@ -292,6 +293,247 @@ def rolling_grid(a_max: float, L: float, nodes: int):
     return delta, Nx, M
 
 
+@njit(cache=True)
+def _g0_nb(t):
+    return t * math.log(abs(t)) - t if t != 0.0 else 0.0
+
+
+@njit(cache=True)
+def _g1_nb(t):
+    return t * t * (0.5 * math.log(abs(t)) - 0.25) if t != 0.0 else 0.0
+
+
+@njit(cache=True)
+def _half_hat_nb(j, e, side):
+    """Compiled _half_hat_scalar."""
+    if side > 0:
+        return ((j + e) / e) * (_g0_nb(j + e) - _g0_nb(j)) - (_g1_nb(j + e) - _g1_nb(j)) / e
+    return (_g1_nb(j) - _g1_nb(j - e)) / e + ((e - j) / e) * (_g0_nb(j) - _g0_nb(j - e))
+
+
+@njit(cache=True)
+def _log_hat_nb(j):
+    """Compiled _log_hat for one node."""
+    left = (_g1_nb(j) - _g1_nb(j - 1.0)) + (1.0 - j) * (_g0_nb(j) - _g0_nb(j - 1.0))
+    right = (j + 1.0) * (_g0_nb(j + 1.0) - _g0_nb(j)) - (_g1_nb(j + 1.0) - _g1_nb(j))
+    return left + right
+
+
+@njit(cache=True)
+def _closure_matrix(ai, B, H_right, H_left, xi, k, delta, M, closure, closure_scale, report_coef, C, r_edge, w):
+    """Influence matrix C (rows: nodes plus the leading neighbour), its row r_edge at xi = +a and
+    the column weights w = int hat_n, at half-length ai (in place). The two outermost hats end
+    exactly at -a and +a; the rigid term is that of the closure (0: default, 1: report)."""
+    nn = xi.size
+    lead = int(math.floor(ai / delta - 1e-12)) + M
+    trail = 2 * M - lead
+    e = ai / delta - (lead - M)
+    logd = math.log(delta)
+    w[:] = delta
+    w[lead] = delta * 0.5 * (1 + e)
+    w[trail] = delta * 0.5 * (1 + e)
+    C[:, :] = B
+    for r in range(nn + 1):
+        C[r, lead] += -k * delta * (_half_hat_nb(lead - r, e, 1) - H_right[lead, r])
+        C[r, trail] += -k * delta * (_half_hat_nb(trail - r, e, -1) - H_left[trail, r])
+    rigid = np.empty(nn)
+    if closure == 0:
+        lc = k * math.log(0.5 * ai * math.exp(2 * closure_scale / math.pi))
+        for c in range(nn):
+            rigid[c] = lc * w[c]
+    else:
+        for c in range(nn):
+            rigid[c] = -(C[M, c] - k * logd * w[c])
+        rigid[M] += closure_scale * report_coef * ai
+    for c in range(nn):
+        col = -k * logd * w[c] + rigid[c]
+        for r in range(nn + 1):
+            C[r, c] += col
+    for n in range(nn):
+        j = (xi[n] - ai) / delta
+        r_edge[n] = -k * delta * _log_hat_nb(j)
+        if n == lead:
+            r_edge[n] += -k * delta * (_half_hat_nb(j, e, 1) - _half_hat_nb(j, 1.0, 1))
+        if n == trail:
+            r_edge[n] += -k * delta * (_half_hat_nb(j, e, -1) - _half_hat_nb(j, 1.0, -1))
+        r_edge[n] += -k * logd * w[n] + rigid[n]
+    return lead, trail
+
+
+@njit(cache=True)
+def _march(P, a, xi, B, H_right, H_left, k, delta, M, speed, g, mu_d, mu_s, half_width, closure, closure_scale,
+           report_coef, q0, max_iter, checkerboard_limit):
+    """The time loop of solve_tangential (compiled). Returns the histories and a status
+    (code, step, value): 0 ok, 1 no convergence of the stick/slip iteration, 2 not finite,
+    3 the report's closure diverged (value: the checkerboard measure)."""
+    nn = xi.size
+    steps = P.size
+    dt = delta / speed
+    b2 = 2 * half_width
+    sg = 0.0 if g == 0 else (1.0 if g > 0 else -1.0)
+    q_hist = np.zeros((steps, nn))
+    s_hist = np.zeros((steps, nn))
+    Q_hist = np.zeros(steps)
+    work = np.zeros(steps + nn)
+    power = np.zeros(steps)
+    stick_count = np.zeros(steps, dtype=np.int64)
+    status = np.zeros(3)
+    C = np.empty((nn + 1, nn))
+    r_edge = np.empty(nn)
+    w = np.empty(nn)
+    q = q0.copy()
+    _closure_matrix(a[0], B, H_right, H_left, xi, k, delta, M, closure, closure_scale, report_coef, C, r_edge, w)
+    u_old = C @ q
+    u_edge_old = np.dot(r_edge, q)
+    stick_prev = np.zeros(nn, dtype=np.bool_)
+    sign_prev = np.full(nn, -sg)
+    stick = np.zeros(nn, dtype=np.bool_)
+    inside = np.zeros(nn, dtype=np.bool_)
+    sign = np.empty(nn)
+    p = np.empty(nn)
+    h = np.empty(nn)
+    s = np.empty(nn)
+    qn = np.zeros(nn)
+    dw = np.empty(nn)
+    total_iter = 0
+    for i in range(steps):
+        ai = a[i]
+        lead, trail = _closure_matrix(ai, B, H_right, H_left, xi, k, delta, M, closure, closure_scale, report_coef,
+                                      C, r_edge, w)
+        E = C[:nn]
+        p0 = P[i] / (math.pi * ai * half_width)
+        for n in range(nn):
+            rr = 1 - (xi[n] / ai) ** 2
+            p[n] = p0 * math.sqrt(rr if rr > 0 else 0.0)
+            inside[n] = p[n] > 0
+        tau = (ai - xi[lead]) / speed  # time since the leading particle entered the patch
+        for n in range(nn):
+            h[n] = u_old[n + 1] - g * delta
+        h[lead] = u_edge_old - g * (ai - xi[lead])
+        for n in range(nn - 1):
+            stick[n] = stick_prev[n + 1]
+            sign[n] = sign_prev[n + 1]
+        stick[nn - 1] = False
+        sign[nn - 1] = -sg
+        stick[lead] = True
+        if sign[lead] == 0:
+            sign[lead] = -sg
+        for n in range(nn):
+            stick[n] = stick[n] and inside[n]
+        converged = False
+        it = 0
+        while it < max_iter:
+            ns = 0
+            for n in range(nn):
+                if inside[n] and not stick[n]:
+                    qn[n] = mu_d * p[n] * sign[n]
+                else:
+                    qn[n] = 0.0
+                if stick[n]:
+                    ns += 1
+            if ns > 0:
+                S = np.empty(ns, dtype=np.int64)
+                c = 0
+                for n in range(nn):
+                    if stick[n]:
+                        S[c] = n
+                        c += 1
+                Eq = E @ qn
+                A = np.empty((ns, ns))
+                rhs = np.empty(ns)
+                for r in range(ns):
+                    rhs[r] = h[S[r]] - Eq[S[r]]
+                    for cc in range(ns):
+                        A[r, cc] = E[S[r], S[cc]]
+                x = np.linalg.solve(A, rhs)
+                for r in range(ns):
+                    qn[S[r]] = x[r]
+            Eq = E @ qn
+            for n in range(nn):
+                s[n] = g * speed + (Eq[n] - h[n] - g * delta) / dt
+            s[lead] = g * speed + (Eq[lead] - u_edge_old) / max(tau, 1e-300)
+            changed = False
+            for n in range(nn):
+                if not inside[n]:
+                    s[n] = 0.0
+                    continue
+                if stick[n]:
+                    if abs(qn[n]) > mu_s * p[n]:
+                        stick[n] = False
+                        sign[n] = np.sign(qn[n])
+                        changed = True
+                elif s[n] * sign[n] > 0:  # q = -mu p sign(s) violated: the particle sticks
+                    stick[n] = True
+                    changed = True
+            it += 1
+            if not changed:
+                converged = True
+                break
+        if not converged:
+            status[0], status[1] = 1, i
+            break
+        total_iter += it
+        finite = True
+        for n in range(nn):
+            if not np.isfinite(qn[n]):
+                finite = False
+        if not finite:
+            status[0], status[1] = 2, i
+            break
+        cnt = 0
+        for n in range(nn):
+            if stick[n]:
+                s[n] = 0.0
+                if inside[n]:
+                    cnt += 1
+        stick_count[i] = cnt
+        if closure == 1 and i > nn and P[i] > 0:
+            cb = _checkerboard_nb(qn, stick, inside, P[i] / (math.pi * ai * half_width), mu_d)
+            if cb > checkerboard_limit:
+                status[0], status[1], status[2] = 3, i, cb
+                break
+        q_hist[i] = qn
+        s_hist[i] = s
+        Q_hist[i] = b2 * np.dot(w, qn)
+        # Frictional work in this step on the particle now at node n (particle index i + n): its
+        # step-averaged traction times its slip over the step. The particle that entered at +a during
+        # the step was loaded for tau only; the one at the trailing node leaves at -a after tau_exit.
+        for n in range(nn):
+            q_same = q[n + 1] if n < nn - 1 else 0.0
+            dw[n] = abs(0.5 * (qn[n] + q_same) * s[n]) * dt
+        dw[lead] = abs(0.5 * qn[lead] * s[lead]) * tau
+        dw[trail] += abs(0.5 * qn[trail] * s[trail]) * (xi[trail] + ai) / speed
+        tot = 0.0
+        for n in range(nn):
+            work[i + n] += dw[n]
+            tot += dw[n]
+        power[i] = tot * delta / dt
+        q[:] = qn
+        u_old = C @ qn
+        u_edge_old = np.dot(r_edge, qn)
+        for n in range(nn):
+            stick_prev[n] = stick[n]
+            sign_prev[n] = np.sign(qn[n]) if stick[n] else sign[n]
+    return q_hist, s_hist, Q_hist, work, power, stick_count, total_iter, status
+
+
+@njit(cache=True)
+def _checkerboard_nb(q, stick, inside, p0, mu):
+    """Compiled checkerboard_measure of q on the loaded stick nodes (stick & inside)."""
+    nn = q.size
+    best = 0.0
+    for n in range(1, nn - 1):
+        ok = True
+        for m in range(max(n - 2, 0), min(n + 3, nn)):  # n-1, n, n+1 and their neighbours all stick
+            if not (stick[m] and inside[m]):
+                ok = False
+        if ok:
+            d2 = abs(q[n + 1] - 2 * q[n] + q[n - 1])
+            if d2 > best:
+                best = d2
+    return best / (mu * p0)
+
+
 def solve_tangential(P, a, m: ContactMaterial, speed: float, delta: float, M: int, closure: str = "default",
                      closure_scale: float = 1.0, q0=None, max_iter: int = 200) -> TangentialSolution:
     """Time-step the unsteady 2D rolling contact over len(P) steps of Delta = V dt.
@@ -300,164 +542,55 @@ def solve_tangential(P, a, m: ContactMaterial, speed: float, delta: float, M: in
     fixed grid xi_n = (n - M) Delta, n = 0..2M. q0 : initial traction at the nodes (default 0).
     closure : 'default' (log kernel with l = (a/2) exp(2 s / pi), s = closure_scale) or 'report'
     (eqs 32-33, u(0) = q(0)/sigma with 1/sigma scaled by closure_scale).
+
+    Each step (eqs 26-33, module docstring): the stick equations E q = h hold on the stick nodes,
+    where a regular particle keeps u_m(t) = u_{m+1}(t - dt) - gamma Delta and the particle that
+    entered in the last step has stuck since it crossed xi = a, at the surface displacement u_a of
+    the previous step: u_lead(t) = u_a - gamma (a - xi_lead). Slip nodes carry q = -mu_d p sign(s),
+    with the slip direction carried by the particles. An active-set iteration moves nodes where
+    |q| > mu_s p to slip and nodes whose slip opposes their traction to stick. The slip velocity is
+    s = V gamma + (E q - h) / dt, exact along the particle path.
+
+    The time loop is compiled with numba (``_march``); ``tests/reference/contact_numpy.py`` holds
+    the same scheme in numpy, and the tests check the two agree step by step.
     """
-    P = np.asarray(P, dtype=float)
-    a = np.asarray(a, dtype=float)
+    if closure not in ("default", "report"):
+        raise ValueError(f"contact.closure = {closure!r} is not allowed: it must be 'default' or 'report'.")
+    P = np.ascontiguousarray(P, dtype=float)
+    a = np.ascontiguousarray(a, dtype=float)
     if np.any(a >= M * delta):
         raise ValueError(f"the patch half-length {a.max():.4g} m exceeds the grid's {M * delta:.4g} m.")
+    if P.size and not (np.all(a > 0) and np.all(P > 0)):
+        raise ValueError("solve_tangential needs a loaded patch at every step (P > 0, a > 0); contact loss is "
+                         "detected before (rail.interaction).")
     nn = 2 * M + 1
     xi = (np.arange(nn) - M) * delta
     k = compliance(m)
-    B = influence_matrix(nn + 1, nn, delta, k)  # rows: nodes plus the leading neighbour
-    dt = delta / speed
-    g = m.creepage
-    mu_d, mu_s = m.friction_dynamic, m.friction_static
-    b2 = 2 * m.half_width
-
-    steps = len(P)
-    q_hist = np.zeros((steps, nn))
-    s_hist = np.zeros((steps, nn))
-    Q_hist = np.zeros(steps)
-    work = np.zeros(steps + nn)
-    power = np.zeros(steps)
-    stick_count = np.zeros(steps, dtype=int)
-    q = np.zeros(nn) if q0 is None else np.asarray(q0, dtype=float).copy()
-    col_w = np.full(nn, delta)  # int hat_n (updated with the edge hats each step)
-
+    B = np.ascontiguousarray(influence_matrix(nn + 1, nn, delta, k))  # rows: nodes plus the leading neighbour
     rows = np.arange(nn + 1)
-
-    # full half hats of every column at every row, tabulated once (the edge columns replace them)
     cols = np.arange(nn)
-    H_right = _half_hat(cols[:, None] - rows[None, :], 1.0, +1)  # (column, row)
-    H_left = _half_hat(cols[:, None] - rows[None, :], 1.0, -1)
-
-    def edge_geometry(ai):
-        lead = int(np.floor(ai / delta - 1e-12)) + M  # last node with xi < a
-        return lead, 2 * M - lead, ai / delta - (lead - M)  # (a - xi_lead) / Delta in (0, 1]
-
-    def edge_columns(ai):
-        """Base matrix with the two outermost hats ending exactly at -a and +a (continuous in a)."""
-        lead, trail, e = edge_geometry(ai)
-        Bm = B.copy()
-        w = col_w.copy()
-        Bm[:, lead] += -k * delta * (_half_hat(lead - rows, e, +1) - H_right[lead])
-        Bm[:, trail] += -k * delta * (_half_hat(trail - rows, e, -1) - H_left[trail])
-        w[:] = delta
-        w[lead] = w[trail] = delta * 0.5 * (1 + e)
-        return Bm, w
-
-    def row_at(x_pt, ai, w):
-        """-k int hat_n ln|x_pt - zeta| d zeta for every column n (edge hats as in edge_columns)."""
-        lead, trail, e = edge_geometry(ai)
-        j = (xi - x_pt) / delta
-        r = -k * delta * _log_hat(j)
-        jl, jt = float(j[lead]), float(j[trail])
-        r[lead] += -k * delta * (_half_hat_scalar(jl, e, +1) - _half_hat_scalar(jl, 1.0, +1))
-        r[trail] += -k * delta * (_half_hat_scalar(jt, e, -1) - _half_hat_scalar(jt, 1.0, -1))
-        return r - k * np.log(delta) * w
-
-    def full_matrix(ai):
-        """Influence matrix of the closure at half-length ai, and its row at xi = +a."""
-        Bm, w = edge_columns(ai)
-        col_w[:] = w
-        if closure == "default":
-            rigid = k * np.log(0.5 * ai * np.exp(2 * closure_scale / np.pi)) * w
-        else:
-            # report: + k int q ln|zeta| + q(0)/sigma, sigma from eq 33 = pi E / (8 (1 - nu^2) a)
-            rigid = -(Bm[M, :] - k * np.log(delta) * w)
-            rigid[M] += closure_scale * 8 * (1 - m.poisson_ratio**2) * ai / (np.pi * m.youngs_modulus)
-        C = Bm - k * np.log(delta) * w[None, :] + rigid[None, :]
-        return C, row_at(ai, ai, w) + rigid
-
-    C, r_edge = full_matrix(a[0])
-    u_old = C @ q
-    u_edge_old = r_edge @ q
-    stick_prev = np.zeros(nn, dtype=bool)
-    sign_prev = np.full(nn, -np.sign(g) if g != 0 else 0.0)
-    total_iter = 0
-    for i in range(steps):
-        C, r_edge = full_matrix(a[i])
-        p = hertz_pressure(xi, P[i], a[i], m)
-        inside = p > 0
-        lead = int(np.floor(a[i] / delta - 1e-12)) + M
-        tau = (a[i] - xi[lead]) / speed  # time since the leading particle entered the patch
-        # stick equations: E q = h. Regular particle m: u_m(t) = u_{m+1}(t - dt) - gamma Delta.
-        # The particle that entered in the last step has stuck since it crossed xi = a, where the
-        # surface displacement was u_a (taken at the previous step, which keeps the strong
-        # self-influence of the log kernel on the diagonal): u_lead(t) = u_a - gamma (a - xi_lead).
-        E = C[:nn]
-        h = u_old[1:] - g * delta
-        h[lead] = u_edge_old - g * (a[i] - xi[lead])
-        stick = np.zeros(nn, dtype=bool)
-        stick[:-1] = stick_prev[1:]
-        stick[lead] = True
-        stick &= inside
-        sign = np.empty(nn)  # direction of q in slip, carried by the particles
-        sign[:-1] = sign_prev[1:]
-        sign[-1] = -np.sign(g) if g != 0 else 0.0
-        sign[lead] = sign[lead] if sign[lead] != 0 else (-np.sign(g) if g != 0 else 0.0)
-        qn = np.zeros(nn)
-        for it in range(max_iter):
-            slip = inside & ~stick
-            qn[:] = 0.0
-            qn[slip] = mu_d * p[slip] * sign[slip]
-            if stick.any():
-                S = np.where(stick)[0]
-                rhs = h[S] - E[np.ix_(S, np.where(slip)[0])] @ qn[slip]
-                qn[S] = np.linalg.solve(E[np.ix_(S, S)], rhs)
-            # slip velocity: s = V gamma + (E q - h) / dt  (exact along the particle path)
-            s = g * speed + (E @ qn - h - g * delta) / dt
-            s[lead] = g * speed + (E[lead] @ qn - u_edge_old) / max(tau, 1e-300)
-            s[~inside] = 0.0
-            changed = False
-            over = stick & (np.abs(qn) > mu_s * p)
-            if over.any():
-                stick[over] = False
-                sign[over] = np.sign(qn[over])
-                changed = True
-            wrong = slip & (s * sign > 0)  # q = -mu p sign(s) violated: the particle sticks
-            if wrong.any():
-                stick[wrong] = True
-                changed = True
-            if not changed:
-                break
-        else:
-            raise ContactError(f"the stick/slip iteration did not converge at step {i} (a = {a[i]:.4g} m).")
-        total_iter += it + 1
-        if not np.all(np.isfinite(qn)):
-            raise ContactError(f"the tangential traction is not finite at step {i} (a = {a[i]:.4g} m, P = {P[i]:.4g} N).")
-        s[stick] = 0.0
-        stick_count[i] = int(np.count_nonzero(stick & inside))
-        if closure == "report" and i > nn and P[i] > 0:
-            cb = checkerboard_measure(qn, stick & inside, P[i] / (np.pi * a[i] * m.half_width), mu_d)
-            if cb > CHECKERBOARD_LIMIT:
-                raise ContactError(
-                    f"the tangential solution diverged at step {i} (closure '{closure}', s = {closure_scale}): "
-                    f"node-to-node oscillation {cb:.2f} mu p0 in the stick zone (limit {CHECKERBOARD_LIMIT}). "
-                    "The report's closure u(0,t) = q(0,t)/sigma (eqs 32-33) is ill-posed for unsteady rolling "
-                    "(docs/paper-discrepancies.md); use contact.closure: default."
-                )
-        q_hist[i] = qn
-        s_hist[i] = s
-        Q_hist[i] = b2 * col_w @ qn
-        # Frictional work in this step on the particle now at node m (particle index i + m): its
-        # step-averaged traction times its slip over the step (s is the step-average slip velocity).
-        # The particle that entered at +a during the step was loaded for tau only; the particle at
-        # the trailing node leaves the patch at -a after tau_exit, with the traction falling to 0.
-        q_same = np.zeros(nn)
-        q_same[:-1] = q[1:]
-        dw = np.abs(0.5 * (qn + q_same) * s) * dt
-        dw[lead] = np.abs(0.5 * qn[lead] * s[lead]) * tau
-        trail = 2 * M - lead
-        dw[trail] += np.abs(0.5 * qn[trail] * s[trail]) * (xi[trail] + a[i]) / speed
-        work[i : i + nn] += dw
-        power[i] = dw.sum() * delta / dt
-        q = qn
-        u_old = C @ qn
-        u_edge_old = r_edge @ qn
-        stick_prev = stick
-        sign_prev = np.where(stick, np.sign(qn), sign)
-    return TangentialSolution(q_hist, s_hist, xi, a, P, Q_hist, work, power, delta, total_iter, stick_count)
+    # full half hats of every column at every row, tabulated once (the edge columns replace them)
+    H_right = np.ascontiguousarray(_half_hat(cols[:, None] - rows[None, :], 1.0, +1))  # (column, row)
+    H_left = np.ascontiguousarray(_half_hat(cols[:, None] - rows[None, :], 1.0, -1))
+    q_init = np.zeros(nn) if q0 is None else np.array(q0, dtype=float)
+    report_coef = 8 * (1 - m.poisson_ratio**2) / (np.pi * m.youngs_modulus)  # 1/sigma per unit a, eq 33
+    q, s, Q, work, power, stick_count, total_iter, status = _march(
+        P, a, xi, B, H_right, H_left, k, delta, M, float(speed), float(m.creepage), float(m.friction_dynamic),
+        float(m.friction_static), float(m.half_width), 0 if closure == "default" else 1, float(closure_scale),
+        report_coef, q_init, int(max_iter), CHECKERBOARD_LIMIT)
+    code, i = int(status[0]), int(status[1])
+    if code == 1:
+        raise ContactError(f"the stick/slip iteration did not converge at step {i} (a = {a[i]:.4g} m).")
+    if code == 2:
+        raise ContactError(f"the tangential traction is not finite at step {i} (a = {a[i]:.4g} m, P = {P[i]:.4g} N).")
+    if code == 3:
+        raise ContactError(
+            f"the tangential solution diverged at step {i} (closure '{closure}', s = {closure_scale}): "
+            f"node-to-node oscillation {status[2]:.2f} mu p0 in the stick zone (limit {CHECKERBOARD_LIMIT}). "
+            "The report's closure u(0,t) = q(0,t)/sigma (eqs 32-33) is ill-posed for unsteady rolling "
+            "(docs/paper-discrepancies.md); use contact.closure: default."
+        )
+    return TangentialSolution(q, s, xi, a, P, Q, work, power, delta, int(total_iter), stick_count)
 
 
 def perturbation_growth(m: ContactMaterial, P: float, speed: float, nodes: int, closure: str = "default",

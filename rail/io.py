@@ -16,7 +16,7 @@ from . import __version__
 
 __all__ = ["package_versions", "finalize", "write_netcdf"]
 
-_PACKAGES = ("numpy", "scipy", "xarray", "netCDF4", "pandas", "matplotlib", "snakemake")
+_PACKAGES = ("numpy", "scipy", "numba", "xarray", "netCDF4", "pandas", "matplotlib", "snakemake")
 
 
 def package_versions() -> dict[str, str]:
