@@ -104,10 +104,12 @@ def _fingerprint(obj) -> str:
     return hashlib.sha256(json.dumps({"run": obj, "code": _code_hash()}, sort_keys=True, default=str).encode()).hexdigest()[:16]
 
 
-def _save_checkpoint(path: Path, fingerprint: str, done: int, Z, history: GrowthHistory, update: int):
+def _save_checkpoint(path: Path, fingerprint: str, done: int, Z, history: GrowthHistory, update: int, rate):
+    """Everything a resumed run needs to continue as if never stopped, including the last wear
+    rate (rate, for the next update's error estimate)."""
     tmp = path.with_suffix(".tmp.npz")
     np.savez(tmp, fingerprint=fingerprint, done=done, Z=Z, hist_passages=history.passages, hist_Z=history.Z, update=update,
-             step_error=history.step_error, full_slip=history.full_slip)
+             step_error=history.step_error, full_slip=history.full_slip, rate=np.asarray(rate))
     os.replace(tmp, path)  # atomic: a run killed at any moment leaves the old or the new checkpoint
 
 
@@ -165,6 +167,7 @@ def run_growth(
     Z = roughness.Z.astype(complex).copy()
     history = GrowthHistory(np.array([0]), Z[None, :].copy())
     done, update = 0, 0
+    rate_before = None  # wear per train passage of the last update (for the next update's error estimate)
     ck = Path(checkpoint) if checkpoint else None
     if ck is not None and ck.exists():
         data = np.load(ck, allow_pickle=False)
@@ -175,6 +178,7 @@ def run_growth(
         else:
             done, Z, update = int(data["done"]), data["Z"].copy(), int(data["update"])
             history = GrowthHistory(data["hist_passages"].copy(), data["hist_Z"].copy(), data["step_error"].copy(), data["full_slip"].copy())
+            rate_before = data["rate"].copy() if done > 0 else None
             print(f"resuming from {ck}: {done} of {settings.passages} passages done", file=progress)
 
     def train_wear(Z, update):
@@ -210,7 +214,6 @@ def run_growth(
 
     t0, done0 = time.perf_counter(), done
     n_updates = 0
-    rate_before = None
     while done < settings.passages:
         dZ_train, slip = train_wear(Z, update)
         if rate_before is not None:
@@ -226,7 +229,7 @@ def run_growth(
         if done % settings.save_every == 0:
             history = GrowthHistory(np.append(history.passages, done), np.vstack([history.Z, Z[None, :]]), history.step_error, history.full_slip)
             if ck is not None:
-                _save_checkpoint(ck, fp, done, Z, history, update)
+                _save_checkpoint(ck, fp, done, Z, history, update, rate_before)
         rate = (done - done0) / max(time.perf_counter() - t0, 1e-9)
         left = (settings.passages - done) / rate if rate > 0 else float("inf")
         print(f"{done} of {settings.passages} passages, {rate:.0f} passages/s, {left:.0f} s left", file=progress, flush=True)

@@ -175,6 +175,22 @@ def test_killed_run_resumes_and_ends_with_the_uninterrupted_result(tmp_path):
     straight = run(track(), 40.0, passages=40000, step=10000)
     np.testing.assert_array_equal(resumed.passages, straight.passages)
     np.testing.assert_allclose(resumed.Z, straight.Z, rtol=0, atol=1e-18)
+    # the update-error estimate and the full-slip record continue as if never stopped
+    np.testing.assert_allclose(resumed.step_error, straight.step_error, rtol=1e-12)
+    np.testing.assert_array_equal(resumed.full_slip, straight.full_slip)
+
+
+def test_run_killed_after_its_last_update_resumes_to_a_complete_history(tmp_path):
+    # the last checkpoint holds every passage; the run died before its final wear evaluation and
+    # its output. Resuming must still give one step error and one full-slip value per update.
+    ck = tmp_path / "run.npz"
+    run(track(), 40.0, passages=20000, step=10000, checkpoint=ck, stop=2)
+    assert int(np.load(ck)["done"]) == 20000
+    resumed = run(track(), 40.0, passages=20000, step=10000, checkpoint=ck)
+    straight = run(track(), 40.0, passages=20000, step=10000)
+    assert resumed.step_error.size == resumed.full_slip.size == 2
+    np.testing.assert_allclose(resumed.step_error, straight.step_error, rtol=1e-12)
+    np.testing.assert_allclose(resumed.Z, straight.Z, rtol=0, atol=1e-18)
 
 
 def test_checkpoint_of_another_configuration_is_refused(tmp_path):
