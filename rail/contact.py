@@ -193,16 +193,19 @@ def _G1(t):
     return t * t * (0.5 * _log_abs(t) - 0.25)
 
 
+@njit(cache=True)
 def _g0(t: float) -> float:
-    """Scalar _G0 (the per-step edge terms, where numpy's call overhead dominates)."""
+    """Scalar _G0 (the per-step edge terms of the compiled time loop)."""
     return t * math.log(abs(t)) - t if t != 0 else 0.0
 
 
+@njit(cache=True)
 def _g1(t: float) -> float:
     """Scalar _G1."""
     return t * t * (0.5 * math.log(abs(t)) - 0.25) if t != 0 else 0.0
 
 
+@njit(cache=True)
 def _half_hat_scalar(j: float, e: float, side: int) -> float:
     """Scalar _half_hat."""
     if side > 0:
@@ -294,28 +297,10 @@ def rolling_grid(a_max: float, L: float, nodes: int):
 
 
 @njit(cache=True)
-def _g0_nb(t):
-    return t * math.log(abs(t)) - t if t != 0.0 else 0.0
-
-
-@njit(cache=True)
-def _g1_nb(t):
-    return t * t * (0.5 * math.log(abs(t)) - 0.25) if t != 0.0 else 0.0
-
-
-@njit(cache=True)
-def _half_hat_nb(j, e, side):
-    """Compiled _half_hat_scalar."""
-    if side > 0:
-        return ((j + e) / e) * (_g0_nb(j + e) - _g0_nb(j)) - (_g1_nb(j + e) - _g1_nb(j)) / e
-    return (_g1_nb(j) - _g1_nb(j - e)) / e + ((e - j) / e) * (_g0_nb(j) - _g0_nb(j - e))
-
-
-@njit(cache=True)
-def _log_hat_nb(j):
+def _log_hat_scalar(j):
     """Compiled _log_hat for one node."""
-    left = (_g1_nb(j) - _g1_nb(j - 1.0)) + (1.0 - j) * (_g0_nb(j) - _g0_nb(j - 1.0))
-    right = (j + 1.0) * (_g0_nb(j + 1.0) - _g0_nb(j)) - (_g1_nb(j + 1.0) - _g1_nb(j))
+    left = (_g1(j) - _g1(j - 1.0)) + (1.0 - j) * (_g0(j) - _g0(j - 1.0))
+    right = (j + 1.0) * (_g0(j + 1.0) - _g0(j)) - (_g1(j + 1.0) - _g1(j))
     return left + right
 
 
@@ -334,8 +319,8 @@ def _closure_matrix(ai, B, H_right, H_left, xi, k, delta, M, closure, closure_sc
     w[trail] = delta * 0.5 * (1 + e)
     C[:, :] = B
     for r in range(nn + 1):
-        C[r, lead] += -k * delta * (_half_hat_nb(lead - r, e, 1) - H_right[lead, r])
-        C[r, trail] += -k * delta * (_half_hat_nb(trail - r, e, -1) - H_left[trail, r])
+        C[r, lead] += -k * delta * (_half_hat_scalar(lead - r, e, 1) - H_right[lead, r])
+        C[r, trail] += -k * delta * (_half_hat_scalar(trail - r, e, -1) - H_left[trail, r])
     rigid = np.empty(nn)
     if closure == 0:
         lc = k * math.log(0.5 * ai * math.exp(2 * closure_scale / math.pi))
@@ -351,11 +336,11 @@ def _closure_matrix(ai, B, H_right, H_left, xi, k, delta, M, closure, closure_sc
             C[r, c] += col
     for n in range(nn):
         j = (xi[n] - ai) / delta
-        r_edge[n] = -k * delta * _log_hat_nb(j)
+        r_edge[n] = -k * delta * _log_hat_scalar(j)
         if n == lead:
-            r_edge[n] += -k * delta * (_half_hat_nb(j, e, 1) - _half_hat_nb(j, 1.0, 1))
+            r_edge[n] += -k * delta * (_half_hat_scalar(j, e, 1) - _half_hat_scalar(j, 1.0, 1))
         if n == trail:
-            r_edge[n] += -k * delta * (_half_hat_nb(j, e, -1) - _half_hat_nb(j, 1.0, -1))
+            r_edge[n] += -k * delta * (_half_hat_scalar(j, e, -1) - _half_hat_scalar(j, 1.0, -1))
         r_edge[n] += -k * logd * w[n] + rigid[n]
     return lead, trail
 
@@ -438,11 +423,14 @@ def _march(P, a, xi, B, H_right, H_left, k, delta, M, speed, g, mu_d, mu_s, half
                     if stick[n]:
                         S[c] = n
                         c += 1
-                Eq = E @ qn
                 A = np.empty((ns, ns))
                 rhs = np.empty(ns)
                 for r in range(ns):
-                    rhs[r] = h[S[r]] - Eq[S[r]]
+                    acc = h[S[r]]
+                    for n in range(nn):
+                        if qn[n] != 0.0:  # the slip nodes (qn is 0 on the stick nodes here)
+                            acc -= E[S[r], n] * qn[n]
+                    rhs[r] = acc
                     for cc in range(ns):
                         A[r, cc] = E[S[r], S[cc]]
                 x = np.linalg.solve(A, rhs)
@@ -488,7 +476,7 @@ def _march(P, a, xi, B, H_right, H_left, k, delta, M, speed, g, mu_d, mu_s, half
                     cnt += 1
         stick_count[i] = cnt
         if closure == 1 and i > nn and P[i] > 0:
-            cb = _checkerboard_nb(qn, stick, inside, P[i] / (math.pi * ai * half_width), mu_d)
+            cb = _checkerboard_nb(qn, stick, inside, p0, mu_d)
             if cb > checkerboard_limit:
                 status[0], status[1], status[2] = 3, i, cb
                 break

@@ -178,7 +178,7 @@ def run_growth(
         else:
             done, Z, update = int(data["done"]), data["Z"].copy(), int(data["update"])
             history = GrowthHistory(data["hist_passages"].copy(), data["hist_Z"].copy(), data["step_error"].copy(), data["full_slip"].copy())
-            rate_before = data["rate"].copy() if done > 0 else None
+            rate_before = data["rate"].copy()  # saved after an update, so always there
             print(f"resuming from {ck}: {done} of {settings.passages} passages done", file=progress)
 
     def train_wear(Z, update):

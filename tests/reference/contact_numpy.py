@@ -25,13 +25,7 @@ from rail.contact import (
 
 def solve_tangential_numpy(P, a, m: ContactMaterial, speed: float, delta: float, M: int, closure: str = "default",
                      closure_scale: float = 1.0, q0=None, max_iter: int = 200) -> TangentialSolution:
-    """Time-step the unsteady 2D rolling contact over len(P) steps of Delta = V dt.
-
-    P, a : normal force (N) and half-length (m) at each step; the patch is [-a, a] on the
-    fixed grid xi_n = (n - M) Delta, n = 0..2M. q0 : initial traction at the nodes (default 0).
-    closure : 'default' (log kernel with l = (a/2) exp(2 s / pi), s = closure_scale) or 'report'
-    (eqs 32-33, u(0) = q(0)/sigma with 1/sigma scaled by closure_scale).
-    """
+    """rail.contact.solve_tangential in numpy: same arguments, same scheme, same result."""
     P = np.asarray(P, dtype=float)
     a = np.asarray(a, dtype=float)
     if np.any(a >= M * delta):
