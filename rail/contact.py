@@ -305,10 +305,12 @@ def _log_hat_scalar(j):
 
 
 @njit(cache=True)
-def _closure_matrix(ai, B, H_right, H_left, xi, k, delta, M, closure, closure_scale, report_coef, C, r_edge, w):
-    """Influence matrix C (rows: nodes plus the leading neighbour), its row r_edge at xi = +a and
-    the column weights w = int hat_n, at half-length ai (in place). The two outermost hats end
-    exactly at -a and +a; the rigid term is that of the closure (0: default, 1: report)."""
+def _closure_matrix(ai, B, H_right, H_left, xi, k, delta, M, closure, closure_scale, report_coef, C, r_edge, w,
+                    r_trail):
+    """Influence matrix C (rows: nodes plus the leading neighbour), its rows r_edge at xi = +a and
+    r_trail at xi = -a and the column weights w = int hat_n, at half-length ai (in place). The two
+    outermost hats end exactly at -a and +a; the rigid term is that of the closure (0: default,
+    1: report)."""
     nn = xi.size
     lead = int(math.floor(ai / delta - 1e-12)) + M
     trail = 2 * M - lead
@@ -342,7 +344,53 @@ def _closure_matrix(ai, B, H_right, H_left, xi, k, delta, M, closure, closure_sc
         if n == trail:
             r_edge[n] += -k * delta * (_half_hat_scalar(j, e, -1) - _half_hat_scalar(j, 1.0, -1))
         r_edge[n] += -k * logd * w[n] + rigid[n]
+    for n in range(nn):  # the grid, the edge hats and the rigid term are symmetric about xi = 0
+        r_trail[n] = r_edge[nn - 1 - n]
     return lead, trail
+
+
+@njit(cache=True)
+def _ellipse_area(eta):
+    """F(eta) = int_0^eta sqrt(1 - t^2) dt with eta clipped to [-1, 1] (0 outside the patch)."""
+    e = min(max(eta, -1.0), 1.0)
+    return 0.5 * (e * math.sqrt(max(1.0 - e * e, 0.0)) + math.asin(e))
+
+
+@njit(cache=True)
+def _step_work(n, xi, delta, a_prev, ai, p0m, dt, mu_d, qn, q, p, p_prev, s, s_exit, inside, inside_prev):
+    """Frictional work per unit area in one step on the particle now at node n (at xi_{n+1} one step
+    before), J/m^2: |s_bar int q dt| with s_bar its mean slip velocity over the time it was loaded.
+
+    The traction is written q = sigma mu_d p + d, with sigma its direction. The pressure part is
+    integrated exactly along the path for the Hertz ellipse, with eta = xi / a(t) linear in time
+    between the two steps (clipped at the patch edges, where the particle enters or leaves), so the
+    square-root edges of p carry no grid-position error; the deviation d (0 in slip) by the
+    trapezoidal rule over the loaded time. s_exit : the mean slip velocity of a particle that left the
+    patch during the step, over its loaded time."""
+    nn = xi.size
+    was = n < nn - 1 and inside_prev[n + 1]
+    if not (inside[n] or was):
+        return 0.0
+    q_old = q[n + 1] if was else 0.0
+    if inside[n]:
+        sbar = s[n]
+        ref = qn[n] if qn[n] != 0.0 else q_old
+    else:
+        sbar = s_exit[n]
+        ref = q_old
+    if sbar == 0.0 or ref == 0.0:  # stuck over the step (zero mean slip) or unloaded
+        return 0.0
+    eta0 = (xi[n] + delta) / a_prev
+    eta1 = xi[n] / ai
+    span = eta0 - eta1
+    ip = p0m * dt * (_ellipse_area(eta0) - _ellipse_area(eta1)) / span
+    loaded = dt * (min(eta0, 1.0) - max(eta1, -1.0)) / span
+    if loaded < 0.0:
+        loaded = 0.0
+    sig = 1.0 if ref > 0 else -1.0
+    d_new = qn[n] - sig * mu_d * p[n] if inside[n] else 0.0
+    d_old = q_old - sig * mu_d * p_prev[n + 1] if was else 0.0
+    return abs(sbar * (sig * mu_d * ip + 0.5 * (d_old + d_new) * loaded))
 
 
 @njit(cache=True)
@@ -365,11 +413,16 @@ def _march(P, a, xi, B, H_right, H_left, k, delta, M, speed, g, mu_d, mu_s, half
     status = np.zeros(3)
     C = np.empty((nn + 1, nn))
     r_edge = np.empty(nn)
+    r_trail = np.empty(nn)
     w = np.empty(nn)
     q = q0.copy()
-    _closure_matrix(a[0], B, H_right, H_left, xi, k, delta, M, closure, closure_scale, report_coef, C, r_edge, w)
+    _closure_matrix(a[0], B, H_right, H_left, xi, k, delta, M, closure, closure_scale, report_coef, C, r_edge, w,
+                    r_trail)
     u_old = C @ q
     u_edge_old = np.dot(r_edge, q)
+    u_edge_old2 = u_edge_old  # u_a two steps back (the start is taken as steady)
+    u_entry = np.zeros(nn)
+    u_trail_old = np.dot(r_trail, q)
     stick_prev = np.zeros(nn, dtype=np.bool_)
     sign_prev = np.full(nn, -sg)
     stick = np.zeros(nn, dtype=np.bool_)
@@ -381,28 +434,52 @@ def _march(P, a, xi, B, H_right, H_left, k, delta, M, speed, g, mu_d, mu_s, half
     qn = np.zeros(nn)
     dw = np.empty(nn)
     total_iter = 0
+    theta = np.zeros(nn)
+    enter = np.zeros(nn, dtype=np.bool_)
+    s_exit = np.zeros(nn)
+    a_prev = a[0]
+    p0_prev = P[0] / (math.pi * a[0] * half_width)
+    p_prev = np.zeros(nn)
+    inside_prev = np.zeros(nn, dtype=np.bool_)
+    for n in range(nn):
+        rr = 1 - (xi[n] / a[0]) ** 2
+        p_prev[n] = p0_prev * math.sqrt(rr if rr > 0 else 0.0)
+        inside_prev[n] = p_prev[n] > 0
     for i in range(steps):
         ai = a[i]
         lead, trail = _closure_matrix(ai, B, H_right, H_left, xi, k, delta, M, closure, closure_scale, report_coef,
-                                      C, r_edge, w)
+                                      C, r_edge, w, r_trail)
         E = C[:nn]
         p0 = P[i] / (math.pi * ai * half_width)
         for n in range(nn):
             rr = 1 - (xi[n] / ai) ** 2
             p[n] = p0 * math.sqrt(rr if rr > 0 else 0.0)
             inside[n] = p[n] > 0
-        tau = (ai - xi[lead]) / speed  # time since the leading particle entered the patch
-        for n in range(nn):
-            h[n] = u_old[n + 1] - g * delta
-        h[lead] = u_edge_old - g * (ai - xi[lead])
         for n in range(nn - 1):
             stick[n] = stick_prev[n + 1]
             sign[n] = sign_prev[n + 1]
         stick[nn - 1] = False
         sign[nn - 1] = -sg
-        stick[lead] = True
-        if sign[lead] == 0:
-            sign[lead] = -sg
+        # Regular particle: u_n(t) = u_{n+1}(t - dt) - gamma Delta (exact along its path). A particle
+        # that was at or beyond the leading edge a(t - dt) entered at t_e = t - (1 - theta) dt, where
+        # its path meets the edge (eta = xi / a linear in time); it has stuck since, from the edge
+        # displacement at t_e, extrapolated from the two previous steps (second order; an implicit
+        # interpolation to u_a(t) would make the row of a particle at the edge degenerate):
+        # u_n(t) = u_a(t_e) - gamma (1 - theta) Delta, u_a(t_e) = u_a(t-dt) + theta (u_a(t-dt) - u_a(t-2dt)).
+        for n in range(nn):
+            h[n] = u_old[n + 1] - g * delta
+            enter[n] = False
+            if inside[n] and xi[n] + delta >= a_prev:
+                eta0, eta1 = (xi[n] + delta) / a_prev, xi[n] / ai
+                th = (eta0 - 1.0) / (eta0 - eta1)
+                th = min(max(th, 0.0), 1.0)
+                enter[n] = True
+                theta[n] = th
+                u_entry[n] = u_edge_old + th * (u_edge_old - u_edge_old2)
+                h[n] = u_entry[n] - g * (1.0 - th) * delta
+                stick[n] = True
+                if sign[n] == 0:
+                    sign[n] = -sg
         for n in range(nn):
             stick[n] = stick[n] and inside[n]
         converged = False
@@ -439,7 +516,9 @@ def _march(P, a, xi, B, H_right, H_left, k, delta, M, speed, g, mu_d, mu_s, half
             Eq = E @ qn
             for n in range(nn):
                 s[n] = g * speed + (Eq[n] - h[n] - g * delta) / dt
-            s[lead] = g * speed + (Eq[lead] - u_edge_old) / max(tau, 1e-300)
+            for n in range(nn):
+                if enter[n]:
+                    s[n] = g * speed + (Eq[n] - u_entry[n]) / max((1.0 - theta[n]) * dt, 1e-300)
             changed = False
             for n in range(nn):
                 if not inside[n]:
@@ -486,19 +565,34 @@ def _march(P, a, xi, B, H_right, H_left, k, delta, M, speed, g, mu_d, mu_s, half
         # Frictional work in this step on the particle now at node n (particle index i + n): its
         # step-averaged traction times its slip over the step. The particle that entered at +a during
         # the step was loaded for tau only; the one at the trailing node leaves at -a after tau_exit.
+        # Particles that left the patch at -a during the step, after phi dt (eta = xi / a linear in
+        # time): their mean slip velocity from the displacement at -a at that time, interpolated
+        # between the steps (the mirror image of the entry).
+        u_trail_new = np.dot(r_trail, qn)
+        for n in range(nn - 1):
+            s_exit[n] = 0.0
+            if inside_prev[n + 1] and not inside[n]:
+                eta0, eta1 = xi[n + 1] / a_prev, xi[n] / ai
+                phi = min(max((eta0 + 1.0) / (eta0 - eta1), 0.0), 1.0)
+                u_exit = (1.0 - phi) * u_trail_old + phi * u_trail_new
+                s_exit[n] = g * speed + (u_exit - u_old[n + 1]) / max(phi * dt, 1e-300)
+        p0m = 0.5 * (p0_prev + p0)
         for n in range(nn):
-            q_same = q[n + 1] if n < nn - 1 else 0.0
-            dw[n] = abs(0.5 * (qn[n] + q_same) * s[n]) * dt
-        dw[lead] = abs(0.5 * qn[lead] * s[lead]) * tau
-        dw[trail] += abs(0.5 * qn[trail] * s[trail]) * (xi[trail] + ai) / speed
+            dw[n] = _step_work(n, xi, delta, a_prev, ai, p0m, dt, mu_d, qn, q, p, p_prev, s, s_exit, inside, inside_prev)
         tot = 0.0
         for n in range(nn):
             work[i + n] += dw[n]
             tot += dw[n]
         power[i] = tot * delta / dt
         q[:] = qn
-        u_old = C @ qn
+        u_trail_old = u_trail_new
+        a_prev = ai
+        p0_prev = p0
+        p_prev[:] = p
+        inside_prev[:] = inside
+        u_edge_old2 = u_edge_old
         u_edge_old = np.dot(r_edge, qn)
+        u_old = C @ qn
         for n in range(nn):
             stick_prev[n] = stick[n]
             sign_prev[n] = np.sign(qn[n]) if stick[n] else sign[n]

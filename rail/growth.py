@@ -10,9 +10,14 @@ Passages are counted as wheel passages, as in the report ("one passage of the tw
 four wheel passages"). The roughness is saved every ``save_every`` wheel passages. Levels are
 rms levels in dB re 1 um: a component Z_k, Z_-k has amplitude 2|Z_k| and rms sqrt(2)|Z_k|.
 
-The contact grid's offset against the supports changes from one update to the next
-(golden-ratio sequence). A discretisation error tied to where the patch edge falls between grid
-nodes then averages out instead of building up as false roughness (review notes).
+The contact grid's spacing changes between updates, so that a / Delta at the bay's mean
+half-length sweeps one unit over the updates in a golden-ratio (low-discrepancy) sequence
+(grid_phase; each grid serves two successive updates, so that the update-error estimate of every
+second update compares two wear rates on one grid).
+The discretisation's small remaining error that is periodic in a / Delta (where the patch edges
+fall between grid nodes) then averages out instead of building up as false roughness
+(docs/contact.md). Shifting the grid against the supports would not average it: the error depends
+on a / Delta, which a shift leaves unchanged.
 """
 
 from __future__ import annotations
@@ -33,9 +38,17 @@ from .interaction import ContactSpring, Roughness, Wheels, solve_forces
 from .moving import MovingReceptance
 from .wear import apply_wear, bay_wear
 
-__all__ = ["GrowthSettings", "GrowthHistory", "GrowthStepError", "levels_dB", "run_growth", "step_error"]
+__all__ = ["GrowthSettings", "GrowthHistory", "GrowthStepError", "grid_phase", "levels_dB", "run_growth", "step_error"]
 
 GOLDEN = (np.sqrt(5) - 1) / 2
+
+
+def grid_phase(update: int) -> float:
+    """Contact grid phase of an update (rail.wear.bay_wear grid_phase): a golden-ratio
+    (low-discrepancy) sequence over [0, 1), each value used for two successive updates, so that
+    every second update's error estimate compares two wear rates on the same grid (a difference
+    between grids would be the grid-tied error, not the update error)."""
+    return float(((update // 2) * GOLDEN) % 1.0)
 
 
 @dataclass(frozen=True)
@@ -45,7 +58,8 @@ class GrowthSettings:
     save_every           : wheel passages between saved profiles (a multiple of passages_per_update)
     nodes                : contact grid nodes across the largest patch
     closure, closure_scale : tangential contact closure (rail.contact)
-    vary_grid_offset     : shift the contact grid between updates (averages grid-tied error)
+    vary_grid_spacing    : vary the contact grid spacing between updates so that a / Delta sweeps
+                           one unit (averages the grid-tied error; rail.wear.bay_wear grid_phase)
     step_tolerance       : largest accepted estimate of one update's error, relative to the
                            roughness (see run_growth); a larger one stops the run with an error
     """
@@ -56,7 +70,7 @@ class GrowthSettings:
     nodes: int = 81
     closure: str = "default"
     closure_scale: float = 1.0
-    vary_grid_offset: bool = True
+    vary_grid_spacing: bool = True
     step_tolerance: float = 0.05
 
     def __post_init__(self):
@@ -75,7 +89,8 @@ class GrowthSettings:
 @dataclass
 class GrowthHistory:
     """passages : (n,) wheel passages at each save; Z : (n, 2K+1) roughness coefficients, m.
-    step_error : (updates,) estimated local error of each update relative to the roughness, -;
+    step_error : (updates,) estimated local error of each update relative to the roughness, -; NaN
+                 where the two rates compared were on different contact grids (grid_phase);
     full_slip  : (updates,) largest fraction of the bay without a stick zone over the wheels, -."""
 
     passages: np.ndarray
@@ -181,16 +196,19 @@ def run_growth(
             rate_before = data["rate"].copy()  # saved after an update, so always there
             print(f"resuming from {ck}: {done} of {settings.passages} passages done", file=progress)
 
+    def same_grid(u1, u2):
+        return not settings.vary_grid_spacing or grid_phase(u1) == grid_phase(u2)
+
     def train_wear(Z, update):
         """Wear per train passage at roughness Z (each wheel on the profile the one before left)."""
         rough = Roughness(Z)
         forces = solve_forces(table, wheels, contact, rough, beta0, L)
-        offset = (update * GOLDEN) % 1.0 if settings.vary_grid_offset else 0.0
+        phase = grid_phase(update) if settings.vary_grid_spacing else 0.0
         dZ = np.zeros_like(Z)
         current, slip = rough, 0.0
         for l in order:
             w = bay_wear(forces, int(l), current, material, density, wear_coefficient, beta0, L, nodes=settings.nodes,
-                         closure=settings.closure, closure_scale=settings.closure_scale, grid_offset=offset)
+                         closure=settings.closure, closure_scale=settings.closure_scale, grid_phase=phase)
             dZ += w.Z
             slip = max(slip, w.full_slip)
             current = apply_wear(current, w.Z)
@@ -217,7 +235,10 @@ def run_growth(
     while done < settings.passages:
         dZ_train, slip = train_wear(Z, update)
         if rate_before is not None:
-            check(rate_before, dZ_train, Z, done)
+            if same_grid(update - 1, update):
+                check(rate_before, dZ_train, Z, done)
+            else:  # the two rates differ by the grid-tied error too: no estimate from this pair
+                history.step_error = np.append(history.step_error, np.nan)
         history.full_slip = np.append(history.full_slip, slip)
         Z = Z - train_passages_per_update * dZ_train
         if not np.all(np.isfinite(Z)):
@@ -236,8 +257,8 @@ def run_growth(
         if stop_after_updates is not None and n_updates >= stop_after_updates:
             return history
     if rate_before is not None:
-        dZ_end, _ = train_wear(Z, update)
+        dZ_end, _ = train_wear(Z, update - 1)  # on the last update's grid, for a clean estimate
         check(rate_before, dZ_end, Z, done)
-        print(f"largest estimated update error {100 * history.step_error.max():.3g} % of the roughness "
+        print(f"largest estimated update error {100 * np.nanmax(history.step_error):.3g} % of the roughness "
               f"(growth.step_tolerance {100 * settings.step_tolerance:g} %)", file=progress, flush=True)
     return history

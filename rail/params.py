@@ -153,6 +153,6 @@ def growth_settings(cfg: dict):
         nodes=int(cfg["numerics"]["contact"]["nodes"]),
         closure=str(c["closure"]),
         closure_scale=float(c["closure_scale"]),
-        vary_grid_offset=bool(g["vary_grid_offset"]),
+        vary_grid_spacing=bool(g["vary_grid_spacing"]),
         step_tolerance=float(g["step_tolerance"]),
     )

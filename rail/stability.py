@@ -81,7 +81,7 @@ def _checks(cfg, tab, forces, rough, w, hist, material, L):
     else:
         rel = float(np.max(np.abs(w.Q)) / (material.friction_dynamic * P0))
         out.append(("largest tangential force / mu_d P (zero creepage: 0 for identical materials)", rel, 0.05, rel < 0.05))
-    err = float(hist.step_error.max()) if hist.step_error.size else 0.0
+    err = float(np.nanmax(hist.step_error)) if np.isfinite(hist.step_error).any() else 0.0
     tol = float(cfg["growth"]["step_tolerance"])
     out.append(("largest estimated update error", err, tol, err <= tol))
     return out

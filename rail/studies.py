@@ -215,10 +215,11 @@ def convergence_dataset(points: dict, study: dict, defaults: dict) -> xr.Dataset
 
     points : {(setting, value): point dataset}; study : config/convergence.yaml;
     defaults : {setting: default value}. One entry per non-reference point, dimension 'point'.
-    For growth points, error is the relative amplitude error and error_dB the level error; for
-    wear points, the largest error over the wear frequencies.
+    For wear and growth points, error is the largest error of a harmonic against itself
+    (rail.convergence.harmonic_error, harmonics within 40 dB of the largest; for wear points the
+    largest over the wear frequencies) and, for growth, error_dB the level error within 40 dB.
     """
-    from .convergence import force_error, growth_error, level_error_dB, pareto_front, wear_error
+    from .convergence import WITHIN_DB, force_error, harmonic_error, level_error_dB, pareto_front
 
     rows = []
     for name, s in study["settings"].items():
@@ -232,10 +233,10 @@ def convergence_dataset(points: dict, study: dict, defaults: dict) -> xr.Dataset
                 e = force_error(p["force"].values, ref["force"].values)
             elif q == "wear":
                 Zr, Zp = _cz(ref, "wear_real", "wear_imag"), _cz(p, "wear_real", "wear_imag")
-                e = max(wear_error(Zp[i], Zr[i], float(ref["mean_wear"].values[i])) for i in range(Zr.shape[0]))
+                e = max(harmonic_error(Zp[i], Zr[i], k_max=50) for i in range(Zr.shape[0]))
             else:
                 Zr, Zp = _cz(ref, "Z_real", "Z_imag"), _cz(p, "Z_real", "Z_imag")
-                e = growth_error(Zp, Zr)
+                e = harmonic_error(Zp, Zr, k_max=50)
                 e_db = level_error_dB(Zp, Zr, k_max=50)
             rows.append((name, q, float(v), float(p["cpu_time"]), e, e_db, float(v) == float(defaults[name]), float(s["reference"]), ref_time))
     settings = np.array([r[0] for r in rows])
@@ -248,8 +249,8 @@ def convergence_dataset(points: dict, study: dict, defaults: dict) -> xr.Dataset
     return xr.Dataset(
         {
             "cpu_time": _var("point", times, "s", "CPU time of the computation (one core)"),
-            "error": _var("point", errors, "1", "error against the reference: force / fluctuation, wear / mean wear, or roughness / its maximum"),
-            "error_dB": _var("point", np.array([r[5] for r in rows]), "dB", "largest roughness level error within 20 dB of the highest level (growth points)"),
+            "error": _var("point", errors, "1", f"error against the reference: force / fluctuation; wear and roughness: largest |Z_k / Z_k,ref - 1| over the harmonics within {WITHIN_DB:g} dB of the largest"),
+            "error_dB": _var("point", np.array([r[5] for r in rows]), "dB", f"largest roughness level error within {WITHIN_DB:g} dB of the highest level (growth points)"),
             "is_default": _var("point", np.array([int(r[6]) for r in rows]), "1", "1 for the default value of the setting"),
             "on_pareto_front": _var("point", front.astype(int), "1", "1 when no value of the same setting is both faster and more accurate"),
             "reference_value": _var("point", np.array([r[7] for r in rows]), "1", "value of the setting in the reference"),

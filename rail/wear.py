@@ -7,9 +7,11 @@ as it crosses the patch. The wear depth is the frictional work done on that poin
 Z_k - Delta Z_k (eq 54).
 
 Positions: rail points x_k = k Delta (k = 0..N_x - 1, x = 0 above a sleeper). The contact is
-solved over two bays, the first as spin-up from zero traction; the work of the second bay's
-points is used. The change of the traction state over the second bay is returned as a measure
-of periodicity.
+solved from zero traction over a spin-up of SPIN_UP_TRANSITS patch transits (at most one bay)
+and then over the bay, whose points' work is used. A perturbation of the traction decays by a
+factor of 0.1 (default closure) to 0.5 (closure_scale 4, 41 nodes) per transit
+(docs/contact.md), so what is left of the start after 20 transits is below 1e-6 of the traction.
+The change of the traction state over the bay is returned as a measure of periodicity.
 """
 
 from __future__ import annotations
@@ -21,7 +23,9 @@ import numpy as np
 from .contact import ContactMaterial, equivalent_radius, hertz_half_length, rolling_grid, solve_tangential
 from .interaction import ForceResult, Roughness, force_history
 
-__all__ = ["WearResult", "bay_wear", "wear_spectrum", "apply_wear"]
+__all__ = ["WearResult", "bay_wear", "wear_spectrum", "apply_wear", "SPIN_UP_TRANSITS"]
+
+SPIN_UP_TRANSITS = 20
 
 
 @dataclass(frozen=True)
@@ -71,45 +75,52 @@ def apply_wear(roughness: Roughness, dZ, passages: float = 1.0) -> Roughness:
 
 def bay_wear(forces: ForceResult, wheel_index: int, roughness: Roughness, material: ContactMaterial, density: float,
              wear_coefficient: float, beta0: float, L: float, nodes: int = 81, closure: str = "default",
-             closure_scale: float = 1.0, grid_offset: float = 0.0, a_max: float | None = None) -> WearResult:
+             closure_scale: float = 1.0, grid_phase: float = 0.0, a_max: float | None = None) -> WearResult:
     """Wear of one passage of wheel ``wheel_index`` over the bay (eqs 22-24, 26-52).
 
     forces : the normal force harmonics (their histories include the 1/p^2 tail);
     roughness : the current profile (curvature kappa = -z'', eq 20; multiple contact is an error);
     density, wear_coefficient : rho (kg/m^3) and K (kg/(N m)) of eq 49;
-    nodes : grid nodes across the largest patch (the grid spacing divides the bay);
-    grid_offset : shift of the rail points against the supports, in grid spacings [0, 1): the wear
-    at the shifted points is interpolated back onto x_k, so that a discretisation error tied to
-    the grid position can be averaged out between updates.
+    nodes : grid nodes across the largest patch (the grid spacing Delta = L / N_x divides the bay);
+    grid_phase : in [0, 1): refines the grid from N_x to N_x + round(grid_phase L / a_mean), so that
+    a / Delta grows by grid_phase units at the bay's mean half-length a_mean. The discretisation's
+    small remaining error that depends on where the patch edges fall between nodes is periodic in
+    a / Delta with period 1; growth.run_growth varies the phase between updates with a
+    low-discrepancy sequence, so that this error averages out instead of building up as false
+    roughness (docs/contact.md). Shifting the grid against the supports would not: it leaves
+    a / Delta unchanged.
     """
+    if not 0.0 <= grid_phase < 1.0:
+        raise ValueError(f"grid_phase = {grid_phase!r} is not allowed: it must lie in [0, 1).")
     K = roughness.harmonics
     speed = forces.speed
-    a_est = a_max
-    if a_est is None:
-        xs = np.linspace(0, L, 512, endpoint=False)
-        P_s = force_history(forces, xs, beta0)[wheel_index]
-        kap_s = _curvature(roughness, xs, beta0)
-        a_est = float(np.max(hertz_half_length(P_s, equivalent_radius(kap_s, material), material))) * 1.02
+    xs = np.linspace(0, L, 512, endpoint=False)
+    P_s = force_history(forces, xs, beta0)[wheel_index]
+    kap_s = _curvature(roughness, xs, beta0)
+    a_s = hertz_half_length(P_s, equivalent_radius(kap_s, material), material)
+    a_est = float(np.max(a_s)) * 1.02 if a_max is None else a_max
     delta, Nx, M = rolling_grid(a_est, L, nodes)
-    steps = 2 * Nx + 2 * M + 1
-    x_wheel = (np.arange(steps) + grid_offset) * delta  # wheel centre at each step (absolute)
+    if grid_phase:
+        Nx += int(round(grid_phase * L / max(float(np.mean(a_s)), 1e-300)))
+        delta = L / Nx
+        M = int(np.ceil(a_est / delta)) + 1
+    # spin-up from zero traction over SPIN_UP_TRANSITS patch transits (at most a bay) before the bay
+    spin = min(Nx, int(np.ceil(SPIN_UP_TRANSITS * 2 * a_est / delta)))
+    steps = spin + Nx + 2 * M + 1
+    x_wheel = (np.arange(steps) - spin) * delta  # wheel centre at each step; x = 0 at step `spin`
     P = force_history(forces, x_wheel % L, beta0)[wheel_index]
     kappa = _curvature(roughness, x_wheel % L, beta0)
     R = equivalent_radius(kappa, material)
     a = hertz_half_length(P, R, material)
     sol = solve_tangential(P, a, material, speed, delta, M, closure=closure, closure_scale=closure_scale)
-    # particle j is at x = (j - M + grid_offset) Delta; the second bay's points are j - M = Nx .. 2Nx-1
-    j = np.arange(Nx, 2 * Nx) + M
+    # particle j is at x = (j - M - spin) Delta; the bay's points x_k = k Delta are j = spin + M + k
+    j = spin + M + np.arange(Nx)
     depth = wear_coefficient / density * sol.work[j]
-    if grid_offset:
-        # interpolate from the shifted points back onto x_k = k Delta (periodic, linear)
-        xk = np.arange(Nx) * delta
-        depth = np.interp(xk, (np.arange(Nx) + grid_offset) * delta, depth, period=L)
     x = np.arange(Nx) * delta
-    # states with the wheel centre at x_k in the second bay: step i = Nx + k
-    i = Nx + np.arange(Nx)
+    # states with the wheel centre at x_k: step i = spin + k
+    i = spin + np.arange(Nx)
     qscale = max(np.abs(sol.q).max(), 1e-300)
-    periodicity = float(np.abs(sol.q[2 * Nx] - sol.q[Nx]).max() / qscale)
+    periodicity = float(np.abs(sol.q[spin + Nx] - sol.q[spin]).max() / qscale)
     if not np.all(np.isfinite(depth)):
         raise FloatingPointError(f"the wear depth of wheel {wheel_index} is not finite (V = {speed:g} m/s).")
     loaded = P[i] > 0

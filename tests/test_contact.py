@@ -60,11 +60,14 @@ def test_carter_force_converges_with_the_grid():
 
 
 def test_steady_frictional_power_equals_creep_power():
-    # energy conservation in steady rolling: dissipation in the slip zone = |Q gamma V| per width
+    # Energy conservation in steady rolling: the dissipation in the slip zone equals |Q gamma V| per
+    # width, with Carter's exact force Q. At the default grid the discrete dissipation is 0.2 %
+    # above it (the piecewise-linear traction at the square-root patch edges; its convergence is in
+    # tests/test_contact_convergence.py).
     m = material()
-    sol, a, delta = steady(m, 81)
-    creep_power = abs(sol.Q[-1] * m.creepage * V) / (2 * m.half_width)
-    assert sol.power[-1] == pytest.approx(creep_power, rel=2e-3)
+    sol, a, delta = steady(m, 81, transits=16)
+    creep_power = abs(C.carter(np.zeros(1), P0, m, V, R)[2] * m.creepage * V) / (2 * m.half_width)
+    assert sol.power[-1] == pytest.approx(creep_power, rel=3e-3)
 
 
 def test_traction_changes_sign_with_creepage():
@@ -148,10 +151,14 @@ def test_default_closure_is_well_posed_at_every_grid():
 
 def test_report_closure_grows_perturbations_faster_on_finer_grids():
     # Recorded in docs/paper-discrepancies.md: u(0,t) = q(0,t)/sigma (eqs 32-33) makes the
-    # transient problem ill-posed: perturbations grow, the faster the finer the grid.
-    g81 = _growth_per_transit("report", 81, eps=1e-8)
-    g161 = _growth_per_transit("report", 161, eps=1e-8)
-    assert g81 > 2.0 and g161 > 2 * g81  # measured about 15 and 100 per transit
+    # transient problem ill-posed: perturbations grow, the faster the finer the grid. Measured
+    # growth per transit of a 1e-12 perturbation: about 510 (41 nodes) and 810 (81 nodes); on 161
+    # nodes it reaches the divergence monitor within three transits.
+    g41 = _growth_per_transit("report", 41, eps=1e-12)
+    g81 = _growth_per_transit("report", 81, eps=1e-12)
+    assert g41 > 2.0 and g81 > 1.2 * g41
+    with pytest.raises(C.ContactError, match="diverged at step"):
+        _growth_per_transit("report", 161, eps=1e-12)
 
 
 def test_report_closure_stops_with_a_clear_error():
@@ -184,16 +191,25 @@ def bay():
 
 
 def test_wear_law_integrates_the_frictional_power(bay):
-    # sum over the bay of (rho / K) depth * Delta = time integral of the frictional power per width
+    # Sum over the bay of (rho / K) depth * Delta = time integral of the frictional power per width.
+    # Over a periodic bay it equals the creep power |Q gamma V| / (2b) up to the work of the rigid
+    # term and of the stored elastic energy, which is small: the work converges with the grid
+    # (587.2, 584.6, 583.7 J/m at 41, 81, 161 nodes, order 1.5, limit 583.3) to 0.3 % above the
+    # creep power (581.5). The previous rule gave 580.6, 582.1, 582.7 (converging from below).
     tr, F, rough = bay
     m = material()
-    w = W.bay_wear(F, 0, rough, m, 7850.0, 2.5e-9, tr.beta0, tr.L, nodes=41)
-    delta = w.x[1] - w.x[0]
-    work_from_depth = np.sum(w.depth) * 7850.0 / 2.5e-9 * delta
-    # frictional power = creep power on average over the bay when the state is periodic
-    creep = np.sum(np.abs(w.Q * m.creepage * V)) / (2 * m.half_width) * delta / V
-    assert work_from_depth == pytest.approx(creep, rel=5e-3)
-    assert w.periodicity < 1e-6
+    work, creep = [], []
+    for nodes in (41, 81, 161):
+        w = W.bay_wear(F, 0, rough, m, 7850.0, 2.5e-9, tr.beta0, tr.L, nodes=nodes)
+        delta = w.x[1] - w.x[0]
+        work.append(np.sum(w.depth) * 7850.0 / 2.5e-9 * delta)
+        creep.append(np.sum(np.abs(w.Q * m.creepage * V)) / (2 * m.half_width) * delta / V)
+        assert w.periodicity < 1e-6
+    d1, d2 = work[0] - work[1], work[1] - work[2]
+    assert d1 > d2 > 0 and np.log2(d1 / d2) > 1.2
+    limit = work[2] - d2 / (d1 / d2 - 1)
+    assert limit == pytest.approx(creep[2], rel=5e-3)
+    assert work[1] == pytest.approx(limit, rel=4e-3)
 
 
 def test_wear_spectrum_converges_in_the_contact_grid(bay):
@@ -224,9 +240,11 @@ def test_wear_spectrum_converges_towards_a_fine_grid(bay):
 
 
 def test_fast_unloading_gives_several_stick_zones_and_every_node_obeys_the_friction_law():
-    # 2500 Hz load variation of +-60 % at 40 m/s: the solver finds up to four stick zones at once
-    # (it assumes no zone layout); at every step and node, stick has s = 0 and |q| <= mu_s p,
-    # slip has |q| = mu_d p with q opposite to s (eqs 27-28).
+    # 2500 Hz load variation of +-60 % at 40 m/s: the solver finds two stick zones at once in some
+    # steps (it assumes no zone layout; the same at 81 and 161 nodes; the previous discretisation,
+    # which reset a particle's memory whenever the retreating leading edge crossed a node, showed up
+    # to four); at every step and node, stick has s = 0 and |q| <= mu_s p, slip has |q| = mu_d p
+    # with q opposite to s (eqs 27-28).
     m = material()
     a_max = float(C.hertz_half_length(1.6e5, R, m))
     delta, _, M = C.rolling_grid(a_max, 0.6, 81)
@@ -239,7 +257,7 @@ def test_fast_unloading_gives_several_stick_zones_and_every_node_obeys_the_frict
     stick = (sol.s == 0) & inside
     slip = inside & ~stick
     zones = [np.count_nonzero(np.diff(np.concatenate([[0], st.astype(int), [0]])) == 1) for st in stick]
-    assert max(zones) >= 3
+    assert max(zones) >= 2
     assert np.all(np.abs(sol.q[stick]) <= 0.3 * p[stick] * (1 + 1e-9))
     np.testing.assert_allclose(np.abs(sol.q[slip]), 0.3 * p[slip], rtol=1e-9)
     assert np.all(sol.q[slip] * sol.s[slip] < 0)

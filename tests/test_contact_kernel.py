@@ -72,10 +72,21 @@ def test_compiled_loop_equals_numpy_reference_from_a_perturbed_start():
     base = C.solve_tangential(np.full(5 * nn, P0), np.full(5 * nn, a), m, V, delta, M).q[-1]
     q0 = base * (1 + 0.01 * np.random.default_rng(3).standard_normal(nn))
     P = np.full(2 * nn, P0)
-    for closure in ("default", "report"):
-        new = C.solve_tangential(P, np.full(P.size, a), m, V, delta, M, closure=closure, q0=q0)
-        ref = solve_tangential_numpy(P, np.full(P.size, a), m, V, delta, M, closure=closure, q0=q0)
-        np.testing.assert_allclose(new.q, ref.q, rtol=0, atol=1e-9 * np.abs(ref.q).max())
+    new = C.solve_tangential(P, np.full(P.size, a), m, V, delta, M, q0=q0)
+    ref = solve_tangential_numpy(P, np.full(P.size, a), m, V, delta, M, q0=q0)
+    np.testing.assert_allclose(new.q, ref.q, rtol=0, atol=1e-9 * np.abs(ref.q).max())
+    # The report's closure (ill-posed, docs/contact.md) diverges from this 1 % perturbation within
+    # about one transit: both loops agree up to that step and stop there with the same message.
+    steps = 45
+    new = C.solve_tangential(P[:steps], np.full(steps, a), m, V, delta, M, closure="report", q0=q0)
+    ref = solve_tangential_numpy(P[:steps], np.full(steps, a), m, V, delta, M, closure="report", q0=q0)
+    np.testing.assert_allclose(new.q, ref.q, rtol=0, atol=1e-9 * np.abs(ref.q).max())
+    msgs = []
+    for solver in (C.solve_tangential, solve_tangential_numpy):
+        with pytest.raises(C.ContactError, match="diverged at step") as err:
+            solver(P, np.full(P.size, a), m, V, delta, M, closure="report", q0=q0)
+        msgs.append(str(err.value))
+    assert msgs[0] == msgs[1]
 
 
 def test_report_closure_stops_at_the_same_step_in_both():

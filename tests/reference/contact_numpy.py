@@ -2,8 +2,21 @@
 
 This is ``rail.contact.solve_tangential`` as it was before its time loop was compiled with numba
 (commit 2b10166; verified there against Carter, the energy balance, the quasi-static limit and
-the perturbation test). ``tests/test_contact.py`` checks the compiled loop against it step by step,
-so that a change in either shows. Same scheme, same arguments, same result; only slower.
+the perturbation test), brought up to the current scheme of the compiled loop (``_march``):
+
+* leading-edge entry: every loaded node n with xi_n + Delta >= a(t - dt) holds a particle that
+  entered the patch during the step (possibly two per step), at the fraction theta of the step
+  where its path meets the edge (eta = xi / a linear in time). It has stuck since, from the edge
+  displacement at the entry time, extrapolated from the two previous steps:
+  u_n(t) = u_a(t - dt) + theta (u_a(t - dt) - u_a(t - 2 dt)) - gamma (1 - theta) Delta; its slip
+  velocity is taken over the loaded time (1 - theta) dt;
+* frictional work: the pressure part of the traction integrated exactly along the particle path
+  over the Hertz ellipse, the deviation from it by the trapezoidal rule over the loaded time;
+  particles that left the patch at -a during the step are counted in that step, with their mean
+  slip velocity from the displacement at -a interpolated in time (the mirror image of the entry).
+
+``tests/test_contact_kernel.py`` checks the compiled loop against it step by step, so that a
+change in either shows. Same scheme, same arguments, same result; only slower.
 """
 
 import numpy as np
@@ -82,7 +95,7 @@ def solve_tangential_numpy(P, a, m: ContactMaterial, speed: float, delta: float,
         return r - k * np.log(delta) * w
 
     def full_matrix(ai):
-        """Influence matrix of the closure at half-length ai, and its row at xi = +a."""
+        """Influence matrix of the closure at half-length ai, and its rows at xi = +a and xi = -a."""
         Bm, w = edge_columns(ai)
         col_w[:] = w
         if closure == "default":
@@ -92,35 +105,56 @@ def solve_tangential_numpy(P, a, m: ContactMaterial, speed: float, delta: float,
             rigid = -(Bm[M, :] - k * np.log(delta) * w)
             rigid[M] += closure_scale * 8 * (1 - m.poisson_ratio**2) * ai / (np.pi * m.youngs_modulus)
         C = Bm - k * np.log(delta) * w[None, :] + rigid[None, :]
-        return C, row_at(ai, ai, w) + rigid
+        return C, row_at(ai, ai, w) + rigid, row_at(-ai, ai, w) + rigid
 
-    C, r_edge = full_matrix(a[0])
-    u_old = C @ q
-    u_edge_old = r_edge @ q
+    def ellipse_area(eta):
+        """F(eta) = int_0^eta sqrt(1 - t^2) dt, eta clipped to [-1, 1] (0 outside the patch)."""
+        e = np.clip(eta, -1.0, 1.0)
+        return 0.5 * (e * np.sqrt(np.clip(1.0 - e * e, 0.0, None)) + np.arcsin(e))
+
+    sg = float(np.sign(g))  # slip direction of a particle entering in slip is -sg
+    C, r_edge, r_trail = full_matrix(a[0])
+    u_old = C @ q  # displacement of every particle (and of the leading neighbour) at the last step
+    u_edge_old = r_edge @ q  # surface displacement at xi = +a and -a at the last step
+    u_edge_old2 = u_edge_old  # at xi = +a two steps back (the start is taken as steady)
+    u_trail_old = r_trail @ q
+    a_prev = a[0]
+    p_prev = hertz_pressure(xi, P[0], a[0], m)
+    p0_prev = P[0] / (np.pi * a[0] * m.half_width)
     stick_prev = np.zeros(nn, dtype=bool)
-    sign_prev = np.full(nn, -np.sign(g) if g != 0 else 0.0)
+    sign_prev = np.full(nn, -sg)
     total_iter = 0
     for i in range(steps):
-        C, r_edge = full_matrix(a[i])
-        p = hertz_pressure(xi, P[i], a[i], m)
+        ai = a[i]
+        C, r_edge, r_trail = full_matrix(ai)
+        p = hertz_pressure(xi, P[i], ai, m)
+        p0 = P[i] / (np.pi * ai * m.half_width)
         inside = p > 0
-        lead = int(np.floor(a[i] / delta - 1e-12)) + M
-        tau = (a[i] - xi[lead]) / speed  # time since the leading particle entered the patch
-        # stick equations: E q = h. Regular particle m: u_m(t) = u_{m+1}(t - dt) - gamma Delta.
-        # The particle that entered in the last step has stuck since it crossed xi = a, where the
-        # surface displacement was u_a (taken at the previous step, which keeps the strong
-        # self-influence of the log kernel on the diagonal): u_lead(t) = u_a - gamma (a - xi_lead).
+        inside_prev = p_prev > 0
+        # The particle now at node n was at xi_{n+1} one step before; eta = xi / a is linear in time
+        # between the steps, from eta0 (at t - dt) to eta1 (at t).
+        eta0 = (xi + delta) / a_prev
+        eta1 = xi / ai
+        # stick equations: E q = h. Regular particle n: u_n(t) = u_{n+1}(t - dt) - gamma Delta.
+        # Entering particle (loaded now, at or beyond the leading edge a(t - dt) one step before):
+        # its path meets the edge eta = 1 at t_e = t - (1 - theta) dt; it has stuck since, from the
+        # edge displacement at t_e extrapolated from the two previous steps:
+        #     u_n(t) = u_a(t - dt) + theta (u_a(t - dt) - u_a(t - 2 dt)) - gamma (1 - theta) Delta.
+        enter = inside & (xi + delta >= a_prev)
+        theta = np.zeros(nn)
+        theta[enter] = np.clip((eta0[enter] - 1.0) / (eta0[enter] - eta1[enter]), 0.0, 1.0)
         E = C[:nn]
+        u_entry = u_edge_old + theta * (u_edge_old - u_edge_old2)
         h = u_old[1:] - g * delta
-        h[lead] = u_edge_old - g * (a[i] - xi[lead])
+        h[enter] = u_entry[enter] - g * (1.0 - theta[enter]) * delta
         stick = np.zeros(nn, dtype=bool)
         stick[:-1] = stick_prev[1:]
-        stick[lead] = True
+        stick[enter] = True
         stick &= inside
         sign = np.empty(nn)  # direction of q in slip, carried by the particles
         sign[:-1] = sign_prev[1:]
-        sign[-1] = -np.sign(g) if g != 0 else 0.0
-        sign[lead] = sign[lead] if sign[lead] != 0 else (-np.sign(g) if g != 0 else 0.0)
+        sign[-1] = -sg
+        sign[enter & (sign == 0)] = -sg
         qn = np.zeros(nn)
         for it in range(max_iter):
             slip = inside & ~stick
@@ -130,9 +164,12 @@ def solve_tangential_numpy(P, a, m: ContactMaterial, speed: float, delta: float,
                 S = np.where(stick)[0]
                 rhs = h[S] - E[np.ix_(S, np.where(slip)[0])] @ qn[slip]
                 qn[S] = np.linalg.solve(E[np.ix_(S, S)], rhs)
-            # slip velocity: s = V gamma + (E q - h) / dt  (exact along the particle path)
-            s = g * speed + (E @ qn - h - g * delta) / dt
-            s[lead] = g * speed + (E[lead] @ qn - u_edge_old) / max(tau, 1e-300)
+            # slip velocity: s = V gamma + (E q - h) / dt  (exact along the particle path); for an
+            # entering particle, over its loaded time (1 - theta) dt since it crossed the edge
+            Eq = E @ qn
+            s = g * speed + (Eq - h - g * delta) / dt
+            s[enter] = g * speed + (Eq[enter] - u_entry[enter]) / np.maximum(
+                (1.0 - theta[enter]) * dt, 1e-300)
             s[~inside] = 0.0
             changed = False
             over = stick & (np.abs(qn) > mu_s * p)
@@ -147,14 +184,14 @@ def solve_tangential_numpy(P, a, m: ContactMaterial, speed: float, delta: float,
             if not changed:
                 break
         else:
-            raise ContactError(f"the stick/slip iteration did not converge at step {i} (a = {a[i]:.4g} m).")
+            raise ContactError(f"the stick/slip iteration did not converge at step {i} (a = {ai:.4g} m).")
         total_iter += it + 1
         if not np.all(np.isfinite(qn)):
-            raise ContactError(f"the tangential traction is not finite at step {i} (a = {a[i]:.4g} m, P = {P[i]:.4g} N).")
+            raise ContactError(f"the tangential traction is not finite at step {i} (a = {ai:.4g} m, P = {P[i]:.4g} N).")
         s[stick] = 0.0
         stick_count[i] = int(np.count_nonzero(stick & inside))
         if closure == "report" and i > nn and P[i] > 0:
-            cb = checkerboard_measure(qn, stick & inside, P[i] / (np.pi * a[i] * m.half_width), mu_d)
+            cb = checkerboard_measure(qn, stick & inside, p0, mu_d)
             if cb > CHECKERBOARD_LIMIT:
                 raise ContactError(
                     f"the tangential solution diverged at step {i} (closure '{closure}', s = {closure_scale}): "
@@ -165,21 +202,53 @@ def solve_tangential_numpy(P, a, m: ContactMaterial, speed: float, delta: float,
         q_hist[i] = qn
         s_hist[i] = s
         Q_hist[i] = b2 * col_w @ qn
-        # Frictional work in this step on the particle now at node m (particle index i + m): its
-        # step-averaged traction times its slip over the step (s is the step-average slip velocity).
-        # The particle that entered at +a during the step was loaded for tau only; the particle at
-        # the trailing node leaves the patch at -a after tau_exit, with the traction falling to 0.
-        q_same = np.zeros(nn)
-        q_same[:-1] = q[1:]
-        dw = np.abs(0.5 * (qn + q_same) * s) * dt
-        dw[lead] = np.abs(0.5 * qn[lead] * s[lead]) * tau
-        trail = 2 * M - lead
-        dw[trail] += np.abs(0.5 * qn[trail] * s[trail]) * (xi[trail] + a[i]) / speed
+
+        # Frictional work in this step on the particle now at node n (particle index i + n), J/m^2:
+        # |s_bar int q dt| with s_bar its mean slip velocity over the time it was loaded in the step.
+        # was: loaded one step before (at xi_{n+1}); the particle at the last node comes from outside.
+        was = np.zeros(nn, dtype=bool)
+        was[:-1] = inside_prev[1:]
+        q_old = np.zeros(nn)
+        q_old[:-1] = q[1:]
+        q_old[~was] = 0.0
+        p_old = np.zeros(nn)
+        p_old[:-1] = p_prev[1:]
+        # Particles that left the patch at -a during the step, after phi dt (eta linear in time): their
+        # mean slip velocity from the displacement at -a at that time, interpolated between the steps.
+        u_trail_new = r_trail @ qn
+        left = was & ~inside
+        phi = np.clip((eta0[left] + 1.0) / (eta0[left] - eta1[left]), 0.0, 1.0)
+        u_exit = (1.0 - phi) * u_trail_old + phi * u_trail_new
+        s_exit = np.zeros(nn)
+        s_exit[left] = g * speed + (u_exit - u_old[1:][left]) / np.maximum(phi * dt, 1e-300)
+        # mean slip velocity and traction direction sigma (from the new traction, else the old one)
+        s_bar = np.where(inside, s, s_exit)
+        ref = np.where(inside & (qn != 0), qn, q_old)
+        counted = (inside | was) & (s_bar != 0) & (ref != 0)  # not stuck over the step, and loaded
+        sig = np.where(ref > 0, 1.0, -1.0)
+        # q = sigma mu_d p + d. Pressure part: exact along the path for the Hertz ellipse,
+        # int p dt = p0m dt (F(eta0) - F(eta1)) / (eta0 - eta1), p0m the mean of the two steps' p0,
+        # clipped to the patch by F; the deviation d (0 in slip) by the trapezoidal rule over the
+        # loaded time dt (min(eta0, 1) - max(eta1, -1)) / (eta0 - eta1).
+        e0, e1 = eta0[counted], eta1[counted]
+        span = e0 - e1
+        p0m = 0.5 * (p0_prev + p0)
+        int_p = p0m * dt * (ellipse_area(e0) - ellipse_area(e1)) / span
+        loaded = np.maximum(dt * (np.minimum(e0, 1.0) - np.maximum(e1, -1.0)) / span, 0.0)
+        sc = sig[counted]
+        d_new = np.where(inside[counted], qn[counted] - sc * mu_d * p[counted], 0.0)
+        d_old = np.where(was[counted], q_old[counted] - sc * mu_d * p_old[counted], 0.0)
+        dw = np.zeros(nn)
+        dw[counted] = np.abs(s_bar[counted] * (sc * mu_d * int_p + 0.5 * (d_old + d_new) * loaded))
         work[i : i + nn] += dw
         power[i] = dw.sum() * delta / dt
+
         q = qn
         u_old = C @ qn
+        u_edge_old2 = u_edge_old
         u_edge_old = r_edge @ qn
+        u_trail_old = u_trail_new
+        a_prev, p_prev, p0_prev = ai, p, p0
         stick_prev = stick
         sign_prev = np.where(stick, np.sign(qn), sign)
     return TangentialSolution(q_hist, s_hist, xi, a, P, Q_hist, work, power, delta, total_iter, stick_count)
