@@ -167,3 +167,48 @@ def test_full_slip_wear_harmonic_converges_to_the_analytic_path_integral():
     assert np.log2(amp_err[1] / amp_err[2]) > 1.4
     assert amp_err[1] < 1e-3
     assert max(phase_err) < 5e-3
+
+
+# ---- partial slip under a fast load variation: the wear harmonic against itself
+
+
+def averaged_harmonic(f, nodes, amp=0.3, spacings=4, Nw=4, spin_periods=2):
+    """Wear harmonic at f under P0 (1 + amp cos 2 pi f t), averaged over ``spacings`` grid spacings
+    that sweep a / Delta over one unit (as the growth loop does): each run spans Nw wavelengths
+    with an integer number of steps, after ``spin_periods`` such spans of spin-up."""
+    m = material()
+    lam = V / f
+    amax = float(C.hertz_half_length(P0 * (1 + amp), R, m))
+    a0 = float(C.hertz_half_length(P0, R, m))
+    period = Nw * lam
+    out = []
+    for j in range(spacings):
+        Ns = int(round(period * (nodes - 1) / (2 * amax) + (j + 0.5) / spacings * period / a0))
+        delta = period / Ns
+        M = int(np.ceil(amax * 1.02 / delta)) + 1
+        x = np.arange((spin_periods + 1) * Ns + 2 * M + 1) * delta
+        P = P0 * (1 + amp * np.cos(2 * np.pi * x / lam))
+        sol = C.solve_tangential(P, C.hertz_half_length(P, R, m), m, V, delta, M)
+        idx = np.arange(spin_periods * Ns, (spin_periods + 1) * Ns) + M
+        xs = (idx - M) * delta
+        out.append(2 * np.mean(sol.work[idx] * np.exp(-2j * np.pi * xs / lam)))
+    return np.mean(out)
+
+
+@pytest.mark.parametrize("f, limit", [(1000.0, 118.5), (1600.0, 33.5)])
+def test_wear_harmonic_under_a_fast_load_converges_towards_the_independent_solver(f, limit):
+    # +-30 % load at 1000 and 1600 Hz, 40 m/s, s = 1 (the issue's case; arbitrary units as there).
+    # Measured (41, 81, 161 nodes): 1000 Hz 118.10, 118.33, 118.39 (amplitude order 2.1, phase
+    # order 1.7); 1600 Hz 30.65, 32.65, 33.22 (orders 1.8 and, phase, 1.8), 33.45 at 321 nodes
+    # (order 1.4 on 81/161/321, phase 0.9): the Delta^1.5 of the piecewise-linear traction at the
+    # square-root edges limits the order on fine grids, so the issue's 1.8 is met on 41/81/161
+    # only for the 1000 Hz amplitude and the 1600 Hz amplitude and phase (docs/contact.md). The
+    # independent second-order solver of the issue converges to about 118.5 and 33.5; the earlier
+    # discretisation gave 125.9 and 44.8 at 81 nodes.
+    c = [averaged_harmonic(f, n) for n in (41, 81, 161)]
+    amp = np.abs(c)
+    d1, d2 = abs(amp[0] - amp[1]), abs(amp[1] - amp[2])
+    assert np.log2(d1 / d2) > 1.5
+    assert abs(amp[2] / limit - 1) < 0.01
+    ph = np.angle(c)
+    assert abs(ph[1] - ph[2]) < abs(ph[0] - ph[1])
