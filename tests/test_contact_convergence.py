@@ -51,8 +51,9 @@ def trapezoid_work(sol, m):
 
 def test_steady_work_is_continuous_when_the_patch_edges_cross_nodes():
     # At a / Delta = 21 both patch edges cross a node. With the trapezoidal rule the work jumps by
-    # 0.15 % there (0.99359 -> 0.99505 of Carter's, measured on the same solutions); the exact path
-    # integral of the Hertz pressure and the exit slip from the displacement at -a leave 4e-5.
+    # 0.17 % there (0.98618 -> 0.98789 of Carter's, measured on the same solutions); the exact path
+    # integral of the Hertz pressure, the exit slip from the displacement at -a and the square-root
+    # traction basis leave 6e-6 (the hat basis: 4e-5).
     m = material()
     below, sol_b = steady(21 - 1e-6, m)
     above, sol_a = steady(21 + 1e-6, m)
@@ -63,11 +64,12 @@ def test_steady_work_is_continuous_when_the_patch_edges_cross_nodes():
 
 
 def test_steady_work_against_a_over_delta_has_no_step_far_below_the_parametric_variation():
-    # 201 values over two units of a / Delta (about 41 nodes across the patch). Measured: total
-    # variation 0.46 % of Carter's work, largest step between neighbours 0.060 % (just after an
-    # edge crosses a node, where the work rises like a square root of the edge's distance from the
-    # node: the piecewise-linear traction at the square-root edge); the trapezoidal rule had
-    # steps of 0.43 % (as large as its variation, 0.56 %). Both are below the +-1.8 % parametric
+    # 201 values over two units of a / Delta (about 41 nodes across the patch). Measured with the
+    # square-root-weighted traction basis: total variation 0.039 % of Carter's work, largest step
+    # between neighbours 0.0014 % (the hat basis: 0.46 % and 0.060 %, the step just after an edge
+    # crossed a node, where the work rose like a square root of the edge's distance from the node);
+    # the trapezoidal rule has steps of 0.49 % (as large as its variation, 0.96 %; with the hat
+    # basis 0.43 % and 0.56 %). All are below the +-1.8 % parametric
     # wear variation, but a/Delta sweeps about 1.2 units over a bay, so growth.vary_grid_spacing
     # averages the periodic remainder out between updates (tests/test_growth.py).
     m = material()
@@ -89,8 +91,9 @@ def test_steady_work_against_a_over_delta_has_no_step_far_below_the_parametric_v
 
 def test_steady_work_converges_to_carter():
     # Averaged over the position of the edges between nodes (a / Delta = r + j/4): errors of the
-    # work against Carter's exact value 1.6e-2, 5.8e-3, 1.9e-3 at about 21, 41, 81 nodes
-    # (orders 1.5, 1.6; 5.3e-4 at 161 nodes, order 1.8).
+    # work against Carter's exact value 1.4e-3, 4.6e-4, 1.3e-4 at about 21, 41, 81 nodes
+    # (orders 1.6, 1.9; 2.4e-5 at 161 nodes, order 2.4). The hat basis: 1.6e-2, 5.8e-3, 1.9e-3,
+    # 5.3e-4 (orders 1.5, 1.6, 1.8).
     m = material()
     err = []
     for r in (10.0, 20.0, 40.0):
@@ -152,9 +155,10 @@ def solver_harmonic(f, amp, nodes, m, spin=4):
 def test_full_slip_wear_harmonic_converges_to_the_analytic_path_integral():
     # 1600 Hz, +-3 % load, creepage -0.01 (full slip): the mean work is exact (the pressure is
     # integrated exactly along the paths) and the harmonic, which is 1.4 % of the mean, converges
-    # to the quadrature: amplitude errors 0.15 %, 0.042 %, 0.013 % of the harmonic at 41, 81, 161
-    # nodes (orders 1.8, 1.6), phase errors below 4e-3 rad (the previous rule: 1.6 %, 0.24 %,
-    # 0.05 %, with the mean wrong by 2.8e-3, 1.0e-3, 3.8e-4).
+    # to the quadrature: amplitude errors 0.17 %, 0.044 %, 0.011 % of the harmonic at 41, 81, 161
+    # nodes (orders 2.0, 2.0), phase errors below 2e-4 rad (the hat basis: 0.15 %, 0.042 %, 0.013 %,
+    # below 4e-3 rad; the previous work rule: 1.6 %, 0.24 %, 0.05 %, with the mean wrong by 2.8e-3,
+    # 1.0e-3, 3.8e-4).
     m = material(creepage=-0.01)
     amp_err, phase_err = [], []
     for nodes in (41, 81, 161):
