@@ -67,7 +67,7 @@ class GrowthSettings:
     passages: int
     passages_per_update: int
     save_every: int
-    nodes: int = 81
+    nodes: int = 61
     closure: str = "default"
     closure_scale: float = 1.0
     vary_grid_spacing: bool = True

@@ -74,7 +74,7 @@ def apply_wear(roughness: Roughness, dZ, passages: float = 1.0) -> Roughness:
 
 
 def bay_wear(forces: ForceResult, wheel_index: int, roughness: Roughness, material: ContactMaterial, density: float,
-             wear_coefficient: float, beta0: float, L: float, nodes: int = 81, closure: str = "default",
+             wear_coefficient: float, beta0: float, L: float, nodes: int = 61, closure: str = "default",
              closure_scale: float = 1.0, grid_phase: float = 0.0, a_max: float | None = None) -> WearResult:
     """Wear of one passage of wheel ``wheel_index`` over the bay (eqs 22-24, 26-52).
 

@@ -51,23 +51,25 @@ def trapezoid_work(sol, m):
 
 def test_steady_work_is_continuous_when_the_patch_edges_cross_nodes():
     # At a / Delta = 21 both patch edges cross a node. With the trapezoidal rule the work jumps by
-    # 0.15 % there (0.99359 -> 0.99505 of Carter's, measured on the same solutions); the exact path
-    # integral of the Hertz pressure and the exit slip from the displacement at -a leave 4e-5.
+    # 0.17 % there (0.98618 -> 0.98789 of Carter's, measured on the same solutions); the exact path
+    # integral of the Hertz pressure, the exit slip from the displacement at -a and the square-root
+    # traction basis leave 6e-6 (the hat basis: 4e-5).
     m = material()
     below, sol_b = steady(21 - 1e-6, m)
     above, sol_a = steady(21 + 1e-6, m)
-    assert abs(above - below) < 2e-4
+    assert abs(above - below) < 2e-5
     jump_trapezoid = abs(trapezoid_work(sol_a, m) - trapezoid_work(sol_b, m))
     assert jump_trapezoid > 1e-3
     assert jump_trapezoid > 20 * abs(above - below)
 
 
 def test_steady_work_against_a_over_delta_has_no_step_far_below_the_parametric_variation():
-    # 201 values over two units of a / Delta (about 41 nodes across the patch). Measured: total
-    # variation 0.46 % of Carter's work, largest step between neighbours 0.060 % (just after an
-    # edge crosses a node, where the work rises like a square root of the edge's distance from the
-    # node: the piecewise-linear traction at the square-root edge); the trapezoidal rule had
-    # steps of 0.43 % (as large as its variation, 0.56 %). Both are below the +-1.8 % parametric
+    # 201 values over two units of a / Delta (about 41 nodes across the patch). Measured with the
+    # square-root-weighted traction basis: total variation 0.039 % of Carter's work, largest step
+    # between neighbours 0.0014 % (the hat basis: 0.46 % and 0.060 %, the step just after an edge
+    # crossed a node, where the work rose like a square root of the edge's distance from the node);
+    # the trapezoidal rule has steps of 0.49 % (as large as its variation, 0.96 %; with the hat
+    # basis 0.43 % and 0.56 %). All are below the +-1.8 % parametric
     # wear variation, but a/Delta sweeps about 1.2 units over a bay, so growth.vary_grid_spacing
     # averages the periodic remainder out between updates (tests/test_growth.py).
     m = material()
@@ -81,23 +83,24 @@ def test_steady_work_against_a_over_delta_has_no_step_far_below_the_parametric_v
         trap.append(trapezoid_work(sol, m))
     work, trap = np.array(work), np.array(trap)
     step, variation = np.abs(np.diff(work)).max(), np.ptp(work)
-    assert step < 0.2 * variation
-    assert step < 0.05 * PARAMETRIC_WEAR_VARIATION
-    assert np.abs(np.diff(trap)).max() > 0.5 * np.ptp(trap)  # the old rule jumps
-    assert np.abs(work - 1).max() < 1e-2
+    assert step < 0.05 * variation
+    assert variation < 0.05 * PARAMETRIC_WEAR_VARIATION
+    assert np.abs(np.diff(trap)).max() > 0.3 * np.ptp(trap)  # the trapezoidal rule jumps
+    assert np.abs(work - 1).max() < 1e-3
 
 
 def test_steady_work_converges_to_carter():
     # Averaged over the position of the edges between nodes (a / Delta = r + j/4): errors of the
-    # work against Carter's exact value 1.6e-2, 5.8e-3, 1.9e-3 at about 21, 41, 81 nodes
-    # (orders 1.5, 1.6; 5.3e-4 at 161 nodes, order 1.8).
+    # work against Carter's exact value 1.4e-3, 4.6e-4, 1.3e-4 at about 21, 41, 81 nodes
+    # (orders 1.6, 1.9; 2.4e-5 at 161 nodes, order 2.4). The hat basis: 1.6e-2, 5.8e-3, 1.9e-3,
+    # 5.3e-4 (orders 1.5, 1.6, 1.8).
     m = material()
     err = []
     for r in (10.0, 20.0, 40.0):
         err.append(abs(np.mean([steady(r + j / 4, m, M=int(r) + 3)[0] for j in range(4)]) - 1))
     orders = np.log2(np.array(err[:-1]) / np.array(err[1:]))
-    assert np.all(orders > 1.3), (err, orders)
-    assert err[-1] < 2.5e-3
+    assert np.all(orders > 1.5), (err, orders)
+    assert err[-1] < 3e-4
 
 
 # ---- unsteady rolling in full slip: an analytic reference for the time integration
@@ -152,9 +155,10 @@ def solver_harmonic(f, amp, nodes, m, spin=4):
 def test_full_slip_wear_harmonic_converges_to_the_analytic_path_integral():
     # 1600 Hz, +-3 % load, creepage -0.01 (full slip): the mean work is exact (the pressure is
     # integrated exactly along the paths) and the harmonic, which is 1.4 % of the mean, converges
-    # to the quadrature: amplitude errors 0.15 %, 0.042 %, 0.013 % of the harmonic at 41, 81, 161
-    # nodes (orders 1.8, 1.6), phase errors below 4e-3 rad (the previous rule: 1.6 %, 0.24 %,
-    # 0.05 %, with the mean wrong by 2.8e-3, 1.0e-3, 3.8e-4).
+    # to the quadrature: amplitude errors 0.17 %, 0.044 %, 0.011 % of the harmonic at 41, 81, 161
+    # nodes (orders 2.0, 2.0), phase errors below 2e-4 rad (the hat basis: 0.15 %, 0.042 %, 0.013 %,
+    # below 4e-3 rad; the previous work rule: 1.6 %, 0.24 %, 0.05 %, with the mean wrong by 2.8e-3,
+    # 1.0e-3, 3.8e-4).
     m = material(creepage=-0.01)
     amp_err, phase_err = [], []
     for nodes in (41, 81, 161):
@@ -164,9 +168,9 @@ def test_full_slip_wear_harmonic_converges_to_the_analytic_path_integral():
         amp_err.append(abs(abs(c) / abs(ref) - 1))
         phase_err.append(abs(np.angle(c / ref)))
     assert amp_err[0] > amp_err[1] > amp_err[2]
-    assert np.log2(amp_err[1] / amp_err[2]) > 1.4
+    assert np.log2(amp_err[0] / amp_err[1]) > 1.8 and np.log2(amp_err[1] / amp_err[2]) > 1.8
     assert amp_err[1] < 1e-3
-    assert max(phase_err) < 5e-3
+    assert max(phase_err) < 1e-3
 
 
 # ---- partial slip under a fast load variation: the wear harmonic against itself
@@ -198,17 +202,18 @@ def averaged_harmonic(f, nodes, amp=0.3, spacings=4, Nw=4, spin_periods=2):
 @pytest.mark.parametrize("f, limit", [(1000.0, 118.5), (1600.0, 33.5)])
 def test_wear_harmonic_under_a_fast_load_converges_towards_the_independent_solver(f, limit):
     # +-30 % load at 1000 and 1600 Hz, 40 m/s, s = 1 (the issue's case; arbitrary units as there).
-    # Measured (41, 81, 161 nodes): 1000 Hz 118.10, 118.33, 118.39 (amplitude order 2.1, phase
-    # order 1.7); 1600 Hz 30.65, 32.65, 33.22 (orders 1.8 and, phase, 1.8), 33.45 at 321 nodes
-    # (order 1.4 on 81/161/321, phase 0.9): the Delta^1.5 of the piecewise-linear traction at the
-    # square-root edges limits the order on fine grids, so the issue's 1.8 is met on 41/81/161
-    # only for the 1000 Hz amplitude and the 1600 Hz amplitude and phase (docs/contact.md). The
-    # independent second-order solver of the issue converges to about 118.5 and 33.5; the earlier
-    # discretisation gave 125.9 and 44.8 at 81 nodes.
+    # Measured (41, 81, 161, 321 nodes): 1000 Hz 117.76, 118.22, 118.36, 118.41 (amplitude orders
+    # 1.7, 1.6; the phase, -0.3041 to -0.3043 rad, is converged to 1e-4 rad on every grid); 1600 Hz
+    # 32.23, 33.15, 33.42, 33.51 (orders 1.7, 1.65; phase -1.1711, -1.1590, -1.1553, -1.1541 rad,
+    # orders 1.7, 1.7). The issue's order 1.8 is not reached in partial slip (it is in full slip,
+    # above): the stick/slip boundary inside the patch is resolved only to the cell
+    # (docs/contact.md). The independent second-order solver of the issue converges to about
+    # 118.5 and 33.5; at 81 nodes the hat basis gave 118.33 and 32.65, the earlier discretisation
+    # 125.9 and 44.8.
     c = [averaged_harmonic(f, n) for n in (41, 81, 161)]
     amp = np.abs(c)
     d1, d2 = abs(amp[0] - amp[1]), abs(amp[1] - amp[2])
     assert np.log2(d1 / d2) > 1.5
     assert abs(amp[2] / limit - 1) < 0.01
     ph = np.angle(c)
-    assert abs(ph[1] - ph[2]) < abs(ph[0] - ph[1])
+    assert abs(ph[1] - ph[2]) < 5e-3

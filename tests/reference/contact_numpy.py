@@ -7,13 +7,17 @@ the perturbation test), brought up to the current scheme of the compiled loop (`
 * leading-edge entry: every loaded node n with xi_n + Delta >= a(t - dt) holds a particle that
   entered the patch during the step (possibly two per step), at the fraction theta of the step
   where its path meets the edge (eta = xi / a linear in time). It has stuck since, from the edge
-  displacement at the entry time, extrapolated from the two previous steps:
-  u_n(t) = u_a(t - dt) + theta (u_a(t - dt) - u_a(t - 2 dt)) - gamma (1 - theta) Delta; its slip
-  velocity is taken over the loaded time (1 - theta) dt;
+  displacement at the entry time, interpolated between the steps:
+  u_n(t) = theta u_a(t) + (1 - theta) u_a(t - dt) - gamma (1 - theta) Delta (its row divided by
+  1 - theta); its slip velocity is taken over the loaded time (1 - theta) dt;
 * frictional work: the pressure part of the traction integrated exactly along the particle path
   over the Hertz ellipse, the deviation from it by the trapezoidal rule over the loaded time;
   particles that left the patch at -a during the step are counted in that step, with their mean
   slip velocity from the displacement at -a interpolated in time (the mirror image of the entry).
+* the traction basis: q = W sum_n g_n phi_n with W = sqrt(1 - zeta^2 / a^2), g_n = q_n / W(xi_n) (the
+  outermost phi constant 1 up to the edges). Its influence coefficients come from the compiled
+  ``rail.contact._basis_matrix`` (the one routine of the scheme shared with the loop; it is checked
+  against brute-force quadrature in tests/test_contact_basis.py); the closure terms are applied here.
 
 ``tests/test_contact_kernel.py`` checks the compiled loop against it step by step, so that a
 change in either shows. Same scheme, same arguments, same result; only slower.
@@ -26,13 +30,12 @@ from rail.contact import (
     ContactError,
     ContactMaterial,
     TangentialSolution,
-    _half_hat,
-    _half_hat_scalar,
-    _log_hat,
+    _basis_matrix,
+    _basis_workspace,
     checkerboard_measure,
+    chebyshev_hat_moments,
     compliance,
     hertz_pressure,
-    influence_matrix,
 )
 
 
@@ -46,7 +49,7 @@ def solve_tangential_numpy(P, a, m: ContactMaterial, speed: float, delta: float,
     nn = 2 * M + 1
     xi = (np.arange(nn) - M) * delta
     k = compliance(m)
-    B = influence_matrix(nn + 1, nn, delta, k)  # rows: nodes plus the leading neighbour
+    Mom, mu = chebyshev_hat_moments(nn)
     dt = delta / speed
     g = m.creepage
     mu_d, mu_s = m.friction_dynamic, m.friction_static
@@ -60,44 +63,21 @@ def solve_tangential_numpy(P, a, m: ContactMaterial, speed: float, delta: float,
     power = np.zeros(steps)
     stick_count = np.zeros(steps, dtype=int)
     q = np.zeros(nn) if q0 is None else np.asarray(q0, dtype=float).copy()
-    col_w = np.full(nn, delta)  # int hat_n (updated with the edge hats each step)
-
-    rows = np.arange(nn + 1)
-
-    # full half hats of every column at every row, tabulated once (the edge columns replace them)
-    cols = np.arange(nn)
-    H_right = _half_hat(cols[:, None] - rows[None, :], 1.0, +1)  # (column, row)
-    H_left = _half_hat(cols[:, None] - rows[None, :], 1.0, -1)
-
-    def edge_geometry(ai):
-        lead = int(np.floor(ai / delta - 1e-12)) + M  # last node with xi < a
-        return lead, 2 * M - lead, ai / delta - (lead - M)  # (a - xi_lead) / Delta in (0, 1]
-
-    def edge_columns(ai):
-        """Base matrix with the two outermost hats ending exactly at -a and +a (continuous in a)."""
-        lead, trail, e = edge_geometry(ai)
-        Bm = B.copy()
-        w = col_w.copy()
-        Bm[:, lead] += -k * delta * (_half_hat(lead - rows, e, +1) - H_right[lead])
-        Bm[:, trail] += -k * delta * (_half_hat(trail - rows, e, -1) - H_left[trail])
-        w[:] = delta
-        w[lead] = w[trail] = delta * 0.5 * (1 + e)
-        return Bm, w
-
-    def row_at(x_pt, ai, w):
-        """-k int hat_n ln|x_pt - zeta| d zeta for every column n (edge hats as in edge_columns)."""
-        lead, trail, e = edge_geometry(ai)
-        j = (xi - x_pt) / delta
-        r = -k * delta * _log_hat(j)
-        jl, jt = float(j[lead]), float(j[trail])
-        r[lead] += -k * delta * (_half_hat_scalar(jl, e, +1) - _half_hat_scalar(jl, 1.0, +1))
-        r[trail] += -k * delta * (_half_hat_scalar(jt, e, -1) - _half_hat_scalar(jt, 1.0, -1))
-        return r - k * np.log(delta) * w
+    col_w = np.full(nn, delta)  # int psi_n (updated with the basis each step)
 
     def full_matrix(ai):
-        """Influence matrix of the closure at half-length ai, and its rows at xi = +a and xi = -a."""
-        Bm, w = edge_columns(ai)
+        """Influence matrix of the closure at half-length ai, and its rows at xi = +a and xi = -a.
+
+        The square-root-weighted basis psi_n = W phi_n / W(xi_n) (rail.contact._basis_matrix, shared with
+        the compiled loop and checked against brute-force quadrature in tests/test_contact_basis.py):
+        int psi_n ln|x_r - zeta| in units of the spacing, at the nodes, the leading neighbour and +a."""
+        AT = np.empty((nn, nn + 1))
+        r_a = np.empty(nn)
+        wu = np.empty(nn)
+        _basis_matrix(ai, delta, M, Mom, mu, AT, r_a, wu, _basis_workspace(nn))
+        w = delta * wu
         col_w[:] = w
+        Bm = -k * delta * AT.T
         if closure == "default":
             rigid = k * np.log(0.5 * ai * np.exp(2 * closure_scale / np.pi)) * w
         else:
@@ -105,7 +85,8 @@ def solve_tangential_numpy(P, a, m: ContactMaterial, speed: float, delta: float,
             rigid = -(Bm[M, :] - k * np.log(delta) * w)
             rigid[M] += closure_scale * 8 * (1 - m.poisson_ratio**2) * ai / (np.pi * m.youngs_modulus)
         C = Bm - k * np.log(delta) * w[None, :] + rigid[None, :]
-        return C, row_at(ai, ai, w) + rigid, row_at(-ai, ai, w) + rigid
+        r_edge = -k * delta * r_a - k * np.log(delta) * w + rigid
+        return C, r_edge, r_edge[::-1].copy()  # the grid, the basis and the rigid term are symmetric
 
     def ellipse_area(eta):
         """F(eta) = int_0^eta sqrt(1 - t^2) dt, eta clipped to [-1, 1] (0 outside the patch)."""
@@ -116,7 +97,6 @@ def solve_tangential_numpy(P, a, m: ContactMaterial, speed: float, delta: float,
     C, r_edge, r_trail = full_matrix(a[0])
     u_old = C @ q  # displacement of every particle (and of the leading neighbour) at the last step
     u_edge_old = r_edge @ q  # surface displacement at xi = +a and -a at the last step
-    u_edge_old2 = u_edge_old  # at xi = +a two steps back (the start is taken as steady)
     u_trail_old = r_trail @ q
     a_prev = a[0]
     p_prev = hertz_pressure(xi, P[0], a[0], m)
@@ -138,15 +118,16 @@ def solve_tangential_numpy(P, a, m: ContactMaterial, speed: float, delta: float,
         # stick equations: E q = h. Regular particle n: u_n(t) = u_{n+1}(t - dt) - gamma Delta.
         # Entering particle (loaded now, at or beyond the leading edge a(t - dt) one step before):
         # its path meets the edge eta = 1 at t_e = t - (1 - theta) dt; it has stuck since, from the
-        # edge displacement at t_e extrapolated from the two previous steps:
-        #     u_n(t) = u_a(t - dt) + theta (u_a(t - dt) - u_a(t - 2 dt)) - gamma (1 - theta) Delta.
+        # edge displacement at t_e interpolated between the steps:
+        #     u_n(t) = theta u_a(t) + (1 - theta) u_a(t - dt) - gamma (1 - theta) Delta,
+        # as the row (E_n - theta r_a) / (1 - theta) q = u_a(t - dt) - gamma Delta.
         enter = inside & (xi + delta >= a_prev)
         theta = np.zeros(nn)
         theta[enter] = np.clip((eta0[enter] - 1.0) / (eta0[enter] - eta1[enter]), 0.0, 1.0)
-        E = C[:nn]
-        u_entry = u_edge_old + theta * (u_edge_old - u_edge_old2)
+        E = C[:nn].copy()
+        E[enter] = (E[enter] - theta[enter, None] * r_edge[None, :]) / np.maximum(1.0 - theta[enter], 1e-300)[:, None]
         h = u_old[1:] - g * delta
-        h[enter] = u_entry[enter] - g * (1.0 - theta[enter]) * delta
+        h[enter] = u_edge_old - g * delta
         stick = np.zeros(nn, dtype=bool)
         stick[:-1] = stick_prev[1:]
         stick[enter] = True
@@ -168,8 +149,6 @@ def solve_tangential_numpy(P, a, m: ContactMaterial, speed: float, delta: float,
             # entering particle, over its loaded time (1 - theta) dt since it crossed the edge
             Eq = E @ qn
             s = g * speed + (Eq - h - g * delta) / dt
-            s[enter] = g * speed + (Eq[enter] - u_entry[enter]) / np.maximum(
-                (1.0 - theta[enter]) * dt, 1e-300)
             s[~inside] = 0.0
             changed = False
             over = stick & (np.abs(qn) > mu_s * p)
@@ -245,7 +224,6 @@ def solve_tangential_numpy(P, a, m: ContactMaterial, speed: float, delta: float,
 
         q = qn
         u_old = C @ qn
-        u_edge_old2 = u_edge_old
         u_edge_old = r_edge @ qn
         u_trail_old = u_trail_new
         a_prev, p_prev, p0_prev = ai, p, p0
