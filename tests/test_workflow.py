@@ -166,13 +166,15 @@ def test_changing_a_scenario_reruns_only_its_jobs(root, workdir):
 def test_studies_are_named_targets_that_reuse_the_default_tables(root, workdir):
     # closure study: 6 closure values x (2 speeds single wheel + soft pad + four wheels) growth
     # runs, 6 x 4 wear cases, one well-posedness job; the soft-pad points share the soft_pad
-    # scenario's table. Stability: one job per case. Convergence: 5 settings x (4 values +
-    # reference); the contact and growth points share the default table at 40 m/s.
+    # scenario's table. Stability: one job per case. Convergence: one job per value and reference
+    # of every setting; the contact and growth points share the default table at 40 m/s.
     stab = yaml.safe_load((root / "config/stability.yaml").read_text())
+    conv = yaml.safe_load((root / "config/convergence.yaml").read_text())
+    n_conv = sum(len(s["values"]) + 1 for s in conv["settings"].values())
     out = snakemake(root, "-n", "closure_study", "stability", "convergence", cwd=workdir)
     assert out.returncode == 0, out.stderr
     c = job_counts(out.stdout)
     assert c["growth"] == 24 and c["closure_wear"] == 24 and c["closure_wellposedness"] == 1 and c["closure_aggregate"] == 1
     assert c["stability_case"] == len(stab["cases"]) and c["stability_table"] == 1
-    assert c["convergence_point"] == 25 and c["convergence_aggregate"] == 1
+    assert n_conv == 26 and c["convergence_point"] == n_conv and c["convergence_aggregate"] == 1
     assert c["receptance"] == 3  # default at 20 and 40 m/s, soft_pad at 40 m/s
