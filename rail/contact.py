@@ -21,12 +21,15 @@ The grid is fixed to the patch, with nodes xi_n = (n - M) Delta, and the wheel a
 Delta = V dt per step. A rail particle at node m+1 at step i-1 is at node m at step i, so the
 material derivative du/dt - V du/dxi is exact along particle paths:
     s_m = V gamma + (u_m(t) - u_{m+1}(t - dt)) / dt.
-The traction is q = W sum_n g_n phi_n with W = sqrt(1 - xi^2/a^2) and g_n = q_n / W(xi_n): square-root
-weighted hats, exact for the Hertz ellipse, so that the square-root edges of the traction carry no
-grid-position error (the unknowns stay the nodal tractions). u is collocated at the nodes; the
-log-kernel influence coefficients are rebuilt with a(t) every step (_basis_matrix). Each step is a small linear complementarity
-problem (stick: s = 0, |q| <= mu_s p; slip: q = -mu_d p sign(s)), solved by an active-set
-iteration that admits any number of stick and slip zones.
+The traction is q = W sum_n g_n phi_n with W = sqrt(1 - xi^2/a^2) and g_n = q_n / W(xi_n):
+square-root weighted hats, exact for the Hertz ellipse, so that the square-root edges of the
+traction carry no grid-position error (the unknowns stay the nodal tractions). u is collocated at
+the nodes; the log-kernel influence coefficients are rebuilt with a(t) every step (_basis_matrix).
+A particle that entered the patch during the step sticks from the edge displacement at its entry
+time (interpolated between the steps); the frictional work integrates the Hertz pressure exactly
+along each path (_step_work). Each step is a small linear complementarity problem (stick: s = 0,
+|q| <= mu_s p; slip: q = -mu_d p sign(s)), solved by an active-set iteration that admits any
+number of stick and slip zones.
 """
 
 from __future__ import annotations
