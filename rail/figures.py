@@ -96,11 +96,11 @@ def fig08(ds: xr.Dataset):
     ax.set_ylabel("normal dynamic contact force (kN)")
     ax2 = ax.twinx()
     ax2.plot(x, ds["roughness"] * 1e6, ":", color="tab:blue", label="roughness")
-    ax2.set_ylabel("roughness (um)")
+    ax2.set_ylabel("roughness (µm)")
     lines = ax.get_lines() + ax2.get_lines()
     ax.legend(lines, [ln.get_label() for ln in lines], loc="upper right", fontsize=8)
     ax.set_title(
-        f"V = {ds.attrs['speed_m_per_s']:g} m/s, {1e6 * ds.attrs['roughness_amplitude_m']:g} um at "
+        f"V = {ds.attrs['speed_m_per_s']:g} m/s, {1e6 * ds.attrs['roughness_amplitude_m']:g} µm at "
         f"{ds.attrs['roughness_frequency_Hz']:g} Hz",
         fontsize=9,
     )
@@ -122,7 +122,7 @@ def fig22(ds: xr.Dataset):
 
 
 def _case_title(ds):
-    return f"V = {ds.attrs['speed_m_per_s']:g} m/s, {1e6 * ds.attrs['roughness_amplitude_m']:g} um at {ds.attrs['roughness_frequency_Hz']:.0f} Hz"
+    return f"V = {ds.attrs['speed_m_per_s']:g} m/s, {1e6 * ds.attrs['roughness_amplitude_m']:g} µm at {ds.attrs['roughness_frequency_Hz']:.0f} Hz"
 
 
 def fig09(ds: xr.Dataset):
@@ -202,7 +202,7 @@ def growth_profiles(ds: xr.Dataset):
         ax.plot(ds["position"], v + i * step * 0.6, "-", color="k", lw=0.8)
         ax.annotate(n.split("_")[1], (ds["position"].values[-1], v[-1] + i * step * 0.6), fontsize=6, ha="left", va="center")
     ax.set_xlabel("position in the sleeper bay (m)")
-    ax.set_ylabel("roughness, profiles offset (um)")
+    ax.set_ylabel("roughness, profiles offset (µm)")
     ax.set_title(f"from a smooth rail, V = {ds.attrs.get('speed_m_per_s', 0):g} m/s; labels: passages", fontsize=9)
     return fig
 
@@ -213,7 +213,7 @@ def growth_spectra(ds: xr.Dataset):
     for style, name in zip(_STYLES, ds.data_vars):
         ax.plot(ds["wavenumber"], ds[name], linestyle=style, color="k", label=ds[name].attrs.get("label", name))
     ax.set_xlabel("wavenumber (rad/m)")
-    ax.set_ylabel("roughness level (dB re 1 um)")
+    ax.set_ylabel("roughness level (dB re 1 µm)")
     ax.legend(fontsize=8)
     return fig
 
@@ -224,7 +224,7 @@ def growth_final_profiles(ds: xr.Dataset):
     for style, name in zip(_STYLES, ds.data_vars):
         ax.plot(ds["position"], ds[name] * 1e6, linestyle=style, color="k", label=ds[name].attrs.get("label", name))
     ax.set_xlabel("position in the sleeper bay (m)")
-    ax.set_ylabel("roughness (um)")
+    ax.set_ylabel("roughness (µm)")
     ax.legend(fontsize=8)
     return fig
 
@@ -237,7 +237,7 @@ def growth_3d(ds: xr.Dataset):
     ax.plot_surface(kk, nn / 1e3, ds["level"].values, cmap="viridis", linewidth=0)
     ax.set_xlabel("wavenumber (rad/m)")
     ax.set_ylabel("passages (thousands)")
-    ax.set_zlabel("level (dB re 1 um)")
+    ax.set_zlabel("level (dB re 1 µm)")
     ax.set_title(f"roughness growth, V = {ds.attrs['speed_m_per_s']:g} m/s", fontsize=9)
     return fig
 
@@ -250,7 +250,7 @@ def sweep_map(ds: xr.Dataset):
     z = ds["max_growth_rate"]
     if len(dims) == 2:
         m = ax.pcolormesh(ds[dims[1]], ds[dims[0]], z.values, shading="nearest", cmap="viridis")
-        fig.colorbar(m, ax=ax, label="fastest growth (um rms per 10,000 passages)")
+        fig.colorbar(m, ax=ax, label="fastest growth (µm rms per 10,000 passages)")
         for i, y in enumerate(ds[dims[0]].values):
             for j, x in enumerate(ds[dims[1]].values):
                 ax.annotate(f"{1e3 * float(ds['fastest_wavelength'].values[i, j]):.0f} mm", (x, y), ha="center", va="center", fontsize=7, color="w")
@@ -262,7 +262,7 @@ def sweep_map(ds: xr.Dataset):
         for i in range(other.sizes["points"]):
             ax.plot(ds[x], other.isel(points=i), "-o", color="k", ms=3)
         ax.set_xlabel(f"{x} ({ds[x].attrs['units']})")
-        ax.set_ylabel("fastest growth (um rms per 10,000 passages)")
+        ax.set_ylabel("fastest growth (µm rms per 10,000 passages)")
     ax.set_title("labels: fastest-growing wavelength", fontsize=9)
     return fig
 

@@ -136,7 +136,7 @@ def closure_spectra(ds: xr.Dataset):
             y = ds["level"].sel(speed=v).sel(closure_scale=s).isel(passage=-1).values[sel]
             ax.plot(ds["wavenumber"].values[sel], y, linestyle=style, color=color, lw=lw, label=f"s = {s:g}" + ("" if ok else " (ill-posed)"))
         ax.set_xlabel("wavenumber (rad/m)")
-        ax.set_ylabel("roughness level (dB re 1 um)")
+        ax.set_ylabel("roughness level (dB re 1 µm)")
         ax.set_title(f"V = {v:g} m/s, {int(ds['passage'].values[-1])} passages, single wheel", fontsize=9)
     axes[0][0].legend(fontsize=7, title="closure scale", title_fontsize=7)
     return fig
