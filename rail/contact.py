@@ -48,7 +48,6 @@ __all__ = [
     "equivalent_radius",
     "hertz_pressure",
     "carter",
-    "influence_matrix",
     "TangentialSolution",
     "solve_tangential",
     "rolling_grid",
@@ -166,76 +165,16 @@ def carter(xi, P, m: ContactMaterial, speed: float, R: float):
     return q, s, Q, c
 
 
-def _log_hat(j):
-    """int over the unit hat centred at j of ln|t| dt (t in units of the spacing): c(j)."""
-
-    j = np.asarray(j, dtype=float)
-    t = np.stack([j - 1, j, j + 1])
-    g0, g1 = _G0(t), _G1(t)
-    # left half (from j-1 up to j) and right half (from j down to j+1) of the unit hat
-    left = (g1[1] - g1[0]) + (1 - j) * (g0[1] - g0[0])
-    right = (j + 1) * (g0[2] - g0[1]) - (g1[2] - g1[1])
-    return left + right
-
-
-def _log_abs(t):
-    """ln|t| where t != 0, and 0 at t = 0 (where t ln|t| and t^2 ln|t| vanish)."""
-    out = np.zeros_like(t)
-    nz = t != 0
-    out[nz] = np.log(np.abs(t[nz]))
-    return out
-
-
-def _G0(t):
-    """Antiderivative of ln|t|: t ln|t| - t (0 at t = 0)."""
-    t = np.asarray(t, dtype=float)
-    return t * _log_abs(t) - t
-
-
-def _G1(t):
-    """Antiderivative of t ln|t|: t^2 ln|t| / 2 - t^2 / 4 (0 at t = 0)."""
-    t = np.asarray(t, dtype=float)
-    return t * t * (0.5 * _log_abs(t) - 0.25)
-
-
 @njit(cache=True)
 def _g0(t: float) -> float:
-    """Scalar _G0 (the per-step edge terms of the compiled time loop)."""
+    """Antiderivative of ln|t|: t ln|t| - t (0 at t = 0)."""
     return t * math.log(abs(t)) - t if t != 0 else 0.0
 
 
 @njit(cache=True)
 def _g1(t: float) -> float:
-    """Scalar _G1."""
+    """Antiderivative of t ln|t|: t^2 ln|t| / 2 - t^2 / 4 (0 at t = 0)."""
     return t * t * (0.5 * math.log(abs(t)) - 0.25) if t != 0 else 0.0
-
-
-@njit(cache=True)
-def _half_hat_scalar(j: float, e: float, side: int) -> float:
-    """Scalar _half_hat."""
-    if side > 0:
-        return ((j + e) / e) * (_g0(j + e) - _g0(j)) - (_g1(j + e) - _g1(j)) / e
-    return (_g1(j) - _g1(j - e)) / e + ((e - j) / e) * (_g0(j) - _g0(j - e))
-
-
-def _half_hat(j, e, side):
-    """int of ln|t| times a half hat from 1 at t = j to 0 at t = j + e (side +1) or j - e (side -1),
-    t in units of the spacing; e in (0, 1]. The full right half is e = 1."""
-    j = np.asarray(j, dtype=float)
-    if side > 0:
-        return ((j + e) / e) * (_G0(j + e) - _G0(j)) - (_G1(j + e) - _G1(j)) / e
-    return (_G1(j) - _G1(j - e)) / e + ((e - j) / e) * (_G0(j) - _G0(j - e))
-
-
-def influence_matrix(n_rows: int, n_cols: int, delta: float, k: float):
-    """Base influence matrix B[m, n] = -k int hat_n(zeta) ln(|xi_m - zeta| / delta) d zeta, m/Pa.
-
-    Rows and columns both index the grid nodes xi = (n - M) Delta (rows may run one node further, for
-    the leading-edge neighbour). Closed form through the antiderivatives of ln|t| and t ln|t|.
-    """
-    m = np.arange(n_rows)[:, None]
-    n = np.arange(n_cols)[None, :]
-    return -k * delta * _log_hat(n - m)
 
 
 @dataclass(frozen=True)
@@ -303,7 +242,7 @@ def rolling_grid(a_max: float, L: float, nodes: int):
 
 @njit(cache=True)
 def _log_hat_scalar(j):
-    """Compiled _log_hat for one node."""
+    """int over the unit hat centred at j of ln|t| dt (t in units of the spacing)."""
     left = (_g1(j) - _g1(j - 1.0)) + (1.0 - j) * (_g0(j) - _g0(j - 1.0))
     right = (j + 1.0) * (_g0(j + 1.0) - _g0(j)) - (_g1(j + 1.0) - _g1(j))
     return left + right

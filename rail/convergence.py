@@ -28,7 +28,7 @@ import numpy as np
 from . import growth, interaction, moving, wear
 
 __all__ = ["force_quantity", "wear_quantity", "growth_quantity", "force_error", "harmonic_error", "level_error_dB",
-           "observed_order", "pareto_front"]
+           "pareto_front"]
 
 WITHIN_DB = 40.0  # harmonics within this many dB of the largest are judged
 
@@ -86,12 +86,6 @@ def harmonic_error(Z, Z_ref, within_dB: float = WITHIN_DB, k_max: int | None = N
     b = np.asarray(Z_ref)[Kr + 1 : Kr + 1 + n]
     sel = np.abs(b) >= np.abs(b).max() * 10 ** (-within_dB / 20)
     return float(np.max(np.abs(a[sel] / b[sel] - 1)))
-
-
-def observed_order(errors, spacings) -> np.ndarray:
-    """Observed convergence orders log(e_i / e_{i+1}) / log(h_i / h_{i+1}) between successive grids."""
-    e, h = np.asarray(errors, float), np.asarray(spacings, float)
-    return np.log(e[:-1] / e[1:]) / np.log(h[:-1] / h[1:])
 
 
 def level_error_dB(Z, Z_ref, k_max: int | None = None, within_dB: float = WITHIN_DB) -> float:
