@@ -136,20 +136,31 @@ def full_slip_reference(f, amp, m, npts):
     return 2 * np.mean(w * np.exp(-2j * np.pi * x / lam)), w.mean()
 
 
+def work_harmonic(f, amp, m, span, steps, spin):
+    """Wear harmonic at the load frequency f under P0 (1 + amp cos 2 pi f t): the contact solved
+    over ``spin`` spans of spin-up and one measured span of length ``span`` (an integer number of
+    wavelengths) in ``steps`` steps; returns the complex harmonic (2 mean(w e^{-i 2 pi x / lambda}))
+    and the mean work over the measured span."""
+    lam = V / f
+    amax = float(C.hertz_half_length(P0 * (1 + amp), R, m))
+    delta = span / steps
+    M = int(np.ceil(amax * 1.02 / delta)) + 1
+    x = np.arange((spin + 1) * steps + 2 * M + 1) * delta
+    P = P0 * (1 + amp * np.cos(2 * np.pi * x / lam))
+    sol = C.solve_tangential(P, C.hertz_half_length(P, R, m), m, V, delta, M)
+    j = np.arange(spin * steps, (spin + 1) * steps) + M
+    xs = (j - M) * delta
+    w = sol.work[j]
+    return 2 * np.mean(w * np.exp(-2j * np.pi * xs / lam)), w.mean()
+
+
 def solver_harmonic(f, amp, nodes, m, spin=4):
     """Wear harmonic at the load frequency f over one wavelength after ``spin`` wavelengths."""
     lam = V / f
     amax = float(C.hertz_half_length(P0 * (1 + amp), R, m))
     n_per = int(np.ceil(lam * (nodes - 1) / (2 * amax)))
-    delta = lam / n_per
-    M = int(np.ceil(amax * 1.02 / delta)) + 1
-    x = np.arange((spin + 1) * n_per + 2 * M + 1) * delta
-    P = P0 * (1 + amp * np.cos(2 * np.pi * x / lam))
-    sol = C.solve_tangential(P, C.hertz_half_length(P, R, m), m, V, delta, M)
-    j = np.arange(spin * n_per, (spin + 1) * n_per) + M
-    xs = (j - M) * delta
-    w = sol.work[j]
-    return 2 * np.mean(w * np.exp(-2j * np.pi * xs / lam)), w.mean(), n_per
+    c, mean = work_harmonic(f, amp, m, lam, n_per, spin)
+    return c, mean, n_per
 
 
 def test_full_slip_wear_harmonic_converges_to_the_analytic_path_integral():
@@ -188,14 +199,7 @@ def averaged_harmonic(f, nodes, amp=0.3, spacings=4, Nw=4, spin_periods=2):
     out = []
     for j in range(spacings):
         Ns = int(round(period * (nodes - 1) / (2 * amax) + (j + 0.5) / spacings * period / a0))
-        delta = period / Ns
-        M = int(np.ceil(amax * 1.02 / delta)) + 1
-        x = np.arange((spin_periods + 1) * Ns + 2 * M + 1) * delta
-        P = P0 * (1 + amp * np.cos(2 * np.pi * x / lam))
-        sol = C.solve_tangential(P, C.hertz_half_length(P, R, m), m, V, delta, M)
-        idx = np.arange(spin_periods * Ns, (spin_periods + 1) * Ns) + M
-        xs = (idx - M) * delta
-        out.append(2 * np.mean(sol.work[idx] * np.exp(-2j * np.pi * xs / lam)))
+        out.append(work_harmonic(f, amp, m, period, Ns, spin_periods)[0])
     return np.mean(out)
 
 
