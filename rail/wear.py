@@ -10,7 +10,8 @@ Positions: rail points x_k = k Delta (k = 0..N_x - 1, x = 0 above a sleeper). Th
 solved from zero traction over a spin-up of SPIN_UP_TRANSITS patch transits (at most one bay)
 and then over the bay, whose points' work is used. A perturbation of the traction decays by a
 factor of 0.1 (default closure) to 0.5 (closure_scale 4, 41 nodes) per transit
-(docs/contact.md), so what is left of the start after 20 transits is below 1e-6 of the traction.
+(docs/contact.md), so what is left of the start after 20 transits is at most about 1e-6 of the
+traction (0.51^20 = 1.4e-6 in the slowest case).
 The change of the traction state over the bay is returned as a measure of periodicity.
 """
 
