@@ -49,6 +49,8 @@ __all__ = [
     "hertz_pressure",
     "carter",
     "TangentialSolution",
+    "ContactNumerics",
+    "MIN_NODES",
     "solve_tangential",
     "rolling_grid",
     "checkerboard_measure",
@@ -93,15 +95,40 @@ class ContactMaterial:
 
 
 def compliance(m: ContactMaterial) -> float:
-    """k = 4 (1 - nu^2) / (pi E), 1/Pa: both bodies together (eqs 29-31)."""
+    """Tangential compliance of both bodies together, k = 4 (1 - nu^2) / (pi E) (eqs 29-31).
+
+    Parameters
+    ----------
+    m : ContactMaterial
+
+    Returns
+    -------
+    float
+        k [1/Pa].
+    """
     return 4 * (1 - m.poisson_ratio**2) / (np.pi * m.youngs_modulus)
 
 
 def equivalent_radius(curvature, m: ContactMaterial):
-    """R from 1/R = 1/R_w + kappa (eq 24), m. kappa = -z'' (1/m).
+    """Equivalent radius R from 1/R = 1/R_w + kappa (eq 24).
 
-    Raises ContactError where the rail is concave more sharply than the wheel (z'' >= 1/R_w),
-    where the wheel touches at more than one point.
+    Parameters
+    ----------
+    curvature : float or ndarray
+        Rail-head curvature kappa = -z'' [1/m] (convex upwards positive).
+    m : ContactMaterial
+        Gives the wheel radius R_w [m].
+
+    Returns
+    -------
+    float or ndarray
+        R [m].
+
+    Raises
+    ------
+    ContactError
+        Where the rail is concave more sharply than the wheel (z'' >= 1/R_w): the wheel touches at
+        more than one point.
     """
     curvature = np.asarray(curvature, dtype=float)
     inv = 1.0 / m.wheel_radius + curvature
@@ -115,25 +142,77 @@ def equivalent_radius(curvature, m: ContactMaterial):
 
 
 def hertz_half_length(P, R, m: ContactMaterial):
-    """a = sqrt(4 (1 - nu^2) P R / (pi b E)), m (eq 23). P : N (>= 0), R : m."""
+    """Hertz contact half-length a = sqrt(4 (1 - nu^2) P R / (pi b E)) (eq 23).
+
+    Parameters
+    ----------
+    P : float or ndarray
+        Normal force [N]; negative values count as 0.
+    R : float or ndarray
+        Equivalent radius [m] (eq 24).
+    m : ContactMaterial
+
+    Returns
+    -------
+    float or ndarray
+        a [m].
+    """
     P = np.asarray(P, dtype=float)
     return np.sqrt(4 * (1 - m.poisson_ratio**2) * np.maximum(P, 0) * R / (np.pi * m.half_width * m.youngs_modulus))
 
 
 def hertz_pressure(xi, P, a, m: ContactMaterial):
-    """p = P / (pi a b) sqrt(1 - (xi/a)^2) inside the patch, 0 outside, Pa (eq 22)."""
+    """Hertz pressure p = P / (pi a b) sqrt(1 - (xi/a)^2) inside the patch, 0 outside (eq 22).
+
+    Parameters
+    ----------
+    xi : float or ndarray
+        Position in the patch from its centre [m], leading edge at +a.
+    P : float
+        Normal force [N].
+    a : float
+        Half-length [m].
+    m : ContactMaterial
+        Gives the half-width b [m].
+
+    Returns
+    -------
+    ndarray
+        p [Pa].
+    """
     xi = np.asarray(xi, dtype=float)
     r = np.clip(1 - (xi / a) ** 2, 0, None)
     return P / (np.pi * a * m.half_width) * np.sqrt(r)
 
 
 def carter(xi, P, m: ContactMaterial, speed: float, R: float):
-    """Carter's steady 2D rolling solution: (q, s, Q, c).
+    """Carter's steady 2D rolling solution (from eqs 26-30).
 
-    q : Pa, tangential traction at xi; s : m/s, slip velocity (0 in stick);
-    Q : N, total tangential force 2b int q; c : m, stick half-length (stick zone [a - 2c, a]).
-    Saturation (no stick) when |gamma| >= 4 (1 - nu^2) mu_d p0 / E. From eqs 26-30:
-    1 - c/a = |gamma| / (pi k mu p0), Q = mu P (1 - (c/a)^2), sign of q opposite to gamma.
+    1 - c/a = |gamma| / (pi k mu p0), Q = mu P (1 - (c/a)^2), the sign of q opposite to gamma.
+    Saturation (no stick) when |gamma| >= 4 (1 - nu^2) mu_d p0 / E.
+
+    Parameters
+    ----------
+    xi : float or ndarray
+        Positions in the patch [m], leading edge at +a.
+    P : float
+        Normal force [N].
+    m : ContactMaterial
+    speed : float
+        Rolling speed V [m/s].
+    R : float
+        Equivalent radius [m].
+
+    Returns
+    -------
+    q : ndarray
+        Tangential traction at xi [Pa].
+    s : ndarray
+        Slip velocity at xi [m/s] (0 in stick and outside the patch).
+    Q : float
+        Total tangential force 2b int q [N].
+    c : float
+        Stick half-length [m]; the stick zone is [a - 2c, a].
     """
     a = float(hertz_half_length(P, R, m))
     p0 = P / (np.pi * a * m.half_width)
@@ -207,12 +286,30 @@ class TangentialSolution:
 
 
 def checkerboard_measure(q, stick, p0, mu):
-    """Largest second difference of the traction inside the stick zones (at least three nodes from
-    a zone boundary), relative to mu p0. Used to stop the report's closure when it diverges: in
-    steady and slowly varying rolling the default closure keeps it <= 0.11 after the first
-    transit, the report's closure reaches 0.29-0.83. Fast load variations (1600 Hz) legitimately
-    reach 0.25 with the default closure, whose stability is shown by the perturbation test instead
-    (docs/contact.md)."""
+    """Largest second difference of the traction inside the stick zones, relative to mu p0.
+
+    Only nodes at least three nodes from a zone boundary count. Used to stop the report's closure
+    (eqs 32-33) when it diverges: in steady and slowly varying rolling the default closure keeps it
+    <= 0.11 after the first transit, the report's closure reaches 0.29-0.83. Fast load variations
+    (1600 Hz) legitimately reach 0.25 with the default closure, whose stability is shown by the
+    perturbation test instead (docs/contact.md).
+
+    Parameters
+    ----------
+    q : ndarray
+        Traction at the nodes [Pa].
+    stick : ndarray of bool
+        Stick nodes.
+    p0 : float
+        Peak Hertz pressure [Pa].
+    mu : float
+        Friction coefficient [-].
+
+    Returns
+    -------
+    float
+        max |q_{n+1} - 2 q_n + q_{n-1}| / (mu p0) over the stick-zone cores [-].
+    """
     core = stick.copy()
     core[1:] &= stick[:-1]
     core[:-1] &= stick[1:]
@@ -226,14 +323,56 @@ def checkerboard_measure(q, stick, p0, mu):
 CHECKERBOARD_LIMIT = 0.25
 
 
+MIN_NODES = 11  # fewest grid nodes across the patch (the schema's bound on numerics.contact.nodes; tested equal)
+CLOSURES = ("default", "report")
+
+
+@dataclass(frozen=True)
+class ContactNumerics:
+    """How the tangential contact is discretised and closed (config keys ``numerics.contact`` and
+    ``contact.closure``, ``contact.closure_scale``).
+
+    nodes         : grid nodes across the largest patch [-], >= MIN_NODES
+    closure       : 'default' (well-posed log kernel) or 'report' (eqs 32-33)
+    closure_scale : s, scale of the closure's rigid compliance [-], > 0
+    """
+
+    nodes: int
+    closure: str
+    closure_scale: float
+
+    def __post_init__(self):
+        if not isinstance(self.nodes, (int, np.integer)) or self.nodes < MIN_NODES:
+            raise ValueError(f"numerics.contact.nodes = {self.nodes!r} is not allowed: it must be an integer >= {MIN_NODES}.")
+        if self.closure not in CLOSURES:
+            raise ValueError(f"contact.closure = {self.closure!r} is not allowed: it must be one of {list(CLOSURES)}.")
+        if not (np.isfinite(self.closure_scale) and self.closure_scale > 0):
+            raise ValueError(f"contact.closure_scale = {self.closure_scale!r} is not allowed: it must be > 0.")
+
+
 def rolling_grid(a_max: float, L: float, nodes: int):
     """Grid spacing Delta = L / N_x with N_x integer, at least ``nodes`` nodes across 2 a_max.
 
-    Returns (delta, N_x, M) with M the index of the centre node; the grid has 2M + 1 nodes and
-    (2M + 1) Delta > 2 a_max.
+    Parameters
+    ----------
+    a_max : float
+        Largest contact half-length [m].
+    L : float
+        Bay length [m]; the spacing divides it.
+    nodes : int
+        Grid nodes across 2 a_max [-], >= MIN_NODES.
+
+    Returns
+    -------
+    delta : float
+        Grid spacing [m].
+    N_x : int
+        Grid spacings per bay [-].
+    M : int
+        Index of the centre node; the grid has 2M + 1 nodes and (2M + 1) Delta > 2 a_max.
     """
-    if nodes < 5:
-        raise ValueError(f"numerics.contact.nodes = {nodes} is not allowed: it must be >= 5.")
+    if nodes < MIN_NODES:
+        raise ValueError(f"numerics.contact.nodes = {nodes} is not allowed: it must be >= {MIN_NODES}.")
     Nx = int(np.ceil(L * (nodes - 1) / (2 * a_max)))
     delta = L / Nx
     M = int(np.ceil(a_max / delta)) + 1
@@ -329,9 +468,24 @@ _MOMENT_CACHE: dict = {}
 
 
 def chebyshev_hat_moments(n_off: int):
-    """M[j, x + n_off] = int_{-1}^{1} hat(t) T_j(t) ln|x - t| dt for integer x in [-n_off, n_off], j < _KMAX,
-    and mu[j] = int hat T_j (units of the spacing). Smooth cases by 40-point Gauss-Legendre on each half of
-    the hat, the three rows where the log is singular at an end of a half by the Gauss rule with the log weight."""
+    """Chebyshev moments of the hat functions against the log kernel of eq 29 (cached).
+
+    Smooth cases by 40-point Gauss-Legendre on each half of the hat, the three rows where the log is
+    singular at an end of a half by the Gauss rule with the log weight.
+
+    Parameters
+    ----------
+    n_off : int
+        Largest node offset [-].
+
+    Returns
+    -------
+    M : ndarray, shape (_KMAX, 2 n_off + 1)
+        M[j, x + n_off] = int_{-1}^{1} hat(t) T_j(t) ln|x - t| dt for integer x in [-n_off, n_off]
+        [in units of the grid spacing].
+    mu : ndarray, shape (_KMAX,)
+        mu[j] = int hat T_j [in units of the grid spacing].
+    """
     if n_off in _MOMENT_CACHE:
         return _MOMENT_CACHE[n_off]
     x, w = np.polynomial.legendre.leggauss(40)
@@ -1057,13 +1211,42 @@ def _checkerboard_nb(q, stick, inside, p0, mu):
 
 def solve_tangential(P, a, m: ContactMaterial, speed: float, delta: float, M: int, closure: str = "default",
                      closure_scale: float = 1.0, q0=None, max_iter: int = 200) -> TangentialSolution:
-    """Time-step the unsteady 2D rolling contact over len(P) steps of Delta = V dt.
+    """Time-step the unsteady 2D rolling contact over len(P) steps of Delta = V dt (eqs 26-33).
 
-    P, a : normal force (N) and half-length (m) at each step; the patch is [-a, a] on the
-    fixed grid xi_n = (n - M) Delta, n = 0..2M. q0 : initial traction at the nodes (default 0).
-    closure : 'default' (log kernel with l = (a/2) exp(2 s / pi), s = closure_scale) or 'report'
-    (eqs 32-33, u(0) = q(0)/sigma with 1/sigma scaled by closure_scale).
+    Parameters
+    ----------
+    P, a : ndarray
+        Normal force [N] and half-length [m] at each step; the patch is [-a, a] on the fixed grid
+        xi_n = (n - M) Delta, n = 0..2M.
+    m : ContactMaterial
+    speed : float
+        Rolling speed V [m/s].
+    delta : float
+        Grid spacing Delta = V dt [m].
+    M : int
+        Index of the centre node [-]; M Delta must exceed every a.
+    closure : str
+        'default' (log kernel with l = (a/2) exp(2 s / pi), s = closure_scale) or 'report'
+        (eqs 32-33, u(0) = q(0)/sigma with 1/sigma scaled by closure_scale).
+    closure_scale : float
+        s [-].
+    q0 : ndarray, optional
+        Initial traction at the nodes [Pa] (default 0).
+    max_iter : int
+        Largest number of active-set iterations per step.
 
+    Returns
+    -------
+    TangentialSolution
+
+    Raises
+    ------
+    ContactError
+        When the stick/slip iteration does not converge, the traction is not finite, or the
+        report's closure diverges (checkerboard_measure above CHECKERBOARD_LIMIT).
+
+    Notes
+    -----
     Each step (eqs 26-33, module docstring): the stick equations E q = h hold on the stick nodes,
     where a regular particle keeps u_m(t) = u_{m+1}(t - dt) - gamma Delta and the particle that
     entered in the last step has stuck since it crossed xi = a at t_e, with the surface displacement
@@ -1075,8 +1258,8 @@ def solve_tangential(P, a, m: ContactMaterial, speed: float, delta: float, M: in
     The time loop is compiled with numba (``_march``); ``tests/reference/contact_numpy.py`` holds
     the same scheme in numpy, and the tests check the two agree step by step.
     """
-    if closure not in ("default", "report"):
-        raise ValueError(f"contact.closure = {closure!r} is not allowed: it must be 'default' or 'report'.")
+    if closure not in CLOSURES:
+        raise ValueError(f"contact.closure = {closure!r} is not allowed: it must be one of {list(CLOSURES)}.")
     P = np.ascontiguousarray(P, dtype=float)
     a = np.ascontiguousarray(a, dtype=float)
     if np.any(a >= M * delta):
@@ -1113,7 +1296,35 @@ def perturbation_growth(m: ContactMaterial, P: float, speed: float, nodes: int, 
                         closure_scale: float = 1.0, L: float = 0.6, eps: float = 1e-6, transits: int = 8,
                         spin_up: int = 12, seed: int = 1) -> float:
     """Well-posedness measure of the unsteady tangential problem: growth factor per patch transit
-    (2a / V) of a small perturbation of the steady rolling state, constant load P (N).
+    (2a / V) of a small perturbation of the steady rolling state under a constant load.
+
+    Parameters
+    ----------
+    m : ContactMaterial
+    P : float
+        Normal force [N].
+    speed : float
+        Rolling speed [m/s].
+    nodes : int
+        Grid nodes across the patch [-].
+    closure, closure_scale : str, float
+        The closure under test (solve_tangential).
+    L : float
+        Bay length [m] (the grid spacing divides it).
+    eps : float
+        Relative size of the perturbation [-].
+    transits, spin_up : int
+        Patch transits measured, and of spin-up to the steady state [-].
+    seed : int
+        Random seed of the perturbation.
+
+    Returns
+    -------
+    float
+        Growth factor per transit [-]: below 1 perturbations decay (well-posed).
+
+    Notes
+    -----
 
     The discrete steady state is computed with the default closure (the closures differ only by a
     rigid term that is constant in steady rolling, so it is the fixed point of every closure). A

@@ -69,7 +69,25 @@ class ThirdOctaveBands:
 
 
 def third_octave_bands(f_min: float = 100.0, f_max: float = 5000.0) -> ThirdOctaveBands:
-    """The one-third-octave bands whose nominal centres lie in [f_min, f_max] (Hz)."""
+    """The one-third-octave bands (base-10, IEC 61260) whose nominal centres lie in [f_min, f_max].
+
+    Parameters
+    ----------
+    f_min : float, optional
+        Lowest nominal centre frequency [Hz]; default 100.
+    f_max : float, optional
+        Highest nominal centre frequency [Hz]; default 5000.
+
+    Returns
+    -------
+    ThirdOctaveBands
+        Nominal and exact centre frequencies and band edges [Hz].
+
+    Raises
+    ------
+    ValueError
+        If no band has its nominal centre in [f_min, f_max].
+    """
     n = np.arange(-30, 31)  # 1 Hz to 1 MHz
     centre = 1000.0 * 10 ** (n / 10)
     nominal = np.array([NOMINAL_THIRD_OCTAVE_CENTRES[i % 10] * 10.0 ** (i // 10 - 1) for i in n + 20])
@@ -81,9 +99,30 @@ def third_octave_bands(f_min: float = 100.0, f_max: float = 5000.0) -> ThirdOcta
 
 
 def band_frequencies(lower, upper, per_band: int) -> np.ndarray:
-    """Frequencies averaged in each band, Hz, shape (bands, per_band): the midpoints of
-    ``per_band`` equal parts of [lower, upper] (equal weight in linear frequency, like the
-    lines of a narrow-band spectrum that a measurement averages over the band)."""
+    """Frequencies averaged in each band: the midpoints of ``per_band`` equal parts of [lower, upper].
+
+    Equal weight in linear frequency, like the lines of a narrow-band spectrum that a measurement
+    averages over the band.
+
+    Parameters
+    ----------
+    lower : array_like, shape (bands,)
+        Lower band edges [Hz].
+    upper : array_like, shape (bands,)
+        Upper band edges [Hz].
+    per_band : int
+        Frequencies per band [-], >= 1.
+
+    Returns
+    -------
+    ndarray, shape (bands, per_band)
+        Frequencies [Hz].
+
+    Raises
+    ------
+    ValueError
+        If per_band is not an integer >= 1.
+    """
     if int(per_band) != per_band or per_band < 1:
         raise ValueError(f"per_band = {per_band!r} is not allowed: it must be an integer >= 1.")
     lower = np.asarray(lower, dtype=float)[:, None]
@@ -96,27 +135,44 @@ SCHEMES = ("en15461", "bay_sampled")
 
 
 def decay_distances(spacing: float, max_bays: float = 128.0, scheme: str = "en15461") -> np.ndarray:
-    """Response positions for the decay rate, m from the excitation point: fine near it, coarser
-    further out.
+    """Response positions for the decay rate from the excitation point: fine near it, coarser further out.
 
     In sleeper bays L: steps of L/4 up to 4 L (the sleeper and the mid-span part of each bay near
     the source, where the near field and the bay-periodic pattern matter), L/2 up to 8 L, L up to
     32 L, then 16 positions per doubling of distance (steps of 2 L to 64 L, 4 L to 128 L, 8 L to
     256 L, ...), up to ``max_bays`` L.
 
-    scheme "en15461"     : beyond 8 L the positions are whole bays from the excitation point, so
-                           they sit at the same place in the bay as the excitation point (taken to
-                           be the practice of EN 15461 measurements, whose far positions are whole
-                           numbers of bays; the standard's own list is not reproduced here).
-                           Near the pinned-pinned frequency this aliases the bay-periodic pattern:
-                           Table 1 track, 1 kHz band, 0.81 dB/m above a sleeper and 1.22 dB/m at
-                           mid-span, against 0.60 and 1.63 dB/m with the whole bay sampled.
-    scheme "bay_sampled" : beyond 8 L the k-th position is moved on by (k mod 4) L / 4, so four
-                           consecutive positions sample four places in the bay and the sum
-                           integrates the bay-averaged response (no aliasing of the bay-periodic
-                           pattern, which near the pinned-pinned frequency is strong); within
-                           3 % of a reference with positions every L/16 to 16 L and every L/4 to
-                           64 L (Table 1 track, bands 0.8 to 5 kHz).
+    Scheme "en15461": beyond 8 L the positions are whole bays from the excitation point, so they
+    sit at the same place in the bay as the excitation point (taken to be the practice of EN 15461
+    measurements, whose far positions are whole numbers of bays; the standard's own list is not
+    reproduced here).  Near the pinned-pinned frequency this aliases the bay-periodic pattern:
+    Table 1 track, 1 kHz band, 0.81 dB/m above a sleeper and 1.22 dB/m at mid-span, against 0.60
+    and 1.63 dB/m with the whole bay sampled.
+
+    Scheme "bay_sampled": beyond 8 L the k-th position is moved on by (k mod 4) L / 4, so four
+    consecutive positions sample four places in the bay and the sum integrates the bay-averaged
+    response (no aliasing of the bay-periodic pattern, which near the pinned-pinned frequency is
+    strong); within 3 % of a reference with positions every L/16 to 16 L and every L/4 to 64 L
+    (Table 1 track, bands 0.8 to 5 kHz).
+
+    Parameters
+    ----------
+    spacing : float
+        Sleeper spacing L [m].
+    max_bays : float, optional
+        Extent of the positions [-] (number of sleeper bays), >= 8; default 128.
+    scheme : str, optional
+        "en15461" (default) or "bay_sampled" (one of SCHEMES), see above.
+
+    Returns
+    -------
+    ndarray
+        Distances from the excitation point [m], increasing from 0.
+
+    Raises
+    ------
+    ValueError
+        If scheme is not one of SCHEMES, or if max_bays < 8.
     """
     if scheme not in SCHEMES:
         raise ValueError(f"scheme = {scheme!r} is not allowed: it must be one of {', '.join(SCHEMES)}.")
@@ -136,8 +192,25 @@ def decay_distances(spacing: float, max_bays: float = 128.0, scheme: str = "en15
 
 
 def trapezoid_weights(distances) -> np.ndarray:
-    """dx_n of the EN 15461 sum, m: half the distance to each neighbour (trapezoidal rule), so the
-    sum integrates |A|^2 exactly for a piecewise-linear response; distances start at 0."""
+    """Weights dx_n of the EN 15461 sum: half the distance to each neighbour (trapezoidal rule).
+
+    The sum then integrates |A|^2 exactly for a piecewise-linear response.
+
+    Parameters
+    ----------
+    distances : array_like
+        Response positions from the excitation point [m]: 1-D, increasing, starting at 0.
+
+    Returns
+    -------
+    ndarray
+        dx_n [m], shape of ``distances``.
+
+    Raises
+    ------
+    ValueError
+        If distances is not a 1-D increasing array of at least two values starting at 0.
+    """
     d = np.asarray(distances, dtype=float)
     if d.ndim != 1 or len(d) < 2 or d[0] != 0.0 or np.any(np.diff(d) <= 0):
         raise ValueError("distances must be a 1-D increasing array starting at 0 (the excitation point), m.")
@@ -149,11 +222,26 @@ def trapezoid_weights(distances) -> np.ndarray:
 
 
 def en15461_decay_rate(distances, squared_transfer) -> np.ndarray:
-    """Decay rate DR = 4.343 / sum_n (|A(x_n)|^2 / |A(x_0)|^2) dx_n, dB/m (EN 15461).
+    """Decay rate DR = 4.343 / sum_n (|A(x_n)|^2 / |A(x_0)|^2) dx_n (EN 15461).
 
-    distances        : m, (positions,), from the excitation point: 0 first, increasing
-    squared_transfer : m^2/N^2 (or any unit), (..., positions): band-averaged |A(x_n)|^2
-    Returns an array of shape (...).
+    4.343 = 10 log10(e); dx_n are the trapezoidal weights (``trapezoid_weights``).
+
+    Parameters
+    ----------
+    distances : array_like, shape (positions,)
+        Positions from the excitation point [m]: 0 first, increasing.
+    squared_transfer : array_like, shape (..., positions)
+        Band-averaged |A(x_n)|^2 [m^2/N^2] (or any unit: only ratios enter).
+
+    Returns
+    -------
+    ndarray, shape (...)
+        Decay rate DR [dB/m].
+
+    Raises
+    ------
+    ValueError
+        If distances is not a 1-D increasing array starting at 0 (``trapezoid_weights``).
     """
     p = np.asarray(squared_transfer, dtype=float)
     ratio = p / p[..., :1]
@@ -161,14 +249,29 @@ def en15461_decay_rate(distances, squared_transfer) -> np.ndarray:
 
 
 def band_averaged_squared_transfer(track: Track, x0: float, distances, frequencies, rtol: float = 1e-6) -> np.ndarray:
-    """Mean of |A(x0 + d_n, x0; f)|^2 over the frequencies of each band, m^2/N^2.
+    """Mean of |A(x0 + d_n, x0; f)|^2 over the frequencies of each band.
 
-    x0          : m, excitation point measured from a support
-    distances   : m, (positions,), response points x0 + d_n
-    frequencies : Hz, (bands, per_band), e.g. from ``band_frequencies``
-    rtol        : relative tolerance of the zone quadrature of ``stationary_receptance`` (its
-                  error is relative to the largest response, near the source)
-    Returns (bands, positions).
+    A is the transfer receptance of the periodically supported rail
+    (``rail.track.stationary_receptance``).
+
+    Parameters
+    ----------
+    track : Track
+        The track.
+    x0 : float
+        Excitation point [m], measured from a support.
+    distances : array_like, shape (positions,)
+        Distances d_n [m] of the response points x0 + d_n.
+    frequencies : array_like, shape (bands, per_band)
+        Frequencies [Hz], e.g. from ``band_frequencies``.
+    rtol : float, optional
+        Relative tolerance of the zone quadrature of ``stationary_receptance`` [-] (its error is
+        relative to the largest response, near the source); default 1e-6.
+
+    Returns
+    -------
+    ndarray, shape (bands, positions)
+        Band-averaged |A|^2 [m^2/N^2].
     """
     x = x0 + np.asarray(distances, dtype=float)
     f = np.asarray(frequencies, dtype=float)
@@ -221,22 +324,50 @@ def track_decay_rate(
     max_bays: float = 1024.0,
     rtol: float = 1e-6,
 ) -> DecayRate:
-    """Vertical track decay rate in the one-third-octave bands from f_min to f_max (Hz), EN 15461.
+    """Vertical track decay rate in the one-third-octave bands from f_min to f_max, EN 15461 estimator.
 
-    excitation      : m, excitation points x_0 from a support (default: above a sleeper, 0, and at
-                      mid-span, L/2)
-    per_band        : frequencies averaged per band (``band_frequencies``).  Table 1 track, bands
-                      1, 2, 3.15 and 5 kHz: 16 per band is within 3 % of 64 (the worst is the
-                      1 kHz band excited at mid-span, which holds the narrow pinned-pinned
-                      resonance), 32 within 0.1 %, 8 within 7 %
-    distances       : m, one set of response positions from x_0 (0 first), scheme "custom".
-                      Default: both schemes of ``decay_distances`` out to 128 bays, doubled until
-                      the band-averaged response has fallen by ``min_attenuation`` dB at the last
-                      position in every band or ``max_bays`` is reached
-    min_attenuation : dB, wanted fall of the response at the last position (the sum then misses a
-                      fraction of about 10^(-min_attenuation/10) of its value)
-    Raises ValueError if, with the default distances, the response has fallen by less than 30 dB
-    at ``max_bays`` bays (the sum would be truncated noticeably).
+    The band-averaged transfer receptances of the track model (``band_averaged_squared_transfer``)
+    enter the EN 15461 sum (``en15461_decay_rate``) for each excitation point and each set of
+    response positions.
+
+    Parameters
+    ----------
+    track : Track
+        The track.
+    excitation : array_like, optional
+        Excitation points x_0 [m] from a support; default: above a sleeper, 0, and at mid-span, L/2.
+    f_min : float, optional
+        Lowest nominal band centre [Hz]; default 100.
+    f_max : float, optional
+        Highest nominal band centre [Hz]; default 5000.
+    per_band : int, optional
+        Frequencies averaged per band [-] (``band_frequencies``); default 16.  Table 1 track, bands
+        1, 2, 3.15 and 5 kHz: 16 per band is within 3 % of 64 (the worst is the 1 kHz band excited
+        at mid-span, which holds the narrow pinned-pinned resonance), 32 within 0.1 %, 8 within 7 %.
+    distances : array_like, optional
+        One set of response positions from x_0 [m] (0 first), scheme "custom".  Default: both
+        schemes of ``decay_distances`` out to 128 bays, doubled until the band-averaged response has
+        fallen by ``min_attenuation`` dB at the last position in every band or ``max_bays`` is reached.
+    min_attenuation : float, optional
+        Wanted fall of the response at the last position [dB]; default 40.  The sum then misses a
+        fraction of about 10^(-min_attenuation/10) of its value.
+    max_bays : float, optional
+        Largest extent of the default positions [-] (number of sleeper bays); default 1024.
+    rtol : float, optional
+        Relative tolerance of the zone quadrature of ``stationary_receptance`` [-]; default 1e-6.
+
+    Returns
+    -------
+    DecayRate
+        Decay rates [dB/m] per scheme, excitation point and band, with the levels [dB], positions
+        [m] and weights [m] they come from.
+
+    Raises
+    ------
+    ValueError
+        If, with the default distances, the response has fallen by less than 30 dB at ``max_bays``
+        bays (the sum would be truncated noticeably); also if no band lies in [f_min, f_max] or
+        per_band is not an integer >= 1.
     """
     L = track.L
     x0 = np.atleast_1d(np.asarray([0.0, L / 2] if excitation is None else excitation, dtype=float))
@@ -302,11 +433,30 @@ _HEADER = ("band_centre_Hz", "decay_rate_dB_per_m")
 
 
 def read_measured_decay_rate(path) -> MeasuredDecayRate:
-    """Read a measured track decay rate from a CSV file with the header line
-    ``band_centre_Hz,decay_rate_dB_per_m`` and one band per line (Hz, dB/m, both > 0).
+    """Read a measured track decay rate from a CSV file.
 
-    Blank lines and lines starting with '#' are skipped.  Errors name the file and the line:
-    ``config/measured/default_decay_rate.csv, line 4: decay_rate_dB_per_m = 'n/a' is not a number.``
+    The file has the header line ``band_centre_Hz,decay_rate_dB_per_m`` and one band per line
+    (Hz, dB/m, both > 0).  Blank lines and lines starting with '#' are skipped.  The bands are
+    returned in order of increasing centre frequency.
+
+    Parameters
+    ----------
+    path : str or path-like
+        The CSV file.
+
+    Returns
+    -------
+    MeasuredDecayRate
+        Band centres [Hz], decay rates [dB/m] and the source path.
+
+    Raises
+    ------
+    ValueError
+        If the file is empty, the header is wrong, there are no data lines, a line does not hold two
+        values, or a value is not a number or not > 0.  Errors name the file and the line:
+        ``config/measured/default_decay_rate.csv, line 4: decay_rate_dB_per_m = 'n/a' is not a number.``
+    OSError
+        If the file cannot be opened.
     """
     path = Path(path)
     where = str(path)

@@ -1,10 +1,12 @@
 """Roughness growth over many wheel passages, with progress and resumable checkpoints (sec. 5).
 
 One update:
-1. compute the normal forces of every wheel for the current roughness (rail.interaction);
-2. let the wheels roll over the bay in turn, leading wheel first, each on the profile the one
-   before it left (rail.wear), and sum their wear over one train passage;
-3. remove that wear ``passages_per_update / n_wheels`` times (eq 54, Delta Z_0 = 0).
+1. compute the wear of one train passage at the current roughness (rail.chain.train_wear: the
+   normal forces of every wheel, then the wheels roll over the bay in turn, leading wheel first,
+   each on the profile the one before it left);
+2. remove that wear ``passages_per_update / n_wheels`` times (eq 54, Delta Z_0 = 0).
+This module is the integrator (steps, error estimates, checkpoints); the model it integrates is
+handed in as a function.
 
 Passages are counted as wheel passages, as in the report ("one passage of the two bogies equals
 four wheel passages"). The roughness is saved every ``save_every`` wheel passages. Levels are
@@ -33,10 +35,7 @@ from pathlib import Path
 
 import numpy as np
 
-from .contact import ContactMaterial
-from .interaction import ContactSpring, Roughness, Wheels, solve_forces
-from .moving import MovingReceptance
-from .wear import apply_wear, bay_wear
+from .interaction import Roughness
 
 __all__ = ["GrowthSettings", "GrowthHistory", "GrowthStepError", "grid_phase", "levels_dB", "run_growth", "step_error"]
 
@@ -44,34 +43,43 @@ GOLDEN = (np.sqrt(5) - 1) / 2
 
 
 def grid_phase(update: int) -> float:
-    """Contact grid phase of an update (rail.wear.bay_wear grid_phase): a golden-ratio
-    (low-discrepancy) sequence over [0, 1), each value used for two successive updates, so that
-    every second update's error estimate compares two wear rates on the same grid (a difference
-    between grids would be the grid-tied error, not the update error)."""
+    """Contact grid phase of an update (rail.wear.bay_wear grid_phase).
+
+    A golden-ratio (low-discrepancy) sequence over [0, 1), each value used for two successive
+    updates, so that every second update's error estimate compares two wear rates on the same grid
+    (a difference between grids would be the grid-tied error, not the update error).
+
+    Parameters
+    ----------
+    update : int
+        Update number from 0 [-].
+
+    Returns
+    -------
+    float
+        Phase in [0, 1) [-].
+    """
     return float(((update // 2) * GOLDEN) % 1.0)
 
 
 @dataclass(frozen=True)
 class GrowthSettings:
-    """passages          : total wheel passages
-    passages_per_update  : wheel passages whose wear is applied per force/contact update
-    save_every           : wheel passages between saved profiles (a multiple of passages_per_update)
-    nodes                : contact grid nodes across the largest patch
-    closure, closure_scale : tangential contact closure (rail.contact)
+    """Growth-loop settings (config key ``growth``).
+
+    passages             : total wheel passages [-]
+    passages_per_update  : wheel passages whose wear is applied per force/contact update [-]
+    save_every           : wheel passages between saved profiles (a multiple of passages_per_update) [-]
     vary_grid_spacing    : vary the contact grid spacing between updates so that a / Delta sweeps
                            one unit (averages the grid-tied error; rail.wear.bay_wear grid_phase)
     step_tolerance       : largest accepted estimate of one update's error, relative to the
-                           roughness (see run_growth); a larger one stops the run with an error
+                           roughness [-] (see run_growth); a larger one stops the run with an error
     """
 
     passages: int
     passages_per_update: int
     save_every: int
-    nodes: int = 61
-    closure: str = "default"
-    closure_scale: float = 1.0
-    vary_grid_spacing: bool = True
-    step_tolerance: float = 0.05
+    vary_grid_spacing: bool
+    step_tolerance: float
 
     def __post_init__(self):
         if self.passages_per_update < 1 or self.passages < self.passages_per_update:
@@ -100,23 +108,26 @@ class GrowthHistory:
 
 
 def levels_dB(Z):
-    """rms roughness level of each harmonic k >= 1 in dB re 1 um: 20 log10(sqrt(2) |Z_k| / 1e-6)."""
+    """rms roughness level of each harmonic k >= 1, 20 log10(sqrt(2) |Z_k| / 1e-6).
+
+    Parameters
+    ----------
+    Z : ndarray, shape (..., 2K + 1)
+        Roughness coefficients k = -K..K [m] (eq 18).
+
+    Returns
+    -------
+    ndarray, shape (..., K)
+        Levels [dB re 1 µm]; a zero harmonic gives -480 dB (floor 1e-30 m).
+    """
     Z = np.asarray(Z)
     K = (Z.shape[-1] - 1) // 2
     rms = np.sqrt(2) * np.abs(Z[..., K + 1 :])
     return 20 * np.log10(np.maximum(rms, 1e-30) / 1e-6)
 
 
-def _code_hash() -> str:
-    """Hash of the physics source, so a checkpoint written by other code is never resumed."""
-    h = hashlib.sha256()
-    for f in sorted(Path(__file__).parent.glob("*.py")):
-        h.update(f.read_bytes())
-    return h.hexdigest()[:16]
-
-
 def _fingerprint(obj) -> str:
-    return hashlib.sha256(json.dumps({"run": obj, "code": _code_hash()}, sort_keys=True, default=str).encode()).hexdigest()[:16]
+    return hashlib.sha256(json.dumps({"run": obj}, sort_keys=True, default=str).encode()).hexdigest()[:16]
 
 
 def _save_checkpoint(path: Path, fingerprint: str, done: int, Z, history: GrowthHistory, update: int, rate):
@@ -133,8 +144,24 @@ class GrowthStepError(RuntimeError):
 
 
 def step_error(rate_before, rate_after, Z_after, train_passages: float) -> float:
-    """Estimated local error of one explicit update Z' = Z - h W(Z), relative to the roughness.
+    """Estimated local error of one explicit update Z' = Z - h W(Z) (eq 54), relative to the roughness.
 
+    Parameters
+    ----------
+    rate_before, rate_after : ndarray
+        Wear per train passage W(Z), W(Z') [m].
+    Z_after : ndarray
+        Roughness Z' after the update [m].
+    train_passages : float
+        Train passages h per update [-].
+
+    Returns
+    -------
+    float
+        (h / 2) |W(Z') - W(Z)| / |Z'| (L2 norms over the harmonics) [-].
+
+    Notes
+    -----
     The error of the update is (h / 2) |W(Z') - W(Z)| to leading order (the step is first
     order), with h the train passages per update and W the wear per train passage (m). Its L2
     norm over the harmonics is divided by that of the roughness Z'. The next update computes
@@ -145,15 +172,9 @@ def step_error(rate_before, rate_after, Z_after, train_passages: float) -> float
 
 
 def run_growth(
-    table: MovingReceptance,
-    wheels: Wheels,
-    contact: ContactSpring,
-    material: ContactMaterial,
-    density: float,
-    wear_coefficient: float,
+    train_wear,
     roughness: Roughness,
-    beta0: float,
-    L: float,
+    n_wheels: int,
     settings: GrowthSettings,
     checkpoint: str | Path | None = None,
     identity: dict | None = None,
@@ -161,24 +182,48 @@ def run_growth(
     stop_after_updates: int | None = None,
     on_mismatch: str = "error",
 ) -> GrowthHistory:
-    """Grow the roughness over ``settings.passages`` wheel passages.
+    """Grow the roughness over ``settings.passages`` wheel passages (sec. 5, eq 54).
 
-    checkpoint : file to resume from and to write (atomically) at every save. A checkpoint written
-    for a different ``identity`` (the resolved configuration) or by different physics code is
-    never reused: on_mismatch = 'error' raises, 'restart' discards it and starts afresh.
-    stop_after_updates : stop early (for tests of the resume path).
+    Parameters
+    ----------
+    train_wear : callable
+        ``train_wear(Z, grid_phase) -> (dZ, full_slip)``: the wear coefficients Delta Z_k [m] of one
+        train passage at roughness Z [m] with the contact grid at ``grid_phase`` (rail.wear.bay_wear),
+        and the largest fraction of the bay without a stick zone [-] (rail.chain.train_wear).
+    roughness : Roughness
+        Initial roughness [m].
+    n_wheels : int
+        Wheels per train: a train passage is n_wheels wheel passages.
+    settings : GrowthSettings
+    checkpoint : path, optional
+        File to resume from and to write (atomically) at every save. A checkpoint written for a
+        different ``identity``, settings or initial roughness is never reused: on_mismatch = 'error'
+        raises, 'restart' discards it and starts afresh.
+    identity : dict, optional
+        What else the run depends on, JSON-serialisable: rail.chain.grow puts in the scenario, the
+        speed and the hash of the physics code (rail.provenance), so that a checkpoint written by
+        other code is never resumed.
+    progress : file
+        Where progress lines go.
+    stop_after_updates : int, optional
+        Stop early (for tests of the resume path).
 
-    Checks: each update's local error is estimated (step_error) and a value above
-    settings.step_tolerance stops the run with GrowthStepError, naming a step that would pass;
-    the wear rate is evaluated once more after the last update for this. Force, traction and
-    wear are checked finite where they are computed; contact loss and multiple contact raise
-    their errors (rail.interaction, rail.contact). Updates with no stick zone over part of the
-    bay (full slip) are reported to ``progress`` and kept in the history.
+    Returns
+    -------
+    GrowthHistory
+
+    Notes
+    -----
+    Each update's local error is estimated (step_error) and a value above settings.step_tolerance
+    stops the run with GrowthStepError, naming a step that would pass; the wear rate is evaluated
+    once more after the last update for this. Force, traction and wear are checked finite where
+    they are computed; contact loss and multiple contact raise their errors (rail.interaction,
+    rail.contact). Updates with no stick zone over part of the bay (full slip) are reported to
+    ``progress`` and kept in the history.
     """
-    n_wheels = len(wheels.positions)
-    order = np.argsort(wheels.positions)[::-1]  # the leading wheel (largest position) passes first
     train_passages_per_update = settings.passages_per_update / n_wheels
-    fp = _fingerprint({"identity": identity, "settings": settings.__dict__ if hasattr(settings, "__dict__") else str(settings)})
+    fp = _fingerprint({"identity": identity, "settings": settings.__dict__,
+                       "roughness": hashlib.sha256(np.ascontiguousarray(roughness.Z, dtype=complex).tobytes()).hexdigest()})
     Z = roughness.Z.astype(complex).copy()
     history = GrowthHistory(np.array([0]), Z[None, :].copy())
     done, update = 0, 0
@@ -199,19 +244,9 @@ def run_growth(
     def same_grid(u1, u2):
         return not settings.vary_grid_spacing or grid_phase(u1) == grid_phase(u2)
 
-    def train_wear(Z, update):
-        """Wear per train passage at roughness Z (each wheel on the profile the one before left)."""
-        rough = Roughness(Z)
-        forces = solve_forces(table, wheels, contact, rough, beta0, L)
-        phase = grid_phase(update) if settings.vary_grid_spacing else 0.0
-        dZ = np.zeros_like(Z)
-        current, slip = rough, 0.0
-        for l in order:
-            w = bay_wear(forces, int(l), current, material, density, wear_coefficient, beta0, L, nodes=settings.nodes,
-                         closure=settings.closure, closure_scale=settings.closure_scale, grid_phase=phase)
-            dZ += w.Z
-            slip = max(slip, w.full_slip)
-            current = apply_wear(current, w.Z)
+    def wear_rate(Z, update):
+        """Wear per train passage at roughness Z on the grid of ``update``."""
+        dZ, slip = train_wear(Z, grid_phase(update) if settings.vary_grid_spacing else 0.0)
         if slip > 0:
             print(f"warning: no stick zone in the contact over {100 * slip:.1f} % of the bay at {done} passages "
                   "(full slip: saturated creepage or fast unloading; the traction is mu_d p there)", file=progress, flush=True)
@@ -233,7 +268,7 @@ def run_growth(
     t0, done0 = time.perf_counter(), done
     n_updates = 0
     while done < settings.passages:
-        dZ_train, slip = train_wear(Z, update)
+        dZ_train, slip = wear_rate(Z, update)
         if rate_before is not None:
             if same_grid(update - 1, update):
                 check(rate_before, dZ_train, Z, done)
@@ -257,7 +292,7 @@ def run_growth(
         if stop_after_updates is not None and n_updates >= stop_after_updates:
             return history
     if rate_before is not None:
-        dZ_end, _ = train_wear(Z, update - 1)  # on the last update's grid, for a clean estimate
+        dZ_end, _ = wear_rate(Z, update - 1)  # on the last update's grid, for a clean estimate
         check(rate_before, dZ_end, Z, done)
         print(f"largest estimated update error {100 * np.nanmax(history.step_error):.3g} % of the roughness "
               f"(growth.step_tolerance {100 * settings.step_tolerance:g} %)", file=progress, flush=True)

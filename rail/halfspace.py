@@ -93,7 +93,23 @@ class HalfSpaceNumerics:
 
 
 def lame_constants(material: ElasticMaterial):
-    """Lamé constants (lambda, mu) in Pa (report eq 6); complex if the material is damped."""
+    """Lamé constants lambda and mu of the material (report eq 6).
+
+    lambda = nu E / ((1 + nu) (1 - 2 nu)), mu = E / (2 (1 + nu)), with E replaced by E (1 + i eta)
+    if the material is damped (loss factor eta > 0); the constants are then complex.
+
+    Parameters
+    ----------
+    material : ElasticMaterial
+        The half-space material.
+
+    Returns
+    -------
+    lam : float or complex
+        First Lamé constant lambda [Pa]; complex if the material is damped.
+    mu : float or complex
+        Second Lamé constant (shear modulus) mu [Pa]; complex if the material is damped.
+    """
     E = material.youngs_modulus * (1 + 1j * material.loss_factor)
     nu = material.poisson_ratio
     lam = nu * E / ((1 + nu) * (1 - 2 * nu))
@@ -104,16 +120,48 @@ def lame_constants(material: ElasticMaterial):
 
 
 def wave_speeds(material: ElasticMaterial):
-    """P- and S-wave speeds (c1, c2) in m/s (report eq 7); complex if damped."""
+    """P- and S-wave speeds c1, c2 of the material (report eq 7).
+
+    c1 = sqrt((lambda + 2 mu) / rho), c2 = sqrt(mu / rho), with the Lamé constants of eq (6)
+    (``lame_constants``).
+
+    Parameters
+    ----------
+    material : ElasticMaterial
+        The half-space material.
+
+    Returns
+    -------
+    c1 : float or complex
+        P-wave speed [m/s]; complex if the material is damped.
+    c2 : float or complex
+        S-wave speed [m/s]; complex if the material is damped.
+    """
     lam, mu = lame_constants(material)
     return np.sqrt((lam + 2 * mu) / material.density), np.sqrt(mu / material.density)
 
 
 def rayleigh_speed_ratio(poisson_ratio: float) -> float:
-    """c_R / c_2, the root in (0, 1) of the Rayleigh equation (report eq 12).
+    """Rayleigh-wave speed ratio c_R / c_2, the root in (0, 1) of the Rayleigh equation (report eq 12).
 
     Eq (12) is a cubic in x = (c_R/c_2)^2: x^3 - 8 x^2 + 8 (2-nu)/(1-nu) x - 8/(1-nu) = 0.
     It has exactly one root in (0, 1) for -1 < nu < 0.5.
+
+    Parameters
+    ----------
+    poisson_ratio : float
+        Poisson's ratio nu [-], -1 < nu < 0.5.
+
+    Returns
+    -------
+    float
+        c_R / c_2 [-], in (0, 1).
+
+    Raises
+    ------
+    ValueError
+        If the cubic has no unique root in (0, 1); this cannot happen for -1 < nu < 0.5, the range
+        that ElasticMaterial enforces.
     """
     nu = poisson_ratio
     roots = np.roots([1.0, -8.0, 8.0 * (2 - nu) / (1 - nu), -8.0 / (1 - nu)])
@@ -124,9 +172,26 @@ def rayleigh_speed_ratio(poisson_ratio: float) -> float:
 
 
 def wavenumbers(omega, material: ElasticMaterial):
-    """P-, S- and Rayleigh wavenumbers (beta_1, beta_2, beta_R) in rad/m (report eqs 7, 11-12).
+    """P-, S- and Rayleigh wavenumbers beta_1, beta_2, beta_R (report eqs 7, 11-12).
 
-    omega : rad/s.  For the undamped material, beta_R = omega / (c_2 * rayleigh_speed_ratio).
+    beta_1 = omega / c_1, beta_2 = omega / c_2 and, for the undamped material,
+    beta_R = omega / (c_2 * rayleigh_speed_ratio).
+
+    Parameters
+    ----------
+    omega : float or ndarray
+        Angular frequency [rad/s].
+    material : ElasticMaterial
+        The half-space material.
+
+    Returns
+    -------
+    beta_1 : float or ndarray
+        P-wavenumber [rad/m]; complex if the material is damped.
+    beta_2 : float or ndarray
+        S-wavenumber [rad/m]; complex if the material is damped.
+    beta_R : float or ndarray
+        Rayleigh wavenumber [rad/m]; complex if the material is damped.
     """
     c1, c2 = wave_speeds(material)
     omega = np.asarray(omega, dtype=float)
@@ -166,11 +231,26 @@ def _denominator(beta, k1, k2):
 
 
 def kernel_G(beta, omega, material: ElasticMaterial):
-    """G(beta, omega) of report eq (9), in m^3/N (displacement per unit load per (rad/m)^2).
+    """Kernel G(beta, omega) of the surface displacement integral (report eq 9).
 
     G = alpha1 omega^2 / (mu c2^2 [4 alpha1 alpha2 beta^2 - (2 beta^2 - omega^2/c2^2)^2]),
-    with alpha_j on the radiating branch.  beta : rad/m (radial wavenumber), omega : rad/s.
-    For omega = 0 the static limit 2 (1 - nu^2) / (E beta) is returned (eq 15).
+    with alpha_j = sqrt(beta^2 - omega^2/c_j^2) (eq 8) on the radiating branch (module docstring).
+    G is the displacement per unit load per (rad/m)^2.  For omega = 0 the static limit
+    2 (1 - nu^2) / (E beta) is returned (eq 15).
+
+    Parameters
+    ----------
+    beta : float or ndarray
+        Radial wavenumber [rad/m].
+    omega : float
+        Angular frequency [rad/s].
+    material : ElasticMaterial
+        The half-space material.
+
+    Returns
+    -------
+    complex ndarray
+        G(beta, omega) [m^3/N], shape of ``beta``.
     """
     beta = np.asarray(beta, dtype=float)
     omega = float(omega)
@@ -184,7 +264,20 @@ def kernel_G(beta, omega, material: ElasticMaterial):
 
 
 def static_limit_beta_G(material: ElasticMaterial):
-    """lim beta G = 2 (1 - nu^2) / E for beta -> inf or omega -> 0 (report eq 15), m^2/N."""
+    """Limit L = 2 (1 - nu^2) / E of beta G for beta -> inf or omega -> 0 (report eq 15).
+
+    E is replaced by E (1 + i eta) if the material is damped.
+
+    Parameters
+    ----------
+    material : ElasticMaterial
+        The half-space material.
+
+    Returns
+    -------
+    float or complex
+        L [m^2/N]; complex if the material is damped.
+    """
     E = material.youngs_modulus * (1 + 1j * material.loss_factor)
     val = 2 * (1 - material.poisson_ratio**2) / E
     return float(np.real(val)) if material.loss_factor == 0 else val
@@ -196,10 +289,26 @@ def _integrand(beta, omega, r, material):
 
 
 def folded_integrand(beta, omega, r, material: ElasticMaterial):
-    """Integrand of the first integral of eq (14), 0 < beta < beta_R, m^2/N.
+    """Integrand of the first integral of report eq (14), for 0 < beta < beta_R.
 
     f(beta) + f(2 beta_R - beta) with f = G J0(beta r) beta: the Rayleigh-pole singularities
     of the two terms cancel, leaving the principal value (report Fig. 2).
+
+    Parameters
+    ----------
+    beta : float or ndarray
+        Radial wavenumber [rad/m], 0 < beta < beta_R.
+    omega : float
+        Angular frequency [rad/s].
+    r : float
+        Distance from the loading point [m].
+    material : ElasticMaterial
+        The half-space material.
+
+    Returns
+    -------
+    complex ndarray
+        The folded integrand [m^2/N], shape of ``beta``.
     """
     _, _, bR = wavenumbers(omega, material)
     beta = np.asarray(beta, dtype=float)
@@ -207,12 +316,29 @@ def folded_integrand(beta, omega, r, material: ElasticMaterial):
 
 
 def rayleigh_residue(omega, material: ElasticMaterial):
-    """Residue of beta G(beta, omega) at the Rayleigh pole beta_R, in m/N (eqs 9, 11).
+    """Residue of beta G(beta, omega) at the Rayleigh pole beta_R (from report eqs 9, 11).
 
     beta G = N(beta)/D(beta) with N = alpha1 omega^2 beta / (mu c2^2); residue = N/D'(beta_R),
     D'(beta) = 4 beta^2 (alpha1' alpha2 + alpha1 alpha2') + 8 beta alpha1 alpha2
                - 8 beta (2 beta^2 - k2^2),  alpha_j' = beta / alpha_j.
     Real and negative for the undamped material (D decreases through its root).
+
+    Parameters
+    ----------
+    omega : float or ndarray
+        Angular frequency [rad/s].
+    material : ElasticMaterial
+        The half-space material; must be undamped.
+
+    Returns
+    -------
+    float or ndarray
+        The residue [m/N].
+
+    Raises
+    ------
+    ValueError
+        If the material is damped (loss_factor != 0).
     """
     if material.loss_factor != 0:
         raise ValueError("rayleigh_residue needs an undamped material (loss_factor = 0).")
@@ -227,10 +353,23 @@ def rayleigh_residue(omega, material: ElasticMaterial):
 
 
 def large_beta_coefficient(omega, material: ElasticMaterial) -> float:
-    """C in beta G(beta, omega) = L (1 + C / beta^2) + O(beta^-4), rad^2/m^2 (from eq 9).
+    """Coefficient C of the large-beta expansion of beta G (derived from report eq 9).
 
-    Expanding alpha_j = beta sqrt(1 - k_j^2 / beta^2) in eq (9):
+    beta G(beta, omega) = L (1 + C / beta^2) + O(beta^-4), L the limit of eq (15).
+    Expanding alpha_j = beta sqrt(1 - k_j^2 / beta^2) in eq (9), with k_j = omega / c_j:
     C = -k1^2/2 - k2^2 (2 k1^2 - 3 k2^2) / (2 (k2^2 - k1^2)) - (k1^2 + 3 k2^2) / 4.
+
+    Parameters
+    ----------
+    omega : float
+        Angular frequency [rad/s].
+    material : ElasticMaterial
+        The half-space material.
+
+    Returns
+    -------
+    float
+        C [rad^2/m^2] (its real part, if the material is damped).
     """
     c1, c2 = wave_speeds(material)
     k1, k2 = omega / c1, omega / c2
@@ -248,7 +387,24 @@ def _int_j0_over_x2(y: float, numerics) -> float:
 
 
 def boussinesq(r, material: ElasticMaterial, load=1.0):
-    """Static surface displacement w = (1 - nu^2) P / (pi E r), m (report eq 17). r : m, load : N."""
+    """Static surface displacement under a point load, Boussinesq's formula (report eq 17).
+
+    w = (1 - nu^2) P / (pi E r).
+
+    Parameters
+    ----------
+    r : float or ndarray
+        Distance from the loading point [m].
+    material : ElasticMaterial
+        The half-space material (E and nu are used).
+    load : float, optional
+        Load P [N]; default 1.
+
+    Returns
+    -------
+    float or ndarray
+        Surface displacement w [m] in the direction of the load, shape of ``r``.
+    """
     r = np.asarray(r, dtype=float)
     return (1 - material.poisson_ratio**2) * load / (np.pi * material.youngs_modulus * r)
 
@@ -314,16 +470,41 @@ def _surface_displacement_scalar(r, omega, material, numerics):
 
 
 def surface_displacement(r, omega, material: ElasticMaterial, load=1.0, numerics=None):
-    """Vertical surface displacement amplitude w(r) under a point load P e^{i omega t}, m.
+    """Vertical surface displacement amplitude w(r) under a point load P e^{i omega t} (report eqs 10-16).
 
     Report eqs (10)-(16), with two changes, both exact:
+
     * the Rayleigh pole is passed on the radiating side: w = PV + (P/2pi)(-i pi) Res,
       Res = residue of beta G J0(beta r) at beta_R (the report's eq 16 is the PV alone);
     * beyond 2 beta_R the static limit (eq 15) is subtracted and the remainder integrated
       to infinity instead of being truncated at 10 beta_R.
-    r : m (array-like, >= 0), omega : rad/s (scalar, >= 0), load : N.
+
     At r = 0 the real part is infinite (returned as +inf), the imaginary part is finite.
     At omega = 0 the Boussinesq result (eq 17) is returned.
+
+    Parameters
+    ----------
+    r : float or array_like
+        Distance from the loading point [m], >= 0.
+    omega : float
+        Angular frequency [rad/s], a scalar >= 0.
+    material : ElasticMaterial
+        The half-space material; must be undamped.
+    load : float, optional
+        Load amplitude P [N]; default 1.
+    numerics : HalfSpaceNumerics, optional
+        Quadrature settings; default ``HalfSpaceNumerics()``.
+
+    Returns
+    -------
+    complex or complex ndarray
+        Displacement amplitude w(r) [m] in the direction of the load: a complex for scalar ``r``,
+        otherwise an array of the shape of ``r``.
+
+    Raises
+    ------
+    ValueError
+        If the material is damped (loss_factor != 0), if any r < 0, or if omega < 0.
     """
     numerics = numerics or HalfSpaceNumerics()
     if material.loss_factor != 0:
@@ -343,11 +524,30 @@ def surface_displacement(r, omega, material: ElasticMaterial, load=1.0, numerics
 
 
 def point_receptance_imag(omega, material: ElasticMaterial, numerics=None):
-    """Im w0(0): imaginary part of the driving-point receptance of the half-space, m/N.
+    """Im w0(0): imaginary part of the driving-point receptance of the half-space (report sec. 3).
 
-    Negative for omega > 0 (power flows into the half-space). omega : rad/s, array-like.
+    Negative for omega > 0 (power flows into the half-space); 0 at omega = 0.
     By dimensional analysis Im w0(0) = -C(nu) omega / (mu c2); it is computed here from the
     integral at each frequency, so that the linearity is a check and not an assumption.
+
+    Parameters
+    ----------
+    omega : float or array_like
+        Angular frequency [rad/s], >= 0.
+    material : ElasticMaterial
+        The half-space material; must be undamped.
+    numerics : HalfSpaceNumerics, optional
+        Quadrature settings; default ``HalfSpaceNumerics()``.
+
+    Returns
+    -------
+    float or ndarray
+        Im w0(0) [m/N]: a float for scalar ``omega``, otherwise an array of the shape of ``omega``.
+
+    Raises
+    ------
+    ValueError
+        If any omega < 0, or (for omega > 0) if the material is damped.
     """
     numerics = numerics or HalfSpaceNumerics()
     om = np.atleast_1d(np.asarray(omega, dtype=float))
@@ -360,9 +560,30 @@ def point_receptance_imag(omega, material: ElasticMaterial, numerics=None):
 
 
 def radiated_power(omega, material: ElasticMaterial, load=1.0, numerics=None):
-    """Time-averaged power radiated into the half-space, W: -1/2 P^2 omega Im w0(0) (sec. 3).
+    """Time-averaged power radiated into the half-space by a point load (report sec. 3, Fig. 5).
 
-    omega : rad/s, load : N (amplitude).
+    The power done by the load, -1/2 P^2 omega Im w0(0) (``point_receptance_imag``).
+
+    Parameters
+    ----------
+    omega : float or array_like
+        Angular frequency [rad/s], >= 0.
+    material : ElasticMaterial
+        The half-space material; must be undamped.
+    load : float, optional
+        Load amplitude P [N]; default 1.
+    numerics : HalfSpaceNumerics, optional
+        Quadrature settings; default ``HalfSpaceNumerics()``.
+
+    Returns
+    -------
+    float or ndarray
+        Radiated power [W], shape of ``omega``.
+
+    Raises
+    ------
+    ValueError
+        If any omega < 0, or (for omega > 0) if the material is damped (``point_receptance_imag``).
     """
     om = np.asarray(omega, dtype=float)
     return -0.5 * load**2 * om * point_receptance_imag(om, material, numerics)
@@ -372,8 +593,29 @@ def contact_loss_factor(omega, hertz_stiffness, material: ElasticMaterial, numer
     """Loss factor of the Hertz contact spring, eta_H = -2 k_H Im w0(0) (report sec. 3, Fig. 6).
 
     The spring k_H (1 + i eta_H) dissipates the power radiated into two half-spaces (wheel
-    and rail, same material).  omega : rad/s, hertz_stiffness : N/m.  Dimensionless,
-    proportional to frequency.
+    and rail, same material).  Proportional to frequency.
+
+    Parameters
+    ----------
+    omega : float or array_like
+        Angular frequency [rad/s], >= 0.
+    hertz_stiffness : float
+        Hertz contact stiffness k_H [N/m], > 0.
+    material : ElasticMaterial
+        The material of wheel and rail; must be undamped.
+    numerics : HalfSpaceNumerics, optional
+        Quadrature settings; default ``HalfSpaceNumerics()``.
+
+    Returns
+    -------
+    float or ndarray
+        eta_H [-], shape of ``omega``.
+
+    Raises
+    ------
+    ValueError
+        If hertz_stiffness is not finite and > 0, if any omega < 0, or (for omega > 0) if the
+        material is damped.
     """
     _check_range("hertz_stiffness [N/m]", hertz_stiffness, 0.0, np.inf)
     return -2.0 * hertz_stiffness * point_receptance_imag(omega, material, numerics)

@@ -125,22 +125,56 @@ class Roughness:
             Z[K - kk] = 0.5 * (a + 1j * b)
         return Roughness(Z)
 
-    def profile(self, x, beta0):
-        """z(x), m."""
+    def profile(self, x, L: float):
+        """z(x) (eq 18) [m] at the positions x [m] of a bay of length L [m] (beta0 = 2 pi / L)."""
         K = self.harmonics
         k = np.arange(-K, K + 1)
-        return np.real(np.exp(1j * np.outer(np.asarray(x), k * beta0)) @ self.Z)
+        return np.real(np.exp(1j * np.outer(np.asarray(x), k * (2 * np.pi / L))) @ self.Z)
 
 
 def allowed_wavelengths(wavelength: float, L: float) -> tuple[float, float]:
-    """The two wavelengths L / m nearest to ``wavelength`` that fit a whole number of times in the bay."""
+    """The two wavelengths L / m nearest to ``wavelength`` that fit a whole number of times in the bay.
+
+    Parameters
+    ----------
+    wavelength : float
+        Roughness wavelength [m].
+    L : float
+        Bay length [m].
+
+    Returns
+    -------
+    tuple of float
+        The shorter and the longer allowed wavelength [m].
+    """
     m = L / wavelength
     lo, hi = max(int(np.floor(m)), 1), max(int(np.ceil(m)), 1)
     return L / hi, L / lo
 
 
 def bay_harmonic(wavelength: float, L: float, rtol: float = 1e-6) -> int:
-    """Harmonic number m = L / wavelength; a clear error if it is not a whole number."""
+    """Harmonic number m = L / wavelength of the bay (eq 18).
+
+    Parameters
+    ----------
+    wavelength : float
+        Roughness wavelength [m].
+    L : float
+        Bay length [m].
+    rtol : float
+        Relative tolerance on m being whole [-].
+
+    Returns
+    -------
+    int
+        m [-].
+
+    Raises
+    ------
+    ValueError
+        If the wavelength is not positive or does not divide the bay; the message names the nearest
+        allowed wavelengths.
+    """
     if not (np.isfinite(wavelength) and wavelength > 0):
         raise ValueError(f"roughness wavelength = {wavelength!r} m is not allowed: it must be > 0.")
     m = L / wavelength
@@ -155,8 +189,24 @@ def bay_harmonic(wavelength: float, L: float, rtol: float = 1e-6) -> int:
 
 
 def read_roughness_coefficients(path):
-    """Read eq (18) coefficients from a CSV file with the header ``k,A_m,B_m``: harmonic k >= 1 of the
-    bay and the cosine and sine amplitudes in m. Errors name the file and the line."""
+    """Read eq (18) roughness coefficients from a CSV file with the header ``k,A_m,B_m``.
+
+    Parameters
+    ----------
+    path : str or Path
+        CSV file: harmonic k >= 1 of the bay, and the cosine and sine amplitudes A_k, B_k [m].
+
+    Returns
+    -------
+    k : list of int
+    A, B : list of float
+        [m].
+
+    Raises
+    ------
+    ValueError
+        Naming the file and the line of a wrong header, row or harmonic.
+    """
     import csv
 
     ks, A, B = [], [], []
@@ -198,9 +248,15 @@ class ForceResult:
     def harmonics(self) -> int:
         return (self.P.shape[1] - 1) // 2
 
+    @property
+    def beta0(self) -> float:
+        """Bay wavenumber 2 pi / L [rad/m]."""
+        return 2 * np.pi / self.L
 
-def _coupling(tab: MovingReceptance, positions, beta0):
-    """A^{lj}[p, k] = A_{a_l - a_j}[p, k] exp(i (p - k) beta0 a_j), shape (l, j, p, k)."""
+
+def _coupling(tab: MovingReceptance, positions, L: float):
+    """A^{lj}[p, k] = A_{a_l - a_j}[p, k] exp(i (p - k) beta0 a_j), beta0 = 2 pi / L, shape (l, j, p, k)."""
+    beta0 = 2 * np.pi / L
     K = tab.harmonics
     h = np.arange(-K, K + 1)
     n = len(positions)
@@ -217,14 +273,34 @@ def _coupling(tab: MovingReceptance, positions, beta0):
 
 
 def solve_forces(
-    tab: MovingReceptance, wheels: Wheels, contact: ContactSpring, roughness: Roughness, beta0: float, L: float
+    tab: MovingReceptance, wheels: Wheels, contact: ContactSpring, roughness: Roughness, L: float
 ) -> ForceResult:
     """Solve the coupled harmonic balance for the force harmonics of every wheel (eq 21).
 
-    tab : receptance table at the train's speed with every wheel offset; roughness harmonics
-    are truncated or zero-padded to the table's K.  Raises ContactLossError where any wheel's
-    force P_l(x) falls to zero or below.
+    Parameters
+    ----------
+    tab : MovingReceptance
+        Receptance table at the train's speed with every wheel offset [m/N].
+    wheels : Wheels
+        The train's wheels.
+    contact : ContactSpring
+        Linearised Hertz spring [N/m].
+    roughness : Roughness
+        Bay-periodic roughness [m]; its harmonics are truncated or zero-padded to the table's K.
+    L : float
+        Sleeper spacing, the roughness period [m] (beta0 = 2 pi / L).
+
+    Returns
+    -------
+    ForceResult
+        Force harmonics P[l, p] of every wheel [N].
+
+    Raises
+    ------
+    ContactLossError
+        Where any wheel's force P_l(x) falls to zero or below.
     """
+    beta0 = 2 * np.pi / L
     K = tab.harmonics
     h = np.arange(-K, K + 1)
     Z = np.zeros(2 * K + 1, dtype=complex)
@@ -235,7 +311,7 @@ def solve_forces(
         raise ValueError(f"the roughness has harmonics above K = {K}; raise numerics.track.harmonics.")
     pos = np.asarray(wheels.positions, dtype=float)
     n = len(pos)
-    A = _coupling(tab, pos, beta0)
+    A = _coupling(tab, pos, L)
     omega = h * tab.speed * beta0
     dyn = h != 0
     om = omega[dyn]
@@ -261,28 +337,51 @@ def solve_forces(
     P[:, K] = wheels.static_load
     P[:, dyn] = sol.reshape(n, nd)
     result = ForceResult(P, tab.speed, L, pos)
-    _check_contact(result, beta0)
+    _check_contact(result)
     return result
 
 
-def tail_coefficients(result: ForceResult, beta0: float):
-    """C_l = K^2 P_lK exp(-i K beta0 a_l): the harmonics of every wheel's force beyond K, in its own
-    bay frame, modelled as C_l / p^2 (p > 0; conjugate for p < 0).
+def tail_coefficients(result: ForceResult):
+    """Tail of every wheel's force harmonics beyond K, modelled as C_l / p^2 (p > 0; conjugate for p < 0).
 
+    Parameters
+    ----------
+    result : ForceResult
+
+    Returns
+    -------
+    ndarray, shape (wheels,)
+        C_l = K^2 P_lK exp(-i K beta0 a_l) [N], in each wheel's own bay frame.
+
+    Notes
+    -----
     The rail deflection under a moving wheel has a slope discontinuity at every support, so the
     force harmonics fall like 1/p^2 and a plain truncation at K errs by O(1/K) at the sleeper
     (review notes).  p^2 P_p settles to a constant within a few per cent beyond p ~ 30 (tested).
     """
     K = result.harmonics
-    return K**2 * result.P[:, 2 * K] * np.exp(-1j * K * beta0 * result.positions)
+    return K**2 * result.P[:, 2 * K] * np.exp(-1j * K * result.beta0 * result.positions)
 
 
-def force_history(result: ForceResult, x, beta0: float, tail: bool = True, tail_harmonics: int | None = None):
-    """P_l(x): force of every wheel when it is at position x in the bay (m), shape (wheels, len(x)), N.
+def force_history(result: ForceResult, x, tail: bool = True, tail_harmonics: int | None = None):
+    """P_l(x): force of every wheel when it is at position x in the bay (eq 21 summed).
 
-    With ``tail`` the harmonics K < p <= K + tail_harmonics (default 16 K) are added from the 1/p^2
-    model of tail_coefficients; the remaining truncation is O(1/(17 K)) instead of O(1/K).
+    Parameters
+    ----------
+    result : ForceResult
+        Force harmonics [N].
+    x : array_like
+        Wheel positions in the bay [m], 0 above a support.
+    tail : bool
+        Add the harmonics K < p <= K + tail_harmonics (default 16 K) from the 1/p^2 model of
+        tail_coefficients; the remaining truncation is O(1/(17 K)) instead of O(1/K).
+
+    Returns
+    -------
+    ndarray, shape (wheels, len(x))
+        Contact force [N], positive in compression.
     """
+    beta0 = result.beta0
     K = result.harmonics
     h = np.arange(-K, K + 1)
     x = np.asarray(x, dtype=float)
@@ -290,7 +389,7 @@ def force_history(result: ForceResult, x, beta0: float, tail: bool = True, tail_
     for l, a in enumerate(result.positions):
         out[l] = np.real(np.exp(1j * np.outer(x - a, h * beta0)) @ result.P[l])
     if tail and K > 0:
-        C = tail_coefficients(result, beta0)
+        C = tail_coefficients(result)
         M = tail_harmonics if tail_harmonics is not None else 16 * K
         p = np.arange(K + 1, K + M + 1)
         for start in range(0, len(x), 512):
@@ -301,9 +400,9 @@ def force_history(result: ForceResult, x, beta0: float, tail: bool = True, tail_
     return out
 
 
-def _check_contact(result: ForceResult, beta0: float, points: int = 2048):
+def _check_contact(result: ForceResult, points: int = 2048):
     x = np.linspace(0, result.L, points, endpoint=False)
-    Pl = force_history(result, x, beta0)
+    Pl = force_history(result, x)
     for l, row in enumerate(Pl):
         i = int(np.argmin(row))
         if row[i] <= 0:

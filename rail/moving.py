@@ -32,7 +32,7 @@ from scipy import special
 from .quadrature import adaptive_panels
 from .track import Track, damping_problem, free_receptance, periodic_sum, rail_stiffnesses, support_stiffness
 
-__all__ = ["MovingReceptance", "receptance_table", "moving_coefficients"]
+__all__ = ["MovingReceptance", "receptance_table", "moving_coefficients", "critical_speed"]
 
 
 @dataclass(frozen=True)
@@ -199,10 +199,37 @@ def receptance_table(
 ) -> MovingReceptance:
     """Receptance matrices A_d[p, k] = a_{p-k}(k Omega_0, d) for |p|, |k| <= K at one speed.
 
-    track : Track; speed : V, m/s (> 0); harmonics : K (>= 0); offsets : d, m, points moving with
-    the load (other wheels: d = position of the receiving wheel minus that of the loading one);
-    rtol : relative tolerance of the adaptive wavenumber quadrature;
-    transfer_cut : rad/m, start of the cos^2 window of the d != 0 integrands (default (K + 12) beta0).
+    The moving-load coefficients a_n of the module docstring for every harmonic k Omega_0 of the
+    sleeper-passing frequency, from a single adaptive wavenumber quadrature (docs/track.md, "One
+    table for every harmonic").
+
+    Parameters
+    ----------
+    track : Track
+        The track; its rail damping must be large enough (``rail.track.damping_problem``).
+    speed : float
+        Speed V [m/s], > 0.
+    harmonics : int
+        Number of harmonics K [-], >= 0.
+    offsets : sequence of float, optional
+        Offsets d [m] of points moving with the load (other wheels: d = position of the receiving
+        wheel minus that of the loading one); default (0.0,), at the load.
+    rtol : float, optional
+        Relative tolerance of the adaptive wavenumber quadrature [-]; default 1e-4.
+    transfer_cut : float, optional
+        Start of the cos^2 window of the d != 0 integrands [rad/m]; default (K + 12) beta0.
+
+    Returns
+    -------
+    MovingReceptance
+        The matrices A [m/N], shape (offset, 2K + 1, 2K + 1), with their error bound [m/N] and the
+        number of quadrature nodes.
+
+    Raises
+    ------
+    ValueError
+        If speed <= 0 (use rail.track.stationary_receptance for V = 0), if harmonics is not an
+        integer >= 0, or if the rail damping is too small (``rail.track.damping_problem``).
     """
     if not speed > 0:
         raise ValueError(f"speed = {speed!r} m/s is not allowed: it must be > 0 (use rail.track.stationary_receptance for V = 0).")
@@ -219,9 +246,39 @@ def receptance_table(
 
 
 def moving_coefficients(track: Track, speed: float, Omega: float, n_max: int, offset: float = 0.0, rtol: float = 1e-6):
-    """a_n(Omega, d) for |n| <= n_max at any excitation frequency Omega (rad/s), one speed.
+    """Moving-load coefficients a_n(Omega, d) for |n| <= n_max at any excitation frequency Omega, one speed.
 
-    Returns (n, a_n, error).  For Omega = k Omega_0 this equals column k of receptance_table.
+    a_n is defined in the module docstring (docs/track.md, "Moving harmonic load").  For
+    Omega = k Omega_0 this equals column k of ``receptance_table``.
+
+    Parameters
+    ----------
+    track : Track
+        The track; its rail damping must be large enough (``rail.track.damping_problem``).
+    speed : float
+        Speed V [m/s], > 0.
+    Omega : float
+        Excitation frequency of the load [rad/s].
+    n_max : int
+        Largest harmonic order |n| [-].
+    offset : float, optional
+        Offset d of the response point moving with the load [m]; default 0 (at the load).
+    rtol : float, optional
+        Relative tolerance of the adaptive wavenumber quadrature [-]; default 1e-6.
+
+    Returns
+    -------
+    n : ndarray of int
+        Harmonic orders -n_max..n_max [-].
+    a_n : complex ndarray
+        a_n(Omega, d) [m/N], one per order.
+    error : ndarray
+        Upper bound of the absolute quadrature error of a_n [m/N].
+
+    Raises
+    ------
+    ValueError
+        If speed <= 0, or if the rail damping is too small (``rail.track.damping_problem``).
     """
     if not speed > 0:
         raise ValueError(f"speed = {speed!r} m/s is not allowed: it must be > 0.")
@@ -240,3 +297,45 @@ def moving_coefficients(track: Track, speed: float, Omega: float, n_max: int, of
     A, err, _ = _integrate(track, speed, Omega, js, [offset], static_j, rtol, cut)
     col = n_max  # j = 0 is the load's own column
     return ns, A[0, :, col], err[0, :, col]
+
+
+def critical_speed(track: Track, v_min: float = 20.0, v_max: float = 1000.0, step: float = 10.0, rtol: float = 1e-5) -> float:
+    """Critical speed of the track: where the mean rail deflection under a moving constant load is largest.
+
+    The mean deflection is |a_0(0)| of the moving-load receptance (docs/track.md, "Critical speed").
+    The supports are discrete and damped, so the resonance is a broad maximum rather than a
+    singularity; the scan is on a grid of ``step`` m/s refined by a parabola through the
+    largest value (a maximum at either end of the grid is returned unrefined).  (A smeared-support
+    free-wave estimate is not used: its sleeper-mass branch is flat, and its smallest phase velocity
+    tends to zero.)
+
+    Parameters
+    ----------
+    track : Track
+        The track; its rail damping must be large enough (``rail.track.damping_problem``).
+    v_min : float, optional
+        Lowest speed of the scan [m/s], > 0; default 20.
+    v_max : float, optional
+        Highest speed of the scan [m/s]; default 1000.
+    step : float, optional
+        Speed step of the scan [m/s]; default 10.
+    rtol : float, optional
+        Relative tolerance of ``moving_coefficients`` [-]; default 1e-5.
+
+    Returns
+    -------
+    float
+        Critical speed [m/s].
+
+    Raises
+    ------
+    ValueError
+        If v_min <= 0, or if the rail damping is too small (from ``moving_coefficients``).
+    """
+    V = np.arange(v_min, v_max + step / 2, step)
+    amp = np.array([abs(moving_coefficients(track, v, 0.0, 0, rtol=rtol)[1][0]) for v in V])
+    i = int(np.argmax(amp))
+    if i in (0, len(V) - 1):
+        return float(V[i])
+    y0, y1, y2 = amp[i - 1 : i + 2]
+    return float(V[i] + 0.5 * step * (y0 - y2) / (y0 - 2 * y1 + y2))

@@ -38,11 +38,35 @@ def _gauss(n):
 def adaptive_panels(f, edges, rtol=1e-6, atol=0.0, order=16, max_panels=20000, scale=None) -> QuadratureResult:
     """Integrate the vector function ``f`` over the union of panels given by ``edges``.
 
-    f      : callable, f(x) for a 1-D array x returns an array (len(x), m) (or (len(x),)).
-    edges  : sorted breakpoints; discontinuities of f must be among them.
-    rtol   : relative tolerance per component, against ``scale`` (default: integral of |f_c|).
-    atol   : absolute tolerance floor per component.
-    order  : Gauss points per half panel.
+    Adaptive composite Gauss-Legendre rule (module docstring): each panel is integrated with ``order``
+    points on the whole and on each half, the difference being its error estimate; panels carrying
+    more than their share of the error budget are halved until the summed error of every component is
+    below its tolerance ``rtol * scale + atol``, or until ``max_panels`` would be exceeded.
+
+    Parameters
+    ----------
+    f : callable
+        ``f(x)`` for a 1-D array x returns an array of shape (len(x), m) (or (len(x),)).
+    edges : array_like
+        Sorted breakpoints [unit of x]; discontinuities of f must be among them.
+    rtol : float, optional
+        Relative tolerance per component [-], against ``scale``; default 1e-6.
+    atol : float, optional
+        Absolute tolerance floor per component [unit of the integral]; default 0.
+    order : int, optional
+        Gauss points per half panel [-]; default 16.
+    max_panels : int, optional
+        Largest number of panels [-]; default 20000.
+    scale : array_like, optional
+        Magnitude per component against which ``rtol`` is applied [unit of the integral];
+        default: the integral of |f_c| over ``edges``.
+
+    Returns
+    -------
+    QuadratureResult
+        The final rule (nodes [unit of x], sorted, and weights [unit of x], 2 ``order`` per panel), the
+        integral and its estimated absolute error per component [unit of the integral], the number of
+        panels, and whether the tolerance was reached within ``max_panels``.
     """
     xg, wg = _gauss(order)
     edges = np.asarray(edges, dtype=float)

@@ -155,17 +155,47 @@ MIN_RAIL_DAMPING_TIME = MIN_RAIL_LOSS_FACTOR / (2 * np.pi * 1000.0)  # same loss
 
 
 def min_harmonics(track: Track, speed: float) -> int:
-    """Least number of harmonics K of the sleeper-passing frequency V/L for a moving-load force
-    calculation at speed V (m/s): K V / L must reach the pinned-pinned frequency. Below it the
-    track has its resonances and every harmonic is needed; above it the force harmonics fall like
-    1/p^2 (the quasi-static sleeper kink), which the tail model of rail.interaction adds.
-    Measured at 5 m/s: K = 64 (533 Hz) differs from K = 32 by 11 % of the force fluctuation,
-    K = 128 (1067 Hz) from K = 64 by 0.6 % (the stability suite)."""
+    """Least number of harmonics K of the sleeper-passing frequency V/L for a moving-load force calculation.
+
+    K V / L must reach the pinned-pinned frequency, K >= f_pp L / V (docs/track.md, "How many
+    harmonics").  Below it the track has its resonances and every harmonic is needed; above it the
+    force harmonics fall like 1/p^2 (the quasi-static sleeper kink), which the tail model of
+    rail.interaction adds.  Measured at 5 m/s: K = 64 (533 Hz) differs from K = 32 by 11 % of the
+    force fluctuation, K = 128 (1067 Hz) from K = 64 by 0.6 % (the stability suite).
+
+    Parameters
+    ----------
+    track : Track
+        The track (its pinned-pinned frequency and sleeper spacing L are used).
+    speed : float
+        Speed V [m/s], > 0.
+
+    Returns
+    -------
+    int
+        K [-].
+    """
     return int(np.ceil(pinned_pinned_frequency(track) * track.L / speed - 1e-9))
 
 
 def damping_problem(track: Track) -> str | None:
-    """Why the track's rail damping is too small for the moving-load integrals, or None."""
+    """Why the track's rail damping is too small for the moving-load integrals, or None.
+
+    Without rail damping the free waves of the rail put poles on the real wavenumber axis and the
+    moving-load integrals of docs/track.md are singular.  They need rail.loss_factor >=
+    MIN_RAIL_LOSS_FACTOR (1e-4) with hysteretic damping, or rail.damping_time >= MIN_RAIL_DAMPING_TIME
+    (the same loss factor at 1 kHz) with viscous damping.
+
+    Parameters
+    ----------
+    track : Track
+        The track.
+
+    Returns
+    -------
+    str or None
+        A message naming the parameter, its value and the bound; None if the damping is sufficient.
+    """
     r = track.rail
     if track.damping == "hysteretic" and not r.loss_factor >= MIN_RAIL_LOSS_FACTOR:
         return (f"track.rail.loss_factor = {r.loss_factor!r} is not allowed: the moving-load wavenumber integrals need "
@@ -185,7 +215,25 @@ def _damped(k, eta, c, omega, model):
 
 
 def rail_stiffnesses(track: Track, omega):
-    """Complex bending and shear stiffness (EI, kappa G A) of the rail, N m^2 and N."""
+    """Complex bending and shear stiffness (EI, kappa G A) of the rail.
+
+    Both are multiplied by 1 + i eta_R sign(omega) (hysteretic damping) or by 1 + i omega tau_R
+    (viscous damping), see the module docstring.
+
+    Parameters
+    ----------
+    track : Track
+        The track (rail properties and damping model).
+    omega : float or ndarray
+        Angular frequency [rad/s].
+
+    Returns
+    -------
+    EI : complex or complex ndarray
+        Bending stiffness [N m^2], shape of ``omega``.
+    kGA : complex or complex ndarray
+        Shear stiffness kappa G A [N], shape of ``omega``.
+    """
     r = track.rail
     omega = np.asarray(omega, dtype=float)
     if track.damping == "hysteretic":
@@ -196,10 +244,22 @@ def rail_stiffnesses(track: Track, omega):
 
 
 def support_stiffness(track: Track, omega):
-    """Dynamic stiffness of one support seen by the rail, K_s(omega), N/m.
+    """Dynamic stiffness K_s(omega) of one support seen by the rail (docs/track.md).
 
     Pad k_P in series with the sleeper mass m_S on ballast k_B:
     K_s = k_P (k_B - m_S omega^2) / (k_P + k_B - m_S omega^2), complex stiffnesses.
+
+    Parameters
+    ----------
+    track : Track
+        The track (pad, sleeper, ballast and damping model).
+    omega : float or ndarray
+        Angular frequency [rad/s].
+
+    Returns
+    -------
+    complex or complex ndarray
+        K_s [N/m], shape of ``omega``.
     """
     omega = np.asarray(omega, dtype=float)
     kp = _damped(track.pad.stiffness, track.pad.loss_factor, track.pad.viscous_damping, omega, track.damping)
@@ -209,12 +269,26 @@ def support_stiffness(track: Track, omega):
 
 
 def free_receptance(beta, omega, track: Track):
-    """Receptance H(beta, omega) of the free infinite Timoshenko rail in the wavenumber domain, m^2/N... per unit
-    length of wavenumber: W(beta) = H F for a point force F at x = 0.
+    """Receptance H(beta, omega) of the free infinite Timoshenko rail in the wavenumber domain (docs/track.md).
+
+    W(beta) = H F for a point force F at x = 0 (transform convention of the module docstring):
 
     H = (EI beta^2 + kGA - rho I omega^2) /
         (kGA beta^2 (EI beta^2 - rho I omega^2) - rho A omega^2 (EI beta^2 + kGA - rho I omega^2)).
-    beta : rad/m, omega : rad/s (broadcast together).
+
+    Parameters
+    ----------
+    beta : float or ndarray
+        Wavenumber [rad/m]; broadcast with ``omega``.
+    omega : float or ndarray
+        Angular frequency [rad/s].
+    track : Track
+        The track (rail properties and damping model).
+
+    Returns
+    -------
+    complex ndarray
+        H [m^2/N]: the transform W(beta) [m^2] of the displacement per unit force.
     """
     beta = np.asarray(beta, dtype=float)
     omega = np.asarray(omega, dtype=float)
@@ -226,12 +300,30 @@ def free_receptance(beta, omega, track: Track):
 
 
 def free_receptance_poles(omega, track: Track):
-    """Partial fractions H = sum_j c_j / (beta^2 - s_j), j = 1, 2, for omega != 0 (array-like).
+    """Partial fractions H = sum_j c_j / (beta^2 - s_j), j = 1, 2, of the free-rail receptance (docs/track.md).
 
-    Returns (c, p), each of shape (2,) + shape(omega), with p_j = sqrt(s_j) chosen with
-    Im p_j >= 0 (p_j real > 0 if undamped and propagating).  Denominator of H as a quadratic in
-    B = beta^2: a B^2 + b B + c0 with a = kGA EI, b = -omega^2 (kGA rho I + rho A EI),
-    c0 = -rho A omega^2 (kGA - rho I omega^2).
+    The denominator of H is a quadratic in B = beta^2, a B^2 + b B + c0 with a = kGA EI,
+    b = -omega^2 (kGA rho I + rho A EI), c0 = -rho A omega^2 (kGA - rho I omega^2); s_j are its roots.
+    p_j = sqrt(s_j) is chosen with Im p_j >= 0 (p_j real > 0 if undamped and propagating).
+
+    Parameters
+    ----------
+    omega : float or array_like
+        Angular frequency [rad/s], != 0.
+    track : Track
+        The track (rail properties and damping model).
+
+    Returns
+    -------
+    c : complex ndarray, shape (2,) + shape(omega)
+        Residues c_j [1/N] (H [m^2/N] times beta^2 [(rad/m)^2]).
+    p : complex ndarray, shape (2,) + shape(omega)
+        Pole wavenumbers p_j = sqrt(s_j) [rad/m], Im p_j >= 0.
+
+    Raises
+    ------
+    ValueError
+        If any omega == 0 (the static receptance has a double pole at 0).
     """
     omega = np.asarray(omega, dtype=float)
     if np.any(omega == 0.0):
@@ -254,11 +346,29 @@ def free_receptance_poles(omega, track: Track):
 
 
 def periodic_sum(beta, omega, track: Track):
-    """S(beta, omega) = sum_m H(beta + m beta0, omega), closed form, m^2/N... (see docs/track.md).
+    """Lattice sum S(beta, omega) = sum_m H(beta + m beta0, omega) in closed form (docs/track.md).
 
     sum_m 1/((beta + m beta0)^2 - p^2) = (L / (2p)) sin(pL) / (cos(pL) - cos(beta L)), evaluated as
     (L / (2p)) (z^2 - 1) / (i (1 + z^2 - 2 z cos(beta L))), z = exp(i p L), |z| <= 1.
-    beta : rad/m, omega : rad/s (!= 0); arrays broadcast together.
+
+    Parameters
+    ----------
+    beta : float or array_like
+        Wavenumber [rad/m]; broadcast with ``omega``.
+    omega : float or array_like
+        Angular frequency [rad/s], != 0.
+    track : Track
+        The track.
+
+    Returns
+    -------
+    complex ndarray
+        S [m^2/N], broadcast shape of ``beta`` and ``omega``.
+
+    Raises
+    ------
+    ValueError
+        If any omega == 0 (from ``free_receptance_poles``).
     """
     beta, omega = np.broadcast_arrays(np.asarray(beta, dtype=float), np.asarray(omega, dtype=float))
     c, p = free_receptance_poles(omega, track)
@@ -272,14 +382,34 @@ def periodic_sum(beta, omega, track: Track):
 
 
 def phased_periodic_sum(kappa, x, omega, track: Track):
-    """S_x(kappa) = sum_m H(kappa + m beta0, omega) exp(i (kappa + m beta0) x), closed form.
+    """Phased lattice sum S_x(kappa) = sum_m H(kappa + m beta0, omega) exp(i (kappa + m beta0) x), closed form.
 
-    kappa : rad/m array, x : m scalar (any real), omega : rad/s scalar != 0.
     For 0 < x < L each partial fraction gives (docs/track.md)
       sum_m e^{i(kappa+m beta0)x}/(kappa+m beta0-p) =  i L e^{ipx} / (1 - e^{i(p-kappa)L})
       sum_m e^{i(kappa+m beta0)x}/(kappa+m beta0+p) = -i L e^{ip(L-x)} e^{i kappa L} / (1 - e^{i(p+kappa)L})
     x = 0 takes the mean of the limits from both sides (the sum of H itself is continuous);
     other x follow from S_{x+L} = e^{i kappa L} S_x.
+
+    Parameters
+    ----------
+    kappa : float or array_like
+        Wavenumber [rad/m].
+    x : float
+        Position [m], any real, measured from a support.
+    omega : float
+        Angular frequency [rad/s], a scalar != 0.
+    track : Track
+        The track.
+
+    Returns
+    -------
+    complex ndarray
+        S_x(kappa) [m^2/N], shape of ``kappa``.
+
+    Raises
+    ------
+    ValueError
+        If omega == 0 (from ``free_receptance_poles``).
     """
     kappa = np.asarray(kappa, dtype=float)
     L = track.L
@@ -304,10 +434,29 @@ def phased_periodic_sum(kappa, x, omega, track: Track):
 
 
 def free_green(x, omega, track: Track):
-    """Displacement of the free infinite rail at x under a unit harmonic force at 0, m/N.
+    """Displacement of the free infinite rail at x under a unit harmonic force at 0 (docs/track.md).
 
     Residues of H: closing the contour in the half-plane where exp(-i beta x) decays picks the
     pole -p_j for x > 0, so w(x) = sum_j c_j (i / (2 p_j)) exp(i p_j |x|), Im p_j > 0 (decaying).
+
+    Parameters
+    ----------
+    x : float or array_like
+        Position relative to the force [m].
+    omega : float
+        Angular frequency [rad/s], != 0.
+    track : Track
+        The track.
+
+    Returns
+    -------
+    complex or complex ndarray
+        Free-rail Green's function G(x) [m/N], shape of ``x``.
+
+    Raises
+    ------
+    ValueError
+        If omega == 0 (from ``free_receptance_poles``).
     """
     c, p = free_receptance_poles(omega, track)
     ax = np.abs(np.asarray(x, dtype=float))
@@ -315,14 +464,41 @@ def free_green(x, omega, track: Track):
 
 
 def stationary_receptance(x, x0, omega, track: Track, rtol: float = 1e-7, return_error=False):
-    """Receptance alpha(x, x0; omega) of the periodically supported rail, m/N.
+    """Receptance alpha(x, x0; omega) of the periodically supported rail (report sec. 4.2, ref. [18]).
 
-    Harmonic unit force at x0, displacement at x (any positions; arrays broadcast), omega != 0:
+    Harmonic unit force at x0, displacement at x (any positions), omega != 0:
       alpha = G(x - x0) - (K_s / 2pi) int_BZ S_{x0}(kappa) S_x(-kappa) / (L + K_s S(kappa)) d kappa
     over the Brillouin zone |kappa| <= beta0 / 2, with G the free-rail Green's function, S the
-    periodic sum and S_x the phased sum (docs/track.md).  The zone integrand has peaks at the
-    Floquet waves of the track, as narrow as the damping allows; it is integrated adaptively
-    (rail.quadrature) to ``rtol``.  With ``return_error`` the estimated absolute error is returned too.
+    periodic sum and S_x the phased sum (docs/track.md, "Stationary harmonic load at x_0").  The zone
+    integrand has peaks at the Floquet waves of the track, as narrow as the damping allows; it is
+    integrated adaptively (rail.quadrature) to ``rtol``.
+
+    Parameters
+    ----------
+    x : float or array_like
+        Response position [m], measured from a support; broadcast with ``x0``.
+    x0 : float or array_like
+        Force position [m], measured from a support.
+    omega : float
+        Angular frequency [rad/s], a scalar != 0.
+    track : Track
+        The track.
+    rtol : float, optional
+        Relative tolerance of the adaptive zone quadrature [-]; default 1e-7.
+    return_error : bool, optional
+        If true, return the estimated absolute quadrature error too; default False.
+
+    Returns
+    -------
+    alpha : complex ndarray
+        Receptance [m/N], broadcast shape of ``x`` and ``x0``.
+    error : ndarray
+        Estimated absolute error of ``alpha`` [m/N], same shape; returned only with ``return_error``.
+
+    Raises
+    ------
+    ValueError
+        If omega == 0 (from ``free_receptance_poles``).
     """
     from .quadrature import adaptive_panels
 
@@ -350,9 +526,21 @@ def stationary_receptance(x, x0, omega, track: Track, rtol: float = 1e-7, return
 
 
 def continuous_support_receptance(omega, track: Track):
-    """Point receptance of the rail on a continuous foundation K_s(omega) / L per metre, m/N.
+    """Point receptance of the rail on a continuous foundation of stiffness K_s(omega) / L per metre.
 
-    Residues of 1 / (1/H + k_f): the denominator is again a quadratic in beta^2.
+    Residues of 1 / (1/H + k_f), k_f = K_s / L: the denominator is again a quadratic in beta^2.
+
+    Parameters
+    ----------
+    omega : float
+        Angular frequency [rad/s].
+    track : Track
+        The track (rail, supports and sleeper spacing L).
+
+    Returns
+    -------
+    complex
+        Receptance at the load point [m/N].
     """
     omega = float(omega)
     EI, kGA = rail_stiffnesses(track, omega)
@@ -373,10 +561,21 @@ def continuous_support_receptance(omega, track: Track):
 
 
 def pinned_pinned_frequency(track: Track) -> float:
-    """First pinned-pinned frequency of the rail, Hz: lowest bending mode of a simply supported
-    Timoshenko beam of span L (undamped), from the frequency equation for mode number 1:
-      rho I kappa' w^4 - (EI kGA... ) written as: for k = pi / L,
+    """First pinned-pinned frequency of the rail.
+
+    Lowest bending mode of a simply supported, undamped Timoshenko beam of span L: with k = pi / L,
+    the smaller root w^2 of the frequency equation for mode number 1,
       (rho I rho A / kGA) w^4 - (rho A + rho I k^2 + rho A EI k^2 / kGA) w^2 + EI k^4 = 0.
+
+    Parameters
+    ----------
+    track : Track
+        The track (rail properties and sleeper spacing L).
+
+    Returns
+    -------
+    float
+        Pinned-pinned frequency [Hz].
     """
     r = track.rail
     EI = r.youngs_modulus * r.second_moment_of_area
@@ -391,12 +590,34 @@ def pinned_pinned_frequency(track: Track) -> float:
 
 
 def characteristic_frequencies(track: Track, f_min=20.0, f_max=3000.0, points=600) -> dict[str, float]:
-    """Characteristic frequencies of the track, Hz, identified from its stationary point receptance.
+    """Characteristic frequencies of the track, identified from its stationary point receptance.
 
-    track_on_ballast : first maximum of |alpha| above a sleeper (track mass on the ballast)
-    out_of_phase     : second maximum of |alpha| above a sleeper (rail and sleepers out of phase)
-    pinned_pinned    : maximum of |alpha| at mid-span above the out-of-phase resonance
-    Each is refined by a parabola through the three grid points around the maximum.
+    |alpha| (``stationary_receptance`` at rtol 1e-4) is computed above a sleeper and at mid-span on
+    ``points`` log-spaced frequencies from f_min to f_max.  Each maximum is refined by a parabola
+    (in log |alpha| against log f) through the three grid points around it.
+
+    Parameters
+    ----------
+    track : Track
+        The track.
+    f_min : float, optional
+        Lowest frequency of the scan [Hz]; default 20.
+    f_max : float, optional
+        Highest frequency of the scan [Hz]; default 3000.
+    points : int, optional
+        Number of frequencies in the scan [-]; default 600.
+
+    Returns
+    -------
+    dict of str to float
+        Frequencies [Hz]; NaN where the maximum is not found in the scan.
+
+        track_on_ballast
+            First maximum of |alpha| above a sleeper (track mass on the ballast).
+        out_of_phase
+            Second maximum of |alpha| above a sleeper (rail and sleepers out of phase).
+        pinned_pinned
+            Maximum of |alpha| at mid-span above the out-of-phase resonance.
     """
     f = np.geomspace(f_min, f_max, points)
     om = 2 * np.pi * f
@@ -419,23 +640,3 @@ def characteristic_frequencies(track: Track, f_min=20.0, f_max=3000.0, points=60
         "out_of_phase": ps[1] if len(ps) > 1 else float("nan"),
         "pinned_pinned": pm[0] if pm else float("nan"),
     }
-
-
-def critical_speed(track: Track, v_min: float = 20.0, v_max: float = 1000.0, step: float = 10.0, rtol: float = 1e-5) -> float:
-    """Critical speed of the track, m/s: the speed at which the mean rail deflection under a
-    moving constant load, |a_0(0)| of the moving-load receptance (docs/track.md), is largest.
-
-    The supports are discrete and damped, so the resonance is a broad maximum rather than a
-    singularity; the scan is on a grid of ``step`` m/s refined by a parabola through the
-    largest value. (A smeared-support free-wave estimate is not used: its sleeper-mass branch is
-    flat, and its smallest phase velocity tends to zero.)
-    """
-    from .moving import moving_coefficients
-
-    V = np.arange(v_min, v_max + step / 2, step)
-    amp = np.array([abs(moving_coefficients(track, v, 0.0, 0, rtol=rtol)[1][0]) for v in V])
-    i = int(np.argmax(amp))
-    if i in (0, len(V) - 1):
-        return float(V[i])
-    y0, y1, y2 = amp[i - 1 : i + 2]
-    return float(V[i] + 0.5 * step * (y0 - y2) / (y0 - 2 * y1 + y2))

@@ -21,12 +21,34 @@ from dataclasses import dataclass
 
 import numpy as np
 
-from .contact import ContactMaterial, equivalent_radius, hertz_half_length, rolling_grid, solve_tangential
+from .contact import ContactMaterial, ContactNumerics, equivalent_radius, hertz_half_length, rolling_grid, solve_tangential
 from .interaction import ForceResult, Roughness, force_history
 
-__all__ = ["WearResult", "bay_wear", "wear_spectrum", "apply_wear", "SPIN_UP_TRANSITS"]
+__all__ = ["WearLaw", "WearResult", "bay_wear", "wear_spectrum", "apply_wear", "SPIN_UP_TRANSITS"]
 
 SPIN_UP_TRANSITS = 20
+
+
+@dataclass(frozen=True)
+class WearLaw:
+    """Frictional-work wear law (eq 49): removed depth = (K / rho) x frictional work per unit area.
+
+    density     : rho, rail density [kg/m^3], > 0
+    coefficient : K, wear coefficient [kg/(N m)], >= 0
+    """
+
+    density: float
+    coefficient: float
+
+    def __post_init__(self):
+        if not (np.isfinite(self.density) and self.density > 0):
+            raise ValueError(f"material.density = {self.density!r} kg/m^3 is not allowed: it must be > 0.")
+        if not (np.isfinite(self.coefficient) and self.coefficient >= 0):
+            raise ValueError(f"wear.coefficient = {self.coefficient!r} kg/(N m) is not allowed: it must be >= 0.")
+
+    def depth(self, work):
+        """Removed depth [m] for the frictional work per unit area ``work`` [J/m^2] (eq 49)."""
+        return self.coefficient / self.density * np.asarray(work)
 
 
 @dataclass(frozen=True)
@@ -60,7 +82,20 @@ class WearResult:
 
 
 def wear_spectrum(depth, K: int):
-    """Delta Z_k = (1/N_x) sum_k depth e^{-i k beta0 x_k} for k = -K..K, with Delta Z_0 = 0, m."""
+    """Fourier coefficients of the wear depth over the bay (eq 53), with Delta Z_0 = 0.
+
+    Parameters
+    ----------
+    depth : ndarray, shape (N_x,)
+        Removed height at x_k = k L / N_x [m].
+    K : int
+        Highest harmonic [-].
+
+    Returns
+    -------
+    ndarray, shape (2K + 1,)
+        Delta Z_k = (1/N_x) sum_k depth e^{-i k beta0 x_k}, k = -K..K [m].
+    """
     N = len(depth)
     F = np.fft.fft(depth) / N
     k = np.arange(-K, K + 1)
@@ -70,34 +105,65 @@ def wear_spectrum(depth, K: int):
 
 
 def apply_wear(roughness: Roughness, dZ, passages: float = 1.0) -> Roughness:
-    """New roughness Z_k - passages * Delta Z_k (eq 54)."""
+    """New roughness Z_k - passages * Delta Z_k (eq 54).
+
+    Parameters
+    ----------
+    roughness : Roughness
+        [m].
+    dZ : ndarray
+        Wear coefficients of one passage [m].
+    passages : float
+        Passages whose wear is removed [-].
+
+    Returns
+    -------
+    Roughness
+    """
     return Roughness(roughness.Z - passages * np.asarray(dZ))
 
 
-def bay_wear(forces: ForceResult, wheel_index: int, roughness: Roughness, material: ContactMaterial, density: float,
-             wear_coefficient: float, beta0: float, L: float, nodes: int = 61, closure: str = "default",
-             closure_scale: float = 1.0, grid_phase: float = 0.0, a_max: float | None = None) -> WearResult:
+def bay_wear(forces: ForceResult, wheel_index: int, roughness: Roughness, material: ContactMaterial, wear_law: WearLaw,
+             numerics: ContactNumerics, grid_phase: float = 0.0, a_max: float | None = None) -> WearResult:
     """Wear of one passage of wheel ``wheel_index`` over the bay (eqs 22-24, 26-52).
 
-    forces : the normal force harmonics (their histories include the 1/p^2 tail);
-    roughness : the current profile (curvature kappa = -z'', eq 20; multiple contact is an error);
-    density, wear_coefficient : rho (kg/m^3) and K (kg/(N m)) of eq 49;
-    nodes : grid nodes across the largest patch (the grid spacing Delta = L / N_x divides the bay);
-    grid_phase : in [0, 1): refines the grid from N_x to N_x + round(grid_phase L / a_mean), so that
-    a / Delta grows by grid_phase units at the bay's mean half-length a_mean. The discretisation's
-    small remaining error that depends on where the patch edges fall between nodes is periodic in
-    a / Delta with period 1; growth.run_growth varies the phase between updates with a
-    low-discrepancy sequence, so that this error averages out instead of building up as false
-    roughness (docs/contact.md). Shifting the grid against the supports would not: it leaves
-    a / Delta unchanged.
+    Parameters
+    ----------
+    forces : ForceResult
+        Normal force harmonics [N] (their histories include the 1/p^2 tail); forces.L is the bay [m].
+    wheel_index : int
+        Which wheel of ``forces`` rolls.
+    roughness : Roughness
+        Current profile [m] (curvature kappa = -z'', eq 20; multiple contact is an error).
+    material : ContactMaterial
+        Contact parameters (eqs 22-30).
+    wear_law : WearLaw
+        rho [kg/m^3] and K [kg/(N m)] of eq 49.
+    numerics : ContactNumerics
+        Grid nodes across the largest patch (the spacing Delta = L / N_x divides the bay) and closure.
+    grid_phase : float
+        In [0, 1): refines the grid from N_x to N_x + round(grid_phase L / a_mean), so that a / Delta
+        grows by grid_phase units at the bay's mean half-length a_mean. The discretisation's small
+        remaining error that depends on where the patch edges fall between nodes is periodic in
+        a / Delta with period 1; growth.run_growth varies the phase between updates with a
+        low-discrepancy sequence, so that this error averages out instead of building up as false
+        roughness (docs/contact.md). Shifting the grid against the supports would not: it leaves
+        a / Delta unchanged.
+    a_max : float, optional
+        Largest half-length the grid must hold [m] (default: 1.02 x the bay's largest).
+
+    Returns
+    -------
+    WearResult
     """
     if not 0.0 <= grid_phase < 1.0:
         raise ValueError(f"grid_phase = {grid_phase!r} is not allowed: it must lie in [0, 1).")
     K = roughness.harmonics
-    speed = forces.speed
+    speed, L = forces.speed, forces.L
+    nodes, closure, closure_scale = numerics.nodes, numerics.closure, numerics.closure_scale
     xs = np.linspace(0, L, 512, endpoint=False)
-    P_s = force_history(forces, xs, beta0)[wheel_index]
-    kap_s = _curvature(roughness, xs, beta0)
+    P_s = force_history(forces, xs)[wheel_index]
+    kap_s = _curvature(roughness, xs, L)
     a_s = hertz_half_length(P_s, equivalent_radius(kap_s, material), material)
     a_est = float(np.max(a_s)) * 1.02 if a_max is None else a_max
     delta, Nx, M = rolling_grid(a_est, L, nodes)
@@ -109,14 +175,14 @@ def bay_wear(forces: ForceResult, wheel_index: int, roughness: Roughness, materi
     spin = min(Nx, int(np.ceil(SPIN_UP_TRANSITS * 2 * a_est / delta)))
     steps = spin + Nx + 2 * M + 1
     x_wheel = (np.arange(steps) - spin) * delta  # wheel centre at each step; x = 0 at step `spin`
-    P = force_history(forces, x_wheel % L, beta0)[wheel_index]
-    kappa = _curvature(roughness, x_wheel % L, beta0)
+    P = force_history(forces, x_wheel % L)[wheel_index]
+    kappa = _curvature(roughness, x_wheel % L, L)
     R = equivalent_radius(kappa, material)
     a = hertz_half_length(P, R, material)
     sol = solve_tangential(P, a, material, speed, delta, M, closure=closure, closure_scale=closure_scale)
     # particle j is at x = (j - M - spin) Delta; the bay's points x_k = k Delta are j = spin + M + k
     j = spin + M + np.arange(Nx)
-    depth = wear_coefficient / density * sol.work[j]
+    depth = wear_law.depth(sol.work[j])
     x = np.arange(Nx) * delta
     # states with the wheel centre at x_k: step i = spin + k
     i = spin + np.arange(Nx)
@@ -141,8 +207,9 @@ def bay_wear(forces: ForceResult, wheel_index: int, roughness: Roughness, materi
     )
 
 
-def _curvature(roughness: Roughness, x, beta0):
-    """kappa = -z''(x) = sum (k beta0)^2 Z_k e^{i k beta0 x} (eq 20), 1/m."""
+def _curvature(roughness: Roughness, x, L: float):
+    """kappa = -z''(x) = sum (k beta0)^2 Z_k e^{i k beta0 x} (eq 20), 1/m; beta0 = 2 pi / L."""
+    beta0 = 2 * np.pi / L
     K = roughness.harmonics
     k = np.arange(-K, K + 1)
     return np.real(np.exp(1j * np.outer(np.asarray(x), k * beta0)) @ ((k * beta0) ** 2 * roughness.Z))

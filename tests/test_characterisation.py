@@ -10,7 +10,8 @@ import sys
 import numpy as np
 import pytest
 
-from rail import characterisation, decay
+from rail import decay
+from rail.studies import characterisation
 from rail import track as T
 from rail.plotting import track as plots
 

@@ -8,7 +8,7 @@ import pytest
 from scipy import integrate
 
 from rail import contact as C
-from rail.config import load_yaml
+from rail.setup.config import load_yaml
 
 ROOT = Path(__file__).resolve().parents[1]
 R, V, P0 = 0.575, 40.0, 1.0e5
@@ -133,7 +133,7 @@ def test_conclusions_table_leaves_out_values_that_are_not_well_posed():
     # the table's verdict uses only well-posed closure values; an ill-posed one is marked
     import xarray as xr
 
-    from rail.conclusions import closure_table, evaluate
+    from rail.studies.conclusions import closure_table, evaluate
 
     base = dict(levels_first=-30.0, levels_final=-10.0, argmax_harmonic=1, wear_rate={533.0: 1e-7, 1000.0: 2e-7},
                 ratio_slow=8.0, ratio_fast=2.0, overall_default=-9.0, overall_soft=-13.0, overall_single=-9.0,
@@ -169,10 +169,10 @@ def _in_phase_rates(nodes, phases):
     tab = moving.receptance_table(tr, V, K)
     m = 15
     rough = I.Roughness.harmonic(1e-5, tr.L / m, tr.L, K)
-    F = I.solve_forces(tab, I.Wheels(1350.0, 0.575, 1e5, (0.0,)), contact_spring(), rough, tr.beta0, tr.L)
+    F = I.solve_forces(tab, I.Wheels(1350.0, 0.575, 1e5, (0.0,)), contact_spring(), rough, tr.L)
     out = {}
     for s in sweep_values():
-        rates = [-np.real(W.bay_wear(F, 0, rough, MATERIAL, 7850.0, 2.5e-9, tr.beta0, tr.L, nodes=nodes, closure_scale=s,
+        rates = [-np.real(W.bay_wear(F, 0, rough, MATERIAL, W.WearLaw(7850.0, 2.5e-9), C.ContactNumerics(nodes, "default", s),
                                      grid_phase=(j + 0.5) / phases).Z[K + m] / rough.Z[K + m]) for j in range(phases)]
         out[s] = float(np.mean(rates))
     return out

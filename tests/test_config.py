@@ -4,8 +4,8 @@ import copy
 
 import pytest
 
-from rail import config as rconfig
-from rail import params
+from rail.setup import build
+from rail.setup import config as rconfig
 
 
 @pytest.fixture(scope="module")
@@ -20,7 +20,7 @@ def defaults(root):
 
 def test_default_config_is_valid_and_builds_parameters(defaults, schema):
     cfg = rconfig.validate_config(copy.deepcopy(defaults), schema)
-    m = params.material(cfg)
+    m = build.scenario(cfg).elastic
     assert (m.youngs_modulus, m.poisson_ratio, m.density) == (2.1e11, 0.3, 7850.0)
 
 

@@ -4,8 +4,11 @@ import numpy as np
 import pytest
 import xarray as xr
 
-from rail import datasets, figures, halfspace, io, params
-from rail.config import load_yaml
+from rail import halfspace
+from rail.plotting import report as figures
+from rail.setup import build, io
+from rail.studies import datasets
+from rail.setup.config import load_yaml
 
 
 @pytest.fixture(scope="module")
@@ -15,7 +18,7 @@ def cfg(root):
 
 @pytest.fixture(scope="module")
 def settings(cfg):
-    return params.halfspace_figures(cfg)
+    return build.halfspace_figures(cfg)
 
 
 def test_fig02_integrand_is_real_between_s_and_rayleigh_wavenumbers(steel, settings):
@@ -48,7 +51,7 @@ def test_finalize_refuses_a_variable_without_units(cfg):
 
 def test_every_halfspace_figure_draws(steel, settings, cfg):
     num = halfspace.HalfSpaceNumerics(epsrel=1e-6)
-    small = params.HalfSpaceFigureSettings(
+    small = build.HalfSpaceFigureSettings(
         settings.frequency, settings.radius, settings.radii[:3], settings.frequencies[:3], settings.hertz_stiffness
     )
     rad = datasets.radiation(steel, small, num)

@@ -12,13 +12,17 @@ import time
 import numpy as np
 import pytest
 
+from model import scenario
+
+from rail import chain
 from rail import contact as C
-from rail.conclusions import overall_level_dB, short_wavelength_ratio
 from rail import growth as G
 from rail import halfspace
 from rail import interaction as I
 from rail import moving
 from rail import track as T
+from rail import wear as W
+from rail.studies.conclusions import overall_level_dB, short_wavelength_ratio
 
 K = 48
 NODES = 41  # reduced contact grid for tests (the default 81 is checked in tests/test_contact.py)
@@ -40,12 +44,10 @@ MATERIAL = C.ContactMaterial(2.1e11, 0.3, 0.008, 0.575, 0.3, 0.3, -0.001)
 def run(tr, V, positions=(0.0,), passages=20000, step=10000, checkpoint=None, stop=None, rough=None, vary_grid=True):
     offsets = sorted({0.0} | {a - b for a in positions for b in positions if a != b})
     tab = moving.receptance_table(tr, V, K, offsets=offsets)
-    return G.run_growth(
-        tab, I.Wheels(1350.0, 0.575, 1e5, tuple(positions)), contact_spring(), MATERIAL, 7850.0, 2.5e-9,
-        rough if rough is not None else I.Roughness.smooth(K), tr.beta0, tr.L,
-        G.GrowthSettings(passages, step, step, nodes=NODES, vary_grid_spacing=vary_grid), checkpoint=checkpoint, identity={"V": V, "positions": positions},
-        progress=io.StringIO(), stop_after_updates=stop,
-    )
+    scn = scenario(tr, MATERIAL, contact_spring(), positions=positions, K=K, nodes=NODES, passages=passages, step=step,
+                   vary_grid=vary_grid)
+    return chain.grow(scn, tab, rough if rough is not None else I.Roughness.smooth(K), checkpoint=checkpoint,
+                      progress=io.StringIO(), stop_after_updates=stop)
 
 
 def rms_level(Z):
@@ -94,8 +96,8 @@ def test_conclusion_2_growth_depends_strongly_on_excitation_frequency():
     amplitude, rate = {}, {}
     for m in (8, 15, 18, 24):
         rough = I.Roughness.harmonic(1e-5, tr.L / m, tr.L, K)
-        F = I.solve_forces(tab, I.Wheels(1350.0, 0.575, 1e5, (0.0,)), contact_spring(), rough, tr.beta0, tr.L)
-        w = W.bay_wear(F, 0, rough, MATERIAL, 7850.0, 2.5e-9, tr.beta0, tr.L, nodes=NODES)
+        F = I.solve_forces(tab, I.Wheels(1350.0, 0.575, 1e5, (0.0,)), contact_spring(), rough, tr.L)
+        w = W.bay_wear(F, 0, rough, MATERIAL, W.WearLaw(7850.0, 2.5e-9), C.ContactNumerics(NODES, "default", 1.0))
         amplitude[m] = 2 * abs(w.Z[K + m]) / w.depth.mean()
         rate[m] = -np.real(w.Z[K + m] / rough.Z[K + m])
     assert amplitude[24] > 5 * amplitude[8]
@@ -150,9 +152,9 @@ def test_growth_converges_as_the_update_step_falls():
 
 def test_bad_update_step_is_rejected_before_any_computation():
     with pytest.raises(ValueError, match=r"growth\.passages_per_update = 0 is not allowed: it must lie in \[1, growth\.passages = 1000\]"):
-        G.GrowthSettings(1000, 0, 1000)
+        G.GrowthSettings(1000, 0, 1000, True, 0.05)
     with pytest.raises(ValueError, match=r"growth\.save_every = 300 must be a multiple of growth\.passages_per_update = 200"):
-        G.GrowthSettings(1200, 200, 300)
+        G.GrowthSettings(1200, 200, 300, True, 0.05)
 
 
 _CHILD = textwrap.dedent(
@@ -205,6 +207,28 @@ def test_checkpoint_of_another_configuration_is_refused(tmp_path):
         run(track(), 20.0, passages=20000, step=10000, checkpoint=ck)
 
 
+def test_checkpoint_of_another_initial_roughness_is_refused(tmp_path):
+    # the checkpoint's identity holds the initial roughness itself (not the name of the file it
+    # came from): an edited roughness file never resumes the old run
+    ck = tmp_path / "run.npz"
+    run(track(), 40.0, passages=20000, step=10000, checkpoint=ck, stop=1)
+    with pytest.raises(ValueError, match=r"written for another configuration or code"):
+        run(track(), 40.0, passages=20000, step=10000, checkpoint=ck, rough=I.Roughness.harmonic(1e-7, 0.04, 0.6, K))
+
+
+def test_checkpoint_of_other_physics_code_is_refused(tmp_path, monkeypatch):
+    # rail.chain.grow puts the hash of rail.chain's imports (rail.provenance) in the identity:
+    # the same run after a change of any physics module is refused
+    ck = tmp_path / "run.npz"
+    run(track(), 40.0, passages=20000, step=10000, checkpoint=ck, stop=1)
+    from rail import provenance
+
+    real = provenance.module_hash("rail.chain")
+    monkeypatch.setattr(provenance, "module_hash", lambda name, *a: real + "-changed" if name == "rail.chain" else real)
+    with pytest.raises(ValueError, match=r"written for another configuration or code"):
+        run(track(), 40.0, passages=20000, step=10000, checkpoint=ck)
+
+
 def test_varying_the_grid_spacing_averages_the_grid_tied_wear_error():
     # The wear of one passage over a smooth rail (the parametric source of growth, 40 m/s): its
     # harmonics k = 1..10 are 1.3 % to 0.05 % of the mean wear. On one 81-node grid they carry an
@@ -219,10 +243,10 @@ def test_varying_the_grid_spacing_averages_the_grid_tied_wear_error():
     tr = track()
     tab = moving.receptance_table(tr, 40.0, K)
     rough = I.Roughness.smooth(K)
-    F = I.solve_forces(tab, I.Wheels(1350.0, 0.575, 1e5, (0.0,)), contact_spring(), rough, tr.beta0, tr.L)
+    F = I.solve_forces(tab, I.Wheels(1350.0, 0.575, 1e5, (0.0,)), contact_spring(), rough, tr.L)
 
     def harmonics(phase):
-        return W.bay_wear(F, 0, rough, MATERIAL, 7850.0, 2.5e-9, tr.beta0, tr.L, nodes=81, grid_phase=phase).Z[K + 1 : K + 11]
+        return W.bay_wear(F, 0, rough, MATERIAL, W.WearLaw(7850.0, 2.5e-9), C.ContactNumerics(81, "default", 1.0), grid_phase=phase).Z[K + 1 : K + 11]
 
     single = np.array([harmonics((j + 0.5) / 8) for j in range(8)])
     mean = single.mean(axis=0)
@@ -243,9 +267,8 @@ def test_growth_spectrum_on_the_default_grid_against_twice_the_default():
     tab = moving.receptance_table(tr, 40.0, K)
     levels = {}
     for nodes in (61, 121):
-        h = G.run_growth(tab, I.Wheels(1350.0, 0.575, 1e5, (0.0,)), contact_spring(), MATERIAL, 7850.0, 2.5e-9,
-                         I.Roughness.smooth(K), tr.beta0, tr.L, G.GrowthSettings(100000, 10000, 100000, nodes=nodes),
-                         progress=io.StringIO())
+        scn = scenario(tr, MATERIAL, contact_spring(), K=K, nodes=nodes, passages=100000, step=10000, save_every=100000)
+        h = chain.grow(scn, tab, I.Roughness.smooth(K), progress=io.StringIO())
         levels[nodes] = G.levels_dB(h.Z[-1])
     a, b = levels[61], levels[121]
     top20 = b >= b.max() - 20

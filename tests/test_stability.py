@@ -7,13 +7,17 @@ from pathlib import Path
 import numpy as np
 import pytest
 
+from model import scenario
+
+from rail import chain
 from rail import contact as C
-from rail import growth as G
 from rail import interaction as I
-from rail import moving, stability
+from rail import moving
 from rail import track as T
 from rail import wear as W
-from rail.config import load_yaml
+from rail.growth import GrowthStepError
+from rail.setup.config import load_yaml
+from rail.studies import stability
 
 ROOT = Path(__file__).resolve().parents[1]
 DEFAULTS = load_yaml(ROOT / "config/config.yaml")
@@ -58,10 +62,10 @@ def test_critical_speed_against_a_beam_on_an_elastic_foundation():
     r = soft.rail
     s = 1e7 * 50e6 / (1e7 + 50e6) / 0.6
     c_beam = (4 * s * r.youngs_modulus * r.second_moment_of_area / (r.density * r.area) ** 2) ** 0.25
-    assert T.critical_speed(soft, v_min=300.0, v_max=800.0) == pytest.approx(c_beam, rel=0.1)
+    assert moving.critical_speed(soft, v_min=300.0, v_max=800.0) == pytest.approx(c_beam, rel=0.1)
     # the default track: the sleeper mass takes part and lowers it to 268 m/s; the suite's
     # near-critical case (240 m/s) is 0.9 of it and its supercritical case (300 m/s) 1.1 times it
-    vc = T.critical_speed(_track(), v_min=200.0, v_max=400.0)
+    vc = moving.critical_speed(_track(), v_min=200.0, v_max=400.0)
     assert 240.0 / vc == pytest.approx(0.9, abs=0.03) and 300.0 / vc == pytest.approx(1.1, abs=0.03)
 
 
@@ -74,21 +78,20 @@ def test_saturated_creepage_gives_full_slip_reported_and_mu_P():
     tr = _track()
     tab = moving.receptance_table(tr, 40.0, 16)
     rough = I.Roughness.smooth(16)
-    F = I.solve_forces(tab, I.Wheels(1350.0, 0.575, 1e5, (0.0,)), I.ContactSpring(1.4e9, 0.0), rough, tr.beta0, tr.L)
+    F = I.solve_forces(tab, I.Wheels(1350.0, 0.575, 1e5, (0.0,)), I.ContactSpring(1.4e9, 0.0), rough, tr.L)
     m = C.ContactMaterial(2.1e11, 0.3, 0.008, 0.575, 0.3, 0.3, -0.01)
-    w = W.bay_wear(F, 0, rough, m, 7850.0, 2.5e-9, tr.beta0, tr.L, nodes=41)
+    w = W.bay_wear(F, 0, rough, m, W.WearLaw(7850.0, 2.5e-9), C.ContactNumerics(41, "default", 1.0))
     assert w.full_slip == 1.0
     assert np.abs(w.Q / (0.3 * w.P) - 1).max() < 5e-3
-    w0 = W.bay_wear(F, 0, rough, MATERIAL, 7850.0, 2.5e-9, tr.beta0, tr.L, nodes=41)
+    w0 = W.bay_wear(F, 0, rough, MATERIAL, W.WearLaw(7850.0, 2.5e-9), C.ContactNumerics(41, "default", 1.0))
     assert w0.full_slip == 0.0
 
 
 def _run(step, passages, tol=0.05, K=24):
     tr = _track()
     tab = moving.receptance_table(tr, 40.0, K)
-    return G.run_growth(tab, I.Wheels(1350.0, 0.575, 1e5, (0.0,)), I.ContactSpring(1.4e9, 0.0), MATERIAL, 7850.0, 2.5e-9,
-                        I.Roughness.smooth(K), tr.beta0, tr.L, G.GrowthSettings(passages, step, passages, nodes=21, step_tolerance=tol),
-                        progress=io.StringIO())
+    scn = scenario(tr, MATERIAL, I.ContactSpring(1.4e9, 0.0), K=K, nodes=21, passages=passages, step=step, save_every=passages, tol=tol)
+    return chain.grow(scn, tab, I.Roughness.smooth(K), progress=io.StringIO())
 
 
 def test_update_error_estimate_is_first_order_in_the_step():
@@ -100,5 +103,5 @@ def test_update_error_estimate_is_first_order_in_the_step():
 
 
 def test_update_step_too_large_stops_with_a_clear_error():
-    with pytest.raises(G.GrowthStepError, match=r"growth\.passages_per_update = 20000 is too large: .* use at most about \d+ passages per update"):
+    with pytest.raises(GrowthStepError, match=r"growth\.passages_per_update = 20000 is too large: .* use at most about \d+ passages per update"):
         _run(20000, 40000, tol=1e-4)

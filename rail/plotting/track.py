@@ -1,6 +1,6 @@
 """Track characterisation figures: point receptance, moving-load receptance, decay rate.
 
-Each function takes the dataset built by ``rail.characterisation`` (or read back from its netCDF
+Each function takes the dataset built by ``rail.studies.characterisation`` (or read back from its netCDF
 file) and returns a matplotlib Figure.
 """
 

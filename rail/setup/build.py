@@ -1,24 +1,30 @@
-"""Turn a validated configuration mapping into frozen parameter dataclasses (SI units).
+"""Turn a resolved, validated configuration mapping into a Scenario (the one place where dicts become
+dataclasses, SI units).
 
-This is the one place where dictionaries become dataclasses; everything below takes
-dataclasses and arrays.
+``scenario(cfg)`` is called once per scenario, at start-up of the workflow (common.smk) and in
+scripts, studies and benchmarks; everything below takes the Scenario and arrays. The checks that
+need physics (the rail damping the moving-load integrals need, the harmonics that reach the
+pinned-pinned frequency at every speed) are made here and raise ConfigError naming the key, its
+value, the valid range and the source file, like the schema's checks (rail.setup.config).
 """
 
 from __future__ import annotations
 
+import functools
 from dataclasses import dataclass
 
 import numpy as np
 
-from .halfspace import ElasticMaterial, HalfSpaceNumerics
-from .contact import ContactMaterial
-from .interaction import ContactSpring, Roughness, Wheels
-from .track import Ballast, Pad, Rail, Sleeper, Track
+from ..contact import ContactMaterial, ContactNumerics
+from ..growth import GrowthSettings
+from ..halfspace import ElasticMaterial, HalfSpaceNumerics, contact_loss_factor
+from ..interaction import ContactSpring, Wheels
+from ..scenario import InitialRoughness, Scenario, TrackNumerics
+from ..track import Ballast, Pad, Rail, Sleeper, Track, damping_problem, min_harmonics, pinned_pinned_frequency
+from ..wear import WearLaw
+from .config import ConfigError, configured_speeds
 
-__all__ = [
-    "HalfSpaceFigureSettings", "material", "halfspace_numerics", "halfspace_figures", "track",
-    "wheels", "contact_spring", "roughness", "harmonics", "contact_material", "growth_settings",
-]
+__all__ = ["HalfSpaceFigureSettings", "scenario", "track", "physics_problems", "halfspace_numerics", "halfspace_figures"]
 
 
 @dataclass(frozen=True, slots=True)
@@ -39,8 +45,7 @@ class HalfSpaceFigureSettings:
     hertz_stiffness: float
 
 
-def material(cfg: dict) -> ElasticMaterial:
-    """Rail steel as an elastic half-space (config key ``material``)."""
+def _elastic(cfg: dict) -> ElasticMaterial:
     m = cfg["material"]
     return ElasticMaterial(float(m["youngs_modulus"]), float(m["poisson_ratio"]), float(m["density"]))
 
@@ -63,8 +68,18 @@ def halfspace_figures(cfg: dict) -> HalfSpaceFigureSettings:
     )
 
 
-def track(cfg: dict) -> Track:
-    """Table 1 track (config key ``track``)."""
+def track(cfg: dict) -> tuple[Track, TrackNumerics]:
+    """The track and its receptance numerics alone (config keys ``track``, ``numerics.track``): what a
+    receptance table depends on. Raises ConfigError if the rail damping is too small for the
+    moving-load integrals."""
+    tr = _track(cfg)
+    if (problem := damping_problem(tr)) is not None:
+        raise ConfigError(f"invalid configuration:\n  {problem}")
+    n = cfg["numerics"]["track"]
+    return tr, TrackNumerics(int(n["harmonics"]), float(n["rtol"]))
+
+
+def _track(cfg: dict) -> Track:
     t = cfg["track"]
     r, p, s, b = t["rail"], t["pad"], t["sleeper"], t["ballast"]
     return Track(
@@ -85,50 +100,26 @@ def track(cfg: dict) -> Track:
     )
 
 
-def harmonics(cfg: dict) -> int:
-    """K, the number of sleeper-passing harmonics (config key ``numerics.track.harmonics``)."""
-    return int(cfg["numerics"]["track"]["harmonics"])
+@functools.lru_cache(maxsize=64)
+def _halfspace_loss_slope(kH: float, material: ElasticMaterial) -> float:
+    """eta_H / omega [s/rad] of the half-space contact damping (Fig. 6); eta_H is exactly
+    proportional to frequency, so one value gives the slope (cached: a half-space integral)."""
+    om = 2 * np.pi * 1000.0
+    return float(contact_loss_factor(om, kH, material) / om)
 
 
-def wheels(cfg: dict) -> Wheels:
-    """The train's wheels (config key ``wheels``)."""
-    w = cfg["wheels"]
-    return Wheels(float(w["mass"]), float(w["radius"]), float(w["static_load"]), tuple(float(a) for a in w["positions"]))
-
-
-def contact_spring(cfg: dict) -> ContactSpring:
-    """Linearised Hertz spring; its damping from the half-space model (Fig. 6), a constant or none."""
-    from .halfspace import contact_loss_factor
-
+def _spring(cfg: dict) -> ContactSpring:
     c = cfg["contact"]
     kH = float(c["hertz_stiffness"])
     model = c["loss_factor_model"]
     if model == "halfspace":
-        om = 2 * np.pi * 1000.0  # eta_H is exactly proportional to frequency: one value gives the slope
-        return ContactSpring(kH, loss_slope=float(contact_loss_factor(om, kH, material(cfg)) / om))
+        return ContactSpring(kH, loss_slope=_halfspace_loss_slope(kH, _elastic(cfg)))
     if model == "constant":
         return ContactSpring(kH, loss_factor=float(c["loss_factor"]))
     return ContactSpring(kH)
 
 
-def roughness(cfg: dict, speed: float, L: float, K: int) -> Roughness:
-    """Initial roughness (config key ``roughness``) at the given speed, m."""
-    r = cfg["roughness"]
-    if r["kind"] == "smooth":
-        return Roughness.smooth(K)
-    if r["kind"] == "file":
-        from .interaction import read_roughness_coefficients
-
-        k, A, B = read_roughness_coefficients(r["file"])
-        return Roughness.from_coefficients(k, A, B, K)
-    wavelength = r.get("wavelength")
-    if wavelength is None:
-        wavelength = speed / float(r["frequency"])
-    return Roughness.harmonic(float(r["amplitude"]), float(wavelength), L, K)
-
-
-def contact_material(cfg: dict) -> ContactMaterial:
-    """Contact parameters of sections 4.2-4.3 (config keys ``material``, ``contact``, ``wheels``)."""
+def _material(cfg: dict) -> ContactMaterial:
     c, mat = cfg["contact"], cfg["material"]
     return ContactMaterial(
         youngs_modulus=float(mat["youngs_modulus"]),
@@ -141,18 +132,56 @@ def contact_material(cfg: dict) -> ContactMaterial:
     )
 
 
-def growth_settings(cfg: dict):
-    """Growth loop settings (config keys ``growth``, ``numerics.contact``, ``contact.closure``)."""
-    from .growth import GrowthSettings
+def _roughness(cfg: dict) -> InitialRoughness:
+    r = cfg["roughness"]
+    wl = r.get("wavelength")
+    return InitialRoughness(kind=str(r["kind"]), amplitude=float(r["amplitude"]), frequency=float(r["frequency"]),
+                            wavelength=None if wl is None else float(wl), file=r.get("file"))
 
-    g, c = cfg["growth"], cfg["contact"]
-    return GrowthSettings(
-        passages=int(g["passages"]),
-        passages_per_update=int(g["passages_per_update"]),
-        save_every=int(g["save_every"]),
-        nodes=int(cfg["numerics"]["contact"]["nodes"]),
-        closure=str(c["closure"]),
-        closure_scale=float(c["closure_scale"]),
-        vary_grid_spacing=bool(g["vary_grid_spacing"]),
-        step_tolerance=float(g["step_tolerance"]),
+
+def physics_problems(cfg: dict, source: str) -> list[str]:
+    """Constraints that need physics to state: rail damping for the moving-load integrals, and
+    numerics.track.harmonics reaching the pinned-pinned frequency at every configured speed."""
+    out = []
+    tr = _track(cfg)
+    if (problem := damping_problem(tr)) is not None:
+        out.append(f"{source}: {problem}")
+    K = int(cfg["numerics"]["track"]["harmonics"])
+    for V in configured_speeds(cfg):
+        need = min_harmonics(tr, V)
+        if K < need:
+            out.append(
+                f"{source}: numerics.track.harmonics = {K} is not allowed at V = {V:g} m/s: K V / L = {K * V / tr.L:.0f} Hz "
+                f"does not reach the pinned-pinned frequency {pinned_pinned_frequency(tr):.0f} Hz, below which the force needs "
+                f"every harmonic; it must be >= {need} at this speed."
+            )
+    return out
+
+
+def scenario(cfg: dict, name: str = "default", source: str = "config") -> Scenario:
+    """The Scenario of a resolved, validated configuration (rail.setup.config.resolve).
+
+    Raises ConfigError listing every physics constraint the configuration breaks (physics_problems),
+    with ``source`` (the scenario file) in each line.
+    """
+    problems = physics_problems(cfg, source)
+    if problems:
+        raise ConfigError("invalid configuration:\n  " + "\n  ".join(problems))
+    w, g, c = cfg["wheels"], cfg["growth"], cfg["contact"]
+    num = cfg["numerics"]
+    return Scenario(
+        name=name,
+        track=_track(cfg),
+        track_numerics=TrackNumerics(int(num["track"]["harmonics"]), float(num["track"]["rtol"])),
+        wheels=Wheels(float(w["mass"]), float(w["radius"]), float(w["static_load"]), tuple(float(a) for a in w["positions"])),
+        spring=_spring(cfg),
+        material=_material(cfg),
+        elastic=_elastic(cfg),
+        wear_law=WearLaw(float(cfg["material"]["density"]), float(cfg["wear"]["coefficient"])),
+        contact_numerics=ContactNumerics(int(num["contact"]["nodes"]), str(c["closure"]), float(c["closure_scale"])),
+        growth=GrowthSettings(passages=int(g["passages"]), passages_per_update=int(g["passages_per_update"]),
+                              save_every=int(g["save_every"]), vary_grid_spacing=bool(g["vary_grid_spacing"]),
+                              step_tolerance=float(g["step_tolerance"])),
+        roughness=_roughness(cfg),
+        speeds=tuple(float(v) for v in cfg["speeds"]),
     )

@@ -103,22 +103,6 @@ def _cross_checks(cfg: dict, source: str) -> list[str]:
             f"{source}: contact.friction_static = {c['friction_static']!r} is not allowed: it must be "
             f">= contact.friction_dynamic = {c['friction_dynamic']!r} (static friction at least the dynamic)."
         )
-    t = cfg.get("track", {})
-    rail = t.get("rail", {})
-    from .track import MIN_RAIL_DAMPING_TIME, MIN_RAIL_LOSS_FACTOR
-
-    if t.get("damping", "hysteretic") == "hysteretic" and rail.get("loss_factor", 1.0) < MIN_RAIL_LOSS_FACTOR:
-        out.append(
-            f"{source}: track.rail.loss_factor = {rail['loss_factor']!r} is not allowed with track.damping = 'hysteretic': "
-            f"the moving-load wavenumber integrals need rail damping (undamped free waves put poles on the real "
-            f"wavenumber axis); it must be >= {MIN_RAIL_LOSS_FACTOR:g}."
-        )
-    if t.get("damping") == "viscous" and rail.get("damping_time", 1.0) < MIN_RAIL_DAMPING_TIME:
-        out.append(
-            f"{source}: track.rail.damping_time = {rail['damping_time']!r} s is not allowed with track.damping = 'viscous': "
-            f"the moving-load wavenumber integrals need rail damping; it must be >= {MIN_RAIL_DAMPING_TIME:.3g} s."
-        )
-    out += _harmonics_checks(cfg, source)
     r = cfg.get("roughness", {})
     if r.get("kind") == "file" and not r.get("file"):
         out.append(f"{source}: roughness.kind = 'file' needs roughness.file, a CSV with header k,A_m,B_m.")
@@ -138,28 +122,6 @@ def configured_speeds(cfg: dict) -> list[float]:
     v |= set(f.get("fig22", {}).get("speeds", [])) | set(f.get("growth", {}).get("speeds", []))
     v |= {x for x in (f.get("fig08", {}).get("speed"), f.get("wear", {}).get("speed")) if x is not None}
     return sorted(float(x) for x in v)
-
-
-def _harmonics_checks(cfg: dict, source: str) -> list[str]:
-    """numerics.track.harmonics must reach the pinned-pinned frequency at every speed."""
-    from .params import track as make_track
-    from .track import min_harmonics, pinned_pinned_frequency
-
-    try:
-        tr = make_track(cfg)
-        K = int(cfg["numerics"]["track"]["harmonics"])
-    except (KeyError, TypeError, ValueError):
-        return []
-    out = []
-    for V in configured_speeds(cfg):
-        need = min_harmonics(tr, V)
-        if K < need:
-            out.append(
-                f"{source}: numerics.track.harmonics = {K} is not allowed at V = {V:g} m/s: K V / L = {K * V / tr.L:.0f} Hz "
-                f"does not reach the pinned-pinned frequency {pinned_pinned_frequency(tr):.0f} Hz, below which the force needs "
-                f"every harmonic; it must be >= {need} at this speed."
-            )
-    return out
 
 
 def validate_config(cfg: dict, schema: dict, source: str = "config") -> dict:

@@ -12,7 +12,7 @@ import platform
 import xarray as xr
 import yaml
 
-from . import __version__
+from .. import __version__
 
 __all__ = ["package_versions", "finalize", "write_netcdf"]
 

@@ -6,7 +6,7 @@
 
 Physics comes from ``rail.track``, ``rail.moving`` and ``rail.decay``; units and long names are
 attached here.  Each function returns an xarray Dataset whose every variable and coordinate
-carries ``units`` and ``long_name``; ``rail.io.finalize`` adds the configuration and versions.
+carries ``units`` and ``long_name``; ``rail.setup.io.finalize`` adds the configuration and versions.
 Complex receptances are stored as real and imaginary parts, m/N, displacement and force positive
 downwards, time factor exp(+i omega t).
 """
@@ -16,9 +16,9 @@ from __future__ import annotations
 import numpy as np
 import xarray as xr
 
-from . import decay, moving
-from . import track as T
-from .track import Track
+from .. import decay, moving
+from .. import track as T
+from ..track import Track
 
 __all__ = ["track_receptance", "moving_receptance", "track_decay_rate", "measured_decay_rate"]
 

@@ -1,7 +1,7 @@
 """Datasets behind the report's figures: physics from the modules below, units and names here.
 
 Each function returns an xarray Dataset whose every variable carries ``units`` and
-``long_name``; ``rail.io.finalize`` adds the configuration and versions.
+``long_name``; ``rail.setup.io.finalize`` adds the configuration and versions.
 """
 
 from __future__ import annotations
@@ -11,9 +11,12 @@ import re
 import numpy as np
 import xarray as xr
 
-from . import halfspace
-from .halfspace import ElasticMaterial, HalfSpaceNumerics
-from .params import HalfSpaceFigureSettings
+from .. import halfspace
+from ..halfspace import ElasticMaterial, HalfSpaceNumerics
+from ..growth import levels_dB
+from ..interaction import Roughness, force_history
+from ..moving import MovingReceptance
+from ..setup.build import HalfSpaceFigureSettings
 
 __all__ = ["fig02", "fig03", "fig04", "radiation", "fig05", "fig06", "receptance_table", "read_receptance_table", "fig08", "fig22", "wear_case", "fig09", "fig10_11", "fig_wear", "fig_wear_spectrum", "growth", "growth_figure", "sweep"]
 
@@ -135,7 +138,6 @@ def receptance_table(tab, track) -> xr.Dataset:
 
 def read_receptance_table(ds: xr.Dataset):
     """The MovingReceptance stored by receptance_table (inverse of it)."""
-    from .moving import MovingReceptance
 
     A = ds["receptance_real"].values + 1j * ds["receptance_imag"].values
     K = (A.shape[1] - 1) // 2
@@ -146,11 +148,10 @@ def read_receptance_table(ds: xr.Dataset):
 
 def _force_history_vars(results, track, x, labels):
     """Force histories over the bay, one variable per result, N."""
-    from .interaction import force_history
 
     out = {}
     for key, (res, long_name) in zip(labels, results):
-        out[key] = _var("position", force_history(res, x, track.beta0)[0], "N", long_name)
+        out[key] = _var("position", force_history(res, x)[0], "N", long_name)
     return out
 
 
@@ -159,7 +160,7 @@ def fig08(result, track, roughness, settings: dict, points: int = 601) -> xr.Dat
     x = np.linspace(0.0, track.L, points)
     data = _force_history_vars([(result, "normal contact force")], track, x, ["force"])
     data["dynamic_force"] = _var("position", data["force"][1] - result.P[0, result.harmonics].real, "N", "normal dynamic contact force (force minus static load)")
-    data["roughness"] = _var("position", roughness.profile(x, track.beta0), "m", "rail-head roughness (upwards positive)")
+    data["roughness"] = _var("position", roughness.profile(x, track.L), "m", "rail-head roughness (upwards positive)")
     return xr.Dataset(
         data,
         coords={"position": _var("position", x, "m", "wheel position in the sleeper bay (0 = above a sleeper)")},
@@ -193,7 +194,7 @@ def wear_case(result, forces, roughness, track, settings: dict, frequency: float
             "dynamic_normal_force": _var("position", result.P - P0, "N", "normal dynamic contact force (minus the static load)"),
             "tangential_force": _var("position", result.Q, "N", "tangential contact force 2b int q"),
             "half_length": _var("position", result.a, "m", "contact patch half-length a (eq 23)"),
-            "roughness": _var("position", roughness.profile(x, track.beta0), "m", "initial rail-head roughness (upwards positive)"),
+            "roughness": _var("position", roughness.profile(x, track.L), "m", "initial rail-head roughness (upwards positive)"),
             "traction": _var(("position", "patch"), result.q, "Pa", "tangential traction q(xi) with the wheel at the position"),
             "slip_velocity": _var(("position", "patch"), result.s, "m/s", "slip velocity s(xi) (step average, eq 26)"),
             "wear_spectrum": _var("harmonic", 2 * np.abs(result.Z[K + 1 :]), "m", "amplitude of the wear's Fourier components, 2 |Delta Z_k|"),
@@ -253,14 +254,12 @@ def fig_wear_spectrum(case: xr.Dataset, k_max: float) -> xr.Dataset:
 
 def growth(history, track, speed: float, n_wheels: int, points: int = 601) -> xr.Dataset:
     """Roughness growth: levels per harmonic and profiles at every saved passage count."""
-    from .growth import levels_dB
-    from .interaction import Roughness
 
     Z = history.Z
     K = (Z.shape[1] - 1) // 2
     k = np.arange(1, K + 1)
     x = np.linspace(0.0, track.L, points)
-    profiles = np.array([Roughness(z).profile(x, track.beta0) for z in Z])
+    profiles = np.array([Roughness(z).profile(x, track.L) for z in Z])
     levels = levels_dB(Z)
     n = history.passages
     half = n >= n[-1] / 2

@@ -28,9 +28,13 @@ import time
 import traceback
 
 import numpy as np
+import xarray as xr
 
-from . import contact, growth, interaction, moving, params, wear
-from .config import ConfigError, deep_merge, resolve
+from .. import chain, contact, growth, interaction, moving
+from ..scenario import Scenario
+from ..setup.build import scenario as build_scenario
+from ..setup.config import ConfigError, deep_merge, resolve
+from .datasets import _var
 
 __all__ = ["CLEAR_ERRORS", "run_case", "outcome_matches"]
 
@@ -39,7 +43,7 @@ __all__ = ["CLEAR_ERRORS", "run_case", "outcome_matches"]
 CLEAR_ERRORS = (ConfigError, ValueError, contact.ContactError, interaction.ContactLossError, growth.GrowthStepError)
 
 
-def _truncation(tab, forces, rough, cfg, beta0, L, points: int = 256):
+def _truncation(scn: Scenario, tab, forces, rough, points: int = 256):
     """Largest difference of the force along the bay between K and K/2 harmonics (both with the
     1/p^2 tail), over the force fluctuation: the truncation is converged when it is small. None
     when the roughness has harmonics above K/2."""
@@ -49,26 +53,27 @@ def _truncation(tab, forces, rough, cfg, beta0, L, points: int = 256):
         return None
     sl = slice(K - K2, K + K2 + 1)
     half = moving.MovingReceptance(tab.speed, K2, tab.offsets, tab.A[:, sl, sl], tab.error[:, sl, sl], tab.nodes)
-    F2 = interaction.solve_forces(half, params.wheels(cfg), params.contact_spring(cfg), interaction.Roughness(rough.Z[sl]), beta0, L)
-    x = np.linspace(0.0, L, points, endpoint=False)
-    P = interaction.force_history(forces, x, beta0)[0]
-    P2 = interaction.force_history(F2, x, beta0)[0]
+    F2 = chain.solve_forces(scn, half, interaction.Roughness(rough.Z[sl]))
+    x = np.linspace(0.0, scn.L, points, endpoint=False)
+    P = interaction.force_history(forces, x)[0]
+    P2 = interaction.force_history(F2, x)[0]
     return float(np.max(np.abs(P - P2)) / max(np.ptp(P), 1e-300))
 
 
-def _checks(cfg, tab, forces, rough, w, hist, material, L):
+def _checks(scn: Scenario, tab, forces, rough, w, hist):
     """List of (name, value, limit, passed)."""
     out = []
     # the wavenumber quadrature converged: its error bound (the half-node rule's difference) on
     # the diagonal, relative to the diagonal, at most 10 times the requested tolerance
     d = np.arange(tab.A.shape[1])
     qerr = float(np.max(tab.error[0, d, d] / np.abs(tab.A[0, d, d])))
-    rtol = float(cfg["numerics"]["track"]["rtol"])
+    rtol = scn.track_numerics.rtol
     out.append(("quadrature error bound over a_0 on the diagonal", qerr, 10 * rtol, qerr <= 10 * rtol))
     finite = bool(np.all(np.isfinite(forces.P)) and np.all(np.isfinite(w.depth)) and np.all(np.isfinite(w.q)) and np.all(np.isfinite(hist.Z)))
     out.append(("all results finite", float(finite), 1.0, finite))
-    P0 = float(cfg["wheels"]["static_load"])
-    trunc = _truncation(tab, forces, rough, cfg, 2 * np.pi / L, L)
+    P0 = scn.wheels.static_load
+    material = scn.material
+    trunc = _truncation(scn, tab, forces, rough)
     if trunc is not None:
         out.append(("force with K against K/2 harmonics / fluctuation", trunc, 0.1, trunc < 0.1))
     out.append(("contact state periodicity over the bay", float(w.periodicity), 1e-3, w.periodicity < 1e-3))
@@ -82,7 +87,7 @@ def _checks(cfg, tab, forces, rough, w, hist, material, L):
         rel = float(np.max(np.abs(w.Q)) / (material.friction_dynamic * P0))
         out.append(("largest tangential force / mu_d P (zero creepage: 0 for identical materials)", rel, 0.05, rel < 0.05))
     err = float(np.nanmax(hist.step_error)) if np.isfinite(hist.step_error).any() else 0.0
-    tol = float(cfg["growth"]["step_tolerance"])
+    tol = scn.growth.step_tolerance
     out.append(("largest estimated update error", err, tol, err <= tol))
     return out
 
@@ -103,27 +108,20 @@ def run_case(defaults: dict, schema: dict, name: str, case: dict, numerics: dict
         g = {"growth": {k: case[k] for k in ("passages", "passages_per_update") if k in case}, "speeds": [speed]}
         if g["growth"]:
             g["growth"]["save_every"] = g["growth"].get("passages_per_update", defaults["growth"]["passages_per_update"])
-        cfg = resolve(defaults, schema, deep_merge(over, g), source=f"stability case {name}")
-        tr = params.track(cfg)
-        K = params.harmonics(cfg)
+        source = f"stability case {name}"
+        scn = build_scenario(resolve(defaults, schema, deep_merge(over, g), source=source), name, source)
         rec["stage"] = "receptance table"
-        tab = moving.receptance_table(tr, speed, K, rtol=float(cfg["numerics"]["track"]["rtol"]))
+        tab = chain.receptance_table(scn, speed)
         rec["stage"] = "normal forces"
-        one = params.wheels(cfg)
-        rough = params.roughness(cfg, speed, tr.L, K)
-        forces = interaction.solve_forces(tab, one, params.contact_spring(cfg), rough, tr.beta0, tr.L)
+        rough = chain.initial_roughness(scn, speed)
+        forces = chain.solve_forces(scn, tab, rough)
         rec["stage"] = "contact and wear"
-        material = params.contact_material(cfg)
-        settings = params.growth_settings(cfg)
-        w = wear.bay_wear(forces, 0, rough, material, float(cfg["material"]["density"]), float(cfg["wear"]["coefficient"]),
-                          tr.beta0, tr.L, nodes=settings.nodes, closure=settings.closure, closure_scale=settings.closure_scale)
+        w = chain.passage_wear(scn, forces, rough)
         rec["full_slip"] = float(w.full_slip)
         rec["stage"] = "growth"
-        log = io.StringIO()
-        hist = growth.run_growth(tab, one, params.contact_spring(cfg), material, float(cfg["material"]["density"]),
-                                 float(cfg["wear"]["coefficient"]), rough, tr.beta0, tr.L, settings, progress=log)
+        hist = chain.grow(scn, tab, rough, progress=io.StringIO())
         rec["stage"] = "checks"
-        checks = _checks(cfg, tab, forces, rough, w, hist, material, tr.L)
+        checks = _checks(scn, tab, forces, rough, w, hist)
         rec["checks"] = [{"name": n, "value": v, "limit": lim, "passed": bool(p)} for n, v, lim, p in checks]
         rec["status"] = "ok" if all(p for *_, p in checks) else "failed"
         if rec["full_slip"] > 0:
@@ -143,3 +141,48 @@ def outcome_matches(rec: dict, expect) -> bool:
     if expect == "ok":
         return rec["status"] == "ok"
     return rec["status"] == "error" and re.search(expect["error"], rec["message"]) is not None
+
+
+def stability_dataset(records: list[dict], expect: dict, critical_speed: float) -> xr.Dataset:
+    """Outcomes of the stability suite, one entry per case (rail.studies.stability.run_case records).
+
+    expect : {case: 'ok' or {'error': regex}} from config/stability.yaml; as_expected is 1 when
+    the outcome is the expected one. critical_speed : m/s, of the default track.
+    """
+    names = [r["case"] for r in records]
+
+    def col(key):
+        return np.array([str(r[key]) for r in records])
+
+    checks = np.array(["; ".join(f"{c['name']} {c['value']:.3g} (limit {c['limit']:.3g}) {'pass' if c['passed'] else 'FAIL'}" for c in r["checks"]) for r in records])
+    expected = np.array(["ok" if expect[n] == "ok" else f"error: {expect[n]['error']}" for n in names])
+    matches = np.array([int(outcome_matches(r, expect[r["case"]])) for r in records])
+    return xr.Dataset(
+        {
+            "description": _var("case", col("description"), "1", "what the case tests"),
+            "status": _var("case", col("status"), "1", "ok (checks passed), error (clear error naming the cause) or failed"),
+            "error_type": _var("case", col("error_type"), "1", "type of the error that stopped the case"),
+            "message": _var("case", col("message"), "1", "error message, or a note (full slip)"),
+            "stage": _var("case", col("stage"), "1", "computation stage reached"),
+            "checks": _var("case", checks, "1", "checks of a completed case: value, limit, outcome"),
+            "expected": _var("case", expected, "1", "expected outcome (config/stability.yaml)"),
+            "as_expected": _var("case", matches, "1", "1 when the outcome is the expected one"),
+            "full_slip": _var("case", np.array([float(r["full_slip"]) for r in records]), "1", "fraction of the bay without a stick zone (one passage)"),
+            "cpu_time": _var("case", np.array([float(r["cpu_s"]) for r in records]), "s", "CPU time of the case"),
+        },
+        coords={"case": _var("case", np.array(names), "1", "stability case")},
+        attrs={"critical_speed_m_per_s": critical_speed},
+    )
+
+
+def stability_rows(ds: xr.Dataset) -> list[list[str]]:
+    """Rows (header first) of the stability outcome table."""
+    rows = [["case", "what", "outcome", "as expected", "evidence (checks or error message)", "CPU (s)"]]
+    for i, c in enumerate(ds["case"].values):
+        ev = str(ds["checks"].values[i]) if str(ds["status"].values[i]) == "ok" else f"{ds['error_type'].values[i]}: {ds['message'].values[i]}"
+        if str(ds["status"].values[i]) == "ok" and str(ds["message"].values[i]):
+            ev = f"{ds['message'].values[i]}; {ev}"
+        ev = " ".join(ev.replace("|", "/").split())  # one line per table cell
+        rows.append([str(c), str(ds["description"].values[i]), str(ds["status"].values[i]),
+                     "yes" if ds["as_expected"].values[i] else "NO", ev, f"{float(ds['cpu_time'].values[i]):.1f}"])
+    return rows

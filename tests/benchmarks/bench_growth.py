@@ -9,26 +9,21 @@ import io
 import time
 from pathlib import Path
 
-from rail import config, growth, interaction, moving, params
+from rail import chain
+from rail.setup import build, config
 
 ROOT = Path(__file__).resolve().parents[2]
 
 
 def main():
-    cfg = config.load_yaml(ROOT / "config/config.yaml")
-    track = params.track(cfg)
-    K = params.harmonics(cfg)
+    scn = build.scenario(config.load_yaml(ROOT / "config/config.yaml"))
     c0 = time.process_time()
-    tab = moving.receptance_table(track, 40.0, K, rtol=float(cfg["numerics"]["track"]["rtol"]))
+    tab = chain.receptance_table(scn, 40.0)
     c1 = time.process_time()
-    settings = params.growth_settings(cfg)
-    growth.run_growth(
-        tab, params.wheels(cfg), params.contact_spring(cfg), params.contact_material(cfg),
-        float(cfg["material"]["density"]), float(cfg["wear"]["coefficient"]),
-        interaction.Roughness.smooth(K), track.beta0, track.L, settings, progress=io.StringIO(),
-    )
+    chain.grow(scn, tab, progress=io.StringIO())
     c2 = time.process_time()
-    print(f"passages {settings.passages}, per update {settings.passages_per_update}, contact nodes {settings.nodes}")
+    g = scn.growth
+    print(f"passages {g.passages}, per update {g.passages_per_update}, contact nodes {scn.contact_numerics.nodes}")
     print(f"receptance table {c1 - c0:.1f} s CPU, growth loop {c2 - c1:.1f} s CPU, total {c2 - c0:.1f} s (target 30 s)")
 
 

@@ -10,15 +10,16 @@ import time
 import tracemalloc
 from pathlib import Path
 
-from rail import config, moving, params
+from rail import moving
+from rail.setup import build, config
 
 ROOT = Path(__file__).resolve().parents[2]
 
 
 def main(K=64, speeds=(20.0, 40.0, 60.0, 80.0)):
     cfg = config.load_yaml(ROOT / "config/config.yaml")
-    track = params.track(cfg)
-    rtol = float(cfg["numerics"]["track"]["rtol"])
+    scn = build.scenario(cfg)
+    track, rtol = scn.track, scn.track_numerics.rtol
     print(f"K = {K}, rtol = {rtol}, damping = {track.damping}")
     print("speed_m_per_s  cpu_s  wall_s  nodes  peak_traced_MB")
     for V in speeds:

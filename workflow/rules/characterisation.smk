@@ -19,6 +19,7 @@ rule track_receptance:
             subcategory="default",
         ),
     params:
+        code=code("track_receptance.py"),
         cfg=characterisation_config,
         name=characterisation_track,
     log:
@@ -60,6 +61,7 @@ rule moving_receptance:
             subcategory="default",
         ),
     params:
+        code=code("moving_receptance.py"),
         cfg=characterisation_config,
         name=characterisation_track,
         speeds=characterisation_speeds,
@@ -104,6 +106,7 @@ rule track_decay_rate:
             subcategory="default",
         ),
     params:
+        code=code("track_decay_rate.py"),
         cfg=characterisation_config,
         name=characterisation_track,
     log:

@@ -10,7 +10,7 @@ rule closure_wear:
     output:
         "results/closure/wear/s{s}_f{freq}.nc",
     params:
-        code=code("wear", "present"),
+        code=code("wear_case.py"),
         frequency=wear_frequency,
         cfg=closure_wear_config,
     resources:
@@ -27,9 +27,9 @@ rule closure_wellposedness:
     output:
         "results/closure/wellposedness.nc",
     params:
-        code=code("wear", "present"),
+        code=code("closure_wellposedness.py"),
         values=closure_values(),
-        nodes=[41, 81, 161],
+        nodes=CLOSURE["wellposedness_nodes"],
     resources:
         mem_mb=500,
         runtime=15,
@@ -50,7 +50,7 @@ rule closure_aggregate:
         table="results/closure/conclusions.md",
         html=report("results/closure/conclusions.html", caption="../report/closure.rst", category="Closure sensitivity study"),
     params:
-        code=code("present", "studies"),
+        code=code("closure_aggregate.py"),
         meta=closure_inputs()[1] if closure_values() else [],
     resources:
         mem_mb=1000,

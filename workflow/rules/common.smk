@@ -4,7 +4,10 @@ from pathlib import Path
 
 from snakemake.utils import validate
 
-from rail.config import expand_sweep, load_yaml, resolve, validate_config
+from rail.chain import wheel_offsets as wheel_offsets_of
+from rail.provenance import code_hash
+from rail.setup.build import scenario as build_scenario
+from rail.setup.config import expand_sweep, load_yaml, resolve, validate_config
 
 # Clear, actionable messages first (key, value, unit, valid range), then snakemake's own
 # validation against the same schema.
@@ -19,6 +22,7 @@ validate(config, "../../config/schema/config.schema.yaml")
 # one scenario per grid point, named <study>-p<n>, aggregated into results/sweeps/<study>.nc.
 SCENARIO_DIR = Path("config/scenarios")
 SCENARIOS = {"default": config}
+_SOURCES = {"default": "configuration (config/config.yaml and --config/--configfile)"}
 SWEEPS = {}
 for _path in sorted(SCENARIO_DIR.glob("*.yaml")):
     _scen = load_yaml(_path)
@@ -28,10 +32,15 @@ for _path in sorted(SCENARIO_DIR.glob("*.yaml")):
         for _n, (_index, _assignment, _cfg) in enumerate(_points):
             _name = f"{_path.stem}-p{_n}"
             SCENARIOS[_name] = _cfg
+            _SOURCES[_name] = f"{_path} (sweep point {', '.join(f'{k} = {v}' for k, v in _assignment.items())})"
             _speeds = [_assignment["speed"]] if "speed" in _assignment else _cfg["speeds"][:1]
             SWEEPS[_path.stem]["points"].append({"name": _name, "index": _index, "speed": _speeds[0]})
     else:
         SCENARIOS[_path.stem] = resolve(config, SCHEMA, _scen, source=str(_path))
+        _SOURCES[_path.stem] = str(_path)
+# Every scenario is built once here (rail.setup.build.scenario): the constraints that need physics
+# (rail damping, harmonics reaching the pinned-pinned frequency) fail at start-up, naming the file.
+SCENARIO_OBJECTS = {_name: build_scenario(_cfg, _name, _SOURCES[_name]) for _name, _cfg in SCENARIOS.items()}
 
 
 def scenario_config(wildcards):
@@ -62,29 +71,13 @@ def physics_config(wildcards):
     return {k: v for k, v in SCENARIOS[wildcards.scenario].items() if k not in ("figures", "measured")}
 
 
-# Code dependencies: a rule's params hold a hash of the rail modules it uses, so that changing a
-# module reruns exactly the jobs that depend on it (params changes are a rerun trigger).
-import hashlib
-
-_MODULES = {
-    "halfspace": ["halfspace"],
-    "track": ["track", "moving", "quadrature"],
-    "forces": ["track", "moving", "quadrature", "interaction", "halfspace", "contact"],
-    "wear": ["track", "moving", "quadrature", "interaction", "halfspace", "contact", "wear"],
-    "growth": ["track", "moving", "quadrature", "interaction", "halfspace", "contact", "wear", "growth"],
-    "present": ["datasets", "figures", "io", "params", "config"],
-    "studies": ["studies", "conclusions"],
-    "stability": ["stability"],
-    "convergence": ["convergence"],
-}
-
-
-def code(*groups):
-    """Hash of the source of the rail modules in the given groups."""
-    h = hashlib.sha256()
-    for name in sorted({m for g in groups for m in _MODULES[g]}):
-        h.update(Path(workflow.basedir, "rail", f"{name}.py").read_bytes())
-    return h.hexdigest()[:12]
+# Code dependencies: a rule's params hold code("<script>"), the hash of every rail source its script
+# imports, followed through all imports (rail.provenance), so that changing a module reruns exactly
+# the jobs that depend on it (params changes are a rerun trigger). Derived from the imports, it
+# cannot go stale; tests/test_provenance.py checks that every rule with a script has it.
+def code(script):
+    """Hash of the rail sources that workflow/scripts/<script> imports."""
+    return code_hash(Path(workflow.basedir, "workflow", "scripts", script))
 
 
 # Report figures produced so far, by section of the report.
@@ -147,10 +140,7 @@ def wear_case_file(wildcards):
 
 def wear_frequency(wildcards):
     """The configured frequency (Hz) whose label is the wildcard 'freq'."""
-    for f in config["figures"]["wear"]["frequencies"]:
-        if wear_frequency_label(f) == wildcards.freq:
-            return float(f)
-    raise ValueError(f"no configured wear frequency has the label {wildcards.freq}")
+    return {wear_frequency_label(f): float(f) for f in config["figures"]["wear"]["frequencies"]}[wildcards.freq]
 
 
 def paper_figures():
@@ -169,11 +159,10 @@ def speed_label(v):
 def wheel_offsets(wildcards):
     """Offsets d between every ordered pair of wheels (0 first) over all scenarios that share
     the track: only the transfer receptances some scenario needs are computed."""
-    offsets = {0.0}
-    for name, cfg in SCENARIOS.items():
+    offsets = set()
+    for name, scn in SCENARIO_OBJECTS.items():
         if track_name(name) == wildcards.track:
-            pos = [float(x) for x in cfg["wheels"]["positions"]]
-            offsets |= {round(a - b, 9) for a in pos for b in pos if a != b}
+            offsets |= set(wheel_offsets_of(scn))
     return sorted(offsets, key=lambda d: (abs(d), d))
 
 
@@ -255,7 +244,7 @@ def closure_inputs(wildcards=None):
 
 def closure_wear_config(wildcards):
     """The default configuration with the closure value of the wildcard 's'."""
-    s = next(x for x in closure_values() if closure_label(x) == wildcards.s)
+    s = {closure_label(x): x for x in closure_values()}[wildcards.s]
     return {**config, "contact": {**config["contact"], "closure_scale": s}}
 
 
@@ -269,11 +258,16 @@ def closure_targets():
 # Numerical studies (workflow/rules/studies.smk): the stability suite and the convergence study.
 STABILITY = load_yaml(workflow.source_path("../../config/stability.yaml"))
 CONVERGENCE = load_yaml(workflow.source_path("../../config/convergence.yaml"))
+CLOSURE = load_yaml(workflow.source_path("../../config/closure.yaml"))
+# Every point of the convergence study, references included: (setting, value label) -> value.
+CONVERGENCE_VALUES = {
+    (name, f"{float(v):g}"): float(v) for name, s in CONVERGENCE["settings"].items() for v in s["values"] + [s["reference"]]
+}
 
 
 def convergence_points():
     """Every point of the convergence study: (setting, value label), references included."""
-    return [(name, f"{v:g}") for name, s in CONVERGENCE["settings"].items() for v in s["values"] + [s["reference"]]]
+    return list(CONVERGENCE_VALUES)
 
 
 def convergence_table(wildcards):

@@ -9,7 +9,7 @@ rule fig08:
         data="results/data/fig08.nc",
         figure=report("results/figures/fig08.png", caption="../report/fig08.rst", category="Section 4.2: wheel/rail forces"),
     params:
-        code=code("forces", "present"),
+        code=code("forces_figure.py"),
     resources:
         mem_mb=1000,
         runtime=5,
@@ -27,7 +27,7 @@ rule fig22:
         data="results/data/fig22.nc",
         figure=report("results/figures/fig22.png", caption="../report/fig22.rst", category="Section 4.2: wheel/rail forces"),
     params:
-        code=code("forces", "present"),
+        code=code("forces_figure.py"),
     resources:
         mem_mb=1000,
         runtime=5,

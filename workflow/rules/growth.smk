@@ -9,7 +9,7 @@ rule growth:
     output:
         "results/growth/{scenario}/V{speed}.nc",
     params:
-        code=code("growth", "present"),
+        code=code("growth.py"),
         cfg=physics_config,
         checkpoint="results/checkpoints/{scenario}_V{speed}.npz",
     log:
@@ -30,7 +30,7 @@ rule growth_3d:
     output:
         report("results/growth/{scenario}/V{speed}_3d.png", caption="../report/growth_3d.rst", category="Section 5: roughness growth"),
     params:
-        code=code("present"),
+        code=code("growth_figure.py"),
     resources:
         mem_mb=500,
         runtime=5,
@@ -50,7 +50,7 @@ rule growth_figure:
     wildcard_constraints:
         nn="2[013-7]",
     params:
-        code=code("present"),
+        code=code("growth_figure.py"),
     resources:
         mem_mb=500,
         runtime=5,

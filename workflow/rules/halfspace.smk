@@ -13,7 +13,7 @@ rule halfspace_figure:
     wildcard_constraints:
         nn="02|03|04",
     params:
-        code=code("halfspace", "present"),
+        code=code("halfspace_figure.py"),
     resources:
         mem_mb=500,
         runtime=5,
@@ -28,7 +28,7 @@ rule halfspace_radiation:
     output:
         "results/halfspace/radiation.nc",
     params:
-        code=code("halfspace", "present"),
+        code=code("halfspace_radiation.py"),
     resources:
         mem_mb=500,
         runtime=5,
@@ -52,7 +52,7 @@ rule radiation_figure:
     wildcard_constraints:
         nn="05|06",
     params:
-        code=code("present"),
+        code=code("radiation_figure.py"),
     resources:
         mem_mb=500,
         runtime=5,

@@ -7,7 +7,7 @@ rule stability_case:
     output:
         "results/stability/cases/{case}.json",
     params:
-        code=code("growth", "present", "stability"),
+        code=code("stability_case.py"),
         case=lambda w: {**STABILITY["defaults"], **STABILITY["cases"][w.case]},
     wildcard_constraints:
         case="|".join(STABILITY["cases"]),
@@ -29,7 +29,7 @@ rule stability_table:
         table="results/stability/outcomes.md",
         html=report("results/stability/outcomes.html", caption="../report/stability.rst", category="Numerical studies"),
     params:
-        code=code("track", "present", "studies"),
+        code=code("stability_table.py"),
         expect={name: c["expect"] for name, c in STABILITY["cases"].items()},
     resources:
         mem_mb=1000,
@@ -53,9 +53,9 @@ rule convergence_point:
     output:
         "results/convergence/points/{setting}/{value}.nc",
     params:
-        code=code("growth", "present", "convergence"),
+        code=code("convergence_point.py"),
         study=CONVERGENCE,
-        values=lambda w: CONVERGENCE["settings"][w.setting]["values"] + [CONVERGENCE["settings"][w.setting]["reference"]],
+        value=lambda w: CONVERGENCE_VALUES[(w.setting, w.value)],
     wildcard_constraints:
         setting="|".join(CONVERGENCE["settings"]),
     resources:
@@ -77,7 +77,7 @@ rule convergence_aggregate:
         table="results/convergence/summary.md",
         html=report("results/convergence/summary.html", caption="../report/convergence.rst", category="Numerical studies"),
     params:
-        code=code("present", "studies", "convergence"),
+        code=code("convergence_aggregate.py"),
         study=CONVERGENCE,
     resources:
         mem_mb=1000,

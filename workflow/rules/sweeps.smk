@@ -9,7 +9,7 @@ rule sweep_aggregate:
         data="results/sweeps/{study}.nc",
         figure=report("results/sweeps/{study}.png", caption="../report/sweep.rst", category="Sweep studies"),
     params:
-        code=code("present"),
+        code=code("sweep_aggregate.py"),
         swept=sweep_keys,
         grid=sweep_values,
         indices=sweep_indices,

@@ -6,7 +6,7 @@ rule receptance:
     output:
         "results/receptance/{track}/V{speed}.nc",
     params:
-        code=code("track", "present"),
+        code=code("receptance.py"),
         cfg=track_config,
         offsets=wheel_offsets,
     message:

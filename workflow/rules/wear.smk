@@ -10,7 +10,7 @@ rule wear_case:
     wildcard_constraints:
         track="default",
     params:
-        code=code("wear", "present"),
+        code=code("wear_case.py"),
         frequency=wear_frequency,
     resources:
         mem_mb=1000,
@@ -33,7 +33,7 @@ rule wear_figure:
     wildcard_constraints:
         nn="09|1[0-9]",
     params:
-        code=code("present"),
+        code=code("wear_figure.py"),
     resources:
         mem_mb=500,
         runtime=5,

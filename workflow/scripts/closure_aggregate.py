@@ -4,7 +4,10 @@ import sys
 
 import xarray as xr
 
-from rail import conclusions, io, params, studies, track
+from rail import track
+from rail.plotting import studies as plots
+from rail.setup import build, io
+from rail.studies import closure, conclusions
 
 
 def main(config, paths, meta, out):
@@ -22,12 +25,12 @@ def main(config, paths, meta, out):
             wear[(s, x)] = ds
         else:
             wellposed = ds
-    tr = params.track(config)
-    ds = studies.closure_study(runs, soft, four, wear, wellposed, tr.L, track.pinned_pinned_frequency(tr),
+    tr = build.scenario(config).track
+    ds = closure.closure_study(runs, soft, four, wear, wellposed, tr.L, track.pinned_pinned_frequency(tr),
                                 k_max_rad_per_m=float(config["figures"]["wear"]["spectrum_max_wavenumber"]))
-    io.write_netcdf(io.finalize(ds, config, title="Closure sensitivity study", source="rail.studies.closure_study"), out["data"])
-    studies.closure_spectra(ds).savefig(out["spectra"], dpi=150)
-    studies.closure_wear_spectra(ds).savefig(out["wear"], dpi=150)
+    io.write_netcdf(io.finalize(ds, config, title="Closure sensitivity study", source="rail.studies.closure.closure_study"), out["data"])
+    plots.closure_spectra(ds).savefig(out["spectra"], dpi=150)
+    plots.closure_wear_spectra(ds).savefig(out["wear"], dpi=150)
     conclusions.write_tables(conclusions.closure_table(ds), out["table"], out["html"], "Report conclusions (section 7) per closure value s")
 
 

@@ -5,14 +5,14 @@ import sys
 import numpy as np
 import xarray as xr
 
-from rail import contact, io, params
+from rail import contact
+from rail.setup import build, io
 
 
 def main(config, values, nodes, out_path, log):
-    m = params.contact_material(config)
-    P = float(config["wheels"]["static_load"])
+    scn = build.scenario(config)
+    m, P, L = scn.material, scn.wheels.static_load, scn.L
     V = float(config["figures"]["wear"]["speed"])
-    L = float(config["track"]["sleeper"]["spacing"])
     g = np.zeros((len(values), len(nodes)))
     for i, s in enumerate(values):
         for j, n in enumerate(nodes):

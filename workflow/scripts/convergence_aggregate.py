@@ -4,7 +4,9 @@ import sys
 
 import xarray as xr
 
-from rail import conclusions, io, studies
+from rail.plotting import studies as plots
+from rail.setup import build, io
+from rail.studies import conclusions, convergence
 
 
 def main(config, study, paths, out):
@@ -13,17 +15,10 @@ def main(config, study, paths, out):
         with xr.open_dataset(p) as ds:
             ds = ds.load()
         points[(ds.attrs["setting"], float(ds.attrs["value"]))] = ds
-    defaults = {
-        "rtol": config["numerics"]["track"]["rtol"],
-        "harmonics": config["numerics"]["track"]["harmonics"],
-        "nodes": config["numerics"]["contact"]["nodes"],
-        "nodes_growth": config["numerics"]["contact"]["nodes"],
-        "passages_per_update": config["growth"]["passages_per_update"],
-    }
-    ds = studies.convergence_dataset(points, study, defaults)
-    io.write_netcdf(io.finalize(ds, config, title="Convergence study", source="rail.convergence"), out["data"])
-    studies.convergence_figure(ds).savefig(out["figure"], dpi=150)
-    conclusions.write_tables(studies.convergence_rows(ds), out["table"], out["html"], "Convergence study: error of the defaults against a 4-times refined reference")
+    ds = convergence.convergence_dataset(points, study, convergence.default_settings(build.scenario(config)))
+    io.write_netcdf(io.finalize(ds, config, title="Convergence study", source="rail.studies.convergence"), out["data"])
+    plots.convergence_figure(ds).savefig(out["figure"], dpi=150)
+    conclusions.write_tables(convergence.convergence_rows(ds), out["table"], out["html"], "Convergence study: error of the defaults against a 4-times refined reference")
 
 
 if __name__ == "__main__":

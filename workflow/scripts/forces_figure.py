@@ -4,7 +4,10 @@ import sys
 
 import xarray as xr
 
-from rail import datasets, figures, interaction, io, params
+from rail import chain, interaction
+from rail.plotting import report
+from rail.setup import build, io
+from rail.studies import datasets
 
 
 def _table(path):
@@ -13,23 +16,23 @@ def _table(path):
 
 
 def main(rule, config, table_paths, data_path, figure_path):
-    track, wheels, contact = params.track(config), params.wheels(config), params.contact_spring(config)
-    one_wheel = interaction.Wheels(wheels.mass, wheels.radius, wheels.static_load, (0.0,))
+    scn = chain.single_wheel(build.scenario(config))
+    track = scn.track
     if rule == "fig08":
         s = config["figures"]["fig08"]
         tab = _table(table_paths[0])
         rough = interaction.Roughness.harmonic(s["amplitude"], s["speed"] / s["frequency"], track.L, tab.harmonics)
-        res = interaction.solve_forces(tab, one_wheel, contact, rough, track.beta0, track.L)
+        res = chain.solve_forces(scn, tab, rough)
         ds = datasets.fig08(res, track, rough, s)
     else:
         results = {}
         for path in table_paths:
             tab = _table(path)
-            results[tab.speed] = interaction.solve_forces(tab, one_wheel, contact, interaction.Roughness.smooth(tab.harmonics), track.beta0, track.L)
+            results[tab.speed] = chain.solve_forces(scn, tab, interaction.Roughness.smooth(tab.harmonics))
         ds = datasets.fig22(results, track)
-    ds = io.finalize(ds, config, title=f"Figure {int(rule[3:])}", source=f"rail.interaction.solve_forces, rail.datasets.{rule}")
+    ds = io.finalize(ds, config, title=f"Figure {int(rule[3:])}", source=f"rail.interaction.solve_forces, rail.studies.datasets.{rule}")
     io.write_netcdf(ds, data_path)
-    getattr(figures, rule)(ds).savefig(figure_path, dpi=150)
+    getattr(report, rule)(ds).savefig(figure_path, dpi=150)
 
 
 if __name__ == "__main__":

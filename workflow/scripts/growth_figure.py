@@ -4,7 +4,9 @@ import sys
 
 import xarray as xr
 
-from rail import datasets, figures, io
+from rail.plotting import report
+from rail.setup import io
+from rail.studies import datasets
 
 
 def _load(path):
@@ -14,15 +16,15 @@ def _load(path):
 
 def main(rule, nn, config, inputs, outputs):
     if rule == "growth_3d":
-        figures.growth_3d(_load(inputs[0])).savefig(outputs[0], dpi=130)
+        report.growth_3d(_load(inputs[0])).savefig(outputs[0], dpi=130)
         return
     runs = {label: _load(path) for label, path in inputs.items()}
     n = int(nn)
     kind = {20: "profiles", 21: "profiles", 24: "final_profiles"}.get(n, "spectra")
     ds = datasets.growth_figure(runs, kind, float(config["figures"]["wear"]["spectrum_max_wavenumber"]))
-    ds = io.finalize(ds, config, title=f"Figure {n}", source="rail.datasets.growth_figure")
+    ds = io.finalize(ds, config, title=f"Figure {n}", source="rail.studies.datasets.growth_figure")
     io.write_netcdf(ds, outputs.data)
-    draw = {"profiles": figures.growth_profiles, "final_profiles": figures.growth_final_profiles}.get(kind, figures.growth_spectra)
+    draw = {"profiles": report.growth_profiles, "final_profiles": report.growth_final_profiles}.get(kind, report.growth_spectra)
     draw(ds).savefig(outputs.figure, dpi=150)
 
 

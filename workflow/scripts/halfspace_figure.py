@@ -2,21 +2,23 @@
 
 import sys
 
-from rail import datasets, figures, io, params
+from rail.plotting import report
+from rail.setup import build, io
+from rail.studies import datasets
 
 
 def main(nn, config, data_path, figure_path):
-    material = params.material(config)
-    fig_settings = params.halfspace_figures(config)
-    numerics = params.halfspace_numerics(config)
+    material = build.scenario(config).elastic
+    fig_settings = build.halfspace_figures(config)
+    numerics = build.halfspace_numerics(config)
     builders = {
         "02": lambda: datasets.fig02(material, fig_settings),
         "03": lambda: datasets.fig03(material, fig_settings),
         "04": lambda: datasets.fig04(material, fig_settings, numerics),
     }
-    ds = io.finalize(builders[nn](), config, title=f"Figure {int(nn)}", source=f"rail.datasets.fig{nn}")
+    ds = io.finalize(builders[nn](), config, title=f"Figure {int(nn)}", source=f"rail.studies.datasets.fig{nn}")
     io.write_netcdf(ds, data_path)
-    getattr(figures, f"fig{nn}")(ds).savefig(figure_path, dpi=150)
+    getattr(report, f"fig{nn}")(ds).savefig(figure_path, dpi=150)
 
 
 if __name__ == "__main__":

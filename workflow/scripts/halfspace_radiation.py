@@ -2,12 +2,13 @@
 
 import sys
 
-from rail import datasets, io, params
+from rail.setup import build, io
+from rail.studies import datasets
 
 
 def main(config, out_path):
-    ds = datasets.radiation(params.material(config), params.halfspace_figures(config), params.halfspace_numerics(config))
-    io.write_netcdf(io.finalize(ds, config, title="Half-space radiation", source="rail.datasets.radiation"), out_path)
+    ds = datasets.radiation(build.scenario(config).elastic, build.halfspace_figures(config), build.halfspace_numerics(config))
+    io.write_netcdf(io.finalize(ds, config, title="Half-space radiation", source="rail.studies.datasets.radiation"), out_path)
 
 
 if __name__ == "__main__":

@@ -3,15 +3,15 @@ bay-averaged point receptance."""
 
 import sys
 
-from rail import characterisation, io, params
+from rail.setup import build, io
+from rail.studies import characterisation
 from rail.plotting import track as plots
 
 
 def main(config, name, speeds, data_path, figure_path):
-    track = params.track(config)
-    rtol = float(config["numerics"]["track"]["rtol"])
-    ds = characterisation.moving_receptance(track, speeds, name, points=400, rtol=rtol)
-    ds = io.finalize(ds, config, title=f"Moving-load receptance at the contact point, track '{name}'", source="rail.characterisation.moving_receptance")
+    scn = build.scenario(config, name)
+    ds = characterisation.moving_receptance(scn.track, speeds, name, points=400, rtol=scn.track_numerics.rtol)
+    ds = io.finalize(ds, config, title=f"Moving-load receptance at the contact point, track '{name}'", source="rail.studies.characterisation.moving_receptance")
     io.write_netcdf(ds, data_path)
     plots.moving_receptance(ds).savefig(figure_path, dpi=150)
 

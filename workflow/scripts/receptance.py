@@ -1,14 +1,15 @@
-"""Receptance tables of one track at one speed."""
+"""Moving-load receptance table of one track at one speed (shared by the scenarios on that track)."""
 
 import sys
 
-from rail import datasets, io, moving, params
+from rail import chain
+from rail.setup import build, io
+from rail.studies import datasets
 
 
 def main(config, speed, offsets, out_path):
-    track = params.track(config)
-    num = config["numerics"]["track"]
-    tab = moving.receptance_table(track, speed, int(num["harmonics"]), offsets, float(num["rtol"]))
+    track, numerics = build.track(config)
+    tab = chain.track_table(track, numerics, speed, offsets)
     ds = io.finalize(datasets.receptance_table(tab, track), config, title=f"Moving-load receptance, V = {speed} m/s", source="rail.moving.receptance_table")
     io.write_netcdf(ds, out_path)
 

@@ -1,10 +1,10 @@
-"""One case of the stability suite (rail.stability.run_case); the outcome is written, never raised."""
+"""One case of the stability suite (rail.studies.stability.run_case); the outcome is written, never raised."""
 
 import json
 import sys
 
-from rail import stability
-from rail.config import load_yaml
+from rail.setup.config import load_yaml
+from rail.studies import stability
 
 
 def main(config, schema_path, name, case, out_path, log):

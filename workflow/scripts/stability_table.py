@@ -3,7 +3,9 @@
 import json
 import sys
 
-from rail import conclusions, io, params, studies, track
+from rail import moving
+from rail.setup import build, io
+from rail.studies import conclusions, stability
 
 
 def main(config, paths, expect, out):
@@ -11,11 +13,11 @@ def main(config, paths, expect, out):
     for p in paths:
         with open(p) as f:
             records.append(json.load(f))
-    vc = track.critical_speed(params.track(config))
-    ds = studies.stability_dataset(records, expect, vc)
-    io.write_netcdf(io.finalize(ds, config, title="Stability suite", source="rail.stability.run_case"), out["data"])
+    vc = moving.critical_speed(build.scenario(config).track)
+    ds = stability.stability_dataset(records, expect, vc)
+    io.write_netcdf(io.finalize(ds, config, title="Stability suite", source="rail.studies.stability.run_case"), out["data"])
     note = f"Critical speed of the default track (largest mean deflection under a moving load): {vc:.0f} m/s."
-    conclusions.write_tables(studies.stability_rows(ds), out["table"], out["html"], "Stability suite", note)
+    conclusions.write_tables(stability.stability_rows(ds), out["table"], out["html"], "Stability suite", note)
 
 
 if __name__ == "__main__":

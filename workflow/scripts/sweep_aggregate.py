@@ -4,7 +4,9 @@ import sys
 
 import xarray as xr
 
-from rail import datasets, figures, io
+from rail.plotting import report
+from rail.setup import io
+from rail.studies import datasets
 
 
 def main(config, study, keys, values, indices, run_paths, data_path, figure_path):
@@ -13,9 +15,9 @@ def main(config, study, keys, values, indices, run_paths, data_path, figure_path
         with xr.open_dataset(path) as ds:
             runs.append(ds.load())
     ds = datasets.sweep(runs, keys, values, indices)
-    ds = io.finalize(ds, config, title=f"Sweep study {study}", source="rail.datasets.sweep")
+    ds = io.finalize(ds, config, title=f"Sweep study {study}", source="rail.studies.datasets.sweep")
     io.write_netcdf(ds, data_path)
-    figures.sweep_map(ds).savefig(figure_path, dpi=150)
+    report.sweep_map(ds).savefig(figure_path, dpi=150)
 
 
 if __name__ == "__main__":

@@ -3,18 +3,20 @@ decay rate (config/measured/<track>_decay_rate.csv) on the same axes if there is
 
 import sys
 
-from rail import characterisation, decay, io, params
+from rail import decay
+from rail.setup import build, io
+from rail.studies import characterisation
 from rail.plotting import track as plots
 
 
 def main(config, name, measured_path, data_path, figure_path):
-    track = params.track(config)
+    track = build.scenario(config, name).track
     ds = characterisation.track_decay_rate(track, name)
     measured = None
     if measured_path is not None:
         measured = characterisation.measured_decay_rate(decay.read_measured_decay_rate(measured_path))
         ds = ds.merge(measured, combine_attrs="override")
-    ds = io.finalize(ds, config, title=f"Vertical track decay rate of track '{name}'", source="rail.characterisation.track_decay_rate")
+    ds = io.finalize(ds, config, title=f"Vertical track decay rate of track '{name}'", source="rail.studies.characterisation.track_decay_rate")
     io.write_netcdf(ds, data_path)
     plots.track_decay_rate(ds, measured).savefig(figure_path, dpi=150)
 

@@ -3,14 +3,15 @@ characteristic frequencies."""
 
 import sys
 
-from rail import characterisation, io, params
+from rail.setup import build, io
+from rail.studies import characterisation
 from rail.plotting import track as plots
 
 
 def main(config, name, data_path, figure_path):
-    track = params.track(config)
+    track = build.scenario(config, name).track
     ds = characterisation.track_receptance(track, name)
-    ds = io.finalize(ds, config, title=f"Vertical point receptance of track '{name}'", source="rail.characterisation.track_receptance")
+    ds = io.finalize(ds, config, title=f"Vertical point receptance of track '{name}'", source="rail.studies.characterisation.track_receptance")
     io.write_netcdf(ds, data_path)
     plots.track_receptance(ds).savefig(figure_path, dpi=150)
 

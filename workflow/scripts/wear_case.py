@@ -4,25 +4,21 @@ import sys
 
 import xarray as xr
 
-from rail import datasets, interaction, io, params, wear
+from rail import chain, interaction
+from rail.setup import build, io
+from rail.studies import datasets
 
 
 def main(config, table_path, frequency, out_path):
-    track, wheels = params.track(config), params.wheels(config)
+    scn = chain.single_wheel(build.scenario(config))
     s = config["figures"]["wear"]
     with xr.open_dataset(table_path) as t:
         tab = datasets.read_receptance_table(t.load())
-    one = interaction.Wheels(wheels.mass, wheels.radius, wheels.static_load, (0.0,))
-    rough = interaction.Roughness.harmonic(s["amplitude"], s["speed"] / frequency, track.L, tab.harmonics)
-    forces = interaction.solve_forces(tab, one, params.contact_spring(config), rough, track.beta0, track.L)
-    c = config["contact"]
-    result = wear.bay_wear(
-        forces, 0, rough, params.contact_material(config), float(config["material"]["density"]),
-        float(config["wear"]["coefficient"]), track.beta0, track.L, nodes=int(config["numerics"]["contact"]["nodes"]),
-        closure=c["closure"], closure_scale=float(c["closure_scale"]),
-    )
-    ds = datasets.wear_case(result, forces, rough, track, s, frequency)
-    io.write_netcdf(io.finalize(ds, config, title=f"Wear of one passage, {frequency:.0f} Hz", source="rail.wear.bay_wear"), out_path)
+    rough = interaction.Roughness.harmonic(s["amplitude"], s["speed"] / frequency, scn.L, tab.harmonics)
+    forces = chain.solve_forces(scn, tab, rough)
+    result = chain.passage_wear(scn, forces, rough)
+    ds = datasets.wear_case(result, forces, rough, scn.track, s, frequency)
+    io.write_netcdf(io.finalize(ds, config, title=f"Wear of one passage, {frequency:.0f} Hz", source="rail.chain.passage_wear"), out_path)
 
 
 if __name__ == "__main__":

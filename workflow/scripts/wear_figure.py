@@ -4,7 +4,9 @@ import sys
 
 import xarray as xr
 
-from rail import datasets, figures, io
+from rail.plotting import report
+from rail.setup import io
+from rail.studies import datasets
 
 
 def main(nn, config, case_path, data_path, figure_path):
@@ -12,16 +14,16 @@ def main(nn, config, case_path, data_path, figure_path):
     with xr.open_dataset(case_path) as c:
         case = c.load()
     if n == 9:
-        ds, draw = datasets.fig09(case), figures.fig09
+        ds, draw = datasets.fig09(case), report.fig09
     elif n in (10, 11):
         ds = datasets.fig10_11(case, "traction" if n == 10 else "slip_velocity")
-        draw = figures.fig10 if n == 10 else figures.fig11
+        draw = report.fig10 if n == 10 else report.fig11
     elif n % 2 == 0:
-        ds, draw = datasets.fig_wear(case), figures.fig_wear
+        ds, draw = datasets.fig_wear(case), report.fig_wear
     else:
         ds = datasets.fig_wear_spectrum(case, float(config["figures"]["wear"]["spectrum_max_wavenumber"]))
-        draw = figures.fig_wear_spectrum
-    ds = io.finalize(ds, config, title=f"Figure {n}", source=f"rail.datasets (from {case_path})")
+        draw = report.fig_wear_spectrum
+    ds = io.finalize(ds, config, title=f"Figure {n}", source=f"rail.studies.datasets (from {case_path})")
     io.write_netcdf(ds, data_path)
     draw(ds).savefig(figure_path, dpi=150)
 

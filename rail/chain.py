@@ -1,0 +1,226 @@
+"""The model chain, once: receptance table -> wheel/rail forces -> wear of one passage -> growth.
+
+Every script, study and benchmark computes through these functions, so that the chain is written
+in one place (report secs 4-5):
+
+    table  = receptance_table(scn, speed)            moving-load receptances (sec. 4.1, rail.moving)
+    forces = solve_forces(scn, table, roughness)     normal forces of every wheel (eq 21, rail.interaction)
+    wear   = passage_wear(scn, forces, roughness)    contact and wear of one wheel passage (eqs 22-54, rail.wear)
+    dZ, _  = train_wear(scn, table, Z)               wear of one train passage, wheel after wheel
+    hist   = grow(scn, table, roughness)             roughness growth over many passages (sec. 5, rail.growth)
+"""
+
+from __future__ import annotations
+
+import dataclasses
+import sys
+
+import numpy as np
+
+from . import growth, interaction, moving, provenance, wear
+from .interaction import ForceResult, Roughness
+from .moving import MovingReceptance
+from .scenario import Scenario, TrackNumerics
+from .track import Track
+
+__all__ = ["wheel_offsets", "receptance_table", "track_table", "initial_roughness", "solve_forces", "passage_wear", "train_wear", "grow",
+           "single_wheel"]
+
+
+def single_wheel(scn: Scenario) -> Scenario:
+    """The scenario with one wheel of the train at position 0 (the report's single-wheel studies).
+
+    Parameters
+    ----------
+    scn : Scenario
+
+    Returns
+    -------
+    Scenario
+    """
+    w = scn.wheels
+    return dataclasses.replace(scn, wheels=interaction.Wheels(w.mass, w.radius, w.static_load, (0.0,)))
+
+
+def wheel_offsets(scn: Scenario) -> list[float]:
+    """Offsets between the scenario's wheels that the receptance table needs.
+
+    Parameters
+    ----------
+    scn : Scenario
+
+    Returns
+    -------
+    list of float
+        d = a_l - a_j [m] for every ordered pair of wheels, 0 first, by |d|.
+    """
+    pos = [float(x) for x in scn.wheels.positions]
+    out = {0.0} | {round(a - b, 9) for a in pos for b in pos if a != b}
+    return sorted(out, key=lambda d: (abs(d), d))
+
+
+def receptance_table(scn: Scenario, speed: float, offsets=None) -> MovingReceptance:
+    """Moving-load receptance table of the scenario's track (sec. 4.1, rail.moving.receptance_table).
+
+    Parameters
+    ----------
+    scn : Scenario
+        Its track and track numerics (harmonics K, quadrature tolerance).
+    speed : float
+        Train speed [m/s].
+    offsets : sequence of float, optional
+        Offsets d [m] (default: those between the scenario's wheels, wheel_offsets).
+
+    Returns
+    -------
+    MovingReceptance
+        A_d[p, k] [m/N].
+    """
+    return track_table(scn.track, scn.track_numerics, speed, wheel_offsets(scn) if offsets is None else offsets)
+
+
+def track_table(track: Track, numerics: TrackNumerics, speed: float, offsets) -> MovingReceptance:
+    """Moving-load receptance table of a track alone (what receptance_table computes for a scenario;
+    the workflow shares one table between the scenarios on one track).
+
+    Parameters
+    ----------
+    track : Track
+    numerics : TrackNumerics
+        Harmonics K and quadrature tolerance.
+    speed : float
+        Train speed [m/s].
+    offsets : sequence of float
+        Offsets d [m] between the wheels of every scenario that uses the table.
+
+    Returns
+    -------
+    MovingReceptance
+        A_d[p, k] [m/N].
+    """
+    return moving.receptance_table(track, speed, numerics.harmonics, offsets, numerics.rtol)
+
+
+def initial_roughness(scn: Scenario, speed: float) -> Roughness:
+    """The scenario's initial roughness (eqs 18-19).
+
+    Parameters
+    ----------
+    scn : Scenario
+    speed : float
+        Train speed [m/s] (a harmonic roughness may be given by its excitation frequency).
+
+    Returns
+    -------
+    Roughness
+        Z_k, k = -K..K [m].
+    """
+    return scn.roughness.realise(speed, scn.L, scn.harmonics)
+
+
+def solve_forces(scn: Scenario, table: MovingReceptance, roughness: Roughness) -> ForceResult:
+    """Normal force harmonics of every wheel of the scenario (eq 21, rail.interaction.solve_forces).
+
+    Parameters
+    ----------
+    scn : Scenario
+        Its wheels and contact spring.
+    table : MovingReceptance
+        At the train's speed, with every wheel offset.
+    roughness : Roughness
+        [m].
+
+    Returns
+    -------
+    ForceResult
+        P[l, p] [N].
+    """
+    return interaction.solve_forces(table, scn.wheels, scn.spring, roughness, scn.L)
+
+
+def passage_wear(scn: Scenario, forces: ForceResult, roughness: Roughness, wheel: int = 0,
+                 grid_phase: float = 0.0) -> wear.WearResult:
+    """Contact and wear of one passage of one wheel over the bay (eqs 22-54, rail.wear.bay_wear).
+
+    Parameters
+    ----------
+    scn : Scenario
+        Its contact material, wear law and contact numerics.
+    forces : ForceResult
+        [N].
+    roughness : Roughness
+        The profile the wheel rolls on [m].
+    wheel : int
+        Index of the wheel in ``forces``.
+    grid_phase : float
+        Contact grid phase in [0, 1) [-] (rail.wear.bay_wear).
+
+    Returns
+    -------
+    WearResult
+    """
+    return wear.bay_wear(forces, wheel, roughness, scn.material, scn.wear_law, scn.contact_numerics, grid_phase=grid_phase)
+
+
+def train_wear(scn: Scenario, table: MovingReceptance, Z, grid_phase: float = 0.0):
+    """Wear of one train passage (secs 4.2-5).
+
+    The forces of every wheel, then the wheels roll over the bay in turn, leading wheel (largest
+    position) first, each on the profile the one before it left.
+
+    Parameters
+    ----------
+    scn : Scenario
+    table : MovingReceptance
+    Z : ndarray
+        Roughness coefficients k = -K..K [m].
+    grid_phase : float
+        Contact grid phase in [0, 1) [-].
+
+    Returns
+    -------
+    dZ : ndarray
+        Delta Z_k summed over the wheels [m].
+    full_slip : float
+        Largest fraction of the bay without a stick zone over the wheels [-].
+    """
+    rough = Roughness(np.asarray(Z))
+    forces = solve_forces(scn, table, rough)
+    dZ = np.zeros_like(rough.Z, dtype=complex)
+    current, slip = rough, 0.0
+    for l in np.argsort(scn.wheels.positions)[::-1]:
+        w = passage_wear(scn, forces, current, int(l), grid_phase)
+        dZ += w.Z
+        slip = max(slip, w.full_slip)
+        current = wear.apply_wear(current, w.Z)
+    return dZ, slip
+
+
+def grow(scn: Scenario, table: MovingReceptance, roughness: Roughness | None = None, *, checkpoint=None,
+         identity: dict | None = None, progress=sys.stderr, **kwargs) -> growth.GrowthHistory:
+    """Roughness growth over scn.growth.passages wheel passages (sec. 5, rail.growth.run_growth).
+
+    Parameters
+    ----------
+    scn : Scenario
+    table : MovingReceptance
+        At the train's speed.
+    roughness : Roughness, optional
+        Initial roughness [m] (default: the scenario's, at the table's speed).
+    checkpoint : path, optional
+        Resumable checkpoint (rail.growth.run_growth).
+    identity : dict, optional
+        More of what the run depends on, for the checkpoint; the scenario, the table's speed, the
+        initial roughness and the hash of the physics code (rail.provenance) are always in it.
+    progress : file
+    **kwargs
+        Passed to rail.growth.run_growth (stop_after_updates, on_mismatch).
+
+    Returns
+    -------
+    GrowthHistory
+    """
+    rough = initial_roughness(scn, table.speed) if roughness is None else roughness
+    ident = {"scenario": repr(scn), "speed": table.speed, "code": provenance.module_hash("rail.chain"), **(identity or {})}
+    return growth.run_growth(lambda Z, phase: train_wear(scn, table, Z, phase), rough, len(scn.wheels.positions),
+                             scn.growth, checkpoint=checkpoint, identity=ident, progress=progress, **kwargs)

@@ -1,0 +1,94 @@
+"""Figures of the numerical studies: closure sensitivity and convergence (named targets, README).
+
+One function per figure: it takes a dataset and returns a matplotlib Figure.
+"""
+
+from __future__ import annotations
+
+import matplotlib
+import matplotlib.ticker
+
+matplotlib.use("Agg")
+import matplotlib.pyplot as plt  # noqa: E402
+import numpy as np  # noqa: E402
+import xarray as xr  # noqa: E402
+
+__all__ = ["closure_spectra", "closure_wear_spectra", "convergence_figure"]
+
+
+def _closure_lines(ds):
+    """Line style and grey level per closure value (dark: small s, light: large s); the default
+    s = 1 is solid black."""
+    S = ds["closure_scale"].values
+    styles = ["--", "-.", ":", (0, (5, 1, 1, 1, 1, 1)), (0, (1, 3)), (0, (8, 2))]
+    out = []
+    for i, s in enumerate(S):
+        if np.isclose(s, 1.0):
+            out.append(("-", "k", 1.4))
+        else:
+            out.append((styles[i % len(styles)], plt.cm.viridis(i / max(len(S) - 1, 1)), 1.0))
+    return out
+
+
+def closure_spectra(ds: xr.Dataset):
+    """Closure study: roughness level spectra after the last passage per closure value (as Fig. 23),
+    one panel per speed. Closure values that are not well-posed are marked in the legend."""
+    V = ds["speed"].values
+    fig, axes = plt.subplots(1, len(V), figsize=(6.0 * len(V), 4.2), layout="constrained", squeeze=False)
+    sel = ds["wavenumber"].values <= ds.attrs["spectrum_max_wavenumber_rad_per_m"]
+    for ax, v in zip(axes[0], V):
+        for (style, color, lw), s, ok in zip(_closure_lines(ds), ds["closure_scale"].values, ds["well_posed"].values):
+            y = ds["level"].sel(speed=v).sel(closure_scale=s).isel(passage=-1).values[sel]
+            ax.plot(ds["wavenumber"].values[sel], y, linestyle=style, color=color, lw=lw, label=f"s = {s:g}" + ("" if ok else " (ill-posed)"))
+        ax.set_xlabel("wavenumber (rad/m)")
+        ax.set_ylabel("roughness level (dB re 1 µm)")
+        ax.set_title(f"V = {v:g} m/s, {int(ds['passage'].values[-1])} passages, single wheel", fontsize=9)
+    axes[0][0].legend(fontsize=7, title="closure scale", title_fontsize=7)
+    return fig
+
+
+def closure_wear_spectra(ds: xr.Dataset):
+    """Closure study: wear spectra of one passage over a harmonic roughness (Figs 13, 15, 17, 19)
+    per closure value, one panel per excitation frequency."""
+    F = ds["frequency"].values
+    fig, axes = plt.subplots(2, (len(F) + 1) // 2, figsize=(11.0, 7.0), layout="constrained", squeeze=False)
+    sel = ds["wavenumber"].values <= ds.attrs["spectrum_max_wavenumber_rad_per_m"]
+    for ax, f in zip(axes.ravel(), F):
+        for (style, color, lw), s in zip(_closure_lines(ds), ds["closure_scale"].values):
+            y = ds["wear_spectrum"].sel(frequency=f, closure_scale=s).values[sel] * 1e12
+            ax.plot(ds["wavenumber"].values[sel], y, linestyle=style, color=color, lw=lw, marker="o", ms=2, label=f"s = {s:g}")
+        ax.set_xlabel("wavenumber (rad/m)")
+        ax.set_ylabel("wear amplitude after one passage (pm)")
+        ax.set_title(f"{f:.0f} Hz roughness, V = {ds.attrs['wear_speed_m_per_s']:g} m/s", fontsize=9)
+    axes.ravel()[0].legend(fontsize=7, title="closure scale", title_fontsize=7)
+    return fig
+
+
+_QUANTITY_TEXT = {"force": "normal force along the bay (Fig. 22)", "wear": "wear spectrum of one passage (Figs 13, 19)",
+                  "growth": "roughness after 100,000 passages (Fig. 23)"}
+
+
+def convergence_figure(ds: xr.Dataset):
+    """Error against CPU time, log-log, one panel per quantity and a line per setting; the default
+    value is a filled marker, the others open; each point is labelled with its value."""
+    quantities = list(dict.fromkeys(ds["quantity"].values))
+    fig, axes = plt.subplots(1, len(quantities), figsize=(5.0 * len(quantities), 4.2), layout="constrained", squeeze=False)
+    markers = ["o", "s", "^", "D", "v"]
+    for ax, q in zip(axes[0], quantities):
+        names = list(dict.fromkeys(ds["setting"].values[ds["quantity"].values == q]))
+        for m, name in zip(markers, names):
+            sel = ds["setting"].values == name
+            t, e = ds["cpu_time"].values[sel], np.maximum(ds["error"].values[sel], 1e-12)
+            order = np.argsort(t)
+            ax.loglog(t[order], e[order], "-", color="k", lw=0.8, marker=m, mfc="none", label=name)
+            d = ds["is_default"].values[sel].astype(bool)
+            ax.loglog(t[d], e[d], m, color="k")
+            for ti, ei, v in zip(t, e, ds["value"].values[sel]):
+                ax.annotate(f"{v:g}", (ti, ei), fontsize=6, xytext=(3, 3), textcoords="offset points")
+        ax.xaxis.set_minor_formatter(matplotlib.ticker.NullFormatter())
+        ax.yaxis.set_minor_formatter(matplotlib.ticker.NullFormatter())
+        ax.set_xlabel("CPU time (s, one core)")
+        ax.set_ylabel("relative error")
+        ax.set_title(_QUANTITY_TEXT.get(q, q), fontsize=9)
+        ax.legend(fontsize=7, title="setting (filled: default)", title_fontsize=7)
+    return fig

@@ -1,0 +1,197 @@
+"""The package's shape: one configuration boundary, one model chain, layers without cycles, and a
+rerun hash that follows the actual imports (rail.provenance)."""
+
+import ast
+import re
+import shutil
+from pathlib import Path
+
+import pytest
+
+from rail import contact, provenance
+from rail.setup.config import load_yaml
+
+ROOT = Path(__file__).resolve().parents[1]
+RAIL = ROOT / "rail"
+SCRIPTS = sorted((ROOT / "workflow/scripts").glob("*.py"))
+LAYERS = {"physics": 0, "setup": 1, "studies": 2, "plotting": 3}
+
+
+def _layer(path: Path) -> str:
+    rel = path.relative_to(RAIL)
+    return rel.parts[0] if len(rel.parts) > 1 else "physics"
+
+
+def _rail_files():
+    return sorted(p for p in RAIL.rglob("*.py") if "__pycache__" not in p.parts)
+
+
+def _physics_reads(source: str) -> list[str]:
+    """Reads of the config dict (config[...], cfg[...], config.get) other than its figure settings."""
+    out = []
+    for node in ast.walk(ast.parse(source)):
+        if isinstance(node, ast.Subscript) and isinstance(node.value, ast.Name) and node.value.id in ("config", "cfg"):
+            key = node.slice.value if isinstance(node.slice, ast.Constant) else None
+            if key != "figures":
+                out.append(f"{node.lineno}: {ast.unparse(node)}")
+        if (isinstance(node, ast.Call) and isinstance(node.func, ast.Attribute) and node.func.attr == "get"
+                and isinstance(node.func.value, ast.Name) and node.func.value.id in ("config", "cfg")):
+            out.append(f"{node.lineno}: {ast.unparse(node)}")
+    return out
+
+
+def test_no_script_reads_the_configuration_for_a_physics_value():
+    # scripts read physics only through rail.setup.build.scenario; from the config dict they may
+    # read the figure settings (what a figure shows), nothing else
+    offenders = [f"{f.name}:{r}" for f in SCRIPTS for r in _physics_reads(f.read_text())]
+    assert not offenders, "scripts read physics from the config dict:\n" + "\n".join(offenders)
+
+
+def test_the_ast_check_finds_a_physics_read():
+    # the check above can fail: the old wear_case script's reads are caught, a figure setting is not
+    bad = 'def main(config):\n    rho = float(config["material"]["density"])\n    n = config.get("numerics")\n    s = config["figures"]["wear"]\n'
+    assert sorted(_physics_reads(bad)) == ["2: config['material']", "3: config.get('numerics')"]
+
+
+def _calls(path: Path, names: set[str]) -> set[str]:
+    found = set()
+    for node in ast.walk(ast.parse(path.read_text())):
+        if isinstance(node, ast.Call):
+            f = node.func
+            name = f.attr if isinstance(f, ast.Attribute) else f.id if isinstance(f, ast.Name) else None
+            if name in names:
+                found.add(name)
+    return found
+
+
+def test_the_model_chain_is_written_once():
+    # solve_forces -> bay_wear -> run_growth are called together only in rail/chain.py; scripts,
+    # studies and benchmarks call the chain
+    chain_calls = {"solve_forces", "bay_wear", "run_growth"}
+    users = {}
+    for f in _rail_files() + SCRIPTS + sorted((ROOT / "tests/benchmarks").glob("*.py")):
+        if f.name in ("interaction.py", "wear.py", "growth.py") and f.parent == RAIL:
+            continue  # where they are defined
+        hit = {c for c in _calls(f, chain_calls)}
+        hit_low = {c for c in hit if c != "solve_forces"} | ({"solve_forces"} if _lowlevel_solve(f) else set())
+        if hit_low:
+            users[str(f.relative_to(ROOT))] = sorted(hit_low)
+    assert users == {"rail/chain.py": ["bay_wear", "run_growth", "solve_forces"]}
+
+
+def _lowlevel_solve(path: Path) -> bool:
+    """Whether the file calls interaction.solve_forces (not chain.solve_forces)."""
+    for node in ast.walk(ast.parse(path.read_text())):
+        if isinstance(node, ast.Call) and isinstance(node.func, ast.Attribute) and node.func.attr == "solve_forces":
+            if isinstance(node.func.value, ast.Name) and node.func.value.id in ("interaction", "I"):
+                return True
+    return False
+
+
+def _imports(path: Path) -> set[Path]:
+    """rail files a file imports directly (any import statement, also inside functions)."""
+    out = set()
+    for name in provenance._imported_names(path, RAIL):
+        f = provenance._module_file(name, RAIL)
+        if f is not None and f != path:
+            out.add(f)
+    return out
+
+
+def test_layers_import_only_downwards_and_without_cycles():
+    # physics (rail/*.py) <- setup <- studies <- plotting; plotting draws datasets and imports no
+    # physics; the graph of rail's own imports has no cycle
+    graph = {f: _imports(f) for f in _rail_files()}
+    wrong = []
+    for f, deps in graph.items():
+        for d in deps:
+            if d.name == "__init__.py" and d.parent == RAIL:
+                continue
+            if LAYERS[_layer(d)] > LAYERS[_layer(f)]:
+                wrong.append(f"{f.relative_to(RAIL)} imports {d.relative_to(RAIL)}")
+            if _layer(f) == "plotting" and _layer(d) != "plotting":
+                wrong.append(f"{f.relative_to(RAIL)} imports {d.relative_to(RAIL)} (plotting takes datasets)")
+    assert not wrong, "\n".join(wrong)
+    state = {}
+
+    def visit(f, stack):
+        state[f] = 1
+        for d in graph.get(f, ()):
+            if state.get(d) == 1:
+                raise AssertionError("import cycle: " + " -> ".join(str(p.relative_to(RAIL)) for p in stack + [f, d]))
+            if d not in state:
+                visit(d, stack + [f])
+        state[f] = 2
+
+    for f in graph:
+        if f not in state:
+            visit(f, [])
+
+
+def test_contact_nodes_are_bounded_in_one_place():
+    schema = load_yaml(ROOT / "config/schema/config.schema.yaml")
+    nodes = schema["properties"]["numerics"]["properties"]["contact"]["properties"]["nodes"]
+    assert nodes["minimum"] == contact.MIN_NODES
+    with pytest.raises(ValueError, match=rf"numerics\.contact\.nodes = 10 is not allowed: it must be an integer >= {contact.MIN_NODES}"):
+        contact.ContactNumerics(10, "default", 1.0)
+
+
+def test_every_rule_with_a_script_hashes_that_scripts_imports():
+    missing = []
+    for smk in sorted((ROOT / "workflow/rules").glob("*.smk")):
+        for block in re.split(r"(?m)^(?=rule )", smk.read_text()):
+            m = re.search(r'script:\s*\n\s*"\.\./scripts/(\w+\.py)"', block)
+            if m and f'code=code("{m.group(1)}")' not in block:
+                missing.append(f"{smk.name}: {block.splitlines()[0]}")
+    assert not missing, "rules without code=code(<their script>):\n" + "\n".join(missing)
+
+
+def test_rerun_hash_follows_the_imports_in_a_changed_copy(tmp_path):
+    # a copy of the package: changing a plotting module changes the hash of the scripts that draw
+    # with it and not that of the growth script; changing a physics module two imports deep
+    # (quadrature, imported by track and moving) changes the growth script's hash
+    pkg = tmp_path / "rail"
+    shutil.copytree(RAIL, pkg, ignore=shutil.ignore_patterns("__pycache__"))
+    scripts = tmp_path / "scripts"
+    shutil.copytree(ROOT / "workflow/scripts", scripts)
+    names = ("growth.py", "growth_figure.py", "track_receptance.py", "halfspace_figure.py")
+
+    def hashes():
+        return {s: provenance.code_hash(scripts / s, pkg) for s in names}
+
+    before = hashes()
+    assert before["growth.py"] != before["growth_figure.py"]  # plotting is not among the growth script's imports
+    with (pkg / "plotting/report.py").open("a") as fh:
+        fh.write("\n# changed\n")
+    after = hashes()
+    assert after["growth.py"] == before["growth.py"] and after["track_receptance.py"] == before["track_receptance.py"]
+    assert after["growth_figure.py"] != before["growth_figure.py"] and after["halfspace_figure.py"] != before["halfspace_figure.py"]
+    with (pkg / "quadrature.py").open("a") as fh:
+        fh.write("\n# changed\n")
+    assert hashes()["growth.py"] != after["growth.py"]
+    # a new import is followed: the growth script made to import the plotting module
+    s = (scripts / "growth.py").read_text().replace("from rail import chain", "from rail import chain\nfrom rail.plotting import track")
+    (scripts / "growth.py").write_text(s)
+    assert pkg / "plotting/track.py" in provenance.rail_imports(scripts / "growth.py", pkg)
+
+
+def test_public_physics_functions_have_numpydoc_docstrings_with_units():
+    # every public function of the physics layer states its parameters and returns (numpydoc),
+    # with units in brackets
+    unitless = {"single_wheel", "damping_problem"}  # take and give only objects or text
+    problems = []
+    for f in sorted(RAIL.glob("*.py")):
+        if f.name == "provenance.py":  # infrastructure (the rerun hash), no physics
+            continue
+        for node in ast.parse(f.read_text()).body:
+            if not isinstance(node, ast.FunctionDef) or node.name.startswith("_"):
+                continue
+            d = ast.get_docstring(node) or ""
+            args = [a.arg for a in node.args.args + node.args.kwonlyargs]
+            if args and "Parameters\n----------" not in d:
+                problems.append(f"{f.name}: {node.name} has no Parameters section")
+            if "Returns\n-------" not in d:
+                problems.append(f"{f.name}: {node.name} has no Returns section")
+            if node.name not in unitless and not re.search(r"\[[^\]]*\]", d):
+                problems.append(f"{f.name}: {node.name} states no unit in brackets")
+    assert not problems, "\n".join(problems)
