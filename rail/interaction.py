@@ -88,48 +88,58 @@ class ContactSpring:
 
 @dataclass(frozen=True)
 class Roughness:
-    """Rail-head roughness periodic over one bay: Z_k for k = -K..K, m (eqs 18-19), Z_0 = 0."""
+    """Rail-head roughness periodic over N bays (eqs 18-19 with the period N L).
+
+    Z    : coefficients Z_j [m], j = -J..J, of z(x) = sum_j Z_j exp(i j beta0 x / N), Z_0 = 0;
+           J = N K for K harmonics of the sleeper-passing frequency
+    bays : N [-], the period in sleeper bays (1: today's bay-periodic roughness, j = k)
+    """
 
     Z: np.ndarray
+    bays: int = 1
 
     @property
     def harmonics(self) -> int:
+        """J, the highest index j of Z (N K) [-]."""
         return (len(self.Z) - 1) // 2
 
     @staticmethod
-    def smooth(K: int) -> "Roughness":
-        return Roughness(np.zeros(2 * K + 1, dtype=complex))
+    def smooth(K: int, bays: int = 1) -> "Roughness":
+        return Roughness(np.zeros(2 * K * bays + 1, dtype=complex), bays)
 
     @staticmethod
-    def harmonic(amplitude: float, wavelength: float, L: float, K: int) -> "Roughness":
-        """z(x) = amplitude cos(2 pi x / wavelength), x = 0 at a sleeper (section 6)."""
-        m = bay_harmonic(wavelength, L)
-        if m > K:
+    def harmonic(amplitude: float, wavelength: float, L: float, K: int, bays: int = 1) -> "Roughness":
+        """z(x) = amplitude cos(2 pi x / wavelength), x = 0 at a sleeper (section 6); the wavelength
+        must divide the period N L."""
+        m = bay_harmonic(wavelength, bays * L)
+        if m > K * bays:
             raise ValueError(
-                f"roughness wavelength {wavelength} m is harmonic {m} of the bay: it needs "
-                f"numerics.track.harmonics >= {m} (now {K})."
+                f"roughness wavelength {wavelength} m is harmonic {m} of the {bays}-bay period: it needs "
+                f"numerics.track.harmonics >= {int(np.ceil(m / bays))} (now {K})."
             )
-        Z = np.zeros(2 * K + 1, dtype=complex)
-        Z[K + m] = Z[K - m] = amplitude / 2
-        return Roughness(Z)
+        J = K * bays
+        Z = np.zeros(2 * J + 1, dtype=complex)
+        Z[J + m] = Z[J - m] = amplitude / 2
+        return Roughness(Z, bays)
 
     @staticmethod
-    def from_coefficients(k, A, B, K: int) -> "Roughness":
-        """z(x) = sum_k A_k cos(k beta0 x) + B_k sin(k beta0 x), k >= 1 (eq 18-19)."""
-        Z = np.zeros(2 * K + 1, dtype=complex)
+    def from_coefficients(k, A, B, K: int, bays: int = 1) -> "Roughness":
+        """z(x) = sum_k A_k cos(k beta0 x) + B_k sin(k beta0 x), k >= 1 harmonics of the bay (eqs 18-19)."""
+        J = K * bays
+        Z = np.zeros(2 * J + 1, dtype=complex)
         for kk, a, b in zip(k, A, B):
             kk = int(kk)
             if kk < 1 or kk > K:
                 raise ValueError(f"roughness harmonic k = {kk} is not allowed: it must lie in [1, {K}].")
-            Z[K + kk] = 0.5 * (a - 1j * b)
-            Z[K - kk] = 0.5 * (a + 1j * b)
-        return Roughness(Z)
+            Z[J + kk * bays] = 0.5 * (a - 1j * b)
+            Z[J - kk * bays] = 0.5 * (a + 1j * b)
+        return Roughness(Z, bays)
 
     def profile(self, x, L: float):
-        """z(x) (eq 18) [m] at the positions x [m] of a bay of length L [m] (beta0 = 2 pi / L)."""
-        K = self.harmonics
-        k = np.arange(-K, K + 1)
-        return np.real(np.exp(1j * np.outer(np.asarray(x), k * (2 * np.pi / L))) @ self.Z)
+        """z(x) (eq 18) [m] at the positions x [m]; L [m] is the sleeper spacing (beta0 = 2 pi / L)."""
+        J = self.harmonics
+        j = np.arange(-J, J + 1)
+        return np.real(np.exp(1j * np.outer(np.asarray(x), j * (2 * np.pi / (L * self.bays)))) @ self.Z)
 
 
 def allowed_wavelengths(wavelength: float, L: float) -> tuple[float, float]:
@@ -237,16 +247,24 @@ class ContactLossError(RuntimeError):
 
 @dataclass(frozen=True)
 class ForceResult:
-    """Force harmonics P[l, p] (N) of every wheel, p = -K..K (P[l, 0] = static load)."""
+    """Force harmonics P[l, j] [N] of every wheel at the frequencies j Omega_0 / N, j = -J..J
+    (P[l, 0] = static load); N = bays, J = N K."""
 
     P: np.ndarray
     speed: float
     L: float
     positions: np.ndarray
+    bays: int = 1
 
     @property
     def harmonics(self) -> int:
+        """J, the highest index j [-]."""
         return (self.P.shape[1] - 1) // 2
+
+    @property
+    def period(self) -> float:
+        """N L, the period of the force history in wheel position [m]."""
+        return self.bays * self.L
 
     @property
     def beta0(self) -> float:
@@ -257,10 +275,9 @@ class ForceResult:
 def _coupling(tab: MovingReceptance, positions, L: float):
     """A^{lj}[p, k] = A_{a_l - a_j}[p, k] exp(i (p - k) beta0 a_j), beta0 = 2 pi / L, shape (l, j, p, k)."""
     beta0 = 2 * np.pi / L
-    K = tab.harmonics
-    h = np.arange(-K, K + 1)
+    h = tab.indices
     n = len(positions)
-    out = np.empty((n, n, 2 * K + 1, 2 * K + 1), dtype=complex)
+    out = np.empty((n, n, len(h), len(h)), dtype=complex)
     for l, al in enumerate(positions):
         for j, aj in enumerate(positions):
             d = al - aj
@@ -272,60 +289,30 @@ def _coupling(tab: MovingReceptance, positions, L: float):
     return out
 
 
-def solve_forces(
-    tab: MovingReceptance, wheels: Wheels, contact: ContactSpring, roughness: Roughness, L: float
-) -> ForceResult:
-    """Solve the coupled harmonic balance for the force harmonics of every wheel (eq 21).
-
-    Parameters
-    ----------
-    tab : MovingReceptance
-        Receptance table at the train's speed with every wheel offset [m/N].
-    wheels : Wheels
-        The train's wheels.
-    contact : ContactSpring
-        Linearised Hertz spring [N/m].
-    roughness : Roughness
-        Bay-periodic roughness [m]; its harmonics are truncated or zero-padded to the table's K.
-    L : float
-        Sleeper spacing, the roughness period [m] (beta0 = 2 pi / L).
-
-    Returns
-    -------
-    ForceResult
-        Force harmonics P[l, p] of every wheel [N].
-
-    Raises
-    ------
-    ContactLossError
-        Where any wheel's force P_l(x) falls to zero or below.
-    """
+def _solve_class(tab: MovingReceptance, wheels: Wheels, contact: ContactSpring, Zc, L: float, bays: int):
+    """Force harmonics of one Bloch class (frequencies (m + nu) Omega_0, nu = tab.fraction) for
+    roughness coefficients Zc at those frequencies (index m): the linear system of eq 21."""
     beta0 = 2 * np.pi / L
     K = tab.harmonics
-    h = np.arange(-K, K + 1)
-    Z = np.zeros(2 * K + 1, dtype=complex)
-    Kr = roughness.harmonics
-    m = min(K, Kr)
-    Z[K - m : K + m + 1] = roughness.Z[Kr - m : Kr + m + 1]
-    if Kr > K and np.any(roughness.Z[: Kr - K] != 0):
-        raise ValueError(f"the roughness has harmonics above K = {K}; raise numerics.track.harmonics.")
+    m = tab.indices
+    f = m + tab.fraction  # frequency in units of Omega_0
     pos = np.asarray(wheels.positions, dtype=float)
     n = len(pos)
     A = _coupling(tab, pos, L)
-    omega = h * tab.speed * beta0
-    dyn = h != 0
-    om = omega[dyn]
+    dyn = f != 0
+    om = f[dyn] * tab.speed * beta0
     self_term = 1.0 / contact.stiffness(om) - 1.0 / (wheels.mass * om**2)
-    nd = dyn.sum()
+    nd = int(dyn.sum())
     M = np.zeros((n * nd, n * nd), dtype=complex)
     rhs = np.zeros(n * nd, dtype=complex)
     for l in range(n):
         rows = slice(l * nd, (l + 1) * nd)
-        rhs[rows] = Z[dyn] * np.exp(1j * h[dyn] * beta0 * pos[l])
+        rhs[rows] = Zc[dyn] * np.exp(1j * f[dyn] * beta0 * pos[l])
         for j in range(n):
             cols = slice(j * nd, (j + 1) * nd)
             M[rows, cols] = A[l, j][np.ix_(dyn, dyn)]
-            rhs[rows] -= A[l, j][dyn, K] * wheels.static_load
+            if tab.fraction == 0:
+                rhs[rows] -= A[l, j][dyn, K] * wheels.static_load
         M[rows, rows] += np.diag(self_term)
     sol = np.linalg.solve(M, rhs)
     if not np.all(np.isfinite(sol)):
@@ -333,10 +320,71 @@ def solve_forces(
             f"the force harmonics are not finite at V = {tab.speed:g} m/s (the coupled wheel/track system is singular: "
             f"an undamped resonance at a multiple of the sleeper-passing frequency); check the damping of the track and contact."
         )
-    P = np.zeros((n, 2 * K + 1), dtype=complex)
-    P[:, K] = wheels.static_load
+    P = np.zeros((n, len(m)), dtype=complex)
+    if tab.fraction == 0:
+        P[:, K] = wheels.static_load
     P[:, dyn] = sol.reshape(n, nd)
-    result = ForceResult(P, tab.speed, L, pos)
+    return P
+
+
+def solve_forces(
+    tab, wheels: Wheels, contact: ContactSpring, roughness: Roughness, L: float
+) -> ForceResult:
+    """Solve the coupled harmonic balance for the force harmonics of every wheel (eq 21).
+
+    For a roughness periodic over N bays (Sheng, Jones & Thompson 2007) the force is a Fourier
+    series in Omega_0 / N, and the harmonics j = r + m N of each class r couple only among
+    themselves: N independent systems with the receptance tables of the Bloch fractions nu = r / N.
+    The classes r > N/2 are the complex conjugates of N - r (a real load), so only r <= N/2 are
+    solved. N = 1 is the report's bay-periodic problem.
+
+    Parameters
+    ----------
+    tab : MovingReceptance or sequence of MovingReceptance
+        Receptance table(s) at the train's speed with every wheel offset [m/N]: one table (N = 1),
+        or the tables of the fractions r / N, r = 0..floor(N/2) (rail.moving.bloch_tables).
+    wheels : Wheels
+        The train's wheels.
+    contact : ContactSpring
+        Linearised Hertz spring [N/m].
+    roughness : Roughness
+        Roughness periodic over N = roughness.bays bays [m]; its harmonics are truncated or
+        zero-padded to the tables' K.
+    L : float
+        Sleeper spacing [m] (beta0 = 2 pi / L).
+
+    Returns
+    -------
+    ForceResult
+        Force harmonics P[l, j] of every wheel [N], j = -N K..N K.
+
+    Raises
+    ------
+    ContactLossError
+        Where any wheel's force P_l(x) falls to zero or below.
+    """
+    N = int(roughness.bays)
+    tabs = (tab,) if isinstance(tab, MovingReceptance) else tuple(tab)
+    if len(tabs) != N // 2 + 1 or any(not np.isclose(t.fraction, r / N) for r, t in enumerate(tabs)):
+        raise ValueError(f"a roughness periodic over {N} bays needs the receptance tables of the fractions r / {N}, "
+                         f"r = 0..{N // 2}; got fractions {[t.fraction for t in tabs]}.")
+    K = tabs[0].harmonics
+    J = N * K
+    Z = np.zeros(2 * J + 1, dtype=complex)
+    Jr = roughness.harmonics
+    c = min(J, Jr)
+    Z[J - c : J + c + 1] = roughness.Z[Jr - c : Jr + c + 1]
+    if Jr > J and np.any(roughness.Z[: Jr - J] != 0):
+        raise ValueError(f"the roughness has harmonics above K = {K}; raise numerics.track.harmonics.")
+    n = len(wheels.positions)
+    P = np.zeros((n, 2 * J + 1), dtype=complex)
+    for r, t in enumerate(tabs):
+        j = r + N * t.indices  # the harmonics of class r
+        Pc = _solve_class(t, wheels, contact, Z[J + j], L, N)
+        P[:, J + j] = Pc
+        if 0 < r and 2 * r != N:  # class N - r: the conjugates of -j
+            P[:, J - j] = np.conj(Pc)
+    result = ForceResult(P, tabs[0].speed, L, np.asarray(wheels.positions, dtype=float), N)
     _check_contact(result)
     return result
 
@@ -359,8 +407,9 @@ def tail_coefficients(result: ForceResult):
     force harmonics fall like 1/p^2 and a plain truncation at K errs by O(1/K) at the sleeper
     (review notes).  p^2 P_p settles to a constant within a few per cent beyond p ~ 30 (tested).
     """
-    K = result.harmonics
-    return K**2 * result.P[:, 2 * K] * np.exp(-1j * K * result.beta0 * result.positions)
+    N = result.bays
+    K = result.harmonics // N
+    return K**2 * result.P[:, result.harmonics + K * N] * np.exp(-1j * K * result.beta0 * result.positions)
 
 
 def force_history(result: ForceResult, x, tail: bool = True, tail_harmonics: int | None = None):
@@ -382,8 +431,9 @@ def force_history(result: ForceResult, x, tail: bool = True, tail_harmonics: int
         Contact force [N], positive in compression.
     """
     beta0 = result.beta0
-    K = result.harmonics
-    h = np.arange(-K, K + 1)
+    J = result.harmonics
+    K = J // result.bays
+    h = np.arange(-J, J + 1) / result.bays
     x = np.asarray(x, dtype=float)
     out = np.empty((len(result.positions), len(x)))
     for l, a in enumerate(result.positions):
@@ -401,7 +451,7 @@ def force_history(result: ForceResult, x, tail: bool = True, tail_harmonics: int
 
 
 def _check_contact(result: ForceResult, points: int = 2048):
-    x = np.linspace(0, result.L, points, endpoint=False)
+    x = np.linspace(0, result.period, points * result.bays, endpoint=False)
     Pl = force_history(result, x)
     for l, row in enumerate(Pl):
         i = int(np.argmin(row))

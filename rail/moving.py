@@ -32,7 +32,7 @@ from scipy import special
 from .quadrature import adaptive_panels
 from .track import Track, damping_problem, free_receptance, periodic_sum, rail_stiffnesses, support_stiffness
 
-__all__ = ["MovingReceptance", "receptance_table", "moving_coefficients", "critical_speed"]
+__all__ = ["MovingReceptance", "receptance_table", "bloch_tables", "moving_coefficients", "critical_speed"]
 
 
 @dataclass(frozen=True)
@@ -40,12 +40,15 @@ class MovingReceptance:
     """Receptance matrices of the moving-load problem at one speed.
 
     speed     : V, m/s
-    harmonics : K; rows p and columns k run over -K..K
+    harmonics : K; rows p and columns k run over -K..K (fraction 0) or -K..K-1 (fraction > 0, so
+                that the frequencies (k + nu) Omega_0 of the classes nu and 1 - nu mirror each other)
     offsets   : d, m (0 = at the load)
-    A         : complex (offset, p, k), m/N: response harmonic p at offset d per unit force harmonic k
+    A         : complex (offset, p, k), m/N: response at (p + nu) Omega_0 at offset d per unit force
+                at (k + nu) Omega_0, A_d[p, k] = a_{p-k}((k + nu) Omega_0, d)
     error     : upper bound of the absolute quadrature error of A (same shape), m/N: the error of
                 the rule with half the nodes; the result's own error is far smaller (docs/track.md)
     nodes     : number of wavenumber quadrature nodes
+    fraction  : Bloch fraction nu in [0, 1) of the base frequency nu Omega_0 (0: bay-periodic loads)
     """
 
     speed: float
@@ -54,12 +57,20 @@ class MovingReceptance:
     A: np.ndarray
     error: np.ndarray
     nodes: int
+    fraction: float = 0.0
+
+    @property
+    def indices(self) -> np.ndarray:
+        """The harmonic indices k of the rows and columns."""
+        K = self.harmonics
+        return np.arange(-K, K + (1 if self.fraction == 0 else 0))
 
     def a(self, n: int, k: int, offset_index: int = 0) -> complex:
         """a_n(k Omega_0, d): needs |k| <= K and |k + n| <= K."""
         K = self.harmonics
-        if abs(k) > K or abs(k + n) > K:
-            raise ValueError(f"a_n(k Omega_0) with n = {n}, k = {k} needs |k| <= {K} and |k + n| <= {K}.")
+        hi = K if self.fraction == 0 else K - 1
+        if not (-K <= k <= hi and -K <= k + n <= hi):
+            raise ValueError(f"a_n((k + nu) Omega_0) with n = {n}, k = {k} needs k and k + n in [{-K}, {hi}].")
         return complex(self.A[offset_index, k + n + K, k + K])
 
 
@@ -195,9 +206,16 @@ def _integrate(track, V, Omega, js, offsets, static_j, rtol, cut, order=16, max_
 
 
 def receptance_table(
-    track: Track, speed: float, harmonics: int, offsets=(0.0,), rtol: float = 1e-4, transfer_cut: float | None = None
+    track: Track, speed: float, harmonics: int, offsets=(0.0,), rtol: float = 1e-4, transfer_cut: float | None = None,
+    fraction: float = 0.0,
 ) -> MovingReceptance:
-    """Receptance matrices A_d[p, k] = a_{p-k}(k Omega_0, d) for |p|, |k| <= K at one speed.
+    """Receptance matrices A_d[p, k] = a_{p-k}((k + nu) Omega_0, d) at one speed.
+
+    With the Bloch fraction nu = 0 (default) |p|, |k| <= K: loads periodic over one bay. With
+    0 < nu < 1, p, k = -K..K-1: the class of loads at frequencies (k + nu) Omega_0, which a roughness
+    periodic over N bays excites for nu = r / N (docs/track.md, "Roughness periodic over N bays").
+    The base frequency nu Omega_0 enters the same single Gram product (g_j(beta) = H(beta - j beta0,
+    nu Omega_0 + beta V)); for 0 < nu < 1 no column has a static point.
 
     The moving-load coefficients a_n of the module docstring for every harmonic k Omega_0 of the
     sleeper-passing frequency, from a single adaptive wavenumber quadrature (docs/track.md, "One
@@ -218,6 +236,8 @@ def receptance_table(
         Relative tolerance of the adaptive wavenumber quadrature [-]; default 1e-4.
     transfer_cut : float, optional
         Start of the cos^2 window of the d != 0 integrands [rad/m]; default (K + 12) beta0.
+    fraction : float, optional
+        Bloch fraction nu [-] in [0, 1); default 0.
 
     Returns
     -------
@@ -237,12 +257,43 @@ def receptance_table(
         raise ValueError(f"harmonics = {harmonics!r} is not allowed: it must be an integer >= 0.")
     if (problem := damping_problem(track)) is not None:
         raise ValueError(problem)
+    if not (np.isfinite(fraction) and 0.0 <= fraction < 1.0):
+        raise ValueError(f"fraction = {fraction!r} is not allowed: the Bloch fraction must lie in [0, 1).")
     K = int(harmonics)
-    js = np.arange(-K, K + 1)
+    js = np.arange(-K, K + (1 if fraction == 0 else 0))
     offsets = np.atleast_1d(np.asarray(offsets, dtype=float))
     cut = (K + 12) * track.beta0 if transfer_cut is None else float(transfer_cut)
-    A, err, n = _integrate(track, speed, 0.0, js, offsets, 0, rtol, cut)
-    return MovingReceptance(float(speed), K, offsets, A, err, n)
+    Omega = fraction * track.beta0 * speed
+    A, err, n = _integrate(track, speed, Omega, js, offsets, 0 if fraction == 0 else None, rtol, cut)
+    return MovingReceptance(float(speed), K, offsets, A, err, n, float(fraction))
+
+
+def bloch_tables(track: Track, speed: float, harmonics: int, bays: int, offsets=(0.0,), rtol: float = 1e-4):
+    """The receptance tables a roughness periodic over N bays needs: fractions nu = r / N for
+    r = 0..floor(N/2) (the classes r > N/2 are the complex conjugates of N - r for a real load).
+
+    Parameters
+    ----------
+    track : Track
+    speed : float
+        Speed V [m/s], > 0.
+    harmonics : int
+        K [-]: the force frequencies (k + nu) Omega_0 reach |K Omega_0|.
+    bays : int
+        N, the roughness period in bays [-], >= 1.
+    offsets : sequence of float
+        Offsets d [m] between the wheels.
+    rtol : float
+        Relative tolerance of the wavenumber quadrature [-].
+
+    Returns
+    -------
+    tuple of MovingReceptance
+        One table per r = 0..floor(N/2) [m/N].
+    """
+    if int(bays) != bays or bays < 1:
+        raise ValueError(f"roughness.bays = {bays!r} is not allowed: it must be an integer >= 1.")
+    return tuple(receptance_table(track, speed, harmonics, offsets, rtol, fraction=r / bays) for r in range(int(bays) // 2 + 1))
 
 
 def moving_coefficients(track: Track, speed: float, Omega: float, n_max: int, offset: float = 0.0, rtol: float = 1e-6):

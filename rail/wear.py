@@ -130,7 +130,8 @@ def bay_wear(forces: ForceResult, wheel_index: int, roughness: Roughness, materi
     Parameters
     ----------
     forces : ForceResult
-        Normal force harmonics [N] (their histories include the 1/p^2 tail); forces.L is the bay [m].
+        Normal force harmonics [N] (their histories include the 1/p^2 tail); forces.period = N L is
+        the period over which the wear is computed [m] (N = 1: the bay).
     wheel_index : int
         Which wheel of ``forces`` rolls.
     roughness : Roughness
@@ -142,7 +143,7 @@ def bay_wear(forces: ForceResult, wheel_index: int, roughness: Roughness, materi
     numerics : ContactNumerics
         Grid nodes across the largest patch (the spacing Delta = L / N_x divides the bay) and closure.
     grid_phase : float
-        In [0, 1): refines the grid from N_x to N_x + round(grid_phase L / a_mean), so that a / Delta
+        In [0, 1): refines the grid from N_x to N_x + round(grid_phase L / a_mean) per bay, so that a / Delta
         grows by grid_phase units at the bay's mean half-length a_mean. The discretisation's small
         remaining error that depends on where the patch edges fall between nodes is periodic in
         a / Delta with period 1; growth.run_growth varies the phase between updates with a
@@ -159,16 +160,22 @@ def bay_wear(forces: ForceResult, wheel_index: int, roughness: Roughness, materi
     if not 0.0 <= grid_phase < 1.0:
         raise ValueError(f"grid_phase = {grid_phase!r} is not allowed: it must lie in [0, 1).")
     K = roughness.harmonics
-    speed, L = forces.speed, forces.L
+    if roughness.bays != forces.bays:
+        raise ValueError(f"the roughness is periodic over {roughness.bays} bays, the forces over {forces.bays}.")
+    speed, L = forces.speed, forces.period  # L: the period N L of roughness and force
     nodes, closure, closure_scale = numerics.nodes, numerics.closure, numerics.closure_scale
-    xs = np.linspace(0, L, 512, endpoint=False)
+    xs = np.linspace(0, L, 512 * forces.bays, endpoint=False)
     P_s = force_history(forces, xs)[wheel_index]
     kap_s = _curvature(roughness, xs, L)
     a_s = hertz_half_length(P_s, equivalent_radius(kap_s, material), material)
     a_est = float(np.max(a_s)) * 1.02 if a_max is None else a_max
-    delta, Nx, M = rolling_grid(a_est, L, nodes)
+    # the grid of one bay, repeated over the N bays of the period (so that a one-bay-periodic
+    # roughness gives the same wear with any N)
+    delta, Nx, M = rolling_grid(a_est, forces.L, nodes)
     if grid_phase:
-        Nx += int(round(grid_phase * L / max(float(np.mean(a_s)), 1e-300)))
+        Nx += int(round(grid_phase * forces.L / max(float(np.mean(a_s)), 1e-300)))
+    if grid_phase or forces.bays > 1:
+        Nx *= forces.bays
         delta = L / Nx
         M = int(np.ceil(a_est / delta)) + 1
     # spin-up from zero traction over SPIN_UP_TRANSITS patch transits (at most a bay) before the bay
@@ -208,7 +215,8 @@ def bay_wear(forces: ForceResult, wheel_index: int, roughness: Roughness, materi
 
 
 def _curvature(roughness: Roughness, x, L: float):
-    """kappa = -z''(x) = sum (k beta0)^2 Z_k e^{i k beta0 x} (eq 20), 1/m; beta0 = 2 pi / L."""
+    """kappa = -z''(x) = sum (k beta)^2 Z_k e^{i k beta x} (eq 20), 1/m; beta = 2 pi / L, L the
+    roughness period N L_bay."""
     beta0 = 2 * np.pi / L
     K = roughness.harmonics
     k = np.arange(-K, K + 1)
