@@ -23,7 +23,7 @@ from .moving import MovingReceptance
 from .scenario import Scenario, TrackNumerics
 from .track import Track
 
-__all__ = ["wheel_offsets", "receptance_table", "track_table", "initial_roughness", "solve_forces", "passage_wear", "train_wear", "grow",
+__all__ = ["wheel_offsets", "receptance_table", "track_table", "table_speed", "initial_roughness", "solve_forces", "passage_wear", "train_wear", "grow",
            "single_wheel"]
 
 
@@ -59,7 +59,7 @@ def wheel_offsets(scn: Scenario) -> list[float]:
     return sorted(out, key=lambda d: (abs(d), d))
 
 
-def receptance_table(scn: Scenario, speed: float, offsets=None) -> MovingReceptance:
+def receptance_table(scn: Scenario, speed: float, offsets=None):
     """Moving-load receptance table of the scenario's track (sec. 4.1, rail.moving.receptance_table).
 
     Parameters
@@ -73,13 +73,15 @@ def receptance_table(scn: Scenario, speed: float, offsets=None) -> MovingRecepta
 
     Returns
     -------
-    MovingReceptance
-        A_d[p, k] [m/N].
+    MovingReceptance or tuple of MovingReceptance
+        A_d[p, k] [m/N]; for a roughness periodic over N > 1 bays (scn.roughness.bays) the tables of
+        the Bloch fractions r / N, r = 0..floor(N/2) (rail.moving.bloch_tables).
     """
-    return track_table(scn.track, scn.track_numerics, speed, wheel_offsets(scn) if offsets is None else offsets)
+    return track_table(scn.track, scn.track_numerics, speed, wheel_offsets(scn) if offsets is None else offsets,
+                       scn.roughness.bays)
 
 
-def track_table(track: Track, numerics: TrackNumerics, speed: float, offsets) -> MovingReceptance:
+def track_table(track: Track, numerics: TrackNumerics, speed: float, offsets, bays: int = 1):
     """Moving-load receptance table of a track alone (what receptance_table computes for a scenario;
     the workflow shares one table between the scenarios on one track).
 
@@ -92,13 +94,32 @@ def track_table(track: Track, numerics: TrackNumerics, speed: float, offsets) ->
         Train speed [m/s].
     offsets : sequence of float
         Offsets d [m] between the wheels of every scenario that uses the table.
+    bays : int
+        Roughness period N in bays [-].
 
     Returns
     -------
-    MovingReceptance
-        A_d[p, k] [m/N].
+    MovingReceptance or tuple of MovingReceptance
+        A_d[p, k] [m/N]: one table (N = 1) or those of the fractions r / N, r = 0..floor(N/2).
     """
-    return moving.receptance_table(track, speed, numerics.harmonics, offsets, numerics.rtol)
+    if bays == 1:
+        return moving.receptance_table(track, speed, numerics.harmonics, offsets, numerics.rtol)
+    return moving.bloch_tables(track, speed, numerics.harmonics, bays, offsets, numerics.rtol)
+
+
+def table_speed(table) -> float:
+    """The speed of a receptance table or of a set of Bloch tables.
+
+    Parameters
+    ----------
+    table : MovingReceptance or tuple of MovingReceptance
+
+    Returns
+    -------
+    float
+        Train speed [m/s].
+    """
+    return table.speed if isinstance(table, MovingReceptance) else table[0].speed
 
 
 def initial_roughness(scn: Scenario, speed: float) -> Roughness:
@@ -184,7 +205,7 @@ def train_wear(scn: Scenario, table: MovingReceptance, Z, grid_phase: float = 0.
     full_slip : float
         Largest fraction of the bay without a stick zone over the wheels [-].
     """
-    rough = Roughness(np.asarray(Z))
+    rough = Roughness(np.asarray(Z), scn.roughness.bays)
     forces = solve_forces(scn, table, rough)
     dZ = np.zeros_like(rough.Z, dtype=complex)
     current, slip = rough, 0.0
@@ -220,7 +241,7 @@ def grow(scn: Scenario, table: MovingReceptance, roughness: Roughness | None = N
     -------
     GrowthHistory
     """
-    rough = initial_roughness(scn, table.speed) if roughness is None else roughness
-    ident = {"scenario": repr(scn), "speed": table.speed, "code": provenance.module_hash("rail.chain"), **(identity or {})}
+    rough = initial_roughness(scn, table_speed(table)) if roughness is None else roughness
+    ident = {"scenario": repr(scn), "speed": table_speed(table), "code": provenance.module_hash("rail.chain"), **(identity or {})}
     return growth.run_growth(lambda Z, phase: train_wear(scn, table, Z, phase), rough, len(scn.wheels.positions),
                              scn.growth, checkpoint=checkpoint, identity=ident, progress=progress, **kwargs)

@@ -36,6 +36,7 @@ __all__ = [
     "read_roughness_coefficients",
     "solve_forces",
     "force_history",
+    "force_on_grid",
     "tail_coefficients",
 ]
 
@@ -450,9 +451,47 @@ def force_history(result: ForceResult, x, tail: bool = True, tail_harmonics: int
     return out
 
 
+def force_on_grid(result: ForceResult, n: int, tail: bool = True, tail_harmonics: int | None = None):
+    """force_history at the n uniform positions x_k = k N L / n of the period, by one FFT per wheel.
+
+    At these points every harmonic e^{i j beta0 x / N} equals e^{i 2 pi (j mod n) k / n}, so the
+    coefficients (with the 1/p^2 tail) are folded into n bins and summed exactly by an inverse FFT:
+    O(n log n) instead of the O(n J) of the direct sum, the same values to rounding.
+
+    Parameters
+    ----------
+    result : ForceResult
+        Force harmonics [N].
+    n : int
+        Number of positions over the period [-].
+    tail, tail_harmonics
+        As force_history.
+
+    Returns
+    -------
+    ndarray, shape (wheels, n)
+        Contact force [N] with the wheel at x_k = k N L / n.
+    """
+    J, N = result.harmonics, result.bays
+    K = J // N
+    j = np.arange(-J, J + 1)
+    out = np.empty((len(result.positions), n))
+    C = tail_coefficients(result) if tail and K > 0 else None
+    M = tail_harmonics if tail_harmonics is not None else 16 * K
+    p = np.arange(K + 1, K + M + 1)
+    for l, a in enumerate(result.positions):
+        acc = np.zeros(n, dtype=complex)
+        np.add.at(acc, j % n, result.P[l] * np.exp(-1j * j * result.beta0 / N * a))
+        if C is not None:
+            np.add.at(acc, (p * N) % n, C[l] / p**2)
+            np.add.at(acc, (-p * N) % n, np.conj(C[l]) / p**2)
+        out[l] = np.real(np.fft.ifft(acc)) * n
+    return out
+
+
 def _check_contact(result: ForceResult, points: int = 2048):
     x = np.linspace(0, result.period, points * result.bays, endpoint=False)
-    Pl = force_history(result, x)
+    Pl = force_on_grid(result, points * result.bays)
     for l, row in enumerate(Pl):
         i = int(np.argmin(row))
         if row[i] <= 0:

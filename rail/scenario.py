@@ -15,12 +15,13 @@ from .contact import ContactMaterial, ContactNumerics
 from .growth import GrowthSettings
 from .halfspace import ElasticMaterial
 from .interaction import ContactSpring, Roughness, Wheels, read_roughness_coefficients
+from .roughness import profile_coefficients, read_profile, read_third_octave_spectrum, spectrum_coefficients
 from .track import Track
 from .wear import WearLaw
 
 __all__ = ["TrackNumerics", "InitialRoughness", "Scenario"]
 
-ROUGHNESS_KINDS = ("smooth", "harmonic", "file")
+ROUGHNESS_KINDS = ("smooth", "harmonic", "file", "profile", "spectrum")
 
 
 @dataclass(frozen=True)
@@ -45,12 +46,16 @@ class TrackNumerics:
 class InitialRoughness:
     """The rail-head roughness a growth run starts from (config key ``roughness``, eqs 18-19).
 
-    kind       : 'smooth', 'harmonic' (z = amplitude cos(2 pi x / wavelength), x = 0 at a support)
-                 or 'file' (eq 18 coefficients per bay harmonic, CSV k,A_m,B_m)
+    kind       : 'smooth', 'harmonic' (z = amplitude cos(2 pi x / wavelength), x = 0 at a support),
+                 'file' (eq 18 coefficients per bay harmonic, CSV k,A_m,B_m), 'profile' (a measured
+                 profile, CSV position_m,height_m) or 'spectrum' (a one-third-octave wavelength
+                 spectrum, CSV wavelength_m,level_dB, realised with random phases; rail.roughness)
     amplitude  : [m], kind 'harmonic'
     frequency  : excitation frequency V / wavelength [Hz], kind 'harmonic' without a wavelength
-    wavelength : [m] or None, kind 'harmonic' (must divide the sleeper spacing)
-    file       : path or None, kind 'file'
+    wavelength : [m] or None, kind 'harmonic' (must divide the period N L)
+    file       : path or None, kinds 'file', 'profile', 'spectrum'
+    bays       : N, the roughness period in sleeper bays [-], >= 1
+    seed       : seed of the random phases [-], kind 'spectrum'
     """
 
     kind: str
@@ -58,23 +63,49 @@ class InitialRoughness:
     frequency: float
     wavelength: float | None
     file: str | None
+    bays: int = 1
+    seed: int = 0
 
     def __post_init__(self):
         if self.kind not in ROUGHNESS_KINDS:
             raise ValueError(f"roughness.kind = {self.kind!r} is not allowed: it must be one of {list(ROUGHNESS_KINDS)}.")
-        if self.kind == "file" and not self.file:
-            raise ValueError("roughness.kind = 'file' needs roughness.file, a CSV with header k,A_m,B_m.")
+        if self.kind in ("file", "profile", "spectrum") and not self.file:
+            header = {"file": "k,A_m,B_m", "profile": "position_m,height_m", "spectrum": "wavelength_m,level_dB"}[self.kind]
+            raise ValueError(f"roughness.kind = '{self.kind}' needs roughness.file, a CSV with header {header}.")
+        if int(self.bays) != self.bays or self.bays < 1:
+            raise ValueError(f"roughness.bays = {self.bays!r} is not allowed: it must be an integer >= 1.")
 
     def realise(self, speed: float, L: float, K: int) -> Roughness:
-        """The roughness coefficients Z_k, k = -K..K [m] at train speed ``speed`` [m/s] on a bay of
-        length L [m]."""
+        """The initial roughness at a train speed.
+
+        Parameters
+        ----------
+        speed : float
+            Train speed [m/s] (a harmonic roughness may be given by its excitation frequency).
+        L : float
+            Sleeper spacing [m]; the period is N L.
+        K : int
+            Harmonics of the sleeper-passing frequency [-]: Z_j for |j| <= N K.
+
+        Returns
+        -------
+        Roughness
+            Z_j [m] over N = bays bays.
+        """
+        N = int(self.bays)
         if self.kind == "smooth":
-            return Roughness.smooth(K)
+            return Roughness.smooth(K, N)
         if self.kind == "file":
             k, A, B = read_roughness_coefficients(self.file)
-            return Roughness.from_coefficients(k, A, B, K)
+            return Roughness.from_coefficients(k, A, B, K, N)
+        if self.kind == "profile":
+            x, z = read_profile(self.file)
+            return Roughness(profile_coefficients(x, z, N * L, N * K, source=str(self.file)), N)
+        if self.kind == "spectrum":
+            lam, lev = read_third_octave_spectrum(self.file)
+            return Roughness(spectrum_coefficients(lam, lev, N * L, N * K, self.seed, source=str(self.file)), N)
         wavelength = self.wavelength if self.wavelength is not None else speed / self.frequency
-        return Roughness.harmonic(self.amplitude, float(wavelength), L, K)
+        return Roughness.harmonic(self.amplitude, float(wavelength), L, K, N)
 
 
 @dataclass(frozen=True)

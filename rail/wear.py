@@ -22,7 +22,7 @@ from dataclasses import dataclass
 import numpy as np
 
 from .contact import ContactMaterial, ContactNumerics, equivalent_radius, hertz_half_length, rolling_grid, solve_tangential
-from .interaction import ForceResult, Roughness, force_history
+from .interaction import ForceResult, Roughness, force_on_grid
 
 __all__ = ["WearLaw", "WearResult", "bay_wear", "wear_spectrum", "apply_wear", "SPIN_UP_TRANSITS"]
 
@@ -164,9 +164,8 @@ def bay_wear(forces: ForceResult, wheel_index: int, roughness: Roughness, materi
         raise ValueError(f"the roughness is periodic over {roughness.bays} bays, the forces over {forces.bays}.")
     speed, L = forces.speed, forces.period  # L: the period N L of roughness and force
     nodes, closure, closure_scale = numerics.nodes, numerics.closure, numerics.closure_scale
-    xs = np.linspace(0, L, 512 * forces.bays, endpoint=False)
-    P_s = force_history(forces, xs)[wheel_index]
-    kap_s = _curvature(roughness, xs, L)
+    P_s = force_on_grid(forces, 512 * forces.bays)[wheel_index]  # at x = k L / (512 N)
+    kap_s = _curvature_on_grid(roughness, 512 * forces.bays, L)
     a_s = hertz_half_length(P_s, equivalent_radius(kap_s, material), material)
     a_est = float(np.max(a_s)) * 1.02 if a_max is None else a_max
     # the grid of one bay, repeated over the N bays of the period (so that a one-bay-periodic
@@ -182,8 +181,9 @@ def bay_wear(forces: ForceResult, wheel_index: int, roughness: Roughness, materi
     spin = min(Nx, int(np.ceil(SPIN_UP_TRANSITS * 2 * a_est / delta)))
     steps = spin + Nx + 2 * M + 1
     x_wheel = (np.arange(steps) - spin) * delta  # wheel centre at each step; x = 0 at step `spin`
-    P = force_history(forces, x_wheel % L)[wheel_index]
-    kappa = _curvature(roughness, x_wheel % L, L)
+    on_grid = (np.arange(steps) - spin) % Nx  # x_wheel mod L = on_grid L / Nx: exact grid points
+    P = force_on_grid(forces, Nx)[wheel_index][on_grid]
+    kappa = _curvature_on_grid(roughness, Nx, L)[on_grid]
     R = equivalent_radius(kappa, material)
     a = hertz_half_length(P, R, material)
     sol = solve_tangential(P, a, material, speed, delta, M, closure=closure, closure_scale=closure_scale)
@@ -212,6 +212,18 @@ def bay_wear(forces: ForceResult, wheel_index: int, roughness: Roughness, materi
         periodicity=periodicity,
         full_slip=full_slip,
     )
+
+
+def _curvature_on_grid(roughness: Roughness, n: int, period: float):
+    """kappa = -z'' (eq 20) [1/m] at x_k = k P / n over the roughness period P [m], by one inverse
+    FFT (the coefficients folded into n bins: exact at these points, the same values as _curvature
+    to rounding)."""
+    J = roughness.harmonics
+    j = np.arange(-J, J + 1)
+    beta = 2 * np.pi / period
+    acc = np.zeros(n, dtype=complex)
+    np.add.at(acc, j % n, (j * beta) ** 2 * roughness.Z)
+    return np.real(np.fft.ifft(acc)) * n
 
 
 def _curvature(roughness: Roughness, x, L: float):

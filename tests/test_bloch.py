@@ -104,3 +104,22 @@ def test_far_apart_wheels_over_n_bays_behave_as_single_wheels(tr):
     one = dynamic(WHEEL)[0]
     for P in dynamic(I.Wheels(1350.0, 0.575, 1e5, (0.0, d))):
         assert np.abs(P - one).max() < 2e-5 * np.ptp(one)
+
+
+@pytest.mark.parametrize("n", [97, 3001])
+def test_force_and_curvature_on_a_grid_by_fft_equal_the_direct_sums(tr, tables4, n):
+    # at the n grid points of the period every harmonic (and the 1/p^2 tail up to 17 K, far above
+    # n / 2 for n = 97) folds into n bins exactly: the FFT sums equal the direct sums to rounding
+    rng = np.random.default_rng(0)
+    J = 4 * K
+    Z = np.zeros(2 * J + 1, dtype=complex)
+    Z[J + 1 :] = 1e-7 * (rng.standard_normal(J) + 1j * rng.standard_normal(J))
+    Z[:J] = np.conj(Z[J + 1 :][::-1])
+    rough = I.Roughness(Z, 4)
+    tabs = moving.bloch_tables(tr, V, K, 4, offsets=(0.0, -1.9, 1.9))
+    F = I.solve_forces(tabs, I.Wheels(1350.0, 0.575, 1e5, (0.0, 1.9)), contact_spring(), rough, tr.L)
+    x = np.arange(n) * F.period / n
+    direct, fast = I.force_history(F, x), I.force_on_grid(F, n)
+    assert np.abs(direct - fast).max() < 1e-12 * np.ptp(direct)
+    c1, c2 = W._curvature(rough, x, F.period), W._curvature_on_grid(rough, n, F.period)
+    assert np.abs(c1 - c2).max() < 1e-12 * np.abs(c1).max()

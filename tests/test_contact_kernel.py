@@ -4,6 +4,8 @@ cover: steady rolling, quasi-static and fast load variation with several stick z
 start, saturated creepage (full slip), mu_s > mu_d, the closure family and the report's closure
 up to the step where it diverges."""
 
+from pathlib import Path
+
 import numpy as np
 import pytest
 
@@ -111,3 +113,30 @@ def test_unloaded_patch_is_refused():
     delta, _, M = _grid(m, P0)
     with pytest.raises(ValueError, match="P > 0, a > 0"):
         C.solve_tangential(np.array([P0, 0.0]), np.array([0.005, 0.0]), m, V, delta, M)
+
+
+def test_particle_leaving_at_the_start_of_a_step_does_no_work():
+    # 107 steps where the patch shrinks as fast as the particles move (|da/dx| up to 1.2, under a
+    # 45 mm corrugation; P, a saved from the profile_example scenario at 90,000 passages, 61 nodes):
+    # a particle leaves at the trailing edge with an exit fraction phi = 0 (xi_n + Delta and
+    # xi_{n+1} differ by rounding). Without the THETA_EDGE guard its slip velocity divides the
+    # rounding of u_exit - u_old by phi dt: infinite work (1e283 m of wear was seen in a growth
+    # run); with it, the particle does no work in that step and its work is that of its neighbours.
+    import reference.contact_numpy as R
+
+    d = np.load(Path(__file__).parent / "data/edge_exit_case.npz")
+    m = C.ContactMaterial(2.1e11, 0.3, 0.008, 0.575, 0.3, 0.3, -0.001)
+    P, a, delta, M, j = d["P"], d["a"], float(d["delta"]), int(d["M"]), int(d["jrel"])
+    on = C.solve_tangential(P, a, m, 40.0, delta, M).work
+    assert np.all(np.isfinite(on))
+    assert min(on[j - 1], on[j + 1]) <= on[j] <= max(on[j - 1], on[j + 1])
+    guard = R.THETA_EDGE
+    try:
+        R.THETA_EDGE = 0.0
+        with np.errstate(divide="ignore", invalid="ignore"):
+            off = R.solve_tangential_numpy(P, a, m, 40.0, delta, M).work
+    finally:
+        R.THETA_EDGE = guard
+    assert not np.isfinite(off[j]) or off[j] > 1e10 * on[j]
+    np.testing.assert_allclose(np.delete(off, j), np.delete(on, j), rtol=1e-9)
+    np.testing.assert_allclose(R.solve_tangential_numpy(P, a, m, 40.0, delta, M).work, on, rtol=1e-9)

@@ -242,6 +242,33 @@ def growth_3d(ds: xr.Dataset):
     return fig
 
 
+def growth_narrowband(ds: xr.Dataset):
+    """Growth over a roughness period of N bays: (left) the narrow-band level spectrum against
+    wavelength at the first, middle and last saved passage counts, with the lines of the one-bay
+    comb L / k (every N-th wavenumber) marked; (right) the profiles over the N bays."""
+    N = int(ds.attrs.get("bays", 1))
+    fig, (a1, a2) = plt.subplots(1, 2, figsize=(11.0, 4.2), layout="constrained")
+    lam = 2 * np.pi / ds["wavenumber"].values * 1e3
+    n = ds["passage"].values
+    picks = sorted({0, len(n) // 2, len(n) - 1})
+    comb = (ds["harmonic"].values % N) == 0
+    for style, i in zip(_STYLES, picks):
+        lev = ds["level"].values[i]
+        a1.semilogx(lam, lev, linestyle=style, color="k", lw=0.8, label=f"{int(n[i])} passages")
+        a1.plot(lam[comb], lev[comb], "o", mfc="none", color="k", ms=3)
+    a1.set_xlabel("wavelength (mm)")
+    a1.set_ylabel("roughness level (dB re 1 µm)")
+    a1.set_ylim(bottom=max(a1.get_ylim()[0], float(np.max(ds["level"].values)) - 80))
+    a1.set_title(f"narrow band, period {N} bays (circles: the one-bay comb L/k), V = {ds.attrs['speed_m_per_s']:g} m/s", fontsize=9)
+    a1.legend(fontsize=8)
+    for style, i in zip(_STYLES, picks):
+        a2.plot(ds["position"], ds["profile"].values[i] * 1e6, linestyle=style, color="k", lw=0.7, label=f"{int(n[i])} passages")
+    a2.set_xlabel(f"position over the {N}-bay period (m), 0 above a sleeper")
+    a2.set_ylabel("roughness (µm)")
+    a2.legend(fontsize=8)
+    return fig
+
+
 def sweep_map(ds: xr.Dataset):
     """Growth rate of the fastest-growing wavelength over a sweep's grid (map for two swept keys,
     lines for one or more than two)."""

@@ -136,7 +136,8 @@ def _roughness(cfg: dict) -> InitialRoughness:
     r = cfg["roughness"]
     wl = r.get("wavelength")
     return InitialRoughness(kind=str(r["kind"]), amplitude=float(r["amplitude"]), frequency=float(r["frequency"]),
-                            wavelength=None if wl is None else float(wl), file=r.get("file"))
+                            wavelength=None if wl is None else float(wl), file=r.get("file"), bays=int(r["bays"]),
+                            seed=int(r["seed"]))
 
 
 def physics_problems(cfg: dict, source: str) -> list[str]:

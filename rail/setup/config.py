@@ -104,8 +104,9 @@ def _cross_checks(cfg: dict, source: str) -> list[str]:
             f">= contact.friction_dynamic = {c['friction_dynamic']!r} (static friction at least the dynamic)."
         )
     r = cfg.get("roughness", {})
-    if r.get("kind") == "file" and not r.get("file"):
-        out.append(f"{source}: roughness.kind = 'file' needs roughness.file, a CSV with header k,A_m,B_m.")
+    headers = {"file": "k,A_m,B_m", "profile": "position_m,height_m", "spectrum": "wavelength_m,level_dB"}
+    if r.get("kind") in headers and not r.get("file"):
+        out.append(f"{source}: roughness.kind = '{r['kind']}' needs roughness.file, a CSV with header {headers[r['kind']]}.")
     h = cfg.get("figures", {}).get("halfspace", {})
     if {"radius_min", "radius_max"} <= set(h) and not h["radius_min"] < h["radius_max"]:
         out.append(

@@ -136,9 +136,45 @@ def receptance_table(tab, track) -> xr.Dataset:
     )
 
 
-def read_receptance_table(ds: xr.Dataset):
-    """The MovingReceptance stored by receptance_table (inverse of it)."""
+def bloch_tables(tabs, track) -> xr.Dataset:
+    """The receptance tables of a roughness periodic over N bays (rail.moving.bloch_tables) in one
+    dataset, along the dimension 'fraction' (nu = r / N); the tables with nu > 0 have no harmonic K
+    (their entries there are NaN)."""
+    K = tabs[0].harmonics
+    shape = (len(tabs), len(tabs[0].offsets), 2 * K + 1, 2 * K + 1)
+    A = np.full(shape, np.nan + 0j)
+    err = np.full(shape, np.nan)
+    for i, t in enumerate(tabs):
+        n = len(t.indices)
+        A[i, :, :n, :n] = t.A
+        err[i, :, :n, :n] = t.error
+    one = receptance_table(tabs[0], track)
+    dims = ("fraction", "offset", "response_harmonic", "force_harmonic")
+    return xr.Dataset(
+        {
+            "receptance_real": _var(dims, A.real, "m/N", "real part of a_{p-k}((k + nu) Omega_0, d): response at (p + nu) Omega_0 per unit force at (k + nu) Omega_0"),
+            "receptance_imag": _var(dims, A.imag, "m/N", "imaginary part of a_{p-k}((k + nu) Omega_0, d)"),
+            "quadrature_error": _var(dims, err, "m/N", "estimated absolute error of the wavenumber quadrature"),
+            "quadrature_nodes": _var("fraction", np.array([t.nodes for t in tabs]), "1", "wavenumber quadrature nodes"),
+        },
+        coords={**{k: v for k, v in one.coords.items()},
+                "fraction": _var("fraction", np.array([t.fraction for t in tabs]), "1", "Bloch fraction nu = r / N of the base frequency nu Omega_0")},
+        attrs={**one.attrs, "bays": int(round(1 / tabs[1].fraction)) if len(tabs) > 1 else 1},
+    )
 
+
+def read_receptance_table(ds: xr.Dataset):
+    """The MovingReceptance stored by receptance_table, or the tuple of them stored by bloch_tables
+    (inverse of them)."""
+    if "fraction" in ds.dims:
+        out = []
+        K = (ds.sizes["response_harmonic"] - 1) // 2
+        for i, nu in enumerate(ds["fraction"].values):
+            n = 2 * K + 1 if nu == 0 else 2 * K
+            A = ds["receptance_real"].values[i, :, :n, :n] + 1j * ds["receptance_imag"].values[i, :, :n, :n]
+            out.append(MovingReceptance(float(ds.attrs["speed_m_per_s"]), K, ds["offset"].values, A,
+                                        ds["quadrature_error"].values[i, :, :n, :n], int(ds["quadrature_nodes"].values[i]), float(nu)))
+        return tuple(out)
     A = ds["receptance_real"].values + 1j * ds["receptance_imag"].values
     K = (A.shape[1] - 1) // 2
     return MovingReceptance(
@@ -252,14 +288,18 @@ def fig_wear_spectrum(case: xr.Dataset, k_max: float) -> xr.Dataset:
     return case[["wear_spectrum"]].isel(harmonic=np.where(sel)[0]).assign_attrs(_attrs(case))
 
 
-def growth(history, track, speed: float, n_wheels: int, points: int = 601) -> xr.Dataset:
-    """Roughness growth: levels per harmonic and profiles at every saved passage count."""
+def growth(history, track, speed: float, n_wheels: int, points: int = 601, bays: int = 1, force=None) -> xr.Dataset:
+    """Roughness growth: levels per harmonic and profiles at every saved passage count. For a
+    roughness periodic over N = bays bays the harmonics are j = 1..N K at the wavenumbers
+    2 pi j / (N L) and the profiles span the N bays. force : optional function of the roughness
+    coefficients Z giving every wheel's contact force [N] at the profile positions, shape
+    (wheels, positions); stored per saved passage count."""
 
     Z = history.Z
-    K = (Z.shape[1] - 1) // 2
+    K = (Z.shape[1] - 1) // 2  # J = N K for a roughness periodic over N bays
     k = np.arange(1, K + 1)
-    x = np.linspace(0.0, track.L, points)
-    profiles = np.array([Roughness(z).profile(x, track.L) for z in Z])
+    x = np.linspace(0.0, track.L * bays, points if bays == 1 else points * bays)
+    profiles = np.array([Roughness(z, bays).profile(x, track.L) for z in Z])
     levels = levels_dB(Z)
     n = history.passages
     half = n >= n[-1] / 2
@@ -279,15 +319,18 @@ def growth(history, track, speed: float, n_wheels: int, points: int = 601) -> xr
             "amplitude_growth_rate": _var("harmonic", amp_slope, "m per 10000 passages", "growth rate of the rms amplitude over the second half of the run"),
             "step_error": _var("update", history.step_error, "1", "estimated local error of each update relative to the roughness (rail.growth.step_error)"),
             "full_slip": _var("update", history.full_slip, "1", "largest fraction of the bay with no stick zone in the contact, per update"),
+            **({} if force is None else {"force": _var(("passage", "wheel", "position"), np.array([force(z, x) for z in Z]), "N",
+                                                        "contact force of each wheel with the wheel at the position (eq 21)")}),
         },
         coords={
             "passage": _var("passage", n, "1", "wheel passages (a train of n wheels counts n)"),
-            "harmonic": _var("harmonic", k, "1", "harmonic k of the sleeper bay"),
-            "wavenumber": _var("harmonic", k * track.beta0, "rad/m", "wavenumber k beta0"),
+            "harmonic": _var("harmonic", k, "1", "harmonic k of the sleeper bay" if bays == 1 else f"index j of the wavenumber 2 pi j / ({bays} L)"),
+            "wavenumber": _var("harmonic", k / bays * track.beta0, "rad/m", "wavenumber k beta0" if bays == 1 else f"wavenumber j beta0 / {bays}"),
             "harmonic_all": _var("harmonic_all", np.arange(-K, K + 1), "1", "harmonic index k of Z_k"),
-            "position": _var("position", x, "m", "position in the sleeper bay, 0 above a sleeper"),
+            "position": _var("position", x, "m", "position in the sleeper bay, 0 above a sleeper" if bays == 1 else f"position over the {bays}-bay period, 0 above a sleeper"),
         },
-        attrs={"speed_m_per_s": speed, "wheels": n_wheels, "damping_model": track.damping, "pad_stiffness_N_per_m": track.pad.stiffness},
+        attrs={"speed_m_per_s": speed, "wheels": n_wheels, "damping_model": track.damping, "pad_stiffness_N_per_m": track.pad.stiffness,
+               **({} if bays == 1 else {"bays": bays})},
     )
 
 
@@ -339,8 +382,8 @@ def sweep(runs, keys, values, indices) -> xr.Dataset:
     fastest = np.nanargmax(rate, axis=-1)
     wavelength = 2 * np.pi / first["wavenumber"].values[fastest]
     coords = {d: (d, np.asarray(v), {"units": _unit_of(k), "long_name": f"swept parameter {k}"}) for d, k, v in zip(dims, keys, values)}
-    coords["harmonic"] = _var("harmonic", first["harmonic"].values, "1", "harmonic k of the sleeper bay")
-    coords["wavenumber"] = _var("harmonic", first["wavenumber"].values, "rad/m", "wavenumber k beta0")
+    coords["harmonic"] = _var("harmonic", first["harmonic"].values, "1", first["harmonic"].attrs.get("long_name", "harmonic k of the sleeper bay"))
+    coords["wavenumber"] = _var("harmonic", first["wavenumber"].values, "rad/m", first["wavenumber"].attrs.get("long_name", "wavenumber k beta0"))
     return xr.Dataset(
         {
             "level": _var(dims + ("harmonic",), level, "dB re 1 um", "rms roughness level of each harmonic at the end of the run"),
@@ -353,7 +396,7 @@ def sweep(runs, keys, values, indices) -> xr.Dataset:
     )
 
 
-_UNITS = {"speed": "m/s", "stiffness": "N/m", "loss_factor": "1", "creepage": "1", "friction_dynamic": "1", "friction_static": "1", "mass": "kg", "spacing": "m", "closure_scale": "1", "static_load": "N"}
+_UNITS = {"speed": "m/s", "stiffness": "N/m", "loss_factor": "1", "creepage": "1", "friction_dynamic": "1", "friction_static": "1", "mass": "kg", "spacing": "m", "closure_scale": "1", "static_load": "N", "seed": "1", "bays": "1"}
 
 
 def _unit_of(key: str) -> str:

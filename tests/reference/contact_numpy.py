@@ -27,6 +27,7 @@ import numpy as np
 
 from rail.contact import (
     CHECKERBOARD_LIMIT,
+    THETA_EDGE,
     ContactError,
     ContactMaterial,
     TangentialSolution,
@@ -124,6 +125,12 @@ def solve_tangential_numpy(P, a, m: ContactMaterial, speed: float, delta: float,
         enter = inside & (xi + delta >= a_prev)
         theta = np.zeros(nn)
         theta[enter] = np.clip((eta0[enter] - 1.0) / (eta0[enter] - eta1[enter]), 0.0, 1.0)
+        # a particle that reaches the edge within THETA_EDGE dt of the end of the step counts as
+        # not yet loaded (its pressure is below 2e-5 p0); it enters in the next step
+        at_edge = enter & (1.0 - theta < THETA_EDGE)
+        inside = inside & ~at_edge
+        p = np.where(at_edge, 0.0, p)
+        enter = enter & ~at_edge
         E = C[:nn].copy()
         E[enter] = (E[enter] - theta[enter, None] * r_edge[None, :]) / np.maximum(1.0 - theta[enter], 1e-300)[:, None]
         h = u_old[1:] - g * delta
@@ -196,10 +203,13 @@ def solve_tangential_numpy(P, a, m: ContactMaterial, speed: float, delta: float,
         # mean slip velocity from the displacement at -a at that time, interpolated between the steps.
         u_trail_new = r_trail @ qn
         left = was & ~inside
-        phi = np.clip((eta0[left] + 1.0) / (eta0[left] - eta1[left]), 0.0, 1.0)
+        phi_all = np.zeros(nn)
+        phi_all[left] = np.clip((eta0[left] + 1.0) / (eta0[left] - eta1[left]), 0.0, 1.0)
+        left = left & (phi_all >= THETA_EDGE)  # left at the start of the step: no loaded time, no work
+        phi = phi_all[left]
         u_exit = (1.0 - phi) * u_trail_old + phi * u_trail_new
         s_exit = np.zeros(nn)
-        s_exit[left] = g * speed + (u_exit - u_old[1:][left]) / np.maximum(phi * dt, 1e-300)
+        s_exit[left] = g * speed + (u_exit - u_old[1:][left]) / (phi * dt)
         # mean slip velocity and traction direction sigma (from the new traction, else the old one)
         s_bar = np.where(inside, s, s_exit)
         ref = np.where(inside & (qn != 0), qn, q_old)

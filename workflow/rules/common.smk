@@ -90,14 +90,17 @@ GROWTH_FIGURES = ["20", "21", "23", "24", "25", "26", "27"]
 
 
 def growth_table(wildcards):
-    """The receptance table a growth run needs: its scenario's track at its speed."""
-    return f"results/receptance/{track_name(wildcards.scenario)}/V{wildcards.speed}.nc"
+    """The receptance table a growth run needs: its scenario's track at its speed (the Bloch tables
+    for a roughness periodic over N > 1 bays)."""
+    bays = SCENARIO_OBJECTS[wildcards.scenario].roughness.bays
+    suffix = "" if bays == 1 else f"_N{bays}"
+    return f"results/receptance/{track_name(wildcards.scenario)}/V{wildcards.speed}{suffix}.nc"
 
 
 def roughness_file(wildcards):
     """A scenario's roughness file, as an input so that editing it reruns the growth."""
-    r = SCENARIOS[wildcards.scenario]["roughness"]
-    return [r["file"]] if r["kind"] == "file" else []
+    r = SCENARIO_OBJECTS[wildcards.scenario].roughness
+    return [r.file] if r.kind in ("file", "profile", "spectrum") else []
 
 
 def growth_figure_inputs(wildcards):
@@ -118,6 +121,18 @@ def growth_figure_inputs(wildcards):
         }
     V = v[n - 26]
     return {"single wheel": run("default", V), f"{len(SCENARIOS[g['wheels_scenario']]['wheels']['positions'])} wheels": run(g["wheels_scenario"], V)}
+
+
+def any_wavelength_targets():
+    """Narrow-band figures of the scenarios with a roughness period of N > 1 bays (not sweep points),
+    and the aggregated datasets of the sweeps over such scenarios."""
+    sweep_points = {p["name"] for sw in SWEEPS.values() for p in sw["points"]}
+    out = [f"results/growth/{name}/V{speed_label(scn.speeds[0])}_narrowband.png" for name, scn in SCENARIO_OBJECTS.items()
+           if scn.roughness.bays > 1 and name not in sweep_points]
+    for study, sw in SWEEPS.items():
+        if any(SCENARIO_OBJECTS[p["name"]].roughness.bays > 1 for p in sw["points"]):
+            out += [f"results/sweeps/{study}.nc", f"results/sweeps/{study}.png"]
+    return out
 
 
 def growth_runs():
@@ -160,8 +175,9 @@ def wheel_offsets(wildcards):
     """Offsets d between every ordered pair of wheels (0 first) over all scenarios that share
     the track: only the transfer receptances some scenario needs are computed."""
     offsets = set()
+    bays = int(wildcards.get("bays", 1))  # Bloch tables: only the scenarios with that roughness period
     for name, scn in SCENARIO_OBJECTS.items():
-        if track_name(name) == wildcards.track:
+        if track_name(name) == wildcards.track and (bays == 1 or scn.roughness.bays == bays):
             offsets |= set(wheel_offsets_of(scn))
     return sorted(offsets, key=lambda d: (abs(d), d))
 
@@ -279,7 +295,7 @@ def convergence_table(wildcards):
 
 def built_studies():
     """Outputs of the named studies that exist on disk (for the HTML report: report_all)."""
-    candidates = closure_targets() + sweep_targets() + [
+    candidates = closure_targets() + sweep_targets() + any_wavelength_targets() + [
         "results/stability/outcomes.html", "results/convergence/error_vs_time.png", "results/convergence/summary.html",
     ]
     return [f for f in candidates if Path(f).exists()]

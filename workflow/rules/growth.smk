@@ -40,6 +40,31 @@ rule growth_3d:
         "../scripts/growth_figure.py"
 
 
+rule growth_narrowband:
+    """Growth over a roughness period of N bays: narrow-band spectrum beside the one-bay comb, and
+    the profiles over the N bays."""
+    input:
+        "results/growth/{scenario}/V{speed}.nc",
+    output:
+        report("results/growth/{scenario}/V{speed}_narrowband.png", caption="../report/growth_narrowband.rst", category="Roughness at any wavelength"),
+    params:
+        code=code("growth_figure.py"),
+    resources:
+        mem_mb=500,
+        runtime=5,
+    log:
+        "logs/growth/{scenario}/V{speed}_narrowband.log",
+    script:
+        "../scripts/growth_figure.py"
+
+
+rule any_wavelength:
+    """Named target: every scenario whose roughness is periodic over N > 1 bays (narrow-band figures)
+    and every such sweep (ensembles)."""
+    input:
+        any_wavelength_targets(),
+
+
 rule growth_figure:
     """Figs 20, 21, 23-27 from the growth runs."""
     input:

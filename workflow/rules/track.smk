@@ -5,6 +5,8 @@ rule receptance:
     """Receptance matrices a_{p-k}(k Omega_0, d) for one track and speed (rail.moving)."""
     output:
         "results/receptance/{track}/V{speed}.nc",
+    wildcard_constraints:
+        speed="[^_/]+",
     params:
         code=code("receptance.py"),
         cfg=track_config,
@@ -18,6 +20,31 @@ rule receptance:
     resources:
         mem_mb=2000,
         runtime=10,
+    script:
+        "../scripts/receptance.py"
+
+
+rule receptance_bloch:
+    """Receptance tables a_{p-k}((k + r/N) Omega_0, d), r = 0..N/2, for a roughness periodic over N
+    bays (rail.moving.bloch_tables)."""
+    output:
+        "results/receptance/{track}/V{speed}_N{bays}.nc",
+    wildcard_constraints:
+        speed="[^_/]+",
+        bays="[0-9]+",
+    params:
+        code=code("receptance.py"),
+        cfg=track_config,
+        offsets=wheel_offsets,
+    message:
+        "receptance tables: track {wildcards.track}, V = {wildcards.speed} m/s, N = {wildcards.bays} bays, offsets {params.offsets} m"
+    log:
+        "logs/receptance/{track}/V{speed}_N{bays}.log",
+    benchmark:
+        "benchmarks/receptance/{track}/V{speed}_N{bays}.tsv"
+    resources:
+        mem_mb=4000,
+        runtime=30,
     script:
         "../scripts/receptance.py"
 

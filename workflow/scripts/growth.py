@@ -5,7 +5,7 @@ from pathlib import Path
 
 import xarray as xr
 
-from rail import chain
+from rail import chain, interaction
 from rail.setup import build, io
 from rail.studies import datasets
 
@@ -16,7 +16,12 @@ def main(config, name, table_path, speed, checkpoint, out_path, log):
         tab = datasets.read_receptance_table(t.load())
     Path(checkpoint).parent.mkdir(parents=True, exist_ok=True)
     history = chain.grow(scn, tab, checkpoint=checkpoint, identity={"config": config}, progress=log, on_mismatch="restart")
-    ds = datasets.growth(history, scn.track, speed, len(scn.wheels.positions))
+    bays = scn.roughness.bays
+
+    def force(Z, x):  # every wheel's contact force at each saved roughness
+        return interaction.force_history(chain.solve_forces(scn, tab, interaction.Roughness(Z, bays)), x)
+
+    ds = datasets.growth(history, scn.track, speed, len(scn.wheels.positions), bays=bays, force=force)
     io.write_netcdf(io.finalize(ds, config, title=f"Roughness growth at {speed:g} m/s", source="rail.chain.grow"), out_path)
 
 

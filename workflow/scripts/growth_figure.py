@@ -18,6 +18,9 @@ def main(rule, nn, config, inputs, outputs):
     if rule == "growth_3d":
         report.growth_3d(_load(inputs[0])).savefig(outputs[0], dpi=130)
         return
+    if rule == "growth_narrowband":
+        report.growth_narrowband(_load(inputs[0])).savefig(outputs[0], dpi=150)
+        return
     runs = {label: _load(path) for label, path in inputs.items()}
     n = int(nn)
     kind = {20: "profiles", 21: "profiles", 24: "final_profiles"}.get(n, "spectra")

@@ -1,4 +1,5 @@
-"""Moving-load receptance table of one track at one speed (shared by the scenarios on that track)."""
+"""Moving-load receptance table of one track at one speed (shared by the scenarios on that track);
+for a roughness periodic over N bays, the tables of its Bloch fractions."""
 
 import sys
 
@@ -7,13 +8,15 @@ from rail.setup import build, io
 from rail.studies import datasets
 
 
-def main(config, speed, offsets, out_path):
+def main(config, speed, offsets, bays, out_path):
     track, numerics = build.track(config)
-    tab = chain.track_table(track, numerics, speed, offsets)
-    ds = io.finalize(datasets.receptance_table(tab, track), config, title=f"Moving-load receptance, V = {speed} m/s", source="rail.moving.receptance_table")
-    io.write_netcdf(ds, out_path)
+    tab = chain.track_table(track, numerics, speed, offsets, bays)
+    ds = datasets.receptance_table(tab, track) if bays == 1 else datasets.bloch_tables(tab, track)
+    title = f"Moving-load receptance, V = {speed} m/s" + ("" if bays == 1 else f", roughness period {bays} bays")
+    io.write_netcdf(io.finalize(ds, config, title=title, source="rail.moving.receptance_table"), out_path)
 
 
 if __name__ == "__main__":
     sys.stderr = open(snakemake.log[0], "w")  # noqa: F821
-    main(snakemake.params.cfg, float(snakemake.wildcards.speed), snakemake.params.offsets, snakemake.output[0])  # noqa: F821
+    w = snakemake.wildcards  # noqa: F821
+    main(snakemake.params.cfg, float(w.speed), snakemake.params.offsets, int(w.get("bays", 1)), snakemake.output[0])  # noqa: F821

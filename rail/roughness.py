@@ -1,0 +1,232 @@
+"""Initial roughness over a period of N bays from a measured profile or a one-third-octave spectrum.
+
+Both give the coefficients Z_j, j = -J..J, of z(x) = sum_j Z_j exp(i 2 pi j x / P) over the period
+P = N L (rail.interaction.Roughness with bays = N); J = N K, so the shortest wavelength is L / K.
+
+Measured profile (CSV ``position_m,height_m``): the first P of the profile, made periodic by
+removing the straight line through its first and last point (so that the ends meet without a
+step, the usual choice before a periodic transform; it removes the mean slope and nothing else),
+resampled by linear interpolation onto 8 J uniform points, and transformed. A profile shorter
+than P is made periodic over its own length and repeated to fill P, with a warning: then only the
+wavenumbers of its own period are present.
+
+One-third-octave wavelength spectrum (CSV ``wavelength_m,level_dB``, centre wavelengths and rms
+levels in dB re 1 um, as EN 15610 states a roughness spectrum): every band's mean square
+(1e-6 10^(level / 20))^2 is shared equally between the wavenumbers 2 pi j / P whose wavelength
+P / j falls in the band (band_edges: neighbouring bands meet at the geometric mean of their
+centres, the outermost edges are 2^(+-1/6) from the centre), with phases uniformly random from
+``seed`` (numpy's default generator): the realisation has exactly the band levels. A band that
+holds no wavenumber of the period (too long for P, or shorter than L / K) is left out, and named
+in a warning.
+"""
+
+from __future__ import annotations
+
+import csv
+import warnings
+
+import numpy as np
+
+__all__ = ["RoughnessInputWarning", "read_profile", "profile_coefficients", "read_third_octave_spectrum",
+           "band_edges", "spectrum_coefficients"]
+
+
+class RoughnessInputWarning(UserWarning):
+    """A roughness input covers less than asked for (a short profile, bands the period cannot hold)."""
+
+
+def _read_two_columns(path, header: tuple[str, str], what: str):
+    with open(path, newline="") as fh:
+        rows = list(csv.reader(fh))
+    if not rows or tuple(c.strip() for c in rows[0]) != header:
+        got = ",".join(rows[0]) if rows else "an empty file"
+        raise ValueError(f"{path}, line 1: the header must be '{','.join(header)}' (got {got}).")
+    a, b = [], []
+    for n, row in enumerate(rows[1:], start=2):
+        if not row or all(not c.strip() for c in row):
+            continue
+        if len(row) != 2:
+            raise ValueError(f"{path}, line {n}: expected 2 values {','.join(header)}, got {len(row)}.")
+        try:
+            u, v = float(row[0]), float(row[1])
+        except ValueError:
+            raise ValueError(f"{path}, line {n}: {','.join(row)!r} is not two numbers ({what}).") from None
+        if not (np.isfinite(u) and np.isfinite(v)):
+            raise ValueError(f"{path}, line {n}: {','.join(row)!r} is not finite.")
+        a.append(u)
+        b.append(v)
+    if len(a) < 2:
+        raise ValueError(f"{path}: needs at least two data lines, has {len(a)}.")
+    return np.array(a), np.array(b)
+
+
+def read_profile(path):
+    """Read a measured roughness profile.
+
+    Parameters
+    ----------
+    path : str or Path
+        CSV with the header ``position_m,height_m``: positions along the rail [m], strictly
+        increasing, and rail-head heights [m] (upwards positive).
+
+    Returns
+    -------
+    x, z : ndarray
+        Positions [m] from 0 and heights [m].
+
+    Raises
+    ------
+    ValueError
+        Naming the file and the line of a wrong header, a row that is not two finite numbers, or a
+        position that does not increase.
+    """
+    x, z = _read_two_columns(path, ("position_m", "height_m"), "position in m and height in m")
+    bad = np.nonzero(np.diff(x) <= 0)[0]
+    if bad.size:
+        n = int(bad[0]) + 3  # data line of the second position (header is line 1)
+        raise ValueError(f"{path}, line {n}: position {float(x[bad[0] + 1]):g} m does not increase (previous {float(x[bad[0]]):g} m).")
+    return x - x[0], z
+
+
+def profile_coefficients(x, z, period: float, J: int, source: str = "profile"):
+    """Coefficients Z_j over the period of a measured profile (module docstring: the method).
+
+    Parameters
+    ----------
+    x, z : ndarray
+        Positions from 0 [m] (increasing) and heights [m].
+    period : float
+        P = N L [m].
+    J : int
+        Highest index j [-] (N K).
+    source : str
+        Name of the profile, for the warning.
+
+    Returns
+    -------
+    ndarray, shape (2J + 1,)
+        Z_j [m], Z_0 = 0.
+    """
+    n = 8 * J
+    length = float(x[-1])
+    if length < period * (1 - 1e-9):
+        reps = int(np.ceil(period / length))
+        warnings.warn(f"{source}: the profile is {length:.4g} m long, shorter than the roughness period N L = {period:.4g} m; "
+                      f"it is made periodic over its own length and repeated {reps} times (only the wavenumbers of its own "
+                      f"length are present).", RoughnessInputWarning, stacklevel=2)
+        use = length
+    else:
+        use = period
+    zi = np.interp(np.linspace(0.0, use, n + 1), x, z)
+    zi = zi - (zi[0] + (zi[-1] - zi[0]) * np.linspace(0.0, 1.0, n + 1))  # ends meet without a step
+    s = np.linspace(0.0, period, n, endpoint=False)
+    zp = np.interp(s % use, np.linspace(0.0, use, n + 1), zi)
+    F = np.fft.fft(zp) / n
+    j = np.arange(-J, J + 1)
+    Z = F[j % n]
+    Z[J] = 0.0
+    return Z
+
+
+def read_third_octave_spectrum(path):
+    """Read a one-third-octave roughness wavelength spectrum.
+
+    Parameters
+    ----------
+    path : str or Path
+        CSV with the header ``wavelength_m,level_dB``: band centre wavelengths [m] (> 0, each
+        once) and rms levels [dB re 1 µm].
+
+    Returns
+    -------
+    wavelength, level : ndarray
+        [m] and [dB re 1 µm].
+
+    Raises
+    ------
+    ValueError
+        Naming the file and the line of a wrong header, row, non-positive or repeated wavelength.
+    """
+    lam, lev = _read_two_columns(path, ("wavelength_m", "level_dB"), "centre wavelength in m and level in dB re 1 um")
+    for i, v in enumerate(lam):
+        if v <= 0:
+            raise ValueError(f"{path}, line {i + 2}: wavelength {float(v):g} m is not allowed: it must be > 0.")
+        if np.any(np.isclose(lam[:i], v, rtol=1e-9)):
+            raise ValueError(f"{path}, line {i + 2}: wavelength {float(v):g} m appears twice.")
+    return lam, lev
+
+
+def band_edges(wavelength):
+    """Edges of one-third-octave wavelength bands from their (nominal) centres.
+
+    Neighbouring bands (centres a third octave apart, within 5 %) meet at the geometric mean of
+    their centres (for exact centres that is 2^(1/6) from each), so that nominal centres such as
+    0.315 m and 0.25 m still partition the wavelength axis; other edges are 2^(+-1/6) from their
+    centres.
+
+    Parameters
+    ----------
+    wavelength : ndarray
+        Band centre wavelengths [m], distinct.
+
+    Returns
+    -------
+    lower, upper : ndarray
+        Band edges [m], in the order of ``wavelength``.
+    """
+    lam = np.asarray(wavelength, dtype=float)
+    order = np.argsort(lam)
+    s = lam[order]
+    adjacent = s[1:] / s[:-1] < 1.05 * 2 ** (1 / 3)  # neighbouring third-octave bands
+    mid = np.sqrt(s[1:] * s[:-1])
+    lo_s = np.r_[s[0] * 2 ** (-1 / 6), np.where(adjacent, mid, s[1:] * 2 ** (-1 / 6))]
+    hi_s = np.r_[np.where(adjacent, mid, s[:-1] * 2 ** (1 / 6)), s[-1] * 2 ** (1 / 6)]
+    lo, hi = np.empty_like(lam), np.empty_like(lam)
+    lo[order], hi[order] = lo_s, hi_s
+    return lo, hi
+
+
+def spectrum_coefficients(wavelength, level_dB, period: float, J: int, seed: int, source: str = "spectrum"):
+    """Random-phase realisation of a one-third-octave spectrum over the period (module docstring).
+
+    Parameters
+    ----------
+    wavelength : ndarray
+        Band centre wavelengths [m].
+    level_dB : ndarray
+        rms band levels [dB re 1 µm].
+    period : float
+        P = N L [m].
+    J : int
+        Highest index j [-] (N K); shorter wavelengths than P / J are not represented.
+    seed : int
+        Seed of the random phases.
+    source : str
+        Name of the spectrum, for the warning.
+
+    Returns
+    -------
+    ndarray, shape (2J + 1,)
+        Z_j [m], Z_0 = 0, Z_-j = conj(Z_j); sum over the band's j of 2 |Z_j|^2 is its mean square.
+    """
+    rng = np.random.default_rng(int(seed))
+    j = np.arange(1, J + 1)
+    lam_j = period / j
+    Z = np.zeros(2 * J + 1, dtype=complex)
+    empty = []
+    phases = rng.uniform(0.0, 2 * np.pi, J)  # one per wavenumber, drawn in order: reproducible
+    lo, hi = band_edges(wavelength)
+    for lc, lev, a, b in zip(wavelength, level_dB, lo, hi):
+        inside = (lam_j >= a) & (lam_j < b)
+        if not inside.any():
+            empty.append(f"{lc:g} m")
+            continue
+        ms = (1e-6 * 10 ** (lev / 20)) ** 2
+        amp = np.sqrt(ms / (2 * inside.sum()))
+        Z[J + j[inside]] = amp * np.exp(1j * phases[inside])
+    Z[:J] = np.conj(Z[J + 1 :][::-1])
+    if empty:
+        warnings.warn(f"{source}: the bands {', '.join(empty)} hold no wavenumber 2 pi j / (N L) of the period N L = "
+                      f"{period:.4g} m with j <= {J}; they are left out (raise roughness.bays for long wavelengths, "
+                      f"numerics.track.harmonics for short ones).", RoughnessInputWarning, stacklevel=2)
+    return Z
