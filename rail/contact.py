@@ -1276,8 +1276,14 @@ def solve_tangential(P, a, m: ContactMaterial, speed: float, delta: float, M: in
     """
     if closure not in CLOSURES:
         raise ValueError(f"contact.closure = {closure!r} is not allowed: it must be one of {list(CLOSURES)}.")
+    if not (np.isfinite(speed) and speed > 0 and np.isfinite(delta) and delta > 0):
+        raise ValueError(f"speed = {speed!r} m/s and delta = {delta!r} m are not allowed: both must be finite numbers > 0.")
     P = np.ascontiguousarray(P, dtype=float)
     a = np.ascontiguousarray(a, dtype=float)
+    if P.shape != a.shape or P.ndim != 1:
+        raise ValueError(f"P and a must be 1-d arrays of one length (one value per step); got shapes {P.shape} and {a.shape}.")
+    if not (np.all(np.isfinite(P)) and np.all(np.isfinite(a))):
+        raise ValueError("P and a must be finite at every step.")
     if np.any(a >= M * delta):
         raise ValueError(f"the patch half-length {a.max():.4g} m exceeds the grid's {M * delta:.4g} m.")
     if P.size and not (np.all(a > 0) and np.all(P > 0)):

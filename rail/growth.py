@@ -82,6 +82,10 @@ class GrowthSettings:
     step_tolerance: float
 
     def __post_init__(self):
+        if not (np.isfinite(self.step_tolerance) and self.step_tolerance > 0):
+            raise ValueError(f"growth.step_tolerance = {self.step_tolerance!r} is not allowed: it must be a finite number > 0.")
+        if self.save_every < 1:
+            raise ValueError(f"growth.save_every = {self.save_every!r} is not allowed: it must be >= 1.")
         if self.passages_per_update < 1 or self.passages < self.passages_per_update:
             raise ValueError(
                 f"growth.passages_per_update = {self.passages_per_update} is not allowed: it must lie in "
@@ -137,6 +141,17 @@ def _save_checkpoint(path: Path, fingerprint: str, done: int, Z, history: Growth
     np.savez(tmp, fingerprint=fingerprint, done=done, Z=Z, hist_passages=history.passages, hist_Z=history.Z, update=update,
              step_error=history.step_error, full_slip=history.full_slip, rate=np.asarray(rate))
     os.replace(tmp, path)  # atomic: a run killed at any moment leaves the old or the new checkpoint
+
+
+def _move_aside(path: Path, why: str) -> Path:
+    """Rename a checkpoint that must not be resumed to <name>.<why>[.n] beside it (kept for inspection)."""
+    target = path.with_name(f"{path.name}.{why}")
+    n = 1
+    while target.exists():
+        target = path.with_name(f"{path.name}.{why}.{n}")
+        n += 1
+    os.replace(path, target)
+    return target
 
 
 class GrowthStepError(RuntimeError):
@@ -230,15 +245,26 @@ def run_growth(
     rate_before = None  # wear per train passage of the last update (for the next update's error estimate)
     ck = Path(checkpoint) if checkpoint else None
     if ck is not None and ck.exists():
-        data = np.load(ck, allow_pickle=False)
-        if str(data["fingerprint"]) != fp:
+        try:
+            with np.load(ck, allow_pickle=False) as data:
+                saved = {k: data[k] for k in ("fingerprint", "done", "Z", "update", "hist_passages", "hist_Z", "step_error",
+                                              "full_slip", "rate")}
+        except Exception as e:  # noqa: BLE001 - truncated, empty, random or incomplete: never resumable
+            aside = _move_aside(ck, "unreadable")
+            print(f"warning: checkpoint {ck} cannot be read ({type(e).__name__}: {e}); moved to {aside}, starting afresh",
+                  file=progress, flush=True)
+            saved = None
+        if saved is not None and str(saved["fingerprint"]) != fp:
             if on_mismatch != "restart":
                 raise ValueError(f"checkpoint {ck} was written for another configuration or code; delete it to start afresh.")
-            print(f"checkpoint {ck} belongs to another configuration or code: starting afresh", file=progress)
-        else:
-            done, Z, update = int(data["done"]), data["Z"].copy(), int(data["update"])
-            history = GrowthHistory(data["hist_passages"].copy(), data["hist_Z"].copy(), data["step_error"].copy(), data["full_slip"].copy())
-            rate_before = data["rate"].copy()  # saved after an update, so always there
+            aside = _move_aside(ck, "other")
+            print(f"checkpoint {ck} belongs to another configuration, input or code: moved to {aside}, starting afresh",
+                  file=progress, flush=True)
+        elif saved is not None:
+            done, Z, update = int(saved["done"]), saved["Z"].copy(), int(saved["update"])
+            history = GrowthHistory(saved["hist_passages"].copy(), saved["hist_Z"].copy(), saved["step_error"].copy(),
+                                    saved["full_slip"].copy())
+            rate_before = saved["rate"].copy()  # saved after an update, so always there
             print(f"resuming from {ck}: {done} of {settings.passages} passages done", file=progress)
 
     def same_grid(u1, u2):

@@ -81,6 +81,14 @@ class ContactSpring:
     loss_slope: float = 0.0
     loss_factor: float = 0.0
 
+    def __post_init__(self):
+        if not (np.isfinite(self.hertz_stiffness) and self.hertz_stiffness > 0):
+            raise ValueError(f"contact.hertz_stiffness = {self.hertz_stiffness!r} N/m is not allowed: it must be a finite number > 0.")
+        for name in ("loss_slope", "loss_factor"):
+            v = getattr(self, name)
+            if not (np.isfinite(v) and v >= 0):
+                raise ValueError(f"contact spring {name} = {v!r} is not allowed: it must be a finite number >= 0.")
+
     def stiffness(self, omega):
         omega = np.asarray(omega, dtype=float)
         eta = self.loss_slope * omega + self.loss_factor * np.sign(omega)
@@ -221,8 +229,12 @@ def read_roughness_coefficients(path):
     import csv
 
     ks, A, B = [], [], []
-    with open(path, newline="") as fh:
-        rows = list(csv.reader(fh))
+    rows_k = {}
+    try:
+        with open(path, newline="", encoding="utf-8-sig") as fh:  # a byte-order mark is not part of the header
+            rows = list(csv.reader(fh))
+    except UnicodeDecodeError as e:
+        raise ValueError(f"{path}: is not a text (UTF-8) CSV file ({e.reason} at byte {e.start}).") from None
     if not rows or [c.strip() for c in rows[0]] != ["k", "A_m", "B_m"]:
         raise ValueError(f"{path}, line 1: the header must be 'k,A_m,B_m' (got {','.join(rows[0]) if rows else 'an empty file'}).")
     for n, row in enumerate(rows[1:], start=2):
@@ -236,9 +248,16 @@ def read_roughness_coefficients(path):
             raise ValueError(f"{path}, line {n}: {','.join(row)!r} is not an integer k and two numbers in m.") from None
         if k < 1:
             raise ValueError(f"{path}, line {n}: harmonic k = {k} is not allowed: it must be >= 1.")
+        if not (np.isfinite(a) and np.isfinite(b)):
+            raise ValueError(f"{path}, line {n}: the amplitudes {','.join(row[1:])} are not finite.")
+        if k in ks:
+            raise ValueError(f"{path}, line {n}: harmonic k = {k} is given twice (first at line {rows_k[k]}).")
+        rows_k[k] = n
         ks.append(k)
         A.append(a)
         B.append(b)
+    if not ks:
+        raise ValueError(f"{path}: has a header but no harmonic: give at least one line k,A_m,B_m (a smooth rail is roughness.kind: smooth).")
     return ks, A, B
 
 
@@ -365,6 +384,8 @@ def solve_forces(
         Where any wheel's force P_l(x) falls to zero or below.
     """
     N = int(roughness.bays)
+    if not np.all(np.isfinite(roughness.Z)):
+        raise ValueError("the roughness coefficients are not finite (NaN or inf): check the roughness input.")
     tabs = (tab,) if isinstance(tab, MovingReceptance) else tuple(tab)
     if len(tabs) != N // 2 + 1 or any(not np.isclose(t.fraction, r / N) for r, t in enumerate(tabs)):
         raise ValueError(f"a roughness periodic over {N} bays needs the receptance tables of the fractions r / {N}, "

@@ -251,8 +251,10 @@ def receptance_table(
         If speed <= 0 (use rail.track.stationary_receptance for V = 0), if harmonics is not an
         integer >= 0, or if the rail damping is too small (``rail.track.damping_problem``).
     """
-    if not speed > 0:
-        raise ValueError(f"speed = {speed!r} m/s is not allowed: it must be > 0 (use rail.track.stationary_receptance for V = 0).")
+    if not (np.isfinite(speed) and speed > 0):
+        raise ValueError(f"speed = {speed!r} m/s is not allowed: it must be a finite number > 0 (use rail.track.stationary_receptance for V = 0).")
+    if not (np.isfinite(rtol) and 0 < rtol < 1):
+        raise ValueError(f"rtol = {rtol!r} is not allowed: the quadrature tolerance must lie in (0, 1).")
     if int(harmonics) != harmonics or harmonics < 0:
         raise ValueError(f"harmonics = {harmonics!r} is not allowed: it must be an integer >= 0.")
     if (problem := damping_problem(track)) is not None:

@@ -36,8 +36,11 @@ class RoughnessInputWarning(UserWarning):
 
 
 def _read_two_columns(path, header: tuple[str, str], what: str):
-    with open(path, newline="") as fh:
-        rows = list(csv.reader(fh))
+    try:
+        with open(path, newline="", encoding="utf-8-sig") as fh:  # a byte-order mark is not part of the header
+            rows = list(csv.reader(fh))
+    except UnicodeDecodeError as e:
+        raise ValueError(f"{path}: is not a text (UTF-8) CSV file ({e.reason} at byte {e.start}).") from None
     if not rows or tuple(c.strip() for c in rows[0]) != header:
         got = ",".join(rows[0]) if rows else "an empty file"
         raise ValueError(f"{path}, line 1: the header must be '{','.join(header)}' (got {got}).")

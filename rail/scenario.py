@@ -74,6 +74,11 @@ class InitialRoughness:
             raise ValueError(f"roughness.kind = '{self.kind}' needs roughness.file, a CSV with header {header}.")
         if int(self.bays) != self.bays or self.bays < 1:
             raise ValueError(f"roughness.bays = {self.bays!r} is not allowed: it must be an integer >= 1.")
+        if self.kind == "harmonic":
+            if not (np.isfinite(self.amplitude) and self.amplitude >= 0):
+                raise ValueError(f"roughness.amplitude = {self.amplitude!r} m is not allowed: it must be a finite number >= 0.")
+            if self.wavelength is None and not (np.isfinite(self.frequency) and self.frequency > 0):
+                raise ValueError(f"roughness.frequency = {self.frequency!r} Hz is not allowed: it must be a finite number > 0.")
 
     def realise(self, speed: float, L: float, K: int) -> Roughness:
         """The initial roughness at a train speed.
@@ -124,6 +129,7 @@ class Scenario:
     growth           : growth-loop settings (sec. 5)
     roughness        : the initial roughness
     speeds           : train speeds of the scenario's studies [m/s]
+    axles_per_day    : traffic over the rail, wheel passages per day on one rail [1/day]
     """
 
     name: str
@@ -138,6 +144,7 @@ class Scenario:
     growth: GrowthSettings
     roughness: InitialRoughness
     speeds: tuple
+    axles_per_day: float
 
     @property
     def L(self) -> float:

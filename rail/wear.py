@@ -159,6 +159,8 @@ def bay_wear(forces: ForceResult, wheel_index: int, roughness: Roughness, materi
     """
     if not 0.0 <= grid_phase < 1.0:
         raise ValueError(f"grid_phase = {grid_phase!r} is not allowed: it must lie in [0, 1).")
+    if not 0 <= wheel_index < len(forces.positions):
+        raise ValueError(f"wheel_index = {wheel_index!r} is not allowed: it must lie in [0, {len(forces.positions) - 1}].")
     K = roughness.harmonics
     if roughness.bays != forces.bays:
         raise ValueError(f"the roughness is periodic over {roughness.bays} bays, the forces over {forces.bays}.")

@@ -269,6 +269,46 @@ def growth_narrowband(ds: xr.Dataset):
     return fig
 
 
+def band_spectra(ds: xr.Dataset):
+    """One-third-octave bands of a growth run: (left) band levels at the first, middle and last saved
+    passage counts against the limit; (right) the growth rate per band with its error (the law the
+    data prefer marked: o linear, ^ exponential)."""
+    fig, (a1, a2) = plt.subplots(1, 2, figsize=(11.0, 4.2), layout="constrained")
+    lam = ds["nominal_wavelength"].values * 1e3
+    n = ds["passage"].values
+    res = ds["resolved"].values.astype(bool)
+    for style, i in zip(_STYLES, sorted({0, len(n) // 2, len(n) - 1})):
+        days = ds["days"].values[i]
+        label = f"{int(n[i])} passages" + (f" ({days:.0f} days)" if np.isfinite(days) else "")
+        a1.semilogx(lam[res], ds["level"].values[i][res], linestyle=style, marker="o", ms=3, color="k", lw=0.8, label=label)
+    if np.isfinite(ds["limit"].values).any():
+        a1.semilogx(lam, ds["limit"].values, color="0.5", lw=2, label="limit")
+    a1.invert_xaxis()
+    a1.set_xlabel("one-third-octave band, centre wavelength (mm)")
+    a1.set_ylabel("roughness level (dB re 1 µm)")
+    gi = ds.attrs["grinding_interval_passages"]
+    nb = int(ds.attrs['bays'])
+    title = f"V = {ds.attrs['speed_m_per_s']:g} m/s, roughness period {nb} bay{'s' if nb > 1 else ''}"
+    if np.isfinite(gi):
+        days = ds.attrs["grinding_interval_days"]
+        title += (f"\nlimit reached after {gi:.3g} passages" + (f" ({days:.0f} days)" if np.isfinite(days) else "")
+                  + f" in the {ds.attrs['grinding_interval_band_m'] * 1e3:g} mm band")
+    a1.set_title(title, fontsize=9)
+    a1.legend(fontsize=7)
+    rate, err = ds["amplitude_growth_rate"].values, ds["amplitude_growth_rate_error"].values
+    law = ds["growth_law"].values
+    a2.errorbar(lam[res], rate[res], yerr=err[res], fmt="none", ecolor="k", lw=0.6)
+    for mark, name in (("o", "linear"), ("^", "exponential")):
+        sel = res & (law == name)
+        a2.semilogx(lam[sel], rate[sel], mark, color="k", mfc="none", label=f"{name} growth fits better")
+    a2.axhline(0.0, color="0.6", lw=0.6)
+    a2.invert_xaxis()
+    a2.set_xlabel("one-third-octave band, centre wavelength (mm)")
+    a2.set_ylabel("rms amplitude growth rate (µm per 100,000 passages)")
+    a2.legend(fontsize=7)
+    return fig
+
+
 def sweep_map(ds: xr.Dataset):
     """Growth rate of the fastest-growing wavelength over a sweep's grid (map for two swept keys,
     lines for one or more than two)."""

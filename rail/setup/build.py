@@ -185,4 +185,5 @@ def scenario(cfg: dict, name: str = "default", source: str = "config") -> Scenar
                               step_tolerance=float(g["step_tolerance"])),
         roughness=_roughness(cfg),
         speeds=tuple(float(v) for v in cfg["speeds"]),
+        axles_per_day=float(cfg["traffic"]["axles_per_day"]),
     )

@@ -16,18 +16,48 @@ import numpy as np
 import yaml
 from jsonschema import Draft202012Validator
 
-__all__ = ["ConfigError", "load_yaml", "deep_merge", "validate_config", "resolve", "expand_sweep"]
+__all__ = ["ConfigError", "load_yaml", "deep_merge", "validate_config", "resolve", "expand_sweep", "check_scenario_names",
+           "RESERVED_SCENARIO_NAMES"]
 
 
 class ConfigError(ValueError):
     """A configuration value is missing, unknown, of the wrong type or out of range."""
 
 
+class _UniqueKeyLoader(yaml.SafeLoader):
+    """A YAML loader that refuses a key given twice in one mapping (PyYAML keeps the last silently)."""
+
+
+def _construct_unique_mapping(loader, node, deep=False):
+    seen = {}
+    for key_node, _ in node.value:
+        key = loader.construct_object(key_node, deep=deep)
+        if key in seen:
+            raise ConfigError(
+                f"{loader.name}, line {key_node.start_mark.line + 1}: the key {key!r} is given twice in one mapping "
+                f"(first at line {seen[key] + 1}); YAML would keep only the last value."
+            )
+        seen[key] = key_node.start_mark.line
+    return loader.construct_mapping(node, deep=deep)
+
+
+_UniqueKeyLoader.add_constructor(yaml.resolver.BaseResolver.DEFAULT_MAPPING_TAG, _construct_unique_mapping)
+
+RESERVED_SCENARIO_NAMES = ("default",)
+LARGE_SWEEP = 100  # sweep points above which a study must be confirmed in its file (confirm_large_sweep: true)
+
+
 def load_yaml(path) -> dict:
-    """Read a YAML mapping; an empty file gives an empty dict."""
+    """Read a YAML mapping; an empty file gives an empty dict. A key given twice in one mapping is
+    an error naming the file and the line."""
     path = Path(path)
     with path.open() as fh:
-        data = yaml.safe_load(fh)
+        loader = _UniqueKeyLoader(fh)
+        loader.name = str(path)
+        try:
+            data = loader.get_single_data()
+        finally:
+            loader.dispose()
     if data is None:
         return {}
     if not isinstance(data, dict):
@@ -116,6 +146,41 @@ def _cross_checks(cfg: dict, source: str) -> list[str]:
     return out
 
 
+def _non_finite(node, source: str, path: str = "") -> list[str]:
+    """NaN and inf anywhere in the configuration (the schema's comparisons never reject NaN)."""
+    out = []
+    if isinstance(node, dict):
+        for k, v in node.items():
+            out += _non_finite(v, source, f"{path}.{k}" if path else str(k))
+    elif isinstance(node, list):
+        for i, v in enumerate(node):
+            out += _non_finite(v, source, f"{path}[{i}]")
+    elif isinstance(node, float) and not np.isfinite(node):
+        out.append(f"{source}: {path} = {node!r} is not allowed: it must be a finite number.")
+    return out
+
+
+def check_scenario_names(files: dict, sweep_points: dict) -> None:
+    """Refuse scenario names that would silently replace another scenario.
+
+    files : {name: path} of config/scenarios/*.yaml; sweep_points : {point name: sweep file}.
+    'default' is the configuration itself; '<study>-p<n>' names the points of sweep studies.
+    """
+    import re
+
+    out = []
+    for name, path in files.items():
+        if name in RESERVED_SCENARIO_NAMES:
+            out.append(f"{path}: the scenario name '{name}' is reserved for config/config.yaml (and --configfile); rename the file.")
+        elif re.fullmatch(r".+-p\d+", name):
+            out.append(f"{path}: the scenario name '{name}' has the form <study>-p<n> reserved for the points of sweep studies; rename the file.")
+    for name, sweep in sweep_points.items():
+        if name in files:
+            out.append(f"{files[name]}: the scenario name '{name}' is also a point of the sweep {sweep}; rename one of them.")
+    if out:
+        raise ConfigError("invalid scenarios:\n  " + "\n  ".join(out))
+
+
 def configured_speeds(cfg: dict) -> list[float]:
     """Every train speed a configuration computes at (speeds and the figures' speeds), m/s."""
     f = cfg.get("figures", {})
@@ -133,7 +198,7 @@ def validate_config(cfg: dict, schema: dict, source: str = "config") -> dict:
     """
     validator = Draft202012Validator(schema)
     errors = sorted(validator.iter_errors(cfg), key=lambda e: list(map(str, e.absolute_path)))
-    messages = [_message(e, source) for e in errors]
+    messages = _non_finite(cfg, source) + [_message(e, source) for e in errors]
     if not messages:
         messages = _cross_checks(cfg, source)
     if messages:
@@ -170,7 +235,8 @@ def expand_sweep(defaults: dict, schema: dict, scenario: dict, source: str):
     sweep = scenario.get("sweep")
     if not isinstance(sweep, dict) or not sweep:
         raise ConfigError(f"{source}: sweep must map config keys (dotted, or 'speed') to lists of values.")
-    base = {k: v for k, v in scenario.items() if k != "sweep"}
+    confirmed = scenario.get("confirm_large_sweep", False) is True
+    base = {k: v for k, v in scenario.items() if k not in ("sweep", "confirm_large_sweep")}
     keys = list(sweep)
     values = []
     for k in keys:
@@ -178,6 +244,12 @@ def expand_sweep(defaults: dict, schema: dict, scenario: dict, source: str):
         if not isinstance(v, list) or not v:
             raise ConfigError(f"{source}: sweep.{k} = {v!r} is not allowed: it must be a non-empty list of values.")
         values.append(v)
+    n = int(np.prod([len(v) for v in values]))
+    if n > LARGE_SWEEP and not confirmed:
+        raise ConfigError(
+            f"{source}: the sweep has {n} points (one growth run each, and their receptance tables); above "
+            f"{LARGE_SWEEP} points it runs only with 'confirm_large_sweep: true' at the top of the file."
+        )
     points = []
     for index in np.ndindex(*[len(v) for v in values]):
         assignment = {k: values[i][j] for i, (k, j) in enumerate(zip(keys, index))}

@@ -57,5 +57,23 @@ def finalize(ds: xr.Dataset, config: dict, *, title: str, source: str) -> xr.Dat
 
 
 def write_netcdf(ds: xr.Dataset, path) -> None:
-    """Write a dataset to netCDF4 (complex values must already be split into real parts)."""
-    ds.to_netcdf(path, engine="netcdf4")
+    """Write a dataset to netCDF4 (complex values must already be split into real parts).
+
+    A failed write (the netCDF library says only "HDF error" when the disk is full) names the file,
+    the free space left and the size of the data, and leaves no partial file behind.
+    """
+    import os
+    import shutil
+    from pathlib import Path
+
+    path = Path(path)
+    try:
+        ds.to_netcdf(path, engine="netcdf4")
+    except (OSError, RuntimeError) as e:
+        if path.is_file():
+            path.unlink()
+        folder = path.parent if path.parent.exists() else Path(".")
+        free = shutil.disk_usage(folder).free
+        need = sum(v.nbytes for v in ds.variables.values())
+        raise OSError(f"could not write {os.fspath(path)}: {e}. Free space there: {free / 2**20:.1f} MiB, data "
+                      f"{need / 2**20:.1f} MiB (a full disk or a read-only folder gives this error).") from e

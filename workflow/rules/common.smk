@@ -5,9 +5,11 @@ from pathlib import Path
 from snakemake.utils import validate
 
 from rail.chain import wheel_offsets as wheel_offsets_of
+from rail.decay import read_measured_decay_rate
 from rail.provenance import code_hash
 from rail.setup.build import scenario as build_scenario
-from rail.setup.config import expand_sweep, load_yaml, resolve, validate_config
+from rail.setup.build import physics_problems
+from rail.setup.config import ConfigError, check_scenario_names, expand_sweep, load_yaml, resolve, validate_config
 
 # Clear, actionable messages first (key, value, unit, valid range), then snakemake's own
 # validation against the same schema.
@@ -40,7 +42,43 @@ for _path in sorted(SCENARIO_DIR.glob("*.yaml")):
         _SOURCES[_path.stem] = str(_path)
 # Every scenario is built once here (rail.setup.build.scenario): the constraints that need physics
 # (rail damping, harmonics reaching the pinned-pinned frequency) fail at start-up, naming the file.
+check_scenario_names(
+    {p.stem: str(p) for p in sorted(SCENARIO_DIR.glob("*.yaml"))},
+    {pt["name"]: f"config/scenarios/{study}.yaml" for study, sw in SWEEPS.items() for pt in sw["points"]},
+)
 SCENARIO_OBJECTS = {_name: build_scenario(_cfg, _name, _SOURCES[_name]) for _name, _cfg in SCENARIOS.items()}
+
+# Every input file is read and checked here, before any job runs (its errors name the file and line).
+for _name, _scn in SCENARIO_OBJECTS.items():
+    if _scn.roughness.kind in ("file", "profile", "spectrum"):
+        try:
+            _scn.roughness.realise(_scn.speeds[0], _scn.L, _scn.harmonics)
+        except (OSError, ValueError) as _e:
+            raise ConfigError(f"scenario {_name} ({_SOURCES[_name]}): roughness.file: {_e}") from None
+    if SCENARIOS[_name].get("measured", {}).get("decay_rate"):
+        try:
+            read_measured_decay_rate(SCENARIOS[_name]["measured"]["decay_rate"])
+        except (OSError, ValueError) as _e:
+            raise ConfigError(f"scenario {_name} ({_SOURCES[_name]}): measured.decay_rate: {_e}") from None
+
+
+def checked_speed(scenario, label):
+    """The speed (m/s) of a target's file name ('V40' -> 40.0), checked like a configured speed:
+    a finite number > 0 at which the scenario's harmonics reach the pinned-pinned frequency."""
+    if scenario not in SCENARIOS:
+        raise ConfigError(f"target names the scenario '{scenario}', which is not defined: the scenarios are "
+                          f"{', '.join(sorted(SCENARIOS))} (config/scenarios/<name>.yaml).")
+    try:
+        V = float(label)
+    except ValueError:
+        raise ConfigError(f"target speed V{label} is not a number in m/s.") from None
+    vmax = SCHEMA["properties"]["speeds"]["items"]["maximum"]  # the bound of a configured speed
+    if not (V == V and 0 < V <= vmax):
+        raise ConfigError(f"target speed V{label} = {V!r} m/s is not allowed: it must lie in (0, {vmax}] m/s (as speeds in the configuration).")
+    problems = physics_problems({**SCENARIOS[scenario], "speeds": [V], "figures": {}}, f"target speed V{label} (scenario {scenario})")
+    if problems:
+        raise ConfigError("invalid target:\n  " + "\n  ".join(problems))
+    return V
 
 
 def scenario_config(wildcards):
@@ -60,7 +98,8 @@ def track_name(name):
 
 def track_config(wildcards):
     """The part of the configuration a receptance table depends on (its track and numerics), so
-    that changing anything else does not recompute it."""
+    that changing anything else does not recompute it. The target's speed is checked first."""
+    checked_speed(wildcards.track, wildcards.speed)
     cfg = SCENARIOS[wildcards.track]
     return {"track": cfg["track"], "numerics": {"track": cfg["numerics"]["track"]}}
 
@@ -92,6 +131,7 @@ GROWTH_FIGURES = ["20", "21", "23", "24", "25", "26", "27"]
 def growth_table(wildcards):
     """The receptance table a growth run needs: its scenario's track at its speed (the Bloch tables
     for a roughness periodic over N > 1 bays)."""
+    checked_speed(wildcards.scenario, wildcards.speed)
     bays = SCENARIO_OBJECTS[wildcards.scenario].roughness.bays
     suffix = "" if bays == 1 else f"_N{bays}"
     return f"results/receptance/{track_name(wildcards.scenario)}/V{wildcards.speed}{suffix}.nc"
@@ -132,6 +172,22 @@ def any_wavelength_targets():
     for study, sw in SWEEPS.items():
         if any(SCENARIO_OBJECTS[p["name"]].roughness.bays > 1 for p in sw["points"]):
             out += [f"results/sweeps/{study}.nc", f"results/sweeps/{study}.png"]
+    return out
+
+
+def band_limit_file(wildcards):
+    """The limit spectrum of a scenario's band view, as an input so that editing it reruns it."""
+    f = SCENARIOS[wildcards.scenario]["figures"]["bands"]["limit"]
+    return [f] if f else []
+
+
+def band_targets():
+    """Band views (CSV, dataset, figure) of the default runs at every configured speed and of the
+    scenarios with a roughness period of N > 1 bays (not sweep points)."""
+    sweep_points = {p["name"] for sw in SWEEPS.values() for p in sw["points"]}
+    out = [f"results/growth/default/V{speed_label(v)}_bands.csv" for v in config["speeds"]]
+    out += [f"results/growth/{name}/V{speed_label(scn.speeds[0])}_bands.csv" for name, scn in SCENARIO_OBJECTS.items()
+            if scn.roughness.bays > 1 and name not in sweep_points]
     return out
 
 
@@ -295,7 +351,7 @@ def convergence_table(wildcards):
 
 def built_studies():
     """Outputs of the named studies that exist on disk (for the HTML report: report_all)."""
-    candidates = closure_targets() + sweep_targets() + any_wavelength_targets() + [
+    candidates = closure_targets() + sweep_targets() + any_wavelength_targets() + [t.replace(".csv", ".png") for t in band_targets()] + [
         "results/stability/outcomes.html", "results/convergence/error_vs_time.png", "results/convergence/summary.html",
     ]
     return [f for f in candidates if Path(f).exists()]

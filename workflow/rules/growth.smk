@@ -58,6 +58,35 @@ rule growth_narrowband:
         "../scripts/growth_figure.py"
 
 
+rule growth_bands:
+    """One-third-octave band levels of a growth run at every saved passage count, growth per band,
+    the grinding interval against the limit spectrum, and a CSV for rolling-noise tools."""
+    input:
+        "results/growth/{scenario}/V{speed}.nc",
+        band_limit_file,
+    output:
+        data="results/growth/{scenario}/V{speed}_bands.nc",
+        csv="results/growth/{scenario}/V{speed}_bands.csv",
+        figure=report("results/growth/{scenario}/V{speed}_bands.png", caption="../report/growth_bands.rst", category="Roughness bands (EN 15610 form)"),
+    params:
+        code=code("growth_bands.py"),
+        cfg=scenario_config,
+    resources:
+        mem_mb=500,
+        runtime=5,
+    log:
+        "logs/growth/{scenario}/V{speed}_bands.log",
+    script:
+        "../scripts/growth_bands.py"
+
+
+rule bands:
+    """Named target: the band view of the default growth runs and of the scenarios with a
+    roughness period of N > 1 bays."""
+    input:
+        band_targets(),
+
+
 rule any_wavelength:
     """Named target: every scenario whose roughness is periodic over N > 1 bays (narrow-band figures)
     and every such sweep (ensembles)."""

@@ -1,0 +1,341 @@
+"""One-third-octave roughness bands (EN 15610 form), growth per band, and the grinding interval.
+
+Processing choices for a computed roughness, which is periodic over N L and known exactly as the
+coefficients Z_j of its Fourier series (rail.interaction.Roughness):
+
+* Centre wavelengths: the exact base-ten third-octave series lambda_n = 10^(-n/10) m (1 m, 0.794 m,
+  ..., 3.16 mm), labelled by EN 15610's nominal values (1, 0.8, 0.63, ... m). Band edges
+  lambda_n 10^(+-1/20), so neighbouring bands meet and partition the wavelength axis.
+* No window: a periodic profile over its own period has no leakage, so a band's mean square is the
+  sum of the mean squares of the lines 2 pi j / (N L) inside it, 2 |Z_j|^2 (Parseval; a line on an
+  edge belongs to the band with the shorter wavelengths). This replaces the measured-profile
+  steps of EN 15610 (spike removal, curvature processing, windowed spectra), which a computed
+  profile does not need.
+* A band is resolved when it holds at least ``min_lines`` lines (default 1; configurable): a band
+  longer than the period or shorter than the shortest wavelength L / K holds none. Unresolved bands
+  are marked (NaN level and resolved = 0), never filled.
+* Levels in dB re 1 um rms: L = 10 log10(mean square / (1e-6 m)^2).
+
+Growth per band: from the rms amplitude a(n) of each band at the saved passage counts n, a straight
+line a = a0 + r n (amplitude growth, um per 1e5 passages) and an exponential a = a0 exp(g n)
+(e-folding rate g per 1e5 passages) are both fitted by least squares with their standard errors;
+the one with the smaller residual relative to the band's amplitude is reported as the band's
+growth law. The grinding interval is the number of passages (and, with the traffic, days) until
+the first band's level, extrapolated with its own growth law, reaches the limit spectrum.
+"""
+
+from __future__ import annotations
+
+from dataclasses import dataclass
+
+import numpy as np
+
+__all__ = ["NOMINAL_WAVELENGTHS_M", "ThirdOctaveBands", "third_octave_bands", "band_mean_square", "band_levels",
+           "BandGrowth", "band_growth", "grinding_interval", "bands_dataset", "write_band_csv"]
+
+# EN 15610 nominal centre wavelengths (m) of the exact series 10^(-n/10) m, n = 0..25
+NOMINAL_WAVELENGTHS_M = np.array([1.0, 0.8, 0.63, 0.5, 0.4, 0.315, 0.25, 0.2, 0.16, 0.125, 0.1, 0.08, 0.063, 0.05,
+                                  0.04, 0.0315, 0.025, 0.02, 0.016, 0.0125, 0.01, 0.008, 0.0063, 0.005, 0.004, 0.00315])
+
+
+@dataclass(frozen=True)
+class ThirdOctaveBands:
+    """centre : exact centre wavelengths [m]; nominal : EN 15610 labels [m]; lower, upper : edges [m]."""
+
+    centre: np.ndarray
+    nominal: np.ndarray
+    lower: np.ndarray
+    upper: np.ndarray
+
+
+def third_octave_bands(longest: float = 1.0, shortest: float = 0.00315) -> ThirdOctaveBands:
+    """The third-octave wavelength bands from ``longest`` to ``shortest`` centre wavelength.
+
+    Parameters
+    ----------
+    longest, shortest : float
+        Range of the centre wavelengths [m], within 1 m .. 3.15 mm.
+
+    Returns
+    -------
+    ThirdOctaveBands
+    """
+    n = np.arange(len(NOMINAL_WAVELENGTHS_M))
+    exact = 10.0 ** (-n / 10)
+    sel = (NOMINAL_WAVELENGTHS_M <= longest * 1.0001) & (NOMINAL_WAVELENGTHS_M >= shortest * 0.9999)
+    if not sel.any():
+        raise ValueError(f"no third-octave band between {longest} m and {shortest} m.")
+    c = exact[sel]
+    return ThirdOctaveBands(c, NOMINAL_WAVELENGTHS_M[sel], c * 10 ** (-1 / 20), c * 10 ** (1 / 20))
+
+
+def band_mean_square(Z, period: float, bands: ThirdOctaveBands, min_lines: int = 1):
+    """Mean square of the roughness in each band, and whether the band is resolved.
+
+    Parameters
+    ----------
+    Z : ndarray, shape (..., 2J + 1)
+        Roughness coefficients Z_j [m] over the period (j = -J..J).
+    period : float
+        N L [m].
+    bands : ThirdOctaveBands
+    min_lines : int
+        Lines 2 pi j / (N L) a band must hold to count as resolved [-].
+
+    Returns
+    -------
+    ms : ndarray, shape (..., bands)
+        Mean square [m^2]; NaN where not resolved.
+    resolved : ndarray of bool, shape (bands,)
+    """
+    Z = np.asarray(Z)
+    J = (Z.shape[-1] - 1) // 2
+    j = np.arange(1, J + 1)
+    lam = period / j
+    power = 2 * np.abs(Z[..., J + 1 :]) ** 2
+    ms = np.full(Z.shape[:-1] + (len(bands.centre),), np.nan)
+    resolved = np.zeros(len(bands.centre), dtype=bool)
+    for b, (lo, hi) in enumerate(zip(bands.lower, bands.upper)):
+        inside = (lam > lo) & (lam <= hi)
+        if inside.sum() >= min_lines:
+            resolved[b] = True
+            ms[..., b] = power[..., inside].sum(axis=-1)
+    return ms, resolved
+
+
+def band_levels(Z, period: float, bands: ThirdOctaveBands, min_lines: int = 1):
+    """Third-octave band levels of a periodic roughness (module docstring: the processing).
+
+    Parameters
+    ----------
+    Z : ndarray, shape (..., 2J + 1)
+        Roughness coefficients [m].
+    period : float
+        N L [m].
+    bands : ThirdOctaveBands
+    min_lines : int
+        Lines a band must hold to be resolved [-].
+
+    Returns
+    -------
+    level : ndarray, shape (..., bands)
+        [dB re 1 µm]; NaN for unresolved bands (a band with zero roughness gives -inf).
+    resolved : ndarray of bool
+    """
+    ms, resolved = band_mean_square(Z, period, bands, min_lines)
+    with np.errstate(divide="ignore"):
+        return 10 * np.log10(ms / 1e-12), resolved
+
+
+@dataclass(frozen=True)
+class BandGrowth:
+    """Growth of each band over a run (module docstring).
+
+    linear_rate, linear_error   : amplitude growth rate and its standard error [m per 1e5 passages]
+    exp_rate, exp_error         : e-folding rate and its standard error [1 per 1e5 passages]
+    law                         : 'linear' or 'exponential', the better fit; '' where not resolved
+    linear_misfit, exp_misfit   : rms residual of each fit relative to the band's mean amplitude [-]
+    """
+
+    linear_rate: np.ndarray
+    linear_error: np.ndarray
+    exp_rate: np.ndarray
+    exp_error: np.ndarray
+    law: np.ndarray
+    linear_misfit: np.ndarray
+    exp_misfit: np.ndarray
+
+
+def _line_fit(x, y):
+    """Least-squares slope, its standard error and the rms residual of y = c + s x."""
+    A = np.vstack([np.ones_like(x), x]).T
+    coef, *_ = np.linalg.lstsq(A, y, rcond=None)
+    res = y - A @ coef
+    dof = max(len(x) - 2, 1)
+    s2 = float(res @ res) / dof
+    cov = s2 * np.linalg.inv(A.T @ A)
+    return coef, float(np.sqrt(cov[1, 1])), float(np.sqrt(np.mean(res**2)))
+
+
+def band_growth(passages, ms) -> BandGrowth:
+    """Fit the growth of every band (module docstring).
+
+    Parameters
+    ----------
+    passages : ndarray, shape (n,)
+        Wheel passages at the saves [-]; at least 3.
+    ms : ndarray, shape (n, bands)
+        Band mean squares [m^2] (band_mean_square); NaN columns are unresolved bands.
+
+    Returns
+    -------
+    BandGrowth
+    """
+    n = np.asarray(passages, dtype=float) / 1e5
+    if n.size < 3:
+        raise ValueError(f"band growth needs at least 3 saved passage counts, got {n.size}.")
+    amp = np.sqrt(np.asarray(ms, dtype=float))
+    B = amp.shape[1]
+    out = {k: np.full(B, np.nan) for k in ("lr", "le", "er", "ee", "lm", "em")}
+    law = np.full(B, "", dtype=object)
+    for b in range(B):
+        a = amp[:, b]
+        if not np.all(np.isfinite(a)):
+            continue
+        scale = max(float(np.mean(a)), 1e-300)
+        (c, s), se, rms = _line_fit(n, a)
+        out["lr"][b], out["le"][b], out["lm"][b] = s, se, rms / scale
+        if np.all(a > 0):
+            (c2, g), ge, _ = _line_fit(n, np.log(a))
+            fit = np.exp(c2 + g * n)
+            out["er"][b], out["ee"][b] = g, ge
+            out["em"][b] = float(np.sqrt(np.mean((a - fit) ** 2))) / scale
+        law[b] = "exponential" if np.isfinite(out["em"][b]) and out["em"][b] < out["lm"][b] else "linear"
+    return BandGrowth(out["lr"], out["le"], out["er"], out["ee"], law.astype(str), out["lm"], out["em"])
+
+
+def grinding_interval(passages, ms, growth: BandGrowth, limit_dB, per_day: float | None = None):
+    """Passages (and days) until the first band reaches the limit, with its band.
+
+    Parameters
+    ----------
+    passages : ndarray, shape (n,)
+        Saved passage counts [-].
+    ms : ndarray, shape (n, bands)
+        Band mean squares [m^2].
+    growth : BandGrowth
+    limit_dB : ndarray, shape (bands,)
+        Limit level per band [dB re 1 µm]; NaN where there is no limit.
+    per_day : float, optional
+        Wheel passages per day [1/day] (the traffic).
+
+    Returns
+    -------
+    dict
+        'passages' (inf if no band reaches its limit with growth), 'days', 'band' (index or -1),
+        'already' (True if a band is above its limit at the start).
+    """
+    n = np.asarray(passages, dtype=float)
+    amp_last = np.sqrt(np.asarray(ms, dtype=float)[-1])
+    amp_lim = 1e-6 * 10 ** (np.asarray(limit_dB, dtype=float) / 20)
+    best, band = np.inf, -1
+    already = bool(np.any(np.sqrt(np.asarray(ms)[0]) >= amp_lim))
+    for b in range(len(amp_lim)):
+        if not (np.isfinite(amp_lim[b]) and np.isfinite(amp_last[b])):
+            continue
+        if amp_last[b] >= amp_lim[b]:
+            # reached within the run: between the saves around the crossing, ln(amplitude) linear
+            amp = np.sqrt(np.asarray(ms)[:, b])
+            k = int(np.nonzero(amp >= amp_lim[b])[0][0])
+            if k == 0:
+                t = n[0]
+            else:
+                y0, y1 = np.log(max(amp[k - 1], 1e-300)), np.log(amp[k])
+                t = n[k - 1] + (n[k] - n[k - 1]) * (np.log(amp_lim[b]) - y0) / (y1 - y0)
+        elif growth.law[b] == "exponential" and growth.exp_rate[b] > 0:
+            t = n[-1] + np.log(amp_lim[b] / amp_last[b]) / growth.exp_rate[b] * 1e5
+        elif growth.law[b] == "linear" and growth.linear_rate[b] > 0:
+            t = n[-1] + (amp_lim[b] - amp_last[b]) / growth.linear_rate[b] * 1e5
+        else:
+            continue
+        if t < best:
+            best, band = float(t), b
+    return {"passages": best, "days": best / per_day if per_day else np.nan, "band": band, "already": already}
+
+
+def bands_dataset(growth, L: float, bands: ThirdOctaveBands, min_lines: int, limit=None, per_day: float | None = None):
+    """The band view of a growth run (a dataset of rail.studies.datasets.growth).
+
+    Parameters
+    ----------
+    growth : xarray.Dataset
+        Growth result: Z_real, Z_imag per saved passage count; attribute bays (default 1).
+    L : float
+        Sleeper spacing [m].
+    bands : ThirdOctaveBands
+    min_lines : int
+        Lines a band must hold to be resolved [-].
+    limit : (wavelength [m], level [dB re 1 µm]) arrays, optional
+        Limit spectrum; matched to the bands by nominal wavelength (1 % tolerance).
+    per_day : float, optional
+        Wheel passages per day on the rail [1/day].
+
+    Returns
+    -------
+    xarray.Dataset
+        Band levels per saved passage count, resolved flags, growth rates with errors and the law,
+        the limit and the grinding interval (attributes).
+    """
+    import xarray as xr
+
+    from .datasets import _var
+
+    N = int(growth.attrs.get("bays", 1))
+    Z = growth["Z_real"].values + 1j * growth["Z_imag"].values
+    n = growth["passage"].values
+    ms, resolved = band_mean_square(Z, N * L, bands, min_lines)
+    with np.errstate(divide="ignore"):
+        level = 10 * np.log10(ms / 1e-12)
+    g = band_growth(n, ms)
+    lim = np.full(len(bands.centre), np.nan)
+    if limit is not None:
+        for lw, lv in zip(*limit):
+            hit = np.nonzero(np.isclose(bands.nominal, lw, rtol=0.01))[0]
+            if hit.size:
+                lim[hit[0]] = lv
+    gi = grinding_interval(n, ms, g, lim, per_day)
+    band = int(gi["band"])
+    dims = ("passage", "band")
+    return xr.Dataset(
+        {
+            "level": _var(dims, level, "dB re 1 um", "one-third-octave band level of the roughness (rms)"),
+            "resolved": _var("band", resolved.astype(int), "1", "1 where the roughness period resolves the band (at least min_lines lines)"),
+            "amplitude_growth_rate": _var("band", g.linear_rate * 1e6, "um per 100000 passages", "rms amplitude growth rate of the band (straight-line fit)"),
+            "amplitude_growth_rate_error": _var("band", g.linear_error * 1e6, "um per 100000 passages", "standard error of the amplitude growth rate"),
+            "efolding_rate": _var("band", g.exp_rate, "1 per 100000 passages", "e-folding rate of the band's rms amplitude (exponential fit)"),
+            "efolding_rate_error": _var("band", g.exp_error, "1 per 100000 passages", "standard error of the e-folding rate"),
+            "growth_law": _var("band", g.law, "1", "the fit with the smaller misfit: linear or exponential"),
+            "linear_misfit": _var("band", g.linear_misfit, "1", "rms residual of the straight-line fit over the band's mean amplitude"),
+            "exponential_misfit": _var("band", g.exp_misfit, "1", "rms residual of the exponential fit over the band's mean amplitude"),
+            "limit": _var("band", lim, "dB re 1 um", "limit spectrum (NaN: no limit in the band)"),
+        },
+        coords={
+            "passage": _var("passage", n, "1", "wheel passages"),
+            "band": _var("band", np.arange(len(bands.centre)), "1", "band index, longest wavelength first"),
+            "centre_wavelength": _var("band", bands.centre, "m", "exact centre wavelength 10^(-n/10) m"),
+            "nominal_wavelength": _var("band", bands.nominal, "m", "EN 15610 nominal centre wavelength"),
+            "days": _var("passage", n / per_day if per_day else np.full(len(n), np.nan), "day", "days of traffic"),
+        },
+        attrs={
+            "grinding_interval_passages": float(gi["passages"]),
+            "grinding_interval_days": float(gi["days"]),
+            "grinding_interval_band_m": float(bands.nominal[band]) if band >= 0 else float("nan"),
+            "limit_exceeded_at_start": int(gi["already"]),
+            "axles_per_day": float(per_day) if per_day else float("nan"),
+            "bays": N,
+            "speed_m_per_s": float(growth.attrs.get("speed_m_per_s", np.nan)),
+            "processing": "lines of the periodic profile summed per band (no window); rail/studies/bands.py",
+        },
+    )
+
+
+def write_band_csv(ds, path) -> None:
+    """Export of the band spectra for rolling-noise tools: one row per band, one level column per
+    saved passage count, units in the header (levels in dB re 1 um rms; nan: band not resolved,
+    -inf: resolved but no roughness in it).
+
+    Parameters
+    ----------
+    ds : xarray.Dataset
+        From bands_dataset.
+    path : str or Path
+    """
+    n = ds["passage"].values
+    head = ["nominal_wavelength_m", "centre_wavelength_m", "resolved"] + [f"level_dB_re_1um_at_{int(p)}_passages" for p in n]
+    with open(path, "w") as f:
+        f.write(",".join(head) + "\n")
+        for b in range(ds.sizes["band"]):
+            lev = ds["level"].values[:, b]
+            cells = [f"{ds['nominal_wavelength'].values[b]:g}", f"{ds['centre_wavelength'].values[b]:.6g}",
+                     str(int(ds["resolved"].values[b]))] + [f"{v:.3f}" if np.isfinite(v) else ("-inf" if v == -np.inf else "nan") for v in lev]
+            f.write(",".join(cells) + "\n")

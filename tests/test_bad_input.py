@@ -1,0 +1,264 @@
+"""Bad input never gives a quiet answer (issue 20): every item a regression test."""
+
+import io
+import re
+import os
+
+import numpy as np
+import pytest
+from model import scenario
+from test_growth import MATERIAL, K, contact_spring, track
+from test_workflow import snakemake
+
+from rail import chain
+from rail import contact as C
+from rail import growth as G
+from rail import interaction as I
+from rail import moving
+from rail import roughness as R
+from rail.setup import config as rconfig
+
+
+@pytest.fixture(scope="module")
+def schema(root):
+    return rconfig.load_yaml(root / "config/schema/config.schema.yaml")
+
+
+@pytest.fixture(scope="module")
+def defaults(root):
+    return rconfig.load_yaml(root / "config/config.yaml")
+
+
+# 2. names and keys that would silently replace something
+
+
+def test_reserved_and_clashing_scenario_names_are_refused():
+    with pytest.raises(rconfig.ConfigError, match=r"default\.yaml: the scenario name 'default' is reserved"):
+        rconfig.check_scenario_names({"default": "config/scenarios/default.yaml"}, {})
+    with pytest.raises(rconfig.ConfigError, match=r"the scenario name 'sweep_speed_pad-p0' has the form <study>-p<n>"):
+        rconfig.check_scenario_names({"sweep_speed_pad-p0": "config/scenarios/sweep_speed_pad-p0.yaml"}, {})
+    with pytest.raises(rconfig.ConfigError, match=r"'a' is also a point of the sweep"):
+        rconfig.check_scenario_names({"a": "config/scenarios/a.yaml"}, {"a": "config/scenarios/s.yaml"})
+    rconfig.check_scenario_names({"soft_pad": "x.yaml"}, {"s-p0": "s.yaml"})  # fine
+
+
+def test_duplicated_yaml_key_is_refused_with_its_line(tmp_path):
+    p = tmp_path / "s.yaml"
+    p.write_text("track:\n  pad:\n    stiffness: 1.0e+8\n    stiffness: 2.0e+8\n")
+    with pytest.raises(rconfig.ConfigError, match=r"s\.yaml, line 4: the key 'stiffness' is given twice in one mapping \(first at line 3\)"):
+        rconfig.load_yaml(p)
+
+
+@pytest.mark.parametrize(
+    "text, message",
+    [
+        ("k,A_m,B_m\n3,1e-6,0\n3,2e-6,0\n", r"line 3: harmonic k = 3 is given twice \(first at line 2\)"),
+        ("k,A_m,B_m\n", r"has a header but no harmonic"),
+        ("k,A_m,B_m\n3,nan,0\n", r"line 2: the amplitudes nan,0 are not finite"),
+    ],
+)
+def test_roughness_coefficient_file_problems_name_the_line(tmp_path, text, message):
+    p = tmp_path / "r.csv"
+    p.write_text(text)
+    with pytest.raises(ValueError, match=message):
+        I.read_roughness_coefficients(p)
+
+
+def test_byte_order_mark_is_read_and_a_binary_file_is_named(tmp_path):
+    p = tmp_path / "bom.csv"
+    p.write_bytes("\ufeffk,A_m,B_m\n2,1e-6,0\n".encode("utf-8"))
+    assert I.read_roughness_coefficients(p) == ([2], [1e-6], [0.0])
+    b = tmp_path / "bin.csv"
+    b.write_bytes(bytes(range(256)))
+    with pytest.raises(ValueError, match=r"bin\.csv: is not a text \(UTF-8\) CSV file"):
+        I.read_roughness_coefficients(b)
+    with pytest.raises(ValueError, match=r"bin\.csv: is not a text \(UTF-8\) CSV file"):
+        R.read_profile(b)
+
+
+# 3. speeds and scenario names in target paths (dry runs: refused before any job)
+
+
+def test_target_speed_and_scenario_are_checked_before_any_job(root, tmp_path):
+    import shutil
+
+    shutil.copytree(root / "config", tmp_path / "config")
+    cases = {
+        "results/growth/default/V5.nc": r"numerics\.track\.harmonics = 64 is not allowed at V = 5 m/s",
+        "results/growth/default/Vinf.nc": r"target speed Vinf = inf m/s is not allowed",
+        "results/receptance/default/V1e6.nc": r"target speed V1e6 = 1000000\.0 m/s is not allowed",
+        "results/growth/nosuch/V40.nc": r"target names the scenario 'nosuch', which is not defined",
+    }
+    for target, message in cases.items():
+        out = snakemake(root, "-n", target, cwd=tmp_path)
+        assert out.returncode != 0, target
+        assert re.search(message, out.stdout + out.stderr), (target, out.stderr[-800:])
+
+
+# 4. NaN and inf are never valid
+
+
+@pytest.mark.parametrize("key", [("contact", "friction_static"), ("growth", "step_tolerance"), ("track", "pad", "stiffness")])
+@pytest.mark.parametrize("value", [float("nan"), float("inf")])
+def test_nan_and_inf_fail_validation_naming_the_key(defaults, schema, key, value):
+    cfg = rconfig.deep_merge(defaults, {})
+    node = cfg
+    for k in key[:-1]:
+        node = node[k]
+    node[key[-1]] = value
+    with pytest.raises(rconfig.ConfigError, match=re.escape(f"s.yaml: {'.'.join(key)} = {value!r} is not allowed: it must be a finite number")):
+        rconfig.validate_config(cfg, schema, source="s.yaml")
+
+
+def test_nan_wheel_position_fails_validation(defaults, schema):
+    cfg = rconfig.deep_merge(defaults, {"wheels": {"positions": [0.0, float("nan")]}})
+    with pytest.raises(rconfig.ConfigError, match=r"wheels\.positions\[1\] = nan is not allowed"):
+        rconfig.validate_config(cfg, schema, source="s.yaml")
+
+
+# 5. the library checks its arguments
+
+
+def test_library_functions_refuse_nonsense_with_the_quantity_named():
+    tr = track()
+    with pytest.raises(ValueError, match=r"rtol = 0 is not allowed: the quadrature tolerance must lie in \(0, 1\)"):
+        moving.receptance_table(tr, 40.0, 4, rtol=0)
+    with pytest.raises(ValueError, match=r"contact\.hertz_stiffness = -1 N/m is not allowed"):
+        I.ContactSpring(-1)
+    with pytest.raises(ValueError, match=r"growth\.save_every = 0 is not allowed: it must be >= 1"):
+        G.GrowthSettings(1000, 100, 0, True, 0.05)
+    with pytest.raises(ValueError, match=r"growth\.step_tolerance = nan is not allowed"):
+        G.GrowthSettings(1000, 100, 100, True, float("nan"))
+    m = C.ContactMaterial(2.1e11, 0.3, 0.008, 0.575, 0.3, 0.3, -0.001)
+    with pytest.raises(ValueError, match=r"speed = 0\.0 m/s and delta = 0\.001 m are not allowed"):
+        C.solve_tangential(np.full(3, 1e5), np.full(3, 0.006), m, 0.0, 1e-3, 8)
+    with pytest.raises(ValueError, match=r"P and a must be 1-d arrays of one length"):
+        C.solve_tangential(np.full(3, 1e5), np.full(4, 0.006), m, 40.0, 1e-3, 8)
+
+
+def test_non_finite_roughness_is_named_as_roughness():
+    tr = track()
+    tab = moving.receptance_table(tr, 40.0, 4)
+    Z = np.zeros(9, dtype=complex)
+    Z[6] = Z[2] = np.nan
+    with pytest.raises(ValueError, match=r"the roughness coefficients are not finite"):
+        I.solve_forces(tab, I.Wheels(1350.0, 0.575, 1e5, (0.0,)), I.ContactSpring(1.4e9), I.Roughness(Z), tr.L)
+
+
+# 6. a checkpoint that cannot be read never blocks a run
+
+
+@pytest.mark.parametrize("content", [b"", b"PK\x03\x04 truncated", os.urandom(300)])
+def test_unreadable_checkpoint_is_moved_aside_and_the_run_starts_afresh(tmp_path, content):
+    ck = tmp_path / "run.npz"
+    ck.write_bytes(content)
+    log = io.StringIO()
+    tr = track()
+    tab = moving.receptance_table(tr, 40.0, K)
+    scn = scenario(tr, MATERIAL, contact_spring(), K=K, passages=10000, step=10000)
+    got = chain.grow(scn, tab, I.Roughness.smooth(K), checkpoint=ck, progress=log, on_mismatch="restart")
+    assert "cannot be read" in log.getvalue() and "starting afresh" in log.getvalue()
+    assert (tmp_path / "run.npz.unreadable").read_bytes() == content
+    fresh = chain.grow(scn, tab, I.Roughness.smooth(K), progress=io.StringIO())
+    np.testing.assert_array_equal(got.Z, fresh.Z)
+
+
+# Property-based: fuzzed CSV files and configuration values either pass or fail with a message
+# that names the file or the key (Hypothesis; no other exception type, no traceback)
+
+from hypothesis import HealthCheck, given, settings  # noqa: E402
+from hypothesis import strategies as st  # noqa: E402
+
+_READERS = {
+    "k,A_m,B_m": I.read_roughness_coefficients,
+    "position_m,height_m": R.read_profile,
+    "wavelength_m,level_dB": R.read_third_octave_spectrum,
+}
+_cell = st.one_of(st.floats(allow_nan=True, allow_infinity=True).map(repr), st.integers(-5, 60).map(str),
+                  st.sampled_from(["", "abc", "1e-6", "-0.1", "1,2", "\ufeff", "nan"]))
+
+
+@settings(max_examples=150, deadline=None, suppress_health_check=[HealthCheck.function_scoped_fixture])
+@given(header=st.sampled_from(sorted(_READERS) + ["x,y", ""]), rows=st.lists(st.lists(_cell, min_size=0, max_size=4), max_size=6),
+       which=st.sampled_from(sorted(_READERS)), raw=st.one_of(st.none(), st.binary(max_size=40)))
+def test_fuzzed_csv_either_reads_finite_values_or_names_the_file(tmp_path, header, rows, which, raw):
+    p = tmp_path / "fuzz.csv"
+    if raw is not None:
+        p.write_bytes(raw)
+    else:
+        p.write_text(header + "\n" + "".join(",".join(r) + "\n" for r in rows))
+    try:
+        out = _READERS[which](p)
+    except ValueError as e:
+        assert str(p) in str(e)
+        return
+    for arr in out:
+        assert len(arr) > 0 and np.all(np.isfinite(np.asarray(arr, dtype=float)))
+
+
+_KEYS = [("contact", "friction_static"), ("contact", "creepage"), ("growth", "passages"), ("growth", "save_every"),
+         ("growth", "step_tolerance"), ("track", "pad", "stiffness"), ("wheels", "positions"), ("roughness", "bays"),
+         ("numerics", "contact", "nodes"), ("numerics", "track", "harmonics"), ("speeds",), ("material", "poisson_ratio")]
+_value = st.one_of(st.floats(allow_nan=True, allow_infinity=True), st.integers(-10**6, 10**6), st.text(max_size=5), st.none(),
+                   st.lists(st.floats(allow_nan=True, allow_infinity=True), max_size=3), st.booleans())
+
+
+@settings(max_examples=150, deadline=None, suppress_health_check=[HealthCheck.function_scoped_fixture])
+@given(key=st.sampled_from(_KEYS), value=_value)
+def test_fuzzed_configuration_value_passes_or_names_its_key(defaults, schema, key, value):
+    from rail.setup import build
+
+    cfg = rconfig.deep_merge(defaults, {})
+    node = cfg
+    for k in key[:-1]:
+        node = node[k]
+    node[key[-1]] = value
+    try:
+        build.scenario(rconfig.validate_config(cfg, schema, source="fuzz.yaml"), "fuzz", "fuzz.yaml")
+    except (rconfig.ConfigError, ValueError) as e:
+        text = str(e)
+        assert "fuzz.yaml" in text or key[-1] in text, text
+        assert key[-1] in text or any(k in text for k in key) or "speed" in text, text
+
+
+def test_a_large_sweep_runs_only_when_confirmed(defaults, schema):
+    # 7. a sweep of 101 speeds plans 101 growth runs: refused with its size unless confirmed in its file
+    big = {"sweep": {"speed": [20.0 + 0.1 * i for i in range(101)]}, "growth": {"passages": 10000}}
+    with pytest.raises(rconfig.ConfigError, match=r"big\.yaml: the sweep has 101 points .* 'confirm_large_sweep: true'"):
+        rconfig.expand_sweep(defaults, schema, big, "big.yaml")
+    keys, values, points = rconfig.expand_sweep(defaults, schema, {**big, "confirm_large_sweep": True}, "big.yaml")
+    assert len(points) == 101
+
+
+def test_a_failed_netcdf_write_names_the_file_and_the_space(tmp_path):
+    # 7. the netCDF library's own words for a full disk are only "HDF error": the message names the
+    # file and the free space (a folder that is not writable gives the same path through the code)
+    import xarray as xr
+
+    from rail.setup import io as rio
+
+    folder = tmp_path / "ro"
+    folder.mkdir()
+    folder.chmod(0o500)
+    try:
+        if os.access(folder, os.W_OK):  # root ignores the permission: make the target a folder instead
+            target = folder
+        else:
+            target = folder / "x.nc"
+        with pytest.raises(OSError, match=r"could not write .*\. Free space there: .* MiB, data .* MiB"):
+            rio.write_netcdf(xr.Dataset({"a": ("x", np.arange(3.0))}), target)
+    finally:
+        folder.chmod(0o700)
+
+
+def test_growth_step_and_roughness_frequency_are_checked_when_the_scenario_is_built(defaults, schema):
+    # 3. passages not a multiple of the save interval, and 5. a roughness frequency 0 (a division by
+    # zero inside the job before): refused when the scenario is built, at start-up
+    from rail.scenario import InitialRoughness
+    from rail.setup import build
+
+    cfg = rconfig.validate_config(rconfig.deep_merge(defaults, {"growth": {"passages": 25000}}), schema, "s.yaml")
+    with pytest.raises(ValueError, match=r"growth\.save_every = 10000 must be a multiple of growth\.passages_per_update = 10000 and divide growth\.passages = 25000"):
+        build.scenario(cfg, "s", "s.yaml")
+    with pytest.raises(ValueError, match=r"roughness\.frequency = 0\.0 Hz is not allowed"):
+        InitialRoughness("harmonic", 1e-5, 0.0, None, None)

@@ -1,0 +1,120 @@
+"""One-third-octave bands of a computed roughness (rail.studies.bands): analytic levels, Parseval,
+band slopes of white and pink spectra, growth laws and the grinding interval."""
+
+import numpy as np
+import pytest
+
+from rail.interaction import Roughness
+from rail.studies import bands as B
+
+L = 0.6
+
+
+def _sinusoids(N, K, lines_amps):
+    J = N * K
+    Z = np.zeros(2 * J + 1, dtype=complex)
+    for j, a in lines_amps:
+        Z[J + j] += a / 2
+        Z[J - j] += a / 2
+    return Z
+
+
+def test_sinusoids_in_bands_give_their_analytic_levels():
+    # one sinusoid per band at the line nearest the band centre, over 16 bays: each band's level is
+    # 20 log10(A / sqrt(2) / 1 um) exactly, and the bands without a line are marked unresolved
+    N, K = 16, 64
+    P = N * L
+    bands = B.third_octave_bands(0.5, 0.01)
+    amps = np.linspace(2e-6, 20e-6, len(bands.centre))
+    lines = [(int(round(P / c)), a) for c, a in zip(bands.centre, amps)]
+    lev, resolved = B.band_levels(_sinusoids(N, K, lines), P, bands)
+    assert resolved.all()
+    np.testing.assert_allclose(lev, 20 * np.log10(amps / np.sqrt(2) / 1e-6), atol=1e-9)
+    lev1, res1 = B.band_levels(_sinusoids(1, K, [(3, 1e-5)]), L, B.third_octave_bands())
+    assert not res1[B.third_octave_bands().nominal == 1.0][0]  # 1 m is longer than one bay: no line
+    assert np.isnan(lev1[~res1]).all()
+
+
+def test_band_mean_squares_add_up_to_the_profile_mean_square():
+    # Parseval: random roughness over 8 bays, every line within 1 m .. 3.15 mm
+    rng = np.random.default_rng(1)
+    N, K = 8, 64
+    J = N * K
+    Z = np.zeros(2 * J + 1, dtype=complex)
+    Z[J + 1 :] = 1e-6 * (rng.standard_normal(J) + 1j * rng.standard_normal(J))
+    Z[:J] = np.conj(Z[J + 1 :][::-1])
+    bands = B.third_octave_bands()
+    ms, resolved = B.band_mean_square(Z, N * L, bands)
+    lam = N * L / np.arange(1, J + 1)
+    inside = (lam > bands.lower[resolved].min()) & (lam <= bands.upper[resolved].max())
+    x = np.linspace(0, N * L, 16 * J, endpoint=False)
+    zz = Roughness(Z, N).profile(x, L)
+    in_range = 2 * np.sum(np.abs(Z[J + 1 :][inside]) ** 2)
+    assert np.nansum(ms) == pytest.approx(in_range, rel=1e-12)
+    assert np.mean(zz**2) == pytest.approx(2 * np.sum(np.abs(Z[J + 1 :]) ** 2), rel=1e-10)
+
+
+@pytest.mark.parametrize("kind, slope", [("white", 1.0), ("pink", 0.0)])
+def test_white_and_pink_spectra_give_the_expected_band_slopes(kind, slope):
+    # white: equal power per line (per unit wavenumber): band power grows with the band's width in
+    # wavenumber, +1 dB per third octave towards short wavelengths; pink: power per line ~ 1/j,
+    # equal power per band, 0 dB per band. 64 bays: many lines per band.
+    N, K = 64, 64
+    J = N * K
+    j = np.arange(1, J + 1)
+    amp = np.ones(J) if kind == "white" else 1 / np.sqrt(j)
+    Z = np.zeros(2 * J + 1, dtype=complex)
+    Z[J + 1 :] = 1e-6 * amp
+    Z[:J] = Z[J + 1 :][::-1]
+    bands = B.third_octave_bands(0.5, 0.0125)
+    lev, resolved = B.band_levels(Z, N * L, bands)
+    per_band = np.polyfit(np.arange(len(lev)), lev, 1)[0]  # bands ordered long -> short wavelength
+    assert per_band == pytest.approx(slope, abs=0.03)
+
+
+def test_growth_law_is_decided_from_the_data():
+    n = np.arange(0, 100001, 10000)
+    a_lin = 1e-6 + 2e-6 * n / 1e5  # 2 um per 1e5 passages
+    a_exp = 1e-7 * np.exp(3.0 * n / 1e5)  # e-folding rate 3 per 1e5
+    g = B.band_growth(n, np.vstack([a_lin, a_exp]).T ** 2)
+    assert list(g.law) == ["linear", "exponential"]
+    assert g.linear_rate[0] == pytest.approx(2e-6, rel=1e-9) and g.linear_error[0] < 1e-15
+    assert g.exp_rate[1] == pytest.approx(3.0, rel=1e-9)
+    # grinding interval: the exponential band reaches 10 um (20 dB - 3 dB re 1 um rms) first
+    limit = np.full(2, 20 * np.log10(10e-6 / 1e-6))
+    gi = B.grinding_interval(n, np.vstack([a_lin, a_exp]).T ** 2, g, limit, per_day=2000.0)
+    t_exp = 1e5 * np.log(10e-6 / 1e-7) / 3.0
+    t_lin = (10e-6 - 1e-6) / 2e-6 * 1e5
+    assert gi["band"] == 1 and gi["passages"] == pytest.approx(min(t_exp, t_lin), rel=1e-9)
+    assert gi["days"] == pytest.approx(gi["passages"] / 2000.0)
+
+
+def test_band_dataset_and_csv_of_a_growth_run(tmp_path):
+    # a synthetic growth dataset over 4 bays: one band grows exponentially through the limit within
+    # the run (the crossing is interpolated in ln amplitude between the saves: exact here), the
+    # CSV has one column per saved count with units in its header, unresolved bands are 'nan'
+    import xarray as xr
+
+    N, K = 4, 64
+    J = N * K
+    n = np.arange(0, 100001, 10000)
+    Z = np.zeros((len(n), 2 * J + 1), dtype=complex)
+    j = int(round(N * L / 0.05))  # a line in the 50 mm band
+    a = 1e-6 * np.exp(2.0 * n / 1e5)
+    Z[:, J + j] = Z[:, J - j] = a / 2
+    g = xr.Dataset({"Z_real": (("passage", "h"), Z.real), "Z_imag": (("passage", "h"), Z.imag)},
+                   coords={"passage": n}, attrs={"bays": N, "speed_m_per_s": 40.0})
+    tob = B.third_octave_bands()
+    limit = (tob.nominal, np.full(len(tob.nominal), 10.0))
+    ds = B.bands_dataset(g, L, tob, 1, limit, per_day=10000.0)
+    b50 = int(np.nonzero(tob.nominal == 0.05)[0][0])
+    assert ds["growth_law"].values[b50] == "exponential" and ds["efolding_rate"].values[b50] == pytest.approx(2.0, rel=1e-9)
+    t = 1e5 * np.log(1e-6 * 10 ** 0.5 * np.sqrt(2) / 1e-6) / 2.0  # band rms a / sqrt(2) reaches 10 dB (74,893)
+    assert ds.attrs["grinding_interval_band_m"] == 0.05
+    assert ds.attrs["grinding_interval_passages"] == pytest.approx(t, rel=1e-9)
+    assert ds.attrs["grinding_interval_days"] == pytest.approx(t / 10000.0)
+    B.write_band_csv(ds, tmp_path / "b.csv")
+    lines = (tmp_path / "b.csv").read_text().splitlines()
+    assert lines[0].startswith("nominal_wavelength_m,centre_wavelength_m,resolved,level_dB_re_1um_at_0_passages")
+    assert len(lines) == 1 + len(tob.nominal)
+    assert lines[1].split(",")[2] == "0" and lines[1].split(",")[3] == "nan"  # 1 m: longer than 4 bays
