@@ -118,3 +118,28 @@ def test_band_dataset_and_csv_of_a_growth_run(tmp_path):
     assert lines[0].startswith("nominal_wavelength_m,centre_wavelength_m,resolved,level_dB_re_1um_at_0_passages")
     assert len(lines) == 1 + len(tob.nominal)
     assert lines[1].split(",")[2] == "0" and lines[1].split(",")[3] == "nan"  # 1 m: longer than 4 bays
+
+
+def test_sweep_band_map_puts_each_runs_band_growth_on_the_grid():
+    # two speeds x two pads, synthetic runs whose 50 mm band grows linearly at a rate set by the
+    # grid point: the map holds exactly those rates where the band is, NaN where not resolved
+    import xarray as xr
+
+    K = 64
+    J = K
+    n = np.arange(0, 50001, 10000)
+    tob = B.third_octave_bands()
+    j = int(round(L / 0.05))
+    runs, idx = [], []
+    for a_i in range(2):
+        for b_i in range(2):
+            r = 1e-6 * (1 + a_i + 2 * b_i)  # rms growth per 1e5 passages of the band
+            Z = np.zeros((len(n), 2 * J + 1), dtype=complex)
+            Z[:, J + j] = Z[:, J - j] = (1e-7 + r * n / 1e5) * np.sqrt(2) / 2
+            runs.append(xr.Dataset({"Z_real": (("passage", "h"), Z.real), "Z_imag": (("passage", "h"), Z.imag)}, coords={"passage": n}))
+            idx.append((a_i, b_i))
+    ds = B.sweep_band_map(runs, ["speed", "track.pad.stiffness"], [[20.0, 40.0], [3.5e8, 1e8]], idx, L, tob)
+    b50 = int(np.nonzero(tob.nominal == 0.05)[0][0])
+    np.testing.assert_allclose(ds["amplitude_growth_rate"].values[:, :, b50], [[1.0, 3.0], [2.0, 4.0]], rtol=1e-9)
+    assert ds.sizes == {"speed": 2, "track_pad_stiffness": 2, "band": len(tob.nominal)}
+    assert np.isnan(ds["amplitude_growth_rate"].values[0, 0, 0])  # 1 m: longer than the bay

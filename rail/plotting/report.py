@@ -309,6 +309,32 @@ def band_spectra(ds: xr.Dataset):
     return fig
 
 
+def sweep_band_map(ds: xr.Dataset):
+    """Growth rate per one-third-octave band over a sweep: band wavelength across, the first swept
+    key up; one panel per value of a second swept key (the first value of any further key)."""
+    keys = [d for d in ds["amplitude_growth_rate"].dims if d != "band"]
+    z = ds["amplitude_growth_rate"]
+    for k in keys[2:]:
+        z = z.isel({k: 0})
+    second = keys[1] if len(keys) > 1 else None
+    panels = list(range(ds.sizes[second])) if second else [None]
+    fig, axes = plt.subplots(1, len(panels), figsize=(5.5 * len(panels), 4.2), layout="constrained", squeeze=False)
+    lam = ds["nominal_wavelength"].values * 1e3
+    lim = float(np.nanmax(np.abs(z.values))) if np.isfinite(z.values).any() else 1.0
+    y = ds[keys[0]].values
+    for ax, p in zip(axes[0], panels):
+        zz = (z.isel({second: p}) if second else z).transpose(keys[0], "band").values
+        m = ax.pcolormesh(np.arange(len(lam) + 1), np.arange(len(y) + 1), zz, cmap="RdBu_r", vmin=-lim, vmax=lim)
+        ax.set_xticks(np.arange(len(lam))[::3] + 0.5, [f"{v:g}" for v in lam[::3]], fontsize=7)
+        ax.set_yticks(np.arange(len(y)) + 0.5, [f"{v:g}" for v in y], fontsize=7)
+        ax.set_xlabel("one-third-octave band, centre wavelength (mm)")
+        ax.set_ylabel(f"{keys[0]} ({ds[keys[0]].attrs.get('units', '')})")
+        if second:
+            ax.set_title(f"{second} = {ds[second].values[p]:g} {ds[second].attrs.get('units', '')}", fontsize=9)
+    fig.colorbar(m, ax=axes[0].tolist(), label="rms amplitude growth rate (µm per 100,000 passages)")
+    return fig
+
+
 def sweep_map(ds: xr.Dataset):
     """Growth rate of the fastest-growing wavelength over a sweep's grid (map for two swept keys,
     lines for one or more than two)."""

@@ -31,7 +31,7 @@ from dataclasses import dataclass
 import numpy as np
 
 __all__ = ["NOMINAL_WAVELENGTHS_M", "ThirdOctaveBands", "third_octave_bands", "band_mean_square", "band_levels",
-           "BandGrowth", "band_growth", "grinding_interval", "bands_dataset", "write_band_csv"]
+           "BandGrowth", "band_growth", "grinding_interval", "bands_dataset", "write_band_csv", "sweep_band_map"]
 
 # EN 15610 nominal centre wavelengths (m) of the exact series 10^(-n/10) m, n = 0..25
 NOMINAL_WAVELENGTHS_M = np.array([1.0, 0.8, 0.63, 0.5, 0.4, 0.315, 0.25, 0.2, 0.16, 0.125, 0.1, 0.08, 0.063, 0.05,
@@ -339,3 +339,55 @@ def write_band_csv(ds, path) -> None:
             cells = [f"{ds['nominal_wavelength'].values[b]:g}", f"{ds['centre_wavelength'].values[b]:.6g}",
                      str(int(ds["resolved"].values[b]))] + [f"{v:.3f}" if np.isfinite(v) else ("-inf" if v == -np.inf else "nan") for v in lev]
             f.write(",".join(cells) + "\n")
+
+
+def sweep_band_map(runs, keys, values, indices, L: float, bands: ThirdOctaveBands, min_lines: int = 1):
+    """Band growth over the grid of a sweep study: a dimension per swept key and one for the band.
+
+    Parameters
+    ----------
+    runs : list of xarray.Dataset
+        Growth results of the grid points (rail.studies.datasets.growth), in the order of indices.
+    keys, values, indices
+        Swept keys, their values, and each run's grid index (rail.setup.config.expand_sweep).
+    L : float
+        Sleeper spacing [m].
+    bands : ThirdOctaveBands
+    min_lines : int
+        Lines a band must hold to be resolved [-].
+
+    Returns
+    -------
+    xarray.Dataset
+        amplitude_growth_rate [µm per 1e5 passages], its error, the preferred law and the final band
+        level [dB re 1 µm] per grid point and band.
+    """
+    import xarray as xr
+
+    from .datasets import _unit_of, _var
+
+    dims = tuple(k.replace(".", "_") for k in keys)
+    shape = tuple(len(v) for v in values) + (len(bands.centre),)
+    rate, err, final = np.full(shape, np.nan), np.full(shape, np.nan), np.full(shape, np.nan)
+    law = np.full(shape, "", dtype=object)
+    for run, idx in zip(runs, indices):
+        N = int(run.attrs.get("bays", 1))
+        Z = run["Z_real"].values + 1j * run["Z_imag"].values
+        ms, _ = band_mean_square(Z, N * L, bands, min_lines)
+        g = band_growth(run["passage"].values, ms)
+        rate[tuple(idx)], err[tuple(idx)], law[tuple(idx)] = g.linear_rate * 1e6, g.linear_error * 1e6, g.law
+        with np.errstate(divide="ignore"):
+            final[tuple(idx)] = 10 * np.log10(ms[-1] / 1e-12)
+    coords = {d: (d, np.asarray(v), {"units": _unit_of(k), "long_name": f"swept parameter {k}"}) for d, k, v in zip(dims, keys, values)}
+    coords["nominal_wavelength"] = _var("band", bands.nominal, "m", "EN 15610 nominal centre wavelength of the band")
+    full = dims + ("band",)
+    return xr.Dataset(
+        {
+            "amplitude_growth_rate": _var(full, rate, "um per 100000 passages", "rms amplitude growth rate of the band (straight-line fit)"),
+            "amplitude_growth_rate_error": _var(full, err, "um per 100000 passages", "standard error of the growth rate"),
+            "growth_law": _var(full, law.astype(str), "1", "the fit with the smaller misfit: linear or exponential"),
+            "level": _var(full, final, "dB re 1 um", "band level at the end of the run"),
+        },
+        coords=coords,
+        attrs={"swept_keys": list(keys)},
+    )

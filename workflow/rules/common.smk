@@ -188,6 +188,10 @@ def band_targets():
     out = [f"results/growth/default/V{speed_label(v)}_bands.csv" for v in config["speeds"]]
     out += [f"results/growth/{name}/V{speed_label(scn.speeds[0])}_bands.csv" for name, scn in SCENARIO_OBJECTS.items()
             if scn.roughness.bays > 1 and name not in sweep_points]
+    # the band map over speed of every sweep study that varies the speed (not the closure study's,
+    # which has its own target)
+    out += [f"results/sweeps/{study}_bands.png" for study, sw in SWEEPS.items()
+            if "speed" in sw["keys"] and study not in CLOSURE_STUDIES.values()]
     return out
 
 

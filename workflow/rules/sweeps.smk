@@ -22,6 +22,27 @@ rule sweep_aggregate:
         "../scripts/sweep_aggregate.py"
 
 
+rule sweep_bands:
+    """Growth rate per one-third-octave band over the grid of a sweep study (map over band and key)."""
+    input:
+        sweep_runs,
+    output:
+        data="results/sweeps/{study}_bands.nc",
+        figure=report("results/sweeps/{study}_bands.png", caption="../report/sweep_bands.rst", category="Roughness bands (EN 15610 form)"),
+    params:
+        code=code("sweep_bands.py"),
+        swept=sweep_keys,
+        grid=sweep_values,
+        indices=sweep_indices,
+    resources:
+        mem_mb=500,
+        runtime=5,
+    log:
+        "logs/sweeps/{study}_bands.log",
+    script:
+        "../scripts/sweep_bands.py"
+
+
 rule sweeps:
     """Named target: every sweep study in config/scenarios/."""
     input:
