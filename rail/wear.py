@@ -164,6 +164,9 @@ def bay_wear(forces: ForceResult, wheel_index: int, roughness: Roughness, materi
     K = roughness.harmonics
     if roughness.bays != forces.bays:
         raise ValueError(f"the roughness is periodic over {roughness.bays} bays, the forces over {forces.bays}.")
+    if roughness.harmonics != forces.harmonics:
+        raise ValueError(f"the roughness has {roughness.harmonics} harmonics and the forces {forces.harmonics}: the wear would "
+                         f"be computed for the roughness's harmonics only; give both the receptance table's K.")
     speed, L = forces.speed, forces.period  # L: the period N L of roughness and force
     nodes, closure, closure_scale = numerics.nodes, numerics.closure, numerics.closure_scale
     P_s = force_on_grid(forces, 512 * forces.bays)[wheel_index]  # at x = k L / (512 N)

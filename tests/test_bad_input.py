@@ -262,3 +262,14 @@ def test_growth_step_and_roughness_frequency_are_checked_when_the_scenario_is_bu
         build.scenario(cfg, "s", "s.yaml")
     with pytest.raises(ValueError, match=r"roughness\.frequency = 0\.0 Hz is not allowed"):
         InitialRoughness("harmonic", 1e-5, 0.0, None, None)
+
+
+def test_wear_refuses_a_roughness_with_other_harmonics_than_the_forces():
+    # 5. a roughness with fewer harmonics than the table used to grow only those, silently
+    from rail import wear as W
+
+    tr = track()
+    tab = moving.receptance_table(tr, 40.0, 8)
+    F = I.solve_forces(tab, I.Wheels(1350.0, 0.575, 1e5, (0.0,)), I.ContactSpring(1.4e9), I.Roughness.smooth(4), tr.L)
+    with pytest.raises(ValueError, match=r"the roughness has 4 harmonics and the forces 8"):
+        W.bay_wear(F, 0, I.Roughness.smooth(4), MATERIAL, W.WearLaw(7850.0, 2.5e-9), C.ContactNumerics(41, "default", 1.0))
