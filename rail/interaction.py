@@ -24,6 +24,7 @@ from dataclasses import dataclass
 
 import numpy as np
 
+from .csvinput import data_rows
 from .moving import MovingReceptance
 
 __all__ = [
@@ -226,20 +227,9 @@ def read_roughness_coefficients(path):
     ValueError
         Naming the file and the line of a wrong header, row or harmonic.
     """
-    import csv
-
     ks, A, B = [], [], []
     rows_k = {}
-    try:
-        with open(path, newline="", encoding="utf-8-sig") as fh:  # a byte-order mark is not part of the header
-            rows = list(csv.reader(fh))
-    except UnicodeDecodeError as e:
-        raise ValueError(f"{path}: is not a text (UTF-8) CSV file ({e.reason} at byte {e.start}).") from None
-    if not rows or [c.strip() for c in rows[0]] != ["k", "A_m", "B_m"]:
-        raise ValueError(f"{path}, line 1: the header must be 'k,A_m,B_m' (got {','.join(rows[0]) if rows else 'an empty file'}).")
-    for n, row in enumerate(rows[1:], start=2):
-        if not row or all(not c.strip() for c in row):
-            continue
+    for n, row in data_rows(path, ("k", "A_m", "B_m")):
         if len(row) != 3:
             raise ValueError(f"{path}, line {n}: expected 3 values k,A_m,B_m, got {len(row)}.")
         try:

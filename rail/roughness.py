@@ -22,10 +22,11 @@ in a warning.
 
 from __future__ import annotations
 
-import csv
 import warnings
 
 import numpy as np
+
+from .csvinput import data_rows
 
 __all__ = ["RoughnessInputWarning", "read_profile", "profile_coefficients", "read_third_octave_spectrum",
            "band_edges", "spectrum_coefficients"]
@@ -36,18 +37,8 @@ class RoughnessInputWarning(UserWarning):
 
 
 def _read_two_columns(path, header: tuple[str, str], what: str):
-    try:
-        with open(path, newline="", encoding="utf-8-sig") as fh:  # a byte-order mark is not part of the header
-            rows = list(csv.reader(fh))
-    except UnicodeDecodeError as e:
-        raise ValueError(f"{path}: is not a text (UTF-8) CSV file ({e.reason} at byte {e.start}).") from None
-    if not rows or tuple(c.strip() for c in rows[0]) != header:
-        got = ",".join(rows[0]) if rows else "an empty file"
-        raise ValueError(f"{path}, line 1: the header must be '{','.join(header)}' (got {got}).")
     a, b = [], []
-    for n, row in enumerate(rows[1:], start=2):
-        if not row or all(not c.strip() for c in row):
-            continue
+    for n, row in data_rows(path, header):
         if len(row) != 2:
             raise ValueError(f"{path}, line {n}: expected 2 values {','.join(header)}, got {len(row)}.")
         try:
