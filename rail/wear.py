@@ -221,7 +221,7 @@ def bay_wear(forces: ForceResult, wheel_index: int, roughness: Roughness, materi
 
 def _curvature_on_grid(roughness: Roughness, n: int, period: float):
     """kappa = -z'' (eq 20) [1/m] at x_k = k P / n over the roughness period P [m], by one inverse
-    FFT (the coefficients folded into n bins: exact at these points, the same values as _curvature
+    FFT (the coefficients folded into n bins: exact at these points, the same values as the direct sum
     to rounding)."""
     J = roughness.harmonics
     j = np.arange(-J, J + 1)
@@ -229,12 +229,3 @@ def _curvature_on_grid(roughness: Roughness, n: int, period: float):
     acc = np.zeros(n, dtype=complex)
     np.add.at(acc, j % n, (j * beta) ** 2 * roughness.Z)
     return np.real(np.fft.ifft(acc)) * n
-
-
-def _curvature(roughness: Roughness, x, L: float):
-    """kappa = -z''(x) = sum (k beta)^2 Z_k e^{i k beta x} (eq 20), 1/m; beta = 2 pi / L, L the
-    roughness period N L_bay."""
-    beta0 = 2 * np.pi / L
-    K = roughness.harmonics
-    k = np.arange(-K, K + 1)
-    return np.real(np.exp(1j * np.outer(np.asarray(x), k * beta0)) @ ((k * beta0) ** 2 * roughness.Z))

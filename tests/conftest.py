@@ -18,3 +18,19 @@ def steel():
 @pytest.fixture(scope="session")
 def root():
     return ROOT
+
+
+@pytest.fixture(scope="module")
+def schema(root):
+    """The configuration schema (config/schema/config.schema.yaml)."""
+    from rail.setup.config import load_yaml
+
+    return load_yaml(root / "config/schema/config.schema.yaml")
+
+
+@pytest.fixture(scope="module")
+def defaults(root):
+    """The default configuration (config/config.yaml), as read from its file."""
+    from rail.setup.config import load_yaml
+
+    return load_yaml(root / "config/config.yaml")

@@ -19,16 +19,6 @@ from rail import roughness as R
 from rail.setup import config as rconfig
 
 
-@pytest.fixture(scope="module")
-def schema(root):
-    return rconfig.load_yaml(root / "config/schema/config.schema.yaml")
-
-
-@pytest.fixture(scope="module")
-def defaults(root):
-    return rconfig.load_yaml(root / "config/config.yaml")
-
-
 # 2. names and keys that would silently replace something
 
 

@@ -121,5 +121,7 @@ def test_force_and_curvature_on_a_grid_by_fft_equal_the_direct_sums(tr, tables4,
     x = np.arange(n) * F.period / n
     direct, fast = I.force_history(F, x), I.force_on_grid(F, n)
     assert np.abs(direct - fast).max() < 1e-12 * np.ptp(direct)
-    c1, c2 = W._curvature(rough, x, F.period), W._curvature_on_grid(rough, n, F.period)
+    j = np.arange(-J, J + 1) * 2 * np.pi / F.period  # kappa = -z'' = sum (j beta)^2 Z_j e^{i j beta x} (eq 20), summed directly
+    c1 = np.real(np.exp(1j * np.outer(x, j)) @ (j**2 * Z))
+    c2 = W._curvature_on_grid(rough, n, F.period)
     assert np.abs(c1 - c2).max() < 1e-12 * np.abs(c1).max()

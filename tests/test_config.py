@@ -8,16 +8,6 @@ from rail.setup import build
 from rail.setup import config as rconfig
 
 
-@pytest.fixture(scope="module")
-def schema(root):
-    return rconfig.load_yaml(root / "config/schema/config.schema.yaml")
-
-
-@pytest.fixture(scope="module")
-def defaults(root):
-    return rconfig.load_yaml(root / "config/config.yaml")
-
-
 def test_default_config_is_valid_and_builds_parameters(defaults, schema):
     cfg = rconfig.validate_config(copy.deepcopy(defaults), schema)
     m = build.scenario(cfg).elastic
