@@ -263,3 +263,14 @@ def test_wear_refuses_a_roughness_with_other_harmonics_than_the_forces():
     F = I.solve_forces(tab, I.Wheels(1350.0, 0.575, 1e5, (0.0,)), I.ContactSpring(1.4e9), I.Roughness.smooth(4), tr.L)
     with pytest.raises(ValueError, match=r"the roughness has 4 harmonics and the forces 8"):
         W.bay_wear(F, 0, I.Roughness.smooth(4), MATERIAL, W.WearLaw(7850.0, 2.5e-9), C.ContactNumerics(41, "default", 1.0))
+
+
+def test_a_bad_limit_spectrum_stops_the_workflow_at_start_up(root, tmp_path):
+    # the limit file of the band view is read before any job: a non-finite level names file and line
+    import shutil
+
+    shutil.copytree(root / "config", tmp_path / "config")
+    (tmp_path / "config/roughness/example_limit.csv").write_text("wavelength_m,level_dB\n0.1,5\n0.05,nan\n")
+    out = snakemake(root, "-n", "results/figures/fig06.png", cwd=tmp_path)
+    assert out.returncode != 0
+    assert re.search(r"figures\.bands\.limit: config/roughness/example_limit\.csv, line 3: '0\.05,nan' is not finite", out.stdout + out.stderr)

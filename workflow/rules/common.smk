@@ -6,6 +6,7 @@ from snakemake.utils import validate
 
 from rail.chain import wheel_offsets as wheel_offsets_of
 from rail.decay import read_measured_decay_rate
+from rail.roughness import read_third_octave_spectrum
 from rail.provenance import code_hash
 from rail.setup.build import scenario as build_scenario
 from rail.setup.build import physics_problems
@@ -55,6 +56,11 @@ for _name, _scn in SCENARIO_OBJECTS.items():
             _scn.roughness.realise(_scn.speeds[0], _scn.L, _scn.harmonics)
         except (OSError, ValueError) as _e:
             raise ConfigError(f"scenario {_name} ({_SOURCES[_name]}): roughness.file: {_e}") from None
+    if SCENARIOS[_name]["figures"]["bands"]["limit"]:
+        try:
+            read_third_octave_spectrum(SCENARIOS[_name]["figures"]["bands"]["limit"])
+        except (OSError, ValueError) as _e:
+            raise ConfigError(f"scenario {_name} ({_SOURCES[_name]}): figures.bands.limit: {_e}") from None
     if SCENARIOS[_name].get("measured", {}).get("decay_rate"):
         try:
             read_measured_decay_rate(SCENARIOS[_name]["measured"]["decay_rate"])
