@@ -147,17 +147,32 @@ def hertz_half_length(P, R, m: ContactMaterial):
     Parameters
     ----------
     P : float or ndarray
-        Normal force [N]; negative values count as 0.
+        Normal force [N], finite and >= 0 (P = 0 gives a = 0).
     R : float or ndarray
-        Equivalent radius [m] (eq 24).
+        Equivalent radius [m] (eq 24), finite and > 0.
     m : ContactMaterial
 
     Returns
     -------
     float or ndarray
         a [m].
+
+    Raises
+    ------
+    ValueError
+        If P is negative (the wheel has lost contact: a tension is no Hertz contact; rail.interaction
+        reports contact loss before the contact is solved) or not finite, or R is not finite and > 0.
     """
     P = np.asarray(P, dtype=float)
+    R = np.asarray(R, dtype=float)
+    if not np.all(np.isfinite(P)) or np.any(P < 0):
+        bad = np.ravel(P)[np.flatnonzero(~(np.isfinite(np.ravel(P)) & (np.ravel(P) >= 0)))[0]]
+        raise ValueError(f"normal force P = {float(bad)!r} N is not allowed in the Hertz contact (eq 23): it must be a finite "
+                         "number >= 0 (a negative force means the wheel has lost contact).")
+    if not (np.all(np.isfinite(R)) and np.all(R > 0)):
+        bad = np.ravel(R)[np.flatnonzero(~(np.isfinite(np.ravel(R)) & (np.ravel(R) > 0)))[0]]
+        raise ValueError(f"equivalent radius R = {float(bad)!r} m is not allowed in the Hertz contact (eq 23): it must be a "
+                         "finite number > 0.")
     return np.sqrt(4 * (1 - m.poisson_ratio**2) * np.maximum(P, 0) * R / (np.pi * m.half_width * m.youngs_modulus))
 
 

@@ -172,12 +172,14 @@ def decay_distances(spacing: float, max_bays: float = 128.0, scheme: str = "en15
     Raises
     ------
     ValueError
-        If scheme is not one of SCHEMES, or if max_bays < 8.
+        If scheme is not one of SCHEMES, if max_bays < 8, or if spacing is not a finite number > 0.
     """
+    if not (np.isfinite(spacing) and spacing > 0):
+        raise ValueError(f"spacing = {spacing!r} m is not allowed: the sleeper spacing must be a finite number > 0.")
     if scheme not in SCHEMES:
         raise ValueError(f"scheme = {scheme!r} is not allowed: it must be one of {', '.join(SCHEMES)}.")
-    if not max_bays >= 8:
-        raise ValueError(f"max_bays = {max_bays!r} is not allowed: it must be >= 8.")
+    if not (np.isfinite(max_bays) and max_bays >= 8):
+        raise ValueError(f"max_bays = {max_bays!r} is not allowed: it must be a finite number >= 8.")
     bays = [np.arange(0.0, 4.0, 0.25), np.arange(4.0, 8.0, 0.5), np.arange(8.0, 32.0, 1.0)]
     start = 32.0
     while start < max_bays:

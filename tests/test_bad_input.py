@@ -124,6 +124,19 @@ def test_library_functions_refuse_nonsense_with_the_quantity_named():
         C.solve_tangential(np.full(3, 1e5), np.full(3, 0.006), m, 0.0, 1e-3, 8)
     with pytest.raises(ValueError, match=r"P and a must be 1-d arrays of one length"):
         C.solve_tangential(np.full(3, 1e5), np.full(4, 0.006), m, 40.0, 1e-3, 8)
+    with pytest.raises(ValueError, match=r"normal force P = -1\.0 N is not allowed in the Hertz contact \(eq 23\): it must be a finite number >= 0"):
+        C.hertz_half_length(np.array([1e5, -1.0]), 0.5, m)
+    with pytest.raises(ValueError, match=r"normal force P = nan N is not allowed"):
+        C.hertz_half_length(float("nan"), 0.5, m)
+    with pytest.raises(ValueError, match=r"equivalent radius R = 0\.0 m is not allowed"):
+        C.hertz_half_length(1e5, 0.0, m)
+    assert C.hertz_half_length(0.0, 0.5, m) == 0.0  # no load, no patch: allowed
+    from rail import decay
+
+    with pytest.raises(ValueError, match=r"spacing = -1 m is not allowed: the sleeper spacing must be a finite number > 0"):
+        decay.decay_distances(-1)
+    with pytest.raises(ValueError, match=r"max_bays = inf is not allowed"):
+        decay.decay_distances(0.6, float("inf"))
 
 
 def test_non_finite_roughness_is_named_as_roughness():
@@ -211,6 +224,45 @@ def test_fuzzed_configuration_value_passes_or_names_its_key(defaults, schema, ke
         assert key[-1] in text or any(k in text for k in key) or "speed" in text, text
 
 
+# the configurations that pass are run to the end of a small target: the receptance table at the
+# first speed and one growth update of every wheel (reduced numerics); values around and beyond the
+# valid ranges, so that some pass and some fail
+_RUN_KEYS = {
+    ("contact", "friction_static"): st.floats(0.2, 0.6), ("contact", "friction_dynamic"): st.floats(0.05, 0.4),
+    ("contact", "creepage"): st.floats(-0.01, 0.01), ("contact", "closure_scale"): st.floats(-0.5, 5.0),
+    ("track", "pad", "stiffness"): st.floats(-1e8, 5e9), ("track", "pad", "loss_factor"): st.floats(-0.1, 1.0),
+    ("material", "poisson_ratio"): st.floats(-1.2, 0.6), ("wheels", "static_load"): st.floats(-1e4, 2e5),
+    ("wheels", "positions"): st.lists(st.floats(-5.0, 30.0), min_size=1, max_size=3),
+    ("roughness", "bays"): st.integers(-1, 3), ("numerics", "contact", "nodes"): st.integers(5, 21),
+}
+_SMALL = {"numerics": {"track": {"harmonics": 36}, "contact": {"nodes": 15}}, "speeds": [40.0],
+          "growth": {"passages": 1000, "passages_per_update": 1000, "save_every": 1000}}
+
+
+@settings(max_examples=20, deadline=None, suppress_health_check=[HealthCheck.function_scoped_fixture])
+@given(data=st.data(), key=st.sampled_from(sorted(_RUN_KEYS)))
+def test_fuzzed_configuration_that_passes_runs_to_a_finite_result(defaults, schema, data, key):
+    from rail.setup import build
+
+    inside = _RUN_KEYS[key]
+    value = data.draw(st.one_of(inside, inside, inside, st.sampled_from([float("nan"), float("inf"), None])))
+    cfg = rconfig.deep_merge(defaults, _SMALL)
+    node = cfg
+    for k in key[:-1]:
+        node = node[k]
+    node[key[-1]] = value
+    try:
+        scn = build.scenario(rconfig.validate_config(cfg, schema, source="fuzz.yaml"), "fuzz", "fuzz.yaml")
+    except (rconfig.ConfigError, ValueError) as e:
+        assert key[-1] in str(e), str(e)
+        return
+    table = chain.receptance_table(scn, scn.speeds[0])
+    history = chain.grow(scn, table, progress=io.StringIO())
+    assert history.Z.shape[0] == 2 and history.Z.shape[1] > 0
+    tables = table if isinstance(table, (tuple, list)) else (table,)
+    assert all(np.all(np.isfinite(t.A)) for t in tables) and np.all(np.isfinite(history.Z))
+
+
 def test_a_large_sweep_runs_only_when_confirmed(defaults, schema):
     # 7. a sweep of 101 speeds plans 101 growth runs: refused with its size unless confirmed in its file
     big = {"sweep": {"speed": [20.0 + 0.1 * i for i in range(101)]}, "growth": {"passages": 10000}}
@@ -263,6 +315,20 @@ def test_wear_refuses_a_roughness_with_other_harmonics_than_the_forces():
     F = I.solve_forces(tab, I.Wheels(1350.0, 0.575, 1e5, (0.0,)), I.ContactSpring(1.4e9), I.Roughness.smooth(4), tr.L)
     with pytest.raises(ValueError, match=r"the roughness has 4 harmonics and the forces 8"):
         W.bay_wear(F, 0, I.Roughness.smooth(4), MATERIAL, W.WearLaw(7850.0, 2.5e-9), C.ContactNumerics(41, "default", 1.0))
+
+
+def test_a_bad_measured_decay_rate_found_by_name_stops_the_workflow_at_start_up(root, tmp_path):
+    # 7. a measured decay-rate file found by its name (config/measured/<track>_decay_rate.csv, no
+    # config key) was read only by its job, after 151 s of computation: now before any job
+    import shutil
+
+    shutil.copytree(root / "config", tmp_path / "config")
+    (tmp_path / "config/measured").mkdir(exist_ok=True)
+    (tmp_path / "config/measured/default_decay_rate.csv").write_text("band_centre_Hz,decay_rate_dB_per_m\n100,2.0\n125,abc\n")
+    out = snakemake(root, "-n", "results/figures/fig06.png", cwd=tmp_path)
+    assert out.returncode != 0
+    assert re.search(r"scenario default \(.*\): config/measured/default_decay_rate\.csv \(the track's measured decay "
+                     r"rate\): .*line 3", out.stdout + out.stderr), out.stderr[-800:]
 
 
 def test_a_bad_limit_spectrum_stops_the_workflow_at_start_up(root, tmp_path):

@@ -7,10 +7,6 @@ from pathlib import Path
 # The three characterisation results of a track: data results/.../<name>.nc, figure <name>.png.
 CHARACTERISATION = ["track_receptance", "moving_receptance", "track_decay_rate"]
 
-# Measured decay rates, one CSV file per track (band_centre_Hz,decay_rate_dB_per_m).
-MEASURED_DIR = Path("config/measured")
-
-
 def characterised_tracks():
     """Scenarios whose track differs from the default: each track is characterised once, under
     results/tracks/<scenario>/ (the default track under results/data and results/figures)."""

@@ -49,6 +49,10 @@ check_scenario_names(
 )
 SCENARIO_OBJECTS = {_name: build_scenario(_cfg, _name, _SOURCES[_name]) for _name, _cfg in SCENARIOS.items()}
 
+# Measured decay rates, one CSV file per track (band_centre_Hz,decay_rate_dB_per_m), used when the
+# scenario gives no measured.decay_rate.
+MEASURED_DIR = Path("config/measured")
+
 # Every input file is read and checked here, before any job runs (its errors name the file and line).
 for _name, _scn in SCENARIO_OBJECTS.items():
     if _scn.roughness.kind in ("file", "profile", "spectrum"):
@@ -61,11 +65,15 @@ for _name, _scn in SCENARIO_OBJECTS.items():
             read_third_octave_spectrum(SCENARIOS[_name]["figures"]["bands"]["limit"])
         except (OSError, ValueError) as _e:
             raise ConfigError(f"scenario {_name} ({_SOURCES[_name]}): figures.bands.limit: {_e}") from None
-    if SCENARIOS[_name].get("measured", {}).get("decay_rate"):
+    _given = SCENARIOS[_name].get("measured", {}).get("decay_rate")
+    _found = MEASURED_DIR / f"{_name}_decay_rate.csv"  # a track's measured decay rate, found by name
+    _file = _given or (_found if _found.exists() else None)
+    if _file:
         try:
-            read_measured_decay_rate(SCENARIOS[_name]["measured"]["decay_rate"])
+            read_measured_decay_rate(_file)
         except (OSError, ValueError) as _e:
-            raise ConfigError(f"scenario {_name} ({_SOURCES[_name]}): measured.decay_rate: {_e}") from None
+            _key = "measured.decay_rate" if _given else f"{_found} (the track's measured decay rate)"
+            raise ConfigError(f"scenario {_name} ({_SOURCES[_name]}): {_key}: {_e}") from None
 
 
 def checked_speed(scenario, label):
