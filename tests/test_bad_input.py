@@ -106,6 +106,14 @@ def test_nan_wheel_position_fails_validation(defaults, schema):
         rconfig.validate_config(cfg, schema, source="s.yaml")
 
 
+def test_a_vanishing_wheel_load_fails_validation(defaults, schema):
+    # found by the fuzzing below: a static load of 3.9e-160 N passed, and the contact grid of a patch
+    # that small asked for more memory than exists ("Maximum allowed size exceeded")
+    cfg = rconfig.deep_merge(defaults, {"wheels": {"static_load": 3.9e-160}})
+    with pytest.raises(rconfig.ConfigError, match=r"wheels\.static_load = 3\.9e-160 N is not allowed: it must be >= 1000 N"):
+        rconfig.validate_config(cfg, schema, source="s.yaml")
+
+
 # 5. the library checks its arguments
 
 
