@@ -19,12 +19,16 @@ R_j is the feedback part only.
 
 from __future__ import annotations
 
+import dataclasses
+from dataclasses import dataclass
+
 import numpy as np
 
 from . import chain
+from .moving import MovingReceptance
 from .scenario import Scenario
 
-__all__ = ["wear_rates"]
+__all__ = ["wear_rates", "RateSpectrum", "spectrum_lines", "rate_spectrum", "locked_operator", "class_operator"]
 
 
 def _batches(lines, N: int):
@@ -78,7 +82,15 @@ def wear_rates(scn: Scenario, table, lines, eps: float = 1e-8, reference=None, g
         raise ValueError(f"eps = {eps!r} m is not allowed: it must be a finite number > 0.")
     Z0 = np.zeros(2 * J + 1, dtype=complex) if reference is None else np.asarray(reference, dtype=complex)
     W0, _ = chain.train_wear(scn, table, Z0, grid_phase)
-    rates = {}
+    return _probe(scn, table, lines, eps, Z0, W0, grid_phase)
+
+
+def _probe(scn, table, lines, eps, Z0, W0, grid_phase, sidebands=False):
+    """R_j at the lines about the reference Z0, whose wear W0 on the same grid is given; with
+    sidebands, also the largest |wear at j +- N| / |wear at j| (the same class, probed by j alone)."""
+    J = len(Z0) // 2
+    N = scn.roughness.bays
+    rates, side = {}, {}
     for batch in _batches(lines, N):
         Z = Z0.copy()
         for j in batch:
@@ -87,4 +99,332 @@ def wear_rates(scn: Scenario, table, lines, eps: float = 1e-8, reference=None, g
         W, _ = chain.train_wear(scn, table, Z, grid_phase)
         for j in batch:
             rates[j] = (W[J + j] - W0[J + j]) / (eps / 2)
-    return np.array([rates[j] for j in lines])
+            near = [J + j + m for m in (-N, N) if abs(j + m) <= J]
+            side[j] = max(abs(W[i] - W0[i]) for i in near) / max(abs(W[J + j] - W0[J + j]), 1e-300) if near else 0.0
+    R = np.array([rates[j] for j in lines])
+    return (R, np.array([side[j] for j in lines])) if sidebands else R
+
+
+@dataclass(frozen=True)
+class RateSpectrum:
+    """The linearised growth-rate spectrum of one train at one speed about the smooth rail (rate_spectrum).
+
+    wavelength : (n,) wavelengths N L / j of the lines [m], decreasing
+    line       : (n,) the lines j (wavenumbers 2 pi j / (N L)) [-]
+    locked     : (n,) 0 for a free line; 1 on the one-bay comb L / k and 2 on the half-comb
+                 2 L / (2k + 1), where the wavelength is locked to the supports: a cosine and a sine
+                 (peaks over the sleepers or between) grow at different rates
+    rate       : (n,) complex rate per train passage [-]: at a free line R_j (module docstring), the
+                 roughness grows like exp(-R_j n); at a locked line the eigenvalue of the 2 x 2
+                 (cosine, sine) wear operator with the faster growth
+    rate_other : (n,) the other eigenvalue (at a free line the conjugate of R_j: the same growth)
+    source     : (n,) wear of the smooth rail at the line, 2 |Delta W0_k| per train passage [m]:
+                 the supports' parametric source, non-zero only on the comb
+    sideband   : (n,) at a free line, the largest wear at the sidebands j +- N over the wear at j [-]:
+                 the coupling within the class through the supports that the diagonal leaves out
+                 (class_operator gives the class's matrix and eigenvalues); 0 at a locked line
+    grid_spread: (n,) half the spread of the growth rate -Re(rate) over the contact grids averaged
+                 [-]: the size of the grid-tied error of one grid (the mean's is smaller)
+    linearity  : largest change of the growth rate with the probe doubled (2 eps against eps),
+                 relative to the rate, over the lines checked [-]
+    eps        : amplitude of the probing cosines [m]
+    bays       : N [-]
+    grid_phases: contact grids averaged over [-]
+    """
+
+    wavelength: np.ndarray
+    line: np.ndarray
+    locked: np.ndarray
+    rate: np.ndarray
+    rate_other: np.ndarray
+    source: np.ndarray
+    grid_spread: np.ndarray
+    sideband: np.ndarray
+    linearity: float
+    eps: float
+    bays: int
+    grid_phases: int
+
+    @property
+    def growth_rate(self) -> np.ndarray:
+        """Relative growth rate of the roughness amplitude per train passage, -Re of the rate [-]
+        (> 0: grows; at a locked line that of the faster-growing phase)."""
+        return -self.rate.real
+
+    @property
+    def drift(self) -> np.ndarray:
+        """Phase drift of the roughness per train passage, -Im of the rate [rad]: the profile at the
+        line moves along the rail by drift / (2 pi / wavelength) per passage."""
+        return -self.rate.imag
+
+
+def spectrum_lines(L: float, bays: int, harmonics: int, shortest: float, longest: float, per_octave: int):
+    """The lines j of an N-bay period nearest to wavelengths spaced evenly in log over [shortest, longest].
+
+    Parameters
+    ----------
+    L : float
+        Sleeper spacing [m].
+    bays : int
+        Roughness period N [bays]; the lines are the wavenumbers 2 pi j / (N L), 1 <= j <= N K.
+    harmonics : int
+        K of the receptance tables [-]: the shortest wavelength represented is L / K.
+    shortest, longest : float
+        Wavelength range [m], 0 < shortest < longest.
+    per_octave : int
+        Wavelengths per octave asked for [-] (30: a tenth of a one-third octave).
+
+    Returns
+    -------
+    ndarray of int
+        Distinct lines, increasing (wavelength decreasing).
+
+    Raises
+    ------
+    ValueError
+        If the range is empty, reaches below L / K, or the period is too short for the resolution:
+        the lines' relative spacing at the longest wavelength, longest / (N L), must not exceed
+        2^(1 / per_octave) - 1.
+    """
+    if not (np.isfinite(shortest) and np.isfinite(longest) and 0 < shortest < longest):
+        raise ValueError(f"wavelengths shortest = {shortest!r} m, longest = {longest!r} m are not allowed: they must be finite "
+                         "with 0 < shortest < longest.")
+    if not (isinstance(per_octave, (int, np.integer)) and per_octave >= 1):
+        raise ValueError(f"per_octave = {per_octave!r} is not allowed: it must be an integer >= 1.")
+    if shortest < L / harmonics * (1 - 1e-12):
+        raise ValueError(f"shortest = {shortest:g} m is not allowed: it must be >= L / K = {L / harmonics:.4g} m, the shortest "
+                         f"wavelength the receptance tables represent (raise numerics.track.harmonics).")
+    step = 2 ** (1 / per_octave) - 1
+    if longest / (bays * L) > step * (1 + 1e-9):
+        need = int(np.ceil(longest / (L * step)))
+        raise ValueError(f"a roughness period of {bays} bays spaces the lines by {100 * longest / (bays * L):.2g} % at "
+                         f"{longest:g} m, coarser than 1/{per_octave} octave ({100 * step:.2g} %): use at least {need} bays.")
+    # From the longest wavelength on, each next line lies between half a step and a step beyond the
+    # last (so that neighbours are never further apart than 2^(1 / per_octave)); among those, the one
+    # whose pair of classes {r, N - r} holds the fewest lines so far: rate_spectrum probes one line
+    # per pair of classes per wear evaluation, so balanced classes need fewer evaluations.
+    ratio = 2 ** (1 / per_octave)
+    j_last = bays * harmonics
+    j = max(1, int(np.floor(bays * L / longest)))
+    chosen, count = [j], {}
+    count[min(j % bays, -j % bays)] = 1
+    while bays * L / j > shortest and j < j_last:
+        lo, hi = int(np.ceil(j * np.sqrt(ratio))), min(int(np.floor(j * ratio)), j_last)
+        cands = range(min(max(lo, j + 1), hi), hi + 1)
+        j = min(cands, key=lambda c: (count.get(min(c % bays, -c % bays), 0), -c))
+        chosen.append(j)
+        key = min(j % bays, -j % bays)
+        count[key] = count.get(key, 0) + 1
+    return np.array(chosen)
+
+
+def locked_operator(scn: Scenario, table, j: int, eps: float = 1e-9, grid_phase: float = 0.0):
+    """The 2 x 2 real wear operator M on (a, b) of a roughness a cos + b sin at line j of an n-bay
+    period whose class is its own conjugate (n = 1: the comb; n = 2, j odd: the half-comb), about the
+    smooth rail: d(a, b)/dn = -M (a, b) per train passage.
+
+    Parameters
+    ----------
+    scn : Scenario
+        With roughness.bays = n, 1 or 2.
+    table : MovingReceptance or tuple of MovingReceptance
+        Its tables (fraction 0, and 1/2 for n = 2).
+    j : int
+        The line: k (n = 1) or 2k + 1 (n = 2) [-].
+    eps : float
+        Probing amplitude [m].
+    grid_phase : float
+        Contact grid phase of every evaluation.
+
+    Returns
+    -------
+    M : ndarray, shape (2, 2)
+        [1 per train passage]; column 0: the wear (cosine, sine parts) of a unit cosine, column 1 of
+        a unit sine.
+    W0 : ndarray
+        Wear coefficients of the smooth rail per train passage [m] (the parametric source).
+    """
+    Z0 = _smooth(scn)
+    W0, _ = chain.train_wear(scn, table, Z0, grid_phase)
+    return _locked(scn, table, j, eps, grid_phase, Z0, W0), W0
+
+
+def _locked(scn, table, j, eps, grid_phase, Z0, W0):
+    """M of locked_operator, with the smooth rail's wear W0 on the same grid given."""
+    J = len(Z0) // 2
+    cols = []
+    for c in (1.0, -1j):  # cosine, sine: Z_j = (a - i b) / 2
+        Z = Z0.copy()
+        Z[J + j] += c * eps / 2
+        Z[J - j] += np.conj(c) * eps / 2
+        W, _ = chain.train_wear(scn, table, Z, grid_phase)
+        D = (W[J + j] - W0[J + j]) / eps  # wear coefficient per unit amplitude: (c - i d) / 2
+        cols.append((2 * D.real, -2 * D.imag))
+    return np.array(cols).T
+
+
+def _smooth(scn: Scenario):
+    return np.zeros(2 * scn.roughness.bays * scn.harmonics + 1, dtype=complex)
+
+
+def _sorted_eigenvalues(M):
+    """Eigenvalues of M, the faster-growing (smaller real part) first."""
+    ev = np.linalg.eigvals(M).astype(complex)
+    return ev[np.argsort(ev.real)]
+
+
+def rate_spectrum(scn: Scenario, table, lines, eps: float = 1e-9, grid_phases: int = 2,
+                  check_lines: int = 4) -> RateSpectrum:
+    """Growth-rate spectrum about the smooth rail at the given lines.
+
+    Free lines by wear_rates (one probing cosine per pair of classes per wear evaluation over the N
+    bays). Lines whose class is its own conjugate (the comb, j = k N, and for even N the half-comb,
+    j = (k + 1/2) N) couple the roughness at +j and -j through the supports: there the cosine and the
+    sine are probed separately on the shortest period that holds the line (1 bay for the comb,
+    2 for the half-comb; the same classes of the same tables) and the eigenvalues of the 2 x 2
+    operator are given.
+
+    The smooth rail's wear on the same contact grid is subtracted, which removes the grid-tied bias
+    of the wear but not that of its derivative: the rate of one grid carries an error that is
+    periodic in a / Delta (about 0.1-0.4 % of |R| at 61 nodes, docs/growth-spectrum.md). The rates
+    are therefore averaged over ``grid_phases`` grids whose a / Delta differ by 1 / grid_phases
+    (rail.wear.bay_wear's grid_phase; two phases half a unit apart cancel the fundamental of that
+    error), and half the spread between the phases is returned as its estimate.
+
+    Parameters
+    ----------
+    scn : Scenario
+        With roughness.bays = N (the lines' period) and the train's wheels.
+    table : tuple of MovingReceptance
+        The receptance tables of the N-bay period at the speed (rail.chain.receptance_table).
+    lines : sequence of int
+        Lines j, 1 <= j <= N K (spectrum_lines).
+    eps : float
+        Amplitude of the probing cosines [m].
+    grid_phases : int
+        Contact grids averaged over, >= 1 [-]; the cost is proportional.
+    check_lines : int
+        Free lines (spread over the range), and the first locked line, probed again with 2 eps to
+        measure the linearity [-] (on the first grid).
+
+    Returns
+    -------
+    RateSpectrum
+    """
+    N = scn.roughness.bays
+    J = N * scn.harmonics
+    lines = np.asarray(lines, dtype=int)
+    if lines.size == 0 or np.any(lines < 1) or np.any(lines > J):
+        raise ValueError(f"lines must be a non-empty set in [1, {J}] (N K).")
+    if not (np.isfinite(eps) and eps > 0):
+        raise ValueError(f"eps = {eps!r} m is not allowed: it must be a finite number > 0.")
+    if not (isinstance(grid_phases, (int, np.integer)) and grid_phases >= 1):
+        raise ValueError(f"grid_phases = {grid_phases!r} is not allowed: it must be an integer >= 1.")
+    tabs = (table,) if isinstance(table, MovingReceptance) else tuple(table)
+    locked = np.where(lines % N == 0, 1, np.where((N % 2 == 0) & (lines % N == N // 2) & (N > 1), 2, 0))
+    if N == 1:
+        locked[:] = 1
+    free = np.flatnonzero(locked == 0)
+    held = np.flatnonzero(locked)
+    R = np.zeros((grid_phases, free.size), dtype=complex)
+    Ms = np.zeros((grid_phases, held.size, 2, 2))
+    source = np.zeros(lines.size)
+    sideband = np.zeros(lines.size)
+    changes = []
+    for p, phase in enumerate(np.arange(grid_phases) / grid_phases):
+        if free.size:
+            Z0 = _smooth(scn)
+            W0, _ = chain.train_wear(scn, tabs, Z0, phase)
+            R[p], side_p = _probe(scn, tabs, lines[free], eps, Z0, W0, phase, sidebands=True)
+            sideband[free] = np.maximum(sideband[free], side_p)
+            if p == 0:
+                pick = np.unique(np.linspace(0, free.size - 1, min(check_lines, free.size)).round().astype(int))
+                R2 = _probe(scn, tabs, lines[free[pick]], 2 * eps, Z0, W0, phase)
+                changes += list(np.abs(R2.real / R[0, pick].real - 1))
+        periods = {}  # the 1- and 2-bay periods: scenario, tables, smooth rail and its wear
+        for kind in sorted(set(locked[held].tolist())):
+            s_n = dataclasses.replace(scn, roughness=dataclasses.replace(scn.roughness, bays=kind))
+            t_n = tabs[0] if kind == 1 else (tabs[0], tabs[N // 2])
+            Z0n = _smooth(s_n)
+            periods[kind] = (s_n, t_n, Z0n, chain.train_wear(s_n, t_n, Z0n, phase)[0])
+        for n, idx in enumerate(held):
+            kind = int(locked[idx])
+            s_n, t_n, Z0n, W0n = periods[kind]
+            jn = int(lines[idx] * kind // N)  # the line in the 1- or 2-bay period
+            Ms[p, n] = _locked(s_n, t_n, jn, eps, phase, Z0n, W0n)
+            if kind == 1:
+                source[idx] += 2 * abs(W0n[len(W0n) // 2 + jn]) / grid_phases
+            if p == 0 and n == 0:
+                M2 = _locked(s_n, t_n, jn, 2 * eps, phase, Z0n, W0n)
+                changes.append(abs(_sorted_eigenvalues(M2)[0].real / _sorted_eigenvalues(Ms[0, 0])[0].real - 1))
+    rate = np.zeros(lines.size, dtype=complex)
+    other = np.zeros(lines.size, dtype=complex)
+    spread = np.zeros(lines.size)
+    rate[free] = R.mean(axis=0)
+    other[free] = np.conj(rate[free])
+    spread[free] = np.ptp(R.real, axis=0) / 2
+    for n, idx in enumerate(held):
+        rate[idx], other[idx] = _sorted_eigenvalues(Ms[:, n].mean(axis=0))
+        g = [_sorted_eigenvalues(M)[0].real for M in Ms[:, n]]
+        spread[idx] = np.ptp(g) / 2
+    return RateSpectrum(wavelength=N * scn.L / lines, line=lines, locked=locked, rate=rate, rate_other=other,
+                        source=source, grid_spread=spread, sideband=sideband, linearity=float(max(changes)), eps=float(eps), bays=N,
+                        grid_phases=int(grid_phases))
+
+
+def class_operator(scn: Scenario, table, lines, eps: float = 1e-9, grid_phases: int = 2):
+    """The wear operator restricted to lines of one free Bloch class, and its eigenvalues.
+
+    About the smooth rail the classes r = j mod N do not couple, but within a class the supports
+    couple each line j to its sidebands j + m N (the wear of a roughness at j has components there:
+    up to about 20 % of the line's own near the pinned-pinned frequency, docs/growth-spectrum.md).
+    C[i, k] is the wear at lines[i] per unit complex amplitude at lines[k], per train passage, so that
+    the class's amplitudes evolve as dZ/dn = -C Z; the diagonal is wear_rates.
+
+    Parameters
+    ----------
+    scn : Scenario
+        With roughness.bays = N.
+    table : tuple of MovingReceptance
+        The tables of the N-bay period at the speed.
+    lines : sequence of int
+        Lines of one class r (j = r mod N, r neither 0 nor N/2), of either sign (a negative line is
+        the conjugate of a line of the class N - r), |j| <= N K.
+    eps : float
+        Probing amplitude [m].
+    grid_phases : int
+        Contact grids averaged over (as rate_spectrum: the sideband entries are a few percent of the
+        diagonal, so the grid-tied error of one grid, 0.1-0.4 % of |R|, is several percent of them).
+
+    Returns
+    -------
+    C : ndarray, shape (n, n), complex
+        [1 per train passage].
+    eigenvalues : ndarray, shape (n,), complex
+        Of C, the faster-growing (smaller real part) first: growth rates -Re, drifts -Im.
+    """
+    N = scn.roughness.bays
+    J = N * scn.harmonics
+    lines = [int(j) for j in lines]
+    r = {j % N for j in lines}
+    if len(r) != 1 or r & {0, N / 2}:
+        raise ValueError(f"lines must share one class j mod {N} other than 0 and {N}/2 (those are locked to the "
+                         f"supports: locked_operator); got classes {sorted(r)}.")
+    if any(j == 0 or abs(j) > J for j in lines):
+        raise ValueError(f"lines must lie in [-{J}, {J}] without 0 (N K).")
+    if not (np.isfinite(eps) and eps > 0):
+        raise ValueError(f"eps = {eps!r} m is not allowed: it must be a finite number > 0.")
+    if not (isinstance(grid_phases, (int, np.integer)) and grid_phases >= 1):
+        raise ValueError(f"grid_phases = {grid_phases!r} is not allowed: it must be an integer >= 1.")
+    Z0 = _smooth(scn)
+    idx = J + np.array(lines)
+    C = np.zeros((len(lines), len(lines)), dtype=complex)
+    for phase in np.arange(grid_phases) / grid_phases:
+        W0, _ = chain.train_wear(scn, table, Z0, phase)
+        for k, j in enumerate(lines):
+            Z = Z0.copy()
+            Z[J + j] += eps / 2
+            Z[J - j] += eps / 2  # the conjugate, in the class N - r: no effect on this class
+            W, _ = chain.train_wear(scn, table, Z, phase)
+            C[:, k] += (W[idx] - W0[idx]) / (eps / 2) / grid_phases
+    return C, _sorted_eigenvalues(C)

@@ -6,6 +6,7 @@ One function per figure: it takes a dataset and returns a matplotlib Figure.
 from __future__ import annotations
 
 import matplotlib
+import matplotlib.colors
 import matplotlib.ticker
 
 matplotlib.use("Agg")
@@ -91,4 +92,41 @@ def convergence_figure(ds: xr.Dataset):
         ax.set_ylabel("relative error")
         ax.set_title(_QUANTITY_TEXT.get(q, q), fontsize=9)
         ax.legend(fontsize=7, title="setting (filled: default)", title_fontsize=7)
+    return fig
+
+
+def rate_spectrum_figure(ds: xr.Dataset):
+    """Growth-rate spectrum: the level change per 100,000 train passages over wavelength, one line
+    per speed (top), and the speed x wavelength map (bottom); comb lines L/k marked."""
+    fig, (ax, bx) = plt.subplots(2, 1, figsize=(7.5, 7.5), layout="constrained", sharex=True)
+    lam = ds["wavelength"].values * 1e3
+    g = ds["growth_dB"]
+    for v in ds["speed"].values:
+        ax.plot(lam, g.sel(speed=v).values, lw=1.2, label=f"{v:g} m/s")
+    ax.axhline(0, color="0.3", lw=0.7)
+    comb = ds["locked"].values == 1
+    for x in lam[comb]:
+        ax.axvline(x, color="0.85", lw=0.6, zorder=0)
+    ax.set_xscale("log")
+    ax.set_ylabel(f"growth ({g.attrs['units']} per {g.attrs['long_name'].split(' per ')[1].split(' train')[0]} passages)")
+    ax.legend(fontsize=8, ncol=2, loc="best", framealpha=0.9)
+    ax.set_title(f"linearised growth-rate spectrum ({int(ds.attrs['wheels'])} wheel(s), probe {ds.attrs['eps_m'] * 1e9:g} nm; "
+                 "grey: comb L/k)", fontsize=9)
+    lo, hi = float(np.nanmin(g.values)), float(np.nanmax(g.values))
+    norm = matplotlib.colors.TwoSlopeNorm(vmin=min(lo, -1e-6), vcenter=0.0, vmax=max(hi, 1e-6))  # red grows, blue decays
+    V = ds["speed"].values
+    edges = np.r_[V[0] - 0.5 * (V[1] - V[0]) if V.size > 1 else V[0] - 5, 0.5 * (V[1:] + V[:-1]),
+                  V[-1] + 0.5 * (V[-1] - V[-2]) if V.size > 1 else V[0] + 5]
+    lam_edges = np.r_[lam[0] * np.sqrt(lam[0] / lam[1]), np.sqrt(lam[1:] * lam[:-1]), lam[-1] * np.sqrt(lam[-1] / lam[-2])]
+    m = bx.pcolormesh(lam_edges, edges, g.values, cmap="RdBu_r", norm=norm)
+    ticks = np.r_[np.linspace(norm.vmin, 0, 4)[:-1], np.linspace(0, norm.vmax, 4)]
+    fig.colorbar(m, ax=bx, ticks=ticks, format="%.2g",
+                 label=f"growth (dB per {g.attrs['long_name'].split(' per ')[1].split(' train')[0]} passages)")
+    bx.set_xscale("log")
+    bx.set_xlabel("wavelength (mm)")
+    bx.set_ylabel("speed (m/s)")
+    for a in (ax, bx):
+        a.set_xticks([20, 30, 50, 100, 200, 300, 600])
+        a.xaxis.set_major_formatter(matplotlib.ticker.FormatStrFormatter("%g"))
+        a.xaxis.set_minor_formatter(matplotlib.ticker.NullFormatter())
     return fig

@@ -24,7 +24,7 @@ from ..track import Ballast, Pad, Rail, Sleeper, Track, damping_problem, min_har
 from ..wear import WearLaw
 from .config import ConfigError, configured_speeds
 
-__all__ = ["HalfSpaceFigureSettings", "scenario", "track", "physics_problems", "halfspace_numerics", "halfspace_figures"]
+__all__ = ["HalfSpaceFigureSettings", "scenario", "spectrum_scenario", "track", "physics_problems", "halfspace_numerics", "halfspace_figures"]
 
 
 @dataclass(frozen=True, slots=True)
@@ -157,6 +157,14 @@ def physics_problems(cfg: dict, source: str) -> list[str]:
                 f"every harmonic; it must be >= {need} at this speed."
             )
     return out
+
+
+def spectrum_scenario(cfg: dict, name: str = "default", source: str = "config") -> Scenario:
+    """The Scenario of a growth-rate spectrum (``figures.rate_spectrum``): the configuration's, about
+    the smooth rail, with the spectrum's roughness period N = figures.rate_spectrum.bays (its lines
+    2 pi j / (N L), rail.growth_spectrum)."""
+    bays = int(cfg["figures"]["rate_spectrum"]["bays"])
+    return scenario({**cfg, "roughness": {**cfg["roughness"], "kind": "smooth", "bays": bays}}, name, source)
 
 
 def scenario(cfg: dict, name: str = "default", source: str = "config") -> Scenario:

@@ -371,5 +371,33 @@ def built_studies():
     """Outputs of the named studies that exist on disk (for the HTML report: report_all)."""
     candidates = closure_targets() + sweep_targets() + any_wavelength_targets() + [t.replace(".csv", ".png") for t in band_targets()] + [
         "results/stability/outcomes.html", "results/convergence/error_vs_time.png", "results/convergence/summary.html",
+        "results/spectrum/default/rate_spectrum.png",
     ]
     return [f for f in candidates if Path(f).exists()]
+
+
+# Growth-rate spectrum (workflow/rules/spectrum.smk)
+
+def rate_spectrum_table(wildcards):
+    """The Bloch tables of the spectrum's N-bay period (figures.rate_spectrum.bays) at the speed."""
+    checked_speed(wildcards.scenario, wildcards.speed)
+    bays = SCENARIOS[wildcards.scenario]["figures"]["rate_spectrum"]["bays"]
+    return f"results/spectrum/{wildcards.scenario}/tables_V{wildcards.speed}_N{bays}.nc"
+
+
+def scenario_track_config(wildcards):
+    """The part of a scenario's configuration its receptance tables depend on (track and numerics)."""
+    checked_speed(wildcards.scenario, wildcards.speed)
+    cfg = SCENARIOS[wildcards.scenario]
+    return {"track": cfg["track"], "numerics": {"track": cfg["numerics"]["track"]}}
+
+
+def scenario_wheel_offsets(wildcards):
+    """Offsets between the wheels of one scenario (0 first)."""
+    return sorted(set(wheel_offsets_of(SCENARIO_OBJECTS[wildcards.scenario])), key=lambda d: (abs(d), d))
+
+
+def rate_spectrum_speeds(wildcards):
+    """The per-speed spectra of a scenario (figures.rate_spectrum.speeds)."""
+    speeds = SCENARIOS[wildcards.scenario]["figures"]["rate_spectrum"]["speeds"]
+    return [f"results/spectrum/{wildcards.scenario}/V{speed_label(v)}.nc" for v in speeds]

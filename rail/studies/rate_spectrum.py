@@ -1,0 +1,121 @@
+"""The growth-rate spectrum over speed and wavelength (named target rate_spectrum): its dataset."""
+
+from __future__ import annotations
+
+import numpy as np
+import xarray as xr
+
+from ..growth_spectrum import RateSpectrum
+from .datasets import _var
+
+__all__ = ["rate_spectrum_dataset", "growing_bands", "summary_markdown", "PASSAGES_PER_DB"]
+
+PASSAGES_PER_DB = 100000  # the dB growth is stated per this many train passages
+
+
+def rate_spectrum_dataset(spectra: dict[float, RateSpectrum], L: float, wheels: int) -> xr.Dataset:
+    """One dataset of the growth-rate spectra of one scenario at several speeds.
+
+    Parameters
+    ----------
+    spectra : {speed [m/s]: RateSpectrum}
+        On the same lines (rail.growth_spectrum.spectrum_lines).
+    L : float
+        Sleeper spacing [m].
+    wheels : int
+        Wheels of the train [-] (the rates are per train passage).
+
+    Returns
+    -------
+    xr.Dataset
+        growth_rate, drift, growth_dB, source, crossover_amplitude over (speed, wavelength).
+    """
+    V = sorted(spectra)
+    first = spectra[V[0]]
+    if any(not np.array_equal(spectra[v].line, first.line) for v in V):
+        raise ValueError("the spectra must share their lines (one spectrum_lines call).")
+    R = np.array([spectra[v].rate for v in V])
+    g = -R.real
+    src = np.array([spectra[v].source for v in V])
+    with np.errstate(divide="ignore", invalid="ignore"):
+        cross = np.where(src > 0, src / np.abs(R), np.nan)
+    lam = first.wavelength
+    return xr.Dataset(
+        {
+            "growth_rate": _var(("speed", "wavelength"), g, "1",
+                                "relative growth rate of the roughness amplitude per train passage, -Re R (> 0: grows)"),
+            "growth_rate_other": _var(("speed", "wavelength"), np.array([-spectra[v].rate_other.real for v in V]), "1",
+                                      "growth rate of the other phase at a locked line (cosine and sine about the supports); "
+                                      "at a free line the same as growth_rate"),
+            "drift": _var(("speed", "wavelength"), -R.imag, "rad",
+                          "phase drift of the roughness per train passage, -Im R (the profile moves along the rail)"),
+            "growth_dB": _var(("speed", "wavelength"), 20 * np.log10(np.e) * g * PASSAGES_PER_DB, "dB",
+                              f"level change per {PASSAGES_PER_DB} train passages of a small roughness at the wavelength",
+                              reference_level="dB re the initial level"),
+            "source": _var(("speed", "wavelength"), src, "m",
+                           "wear of the smooth rail at the line per train passage (amplitude 2|W0|; only on the one-bay comb L/k)"),
+            "crossover_amplitude": _var(("speed", "wavelength"), cross, "m",
+                                        "roughness amplitude at which the feedback |R| Z equals the parametric source (comb lines; "
+                                        "below it the supports' source dominates)"),
+            "grid_spread": _var(("speed", "wavelength"), np.array([spectra[v].grid_spread for v in V]), "1",
+                                "half the spread of growth_rate over the contact grids averaged (the grid-tied error of one grid)"),
+            "sideband_ratio": _var(("speed", "wavelength"), np.array([spectra[v].sideband for v in V]), "1",
+                                   "largest wear at the sidebands j +- N over the wear at j (coupling within the Bloch class; "
+                                   "0 at locked lines)"),
+            "fastest_wavelength": _var("speed", lam[np.argmax(g, axis=1)], "m", "wavelength of the fastest growth"),
+            "fastest_growth_dB": _var("speed", 20 * np.log10(np.e) * g.max(axis=1) * PASSAGES_PER_DB, "dB",
+                                      f"fastest growth per {PASSAGES_PER_DB} train passages"),
+            "linearity": _var("speed", np.array([spectra[v].linearity for v in V]), "1",
+                              "largest |R(2 eps) / R(eps) - 1| over the lines checked"),
+        },
+        coords={
+            "speed": _var("speed", np.array(V, dtype=float), "m/s", "train speed"),
+            "wavelength": _var("wavelength", lam, "m", "roughness wavelength N L / j"),
+            "line": _var("wavelength", first.line, "1", f"line j of the {first.bays}-bay period"),
+            "locked": _var("wavelength", first.locked, "1",
+                           "0 free line; 1 on the one-bay comb L/k; 2 on the half-comb 2L/(2k+1) (phase locked to the supports)"),
+            "frequency": _var(("speed", "wavelength"), np.array(V)[:, None] / lam[None, :], "Hz", "excitation frequency V / wavelength"),
+        },
+        attrs={"eps_m": first.eps, "bays": first.bays, "grid_phases": first.grid_phases, "wheels": int(wheels), "sleeper_spacing_m": float(L),
+               "passages": "per train passage (a train of n wheels counts once)"},
+    )
+
+
+def growing_bands(wavelength, growth_rate):
+    """The wavelength intervals where the growth rate is positive.
+
+    Parameters
+    ----------
+    wavelength : ndarray
+        Wavelengths of the lines [m], decreasing.
+    growth_rate : ndarray
+        Growth rate per passage at the lines [-].
+
+    Returns
+    -------
+    list of (float, float)
+        (longest, shortest) wavelength [m] of each run of consecutive lines with a positive rate.
+    """
+    out, start = [], None
+    pos = np.asarray(growth_rate) > 0
+    for i, p in enumerate(pos):
+        if p and start is None:
+            start = i
+        if start is not None and (not p or i == len(pos) - 1):
+            end = i if p else i - 1
+            out.append((float(wavelength[start]), float(wavelength[end])))
+            start = None
+    return out
+
+
+def summary_markdown(ds: xr.Dataset) -> str:
+    """Where the rate is positive, per speed, and the fastest-growing wavelength (a Markdown table)."""
+    rows = ["| speed (m/s) | wavelengths that grow (mm) | fastest (mm) | its growth (dB per 100,000 passages) |",
+            "|---|---|---|---|"]
+    lam = ds["wavelength"].values
+    for i, v in enumerate(ds["speed"].values):
+        bands = growing_bands(lam, ds["growth_rate"].values[i])
+        text = ", ".join(f"{1e3 * a:.3g}-{1e3 * b:.3g}" for a, b in bands) or "none"
+        rows.append(f"| {v:g} | {text} | {1e3 * float(ds['fastest_wavelength'].values[i]):.3g} | "
+                    f"{float(ds['fastest_growth_dB'].values[i]):+.2f} |")
+    return "\n".join(rows) + "\n"

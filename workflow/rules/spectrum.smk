@@ -1,0 +1,74 @@
+# The linearised growth-rate spectrum (rail/growth_spectrum.py, docs/growth-spectrum.md): which
+# wavelengths grow and how fast, per speed, from the smooth rail. Named target rate_spectrum (README).
+
+
+rule rate_spectrum_tables:
+    """Receptance tables of the Bloch fractions r / N of the spectrum's period for one scenario's
+    wheels only (the shared track tables hold the offsets of every scenario on the track, which
+    the spectrum's 25 fractions would multiply)."""
+    output:
+        "results/spectrum/{scenario}/tables_V{speed}_N{bays}.nc",
+    wildcard_constraints:
+        speed="[^_/]+",
+        bays="[0-9]+",
+    params:
+        code=code("receptance.py"),
+        cfg=scenario_track_config,
+        offsets=scenario_wheel_offsets,
+    log:
+        "logs/spectrum/{scenario}/tables_V{speed}_N{bays}.log",
+    benchmark:
+        "benchmarks/spectrum/{scenario}/tables_V{speed}_N{bays}.tsv"
+    resources:
+        mem_mb=4000,
+        runtime=30,
+    script:
+        "../scripts/receptance.py"
+
+
+rule rate_spectrum_speed:
+    """Growth-rate spectrum of one scenario at one speed (about 3 min on one core at 187 lines)."""
+    input:
+        table=rate_spectrum_table,
+    output:
+        "results/spectrum/{scenario}/V{speed}.nc",
+    wildcard_constraints:
+        speed="[^_/]+",
+        scenario="[^/]+",
+    params:
+        code=code("rate_spectrum.py"),
+        cfg=scenario_config,
+    log:
+        "logs/spectrum/{scenario}/V{speed}.log",
+    benchmark:
+        "benchmarks/spectrum/{scenario}/V{speed}.tsv"
+    resources:
+        mem_mb=2000,
+        runtime=20,
+    script:
+        "../scripts/rate_spectrum.py"
+
+
+rule rate_spectrum_map:
+    """The spectra of a scenario over its speeds: dataset and speed x wavelength map."""
+    input:
+        rate_spectrum_speeds,
+    output:
+        data="results/spectrum/{scenario}/rate_spectrum.nc",
+        figure=report("results/spectrum/{scenario}/rate_spectrum.png", caption="../report/rate_spectrum.rst", category="Growth-rate spectrum"),
+        summary="results/spectrum/{scenario}/summary.md",
+    params:
+        code=code("rate_spectrum_map.py"),
+    resources:
+        mem_mb=500,
+        runtime=5,
+    log:
+        "logs/spectrum/{scenario}/map.log",
+    script:
+        "../scripts/rate_spectrum_map.py"
+
+
+rule rate_spectrum:
+    """Named target: the growth-rate spectrum of the default scenario over figures.rate_spectrum.speeds."""
+    input:
+        "results/spectrum/default/rate_spectrum.png",

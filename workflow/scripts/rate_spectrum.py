@@ -1,0 +1,33 @@
+"""The linearised growth-rate spectrum of one scenario at one speed (rail.growth_spectrum)."""
+
+import sys
+
+import xarray as xr
+
+from rail import chain, growth_spectrum
+from rail.setup import build, io
+from rail.studies import datasets, rate_spectrum
+
+
+def main(config, name, table_path, speed, out_path, log):
+    s = config["figures"]["rate_spectrum"]
+    scn = build.spectrum_scenario(config, name)  # smooth rail, the spectrum's N-bay period
+    with xr.open_dataset(table_path) as t:
+        tabs = datasets.read_receptance_table(t.load())
+    lines = growth_spectrum.spectrum_lines(scn.L, scn.roughness.bays, scn.harmonics, float(s["shortest"]),
+                                           float(s["longest"]), int(s["per_octave"]))
+    print(f"{len(lines)} lines of a {scn.roughness.bays}-bay period, {s['shortest']:g}-{s['longest']:g} m, V = {speed:g} m/s",
+          file=log, flush=True)
+    sp = growth_spectrum.rate_spectrum(scn, tabs, lines, eps=float(s["eps"]), grid_phases=int(s["grid_phases"]))
+    print(f"linearity (2 eps against eps): {sp.linearity:.2e}; grid spread of the growth rate: at most "
+          f"{(sp.grid_spread / abs(sp.growth_rate).max()).max():.2e} of the largest rate", file=log, flush=True)
+    ds = rate_spectrum.rate_spectrum_dataset({speed: sp}, scn.L, len(scn.wheels.positions))
+    io.write_netcdf(io.finalize(ds, config, title=f"Growth-rate spectrum at {speed:g} m/s",
+                                source="rail.growth_spectrum.rate_spectrum"), out_path)
+
+
+if __name__ == "__main__":
+    log = open(snakemake.log[0], "w")  # noqa: F821
+    sys.stderr = log
+    w = snakemake.wildcards  # noqa: F821
+    main(snakemake.params.cfg, w.scenario, snakemake.input.table, float(w.speed), snakemake.output[0], log)  # noqa: F821

@@ -1,0 +1,24 @@
+"""The growth-rate spectra of one scenario over its speeds: one dataset and the speed x wavelength map."""
+
+import sys
+
+import xarray as xr
+
+from rail.plotting import studies as plots
+from rail.setup import io
+from rail.studies import rate_spectrum
+
+
+def main(paths, data_path, figure_path, summary_path):
+    parts = [xr.open_dataset(p).load() for p in paths]
+    ds = xr.concat(parts, dim="speed", data_vars="minimal", coords="minimal", compat="override", combine_attrs="override")
+    ds = ds.sortby("speed")
+    io.write_netcdf(ds, data_path)
+    plots.rate_spectrum_figure(ds).savefig(figure_path, dpi=150)
+    with open(summary_path, "w") as fh:
+        fh.write(rate_spectrum.summary_markdown(ds))
+
+
+if __name__ == "__main__":
+    sys.stderr = open(snakemake.log[0], "w")  # noqa: F821
+    main(list(snakemake.input), snakemake.output.data, snakemake.output.figure, snakemake.output.summary)  # noqa: F821
