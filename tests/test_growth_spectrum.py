@@ -232,3 +232,26 @@ def test_growing_bands_are_the_runs_of_positive_rate():
     assert growing_bands(lam, np.array([-1, 1, 2, -1, 1, 1])) == [(0.5, 0.4), (0.2, 0.1)]
     assert growing_bands(lam, -np.ones(6)) == []
     assert growing_bands(lam[:1], np.array([1.0])) == [(0.6, 0.6)]
+
+
+def test_sweep_rate_spectrum_puts_every_point_on_the_grid():
+    # two swept keys (2 x 3): each point's spectrum lands at its grid index, and the fastest
+    # wavelength is that of the largest growth at the point
+    from rail.growth_spectrum import RateSpectrum
+    from rail.studies.rate_spectrum import rate_spectrum_dataset, sweep_rate_spectrum
+
+    lines = np.array([48, 60, 96])
+    points, indices = [], []
+    for i in range(2):
+        for j in range(3):
+            rate = -np.array([1.0, 2.0, 3.0]) * 1e-7 * (1 + i) * np.roll([1, 0.5, 0.2], j)
+            sp = RateSpectrum(48 * 0.6 / lines, lines, np.array([1, 0, 1]), rate.astype(complex), rate.astype(complex),
+                              np.zeros(3), np.zeros(3), np.zeros(3), 1e-4, 1e-9, 48, 2)
+            points.append(rate_spectrum_dataset({40.0: sp}, 0.6, 1))
+            indices.append((i, j))
+    ds = sweep_rate_spectrum(points, ["track.pad.stiffness", "speed"], [[1e8, 3.5e8], [20.0, 40.0, 60.0]], indices)
+    assert ds["growth_dB"].dims == ("track_pad_stiffness", "speed", "wavelength")
+    for p, (i, j) in zip(points, indices):
+        np.testing.assert_array_equal(ds["growth_dB"].values[i, j], p["growth_dB"].values[0])
+        assert ds["fastest_wavelength"].values[i, j] == p["wavelength"].values[np.argmax(p["growth_rate"].values[0])]
+    assert ds["track_pad_stiffness"].attrs["units"] == "N/m"

@@ -130,3 +130,35 @@ def rate_spectrum_figure(ds: xr.Dataset):
         a.xaxis.set_major_formatter(matplotlib.ticker.FormatStrFormatter("%g"))
         a.xaxis.set_minor_formatter(matplotlib.ticker.NullFormatter())
     return fig
+
+
+def rate_spectrum_sweep_figure(ds: xr.Dataset):
+    """Growth-rate spectrum over a sweep: wavelength across, the first swept key up, one panel per
+    value of a second swept key (the first value of any further key)."""
+    keys = [d for d in ds["growth_dB"].dims if d != "wavelength"]
+    z = ds["growth_dB"]
+    for k in keys[2:]:
+        z = z.isel({k: 0})
+    second = keys[1] if len(keys) > 1 else None
+    panels = list(range(ds.sizes[second])) if second else [None]
+    fig, axes = plt.subplots(1, len(panels), figsize=(5.5 * len(panels) + 1, 4.2), layout="constrained", squeeze=False)
+    lam = ds["wavelength"].values * 1e3
+    lam_edges = np.r_[lam[0] * np.sqrt(lam[0] / lam[1]), np.sqrt(lam[1:] * lam[:-1]), lam[-1] * np.sqrt(lam[-1] / lam[-2])]
+    lo, hi = float(np.nanmin(z.values)), float(np.nanmax(z.values))
+    norm = matplotlib.colors.TwoSlopeNorm(vmin=min(lo, -1e-6), vcenter=0.0, vmax=max(hi, 1e-6))
+    y = ds[keys[0]].values
+    for ax, p in zip(axes[0], panels):
+        zz = (z.isel({second: p}) if second else z).transpose(keys[0], "wavelength").values
+        m = ax.pcolormesh(lam_edges, np.arange(len(y) + 1), zz, cmap="RdBu_r", norm=norm)
+        ax.set_xscale("log")
+        ax.set_xticks([20, 30, 50, 100, 200, 300, 600])
+        ax.xaxis.set_major_formatter(matplotlib.ticker.FormatStrFormatter("%g"))
+        ax.xaxis.set_minor_formatter(matplotlib.ticker.NullFormatter())
+        ax.set_yticks(np.arange(len(y)) + 0.5, [f"{v:g}" for v in y], fontsize=7)
+        ax.set_xlabel("wavelength (mm)")
+        ax.set_ylabel(f"{keys[0]} ({ds[keys[0]].attrs.get('units', '')})")
+        if second:
+            ax.set_title(f"{second} = {ds[second].values[p]:g} {ds[second].attrs.get('units', '')}", fontsize=9)
+    ticks = np.r_[np.linspace(norm.vmin, 0, 4)[:-1], np.linspace(0, norm.vmax, 4)]
+    fig.colorbar(m, ax=axes[0].tolist(), ticks=ticks, format="%.2g", label="growth (dB per 100000 passages)")
+    return fig

@@ -6,9 +6,9 @@ import numpy as np
 import xarray as xr
 
 from ..growth_spectrum import RateSpectrum
-from .datasets import _var
+from .datasets import _unit_of, _var
 
-__all__ = ["rate_spectrum_dataset", "growing_bands", "summary_markdown", "PASSAGES_PER_DB"]
+__all__ = ["rate_spectrum_dataset", "sweep_rate_spectrum", "growing_bands", "summary_markdown", "PASSAGES_PER_DB"]
 
 PASSAGES_PER_DB = 100000  # the dB growth is stated per this many train passages
 
@@ -119,3 +119,50 @@ def summary_markdown(ds: xr.Dataset) -> str:
         rows.append(f"| {v:g} | {text} | {1e3 * float(ds['fastest_wavelength'].values[i]):.3g} | "
                     f"{float(ds['fastest_growth_dB'].values[i]):+.2f} |")
     return "\n".join(rows) + "\n"
+
+
+def sweep_rate_spectrum(points: list, keys, values, indices) -> xr.Dataset:
+    """The growth-rate spectra of a sweep study's points on its grid (one dimension per swept key).
+
+    Parameters
+    ----------
+    points : list of xr.Dataset
+        Each point's spectrum (rate_spectrum_dataset at the point's speed), on the same lines.
+    keys : sequence of str
+        Swept keys (dotted config keys or 'speed').
+    values : sequence of sequence
+        Values of each key.
+    indices : sequence of sequence of int
+        Grid index of each point.
+
+    Returns
+    -------
+    xr.Dataset
+        growth_dB, growth_rate and drift over (swept keys..., wavelength); the fastest-growing
+        wavelength and its growth per grid point.
+    """
+    dims = tuple(k.replace(".", "_") for k in keys)
+    shape = tuple(len(v) for v in values)
+    first = points[0]
+    lam = first["wavelength"].values
+    out = {name: np.full(shape + (lam.size,), np.nan) for name in ("growth_dB", "growth_rate", "drift")}
+    for ds, idx in zip(points, indices):
+        if not np.array_equal(ds["wavelength"].values, lam):
+            raise ValueError("the sweep's spectra must share their lines (the same figures.rate_spectrum).")
+        for name in out:
+            out[name][tuple(idx)] = ds[name].values[0]
+    g = out["growth_dB"]
+    coords = {d: (d, np.asarray(v), {"units": _unit_of(k), "long_name": f"swept parameter {k}"}) for d, k, v in zip(dims, keys, values)}
+    coords["wavelength"] = first["wavelength"]
+    coords["locked"] = first["locked"]
+    return xr.Dataset(
+        {
+            "growth_dB": _var(dims + ("wavelength",), g, "dB", first["growth_dB"].attrs["long_name"]),
+            "growth_rate": _var(dims + ("wavelength",), out["growth_rate"], "1", first["growth_rate"].attrs["long_name"]),
+            "drift": _var(dims + ("wavelength",), out["drift"], "rad", first["drift"].attrs["long_name"]),
+            "fastest_wavelength": _var(dims, lam[np.nanargmax(g, axis=-1)], "m", "wavelength of the fastest growth"),
+            "fastest_growth_dB": _var(dims, np.nanmax(g, axis=-1), "dB", f"fastest growth per {PASSAGES_PER_DB} train passages"),
+        },
+        coords=coords,
+        attrs={"swept_keys": list(keys)},
+    )

@@ -382,7 +382,17 @@ def rate_spectrum_table(wildcards):
     """The Bloch tables of the spectrum's N-bay period (figures.rate_spectrum.bays) at the speed."""
     checked_speed(wildcards.scenario, wildcards.speed)
     bays = SCENARIOS[wildcards.scenario]["figures"]["rate_spectrum"]["bays"]
-    return f"results/spectrum/{wildcards.scenario}/tables_V{wildcards.speed}_N{bays}.nc"
+    return f"results/spectrum/{spectrum_table_owner(wildcards.scenario)}/tables_V{wildcards.speed}_N{bays}.nc"
+
+
+def spectrum_table_owner(name):
+    """The first scenario (default first) with the same track, track numerics, wheel offsets and
+    spectrum period as ``name``: its spectrum tables serve both."""
+    key = (track_name(name), tuple(wheel_offsets_of(SCENARIO_OBJECTS[name])), SCENARIOS[name]["figures"]["rate_spectrum"]["bays"])
+    for other in SCENARIOS:
+        if (track_name(other), tuple(wheel_offsets_of(SCENARIO_OBJECTS[other])), SCENARIOS[other]["figures"]["rate_spectrum"]["bays"]) == key:
+            return other
+    return name
 
 
 def scenario_track_config(wildcards):
@@ -401,3 +411,14 @@ def rate_spectrum_speeds(wildcards):
     """The per-speed spectra of a scenario (figures.rate_spectrum.speeds)."""
     speeds = SCENARIOS[wildcards.scenario]["figures"]["rate_spectrum"]["speeds"]
     return [f"results/spectrum/{wildcards.scenario}/V{speed_label(v)}.nc" for v in speeds]
+
+
+def rate_spectrum_sweep_points(wildcards):
+    """The spectrum of every point of a sweep study, at the point's speed, in grid order."""
+    return [f"results/spectrum/{p['name']}/V{speed_label(p['speed'])}.nc" for p in SWEEPS[wildcards.study]["points"]]
+
+
+def rate_spectrum_sweep_targets():
+    """Spectrum maps of the sweep studies whose swept keys change the smooth rail's spectrum."""
+    studies = [s for s, sw in SWEEPS.items() if any(not k.startswith("roughness.") for k in sw["keys"])]
+    return expand(["results/spectrum_sweeps/{study}.nc", "results/spectrum_sweeps/{study}.png"], study=sorted(studies))

@@ -72,3 +72,31 @@ rule rate_spectrum:
     """Named target: the growth-rate spectrum of the default scenario over figures.rate_spectrum.speeds."""
     input:
         "results/spectrum/default/rate_spectrum.png",
+
+
+rule rate_spectrum_sweep:
+    """The spectra of a sweep study's points (each at its speed) on the study's grid."""
+    input:
+        rate_spectrum_sweep_points,
+    output:
+        data="results/spectrum_sweeps/{study}.nc",
+        figure=report("results/spectrum_sweeps/{study}.png", caption="../report/rate_spectrum_sweep.rst", category="Growth-rate spectrum"),
+    params:
+        code=code("rate_spectrum_sweep.py"),
+        swept=sweep_keys,
+        grid=sweep_values,
+        indices=sweep_indices,
+    resources:
+        mem_mb=500,
+        runtime=5,
+    log:
+        "logs/spectrum_sweeps/{study}.log",
+    script:
+        "../scripts/rate_spectrum_sweep.py"
+
+
+rule rate_spectrum_sweeps:
+    """Named target: the growth-rate spectrum over every sweep study whose swept keys change it
+    (not those sweeping only roughness.*: the spectrum is about the smooth rail)."""
+    input:
+        rate_spectrum_sweep_targets(),
