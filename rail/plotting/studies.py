@@ -108,7 +108,7 @@ def rate_spectrum_figure(ds: xr.Dataset):
     for x in lam[comb]:
         ax.axvline(x, color="0.85", lw=0.6, zorder=0)
     ax.set_xscale("log")
-    ax.set_ylabel(f"growth ({g.attrs['units']} per {g.attrs['long_name'].split(' per ')[1].split(' train')[0]} passages)")
+    ax.set_ylabel(f"growth ({g.attrs.get('level_unit', g.attrs['units'])} per {g.attrs['long_name'].split(' per ')[1].split(' train')[0]} passages)")
     ax.legend(fontsize=8, ncol=2, loc="best", framealpha=0.9)
     ax.set_title(f"linearised growth-rate spectrum ({int(ds.attrs['wheels'])} wheel(s), probe {ds.attrs['eps_m'] * 1e9:g} nm; "
                  "grey: comb L/k)", fontsize=9)

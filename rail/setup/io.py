@@ -6,15 +6,20 @@ just before a dataset is written.
 
 from __future__ import annotations
 
+import datetime
 import importlib.metadata
 import platform
+import re
+import subprocess
+from pathlib import Path
 
+import numpy as np
 import xarray as xr
 import yaml
 
 from .. import __version__
 
-__all__ = ["package_versions", "finalize", "write_netcdf"]
+__all__ = ["package_versions", "cf_units", "code_version", "finalize", "write_netcdf"]
 
 _PACKAGES = ("numpy", "scipy", "numba", "xarray", "netCDF4", "pandas", "matplotlib", "snakemake")
 
@@ -30,7 +35,52 @@ def package_versions() -> dict[str, str]:
     return out
 
 
-def finalize(ds: xr.Dataset, config: dict, *, title: str, source: str) -> xr.Dataset:
+_LEVEL = re.compile(r"^dB(?: re (?P<ref>.+))?$")
+_PER_PASSAGES = re.compile(r"^(?P<unit>\S+) per (?P<n>[0-9]+) passages$")
+
+
+def cf_units(units: str) -> tuple[str, dict]:
+    """A unit string that udunits parses (CF conventions), and the attributes that say the rest.
+
+    * levels in decibels ("dB", "dB re 1 um"): units "1" (a level is a number), with level_unit
+      "dB" and level_reference the reference ("1 um", meaning 1 µm rms);
+    * "dB/m" (a decay rate): "1/m" with level_unit "dB";
+    * rates per N passages ("um per 100000 passages"): the unit scaled to one passage
+      ("1e-05 um": the value times 1e-05 um is the amount per wheel passage), with per "passage";
+    * anything else unchanged. The original string is kept in units_text whenever it changes.
+    """
+    m = _LEVEL.match(units)
+    if m:
+        extra = {"level_unit": "dB", "units_text": units}
+        if m.group("ref"):
+            extra["level_reference"] = m.group("ref") + " rms" if "um" in m.group("ref") else m.group("ref")
+        return "1", extra
+    if units == "dB/m":
+        return "1/m", {"level_unit": "dB", "units_text": units}
+    m = _PER_PASSAGES.match(units)
+    if m:
+        scale = f"{1 / int(m.group('n')):g}"
+        level = m.group("unit") == "dB"  # a level change: a number, in dB
+        unit = scale if m.group("unit") in ("1", "dB") else f"{scale} {m.group('unit')}"
+        return unit, {"per": "passage", "units_text": units, **({"level_unit": "dB"} if level else {})}
+    return units, {}
+
+
+def code_version() -> str:
+    """The commit of the code (git), "<commit> with uncommitted changes", or "unknown" outside git."""
+    root = Path(__file__).resolve().parents[2]
+    try:
+        commit = subprocess.run(["git", "rev-parse", "HEAD"], cwd=root, capture_output=True, text=True, timeout=10)
+        if commit.returncode != 0:
+            return "unknown (not a git checkout)"
+        dirty = subprocess.run(["git", "status", "--porcelain", "--untracked-files=no", "--", "rail", "workflow", "Snakefile"],
+                               cwd=root, capture_output=True, text=True, timeout=10)
+        return commit.stdout.strip() + (" with uncommitted changes" if dirty.stdout.strip() else "")
+    except (OSError, subprocess.SubprocessError):
+        return "unknown (git not available)"
+
+
+def finalize(ds: xr.Dataset, config: dict, *, title: str, source: str, scenario: str | None = None) -> xr.Dataset:
     """Attach the resolved configuration, versions and provenance; insist on units and long names.
 
     Raises ValueError naming every variable or coordinate that lacks ``units`` or ``long_name``,
@@ -45,9 +95,18 @@ def finalize(ds: xr.Dataset, config: dict, *, title: str, source: str) -> xr.Dat
     if missing:
         raise ValueError(f"dataset '{title}' lacks attributes: {', '.join(missing)}")
     ds = ds.copy()
+    for dim in ds.dims:  # a coordinate on every dimension (CF): an index where the data has none
+        if dim not in ds.coords:
+            ds = ds.assign_coords({dim: (dim, np.arange(ds.sizes[dim]), {"units": "1", "long_name": f"index along {dim}"})})
+    for name in list(ds.data_vars) + list(ds.coords):
+        units, extra = cf_units(str(ds[name].attrs["units"]))
+        ds[name].attrs.update(units=units, **extra)
     ds.attrs.update(
         title=title,
         source=source,
+        scenario=scenario if scenario is not None else str(config.get("name", "not stated")),
+        code_version=code_version(),
+        date_created=datetime.datetime.now(datetime.timezone.utc).isoformat(timespec="seconds"),
         references="Sheng, Thompson & Jones, Modelling rail roughness growth on tangent tracks, ISVR",
         config=yaml.safe_dump(config, sort_keys=True),
         package_versions=yaml.safe_dump(package_versions(), sort_keys=True),

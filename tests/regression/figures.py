@@ -43,7 +43,7 @@ def compare_data(new: Path, old: Path) -> list[str]:
                 problems.append(f"{new.name}: {name} has non-finite values where the baseline has none (or vice versa)")
                 continue
             diff = np.abs(x[finite] - y[finite]).max(initial=0.0)
-            if "dB" in b[name].attrs.get("units", ""):
+            if "dB" in b[name].attrs.get("units", "") or b[name].attrs.get("level_unit") == "dB":
                 limit = DB_ATOL
             else:
                 limit = RTOL * np.abs(y[finite]).max(initial=0.0)

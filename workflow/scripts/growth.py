@@ -7,6 +7,7 @@ import xarray as xr
 
 from rail import chain, interaction
 from rail.setup import build, io
+from rail.setup.progress import Tee
 from rail.studies import datasets
 
 
@@ -22,11 +23,12 @@ def main(config, name, table_path, speed, checkpoint, out_path, log):
         return interaction.force_history(chain.solve_forces(scn, tab, interaction.Roughness(Z, bays)), x)
 
     ds = datasets.growth(history, scn.track, speed, len(scn.wheels.positions), bays=bays, force=force)
-    io.write_netcdf(io.finalize(ds, config, title=f"Roughness growth at {speed:g} m/s", source="rail.chain.grow"), out_path)
+    io.write_netcdf(io.finalize(ds, config, title=f"Roughness growth at {speed:g} m/s", source="rail.chain.grow", scenario=name), out_path)
 
 
 if __name__ == "__main__":
     log = open(snakemake.log[0], "w")  # noqa: F821
     sys.stderr = log
     w = snakemake.wildcards  # noqa: F821
-    main(snakemake.params.cfg, w.scenario, snakemake.input.table, float(w.speed), snakemake.params.checkpoint, snakemake.output[0], log)  # noqa: F821
+    progress = Tee(log, f"growth {w.scenario} V{w.speed}")  # the log, and the terminal if it is one
+    main(snakemake.params.cfg, w.scenario, snakemake.input.table, float(w.speed), snakemake.params.checkpoint, snakemake.output[0], progress)  # noqa: F821

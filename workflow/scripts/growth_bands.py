@@ -18,7 +18,7 @@ def main(config, name, growth_path, out):
     limit = read_third_octave_spectrum(s["limit"]) if s["limit"] else None
     tob = bands.third_octave_bands(float(s["longest"]), float(s["shortest"]))
     ds = bands.bands_dataset(growth, scn.L, tob, int(s["min_lines"]), limit, scn.axles_per_day)
-    io.write_netcdf(io.finalize(ds, config, title=f"One-third-octave roughness bands, scenario {name}", source="rail.studies.bands"), out["data"])
+    io.write_netcdf(io.finalize(ds, config, title=f"One-third-octave roughness bands, scenario {name}", source="rail.studies.bands", scenario=name), out["data"])
     bands.write_band_csv(ds, out["csv"])
     report.band_spectra(ds).savefig(out["figure"], dpi=150)
 

@@ -23,7 +23,7 @@ def main(config, name, table_path, speed, out_path, log):
           f"{(sp.grid_spread / abs(sp.growth_rate).max()).max():.2e} of the largest rate", file=log, flush=True)
     ds = rate_spectrum.rate_spectrum_dataset({speed: sp}, scn.L, len(scn.wheels.positions))
     io.write_netcdf(io.finalize(ds, config, title=f"Growth-rate spectrum at {speed:g} m/s",
-                                source="rail.growth_spectrum.rate_spectrum"), out_path)
+                                source="rail.growth_spectrum.rate_spectrum", scenario=name), out_path)
 
 
 if __name__ == "__main__":

@@ -13,7 +13,7 @@ def main(config, study, keys, values, indices, paths, data_path, figure_path):
     points = [xr.open_dataset(p).load() for p in paths]
     ds = rate_spectrum.sweep_rate_spectrum(points, keys, values, indices)
     ds = io.finalize(ds, config, title=f"Growth-rate spectrum over the sweep {study}",
-                     source="rail.studies.rate_spectrum.sweep_rate_spectrum")
+                     source="rail.studies.rate_spectrum.sweep_rate_spectrum", scenario=f"sweep study {study}")
     io.write_netcdf(ds, data_path)
     plots.rate_spectrum_sweep_figure(ds).savefig(figure_path, dpi=150)
 

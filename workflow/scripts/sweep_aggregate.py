@@ -15,7 +15,7 @@ def main(config, study, keys, values, indices, run_paths, data_path, figure_path
         with xr.open_dataset(path) as ds:
             runs.append(ds.load())
     ds = datasets.sweep(runs, keys, values, indices)
-    ds = io.finalize(ds, config, title=f"Sweep study {study}", source="rail.studies.datasets.sweep")
+    ds = io.finalize(ds, config, title=f"Sweep study {study}", source="rail.studies.datasets.sweep", scenario=f"sweep study {study}")
     io.write_netcdf(ds, data_path)
     report.sweep_map(ds).savefig(figure_path, dpi=150)
 

@@ -17,7 +17,7 @@ def main(config, study, keys, values, indices, run_paths, data_path, figure_path
     s = config["figures"]["bands"]
     tob = bands.third_octave_bands(float(s["longest"]), float(s["shortest"]))
     ds = bands.sweep_band_map(runs, keys, values, indices, build.scenario(config).L, tob, int(s["min_lines"]))
-    io.write_netcdf(io.finalize(ds, config, title=f"Band growth over the sweep {study}", source="rail.studies.bands.sweep_band_map"), data_path)
+    io.write_netcdf(io.finalize(ds, config, title=f"Band growth over the sweep {study}", source="rail.studies.bands.sweep_band_map", scenario=f"sweep study {study}"), data_path)
     report.sweep_band_map(ds).savefig(figure_path, dpi=150)
 
 

@@ -1,0 +1,77 @@
+"""Result files explain themselves (issue 23): every unit string parses with udunits (cf-units, the
+CF conventions' unit library) with its meaning kept, and commit, date and scenario are stated;
+progress reaches the terminal as well as the log."""
+
+import ast
+from pathlib import Path
+
+import cf_units
+import numpy as np
+import pytest
+import xarray as xr
+
+from rail.setup import io
+
+ROOT = Path(__file__).resolve().parents[1]
+
+
+def _unit_literals():
+    """The units argument of every _var(...) call in rail/ that is a plain string."""
+    found = set()
+    for path in (ROOT / "rail").rglob("*.py"):
+        for node in ast.walk(ast.parse(path.read_text())):
+            if isinstance(node, ast.Call) and getattr(node.func, "id", None) == "_var" and len(node.args) >= 3:
+                arg = node.args[2]
+                if isinstance(arg, ast.Constant) and isinstance(arg.value, str):
+                    found.add(arg.value)
+    return sorted(found)
+
+
+def test_the_source_has_unit_strings_to_check():
+    units = _unit_literals()
+    assert len(units) > 15 and "dB re 1 um" in units and "um per 100000 passages" in units
+
+
+@pytest.mark.parametrize("units", _unit_literals())
+def test_every_unit_string_parses_with_udunits_after_finalize(units):
+    converted, extra = io.cf_units(units)
+    cf_units.Unit(converted)  # raises ValueError for a string udunits cannot parse
+    if converted != units:
+        assert extra["units_text"] == units
+
+
+def test_levels_and_rates_keep_their_meaning():
+    assert io.cf_units("dB re 1 um") == ("1", {"level_unit": "dB", "units_text": "dB re 1 um", "level_reference": "1 um rms"})
+    u, extra = io.cf_units("um per 100000 passages")
+    assert extra["per"] == "passage"
+    # 3 um per 100,000 passages is 3e-5 um per passage = 3e-11 m
+    assert cf_units.Unit(u).convert(3.0, cf_units.Unit("m")) == pytest.approx(3e-11)
+    assert cf_units.Unit(io.cf_units("1 per 100000 passages")[0]).convert(2.0, cf_units.Unit("1")) == pytest.approx(2e-5)
+    assert io.cf_units("m/s") == ("m/s", {})
+    assert io.cf_units(io.cf_units("m per 10000 passages")[0])[0] == "0.0001 m"  # idempotent
+
+
+def test_finalize_states_commit_date_and_scenario():
+    ds = xr.Dataset({"a": ("x", np.arange(3.0), {"units": "dB re 1 um", "long_name": "a level"}),
+                     "b": ("update", np.arange(2.0), {"units": "1", "long_name": "per update"})},
+                    coords={"x": ("x", np.arange(3.0), {"units": "m", "long_name": "position"})})
+    out = io.finalize(ds, {"a": 1}, title="t", source="s", scenario="soft_pad")
+    assert out.attrs["scenario"] == "soft_pad"
+    assert out.attrs["code_version"].split()[0] and "date_created" in out.attrs
+    assert out["a"].attrs["units"] == "1" and out["a"].attrs["level_unit"] == "dB"
+    assert "update" in out.coords and out["update"].attrs["units"] == "1"  # a coordinate on every dimension
+
+
+def test_progress_goes_to_the_log_whole_and_to_the_terminal_prefixed():
+    import io as _io
+
+    from rail.setup.progress import Tee
+
+    log, term = _io.StringIO(), _io.StringIO()
+    t = Tee(log, "growth default V40", terminal=term)
+    print("10000 of 20000 passages, 825 passages/s, 12 s left", file=t, flush=True)
+    t.write("half a ")
+    t.write("line\n")
+    assert log.getvalue() == "10000 of 20000 passages, 825 passages/s, 12 s left\nhalf a line\n"
+    assert term.getvalue() == ("[growth default V40] 10000 of 20000 passages, 825 passages/s, 12 s left\n"
+                               "[growth default V40] half a line\n")
