@@ -14,7 +14,7 @@ from rail.setup.config import load_yaml
 ROOT = Path(__file__).resolve().parents[1]
 RAIL = ROOT / "rail"
 SCRIPTS = sorted((ROOT / "workflow/scripts").glob("*.py"))
-LAYERS = {"physics": 0, "setup": 1, "studies": 2, "plotting": 3}
+LAYERS = {"physics": 0, "setup": 1, "studies": 2, "plotting": 3, "app": 4}
 
 
 def _layer(path: Path) -> str:

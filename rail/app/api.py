@@ -1,0 +1,164 @@
+"""railgrowth from Python: load a scenario, grow roughness, compute a growth-rate spectrum.
+
+Every function is keyword-only after its first argument and returns an xarray Dataset with units,
+long names, the resolved configuration and provenance (rail.setup.io.finalize), the same as the
+workflow writes. A worked example is docs/example.py (run by the tests).
+
+    from rail.app import api
+    study = api.load("soft_pad")
+    ds = api.growth(study, speed=40.0, passages=20000)
+"""
+
+from __future__ import annotations
+
+import dataclasses
+import sys
+from dataclasses import dataclass
+from pathlib import Path
+
+import xarray as xr
+
+from .. import chain, growth_spectrum, interaction
+from ..scenario import Scenario
+from ..setup import build, config, io
+from ..studies import datasets, rate_spectrum
+
+__all__ = ["Study", "load", "growth", "spectrum", "ROOT"]
+
+ROOT = Path(__file__).resolve().parents[2]  # the project folder holding config/
+
+
+@dataclass(frozen=True)
+class Study:
+    """A scenario and the resolved configuration it was built from.
+
+    name     : the scenario's name ("default" or the stem of config/scenarios/<name>.yaml)
+    scenario : rail.scenario.Scenario
+    config   : the resolved, validated configuration (dict), stored in every result file
+    """
+
+    name: str
+    scenario: Scenario
+    config: dict
+
+
+def load(name: str = "default", *, root: str | Path | None = None, changes: dict | None = None) -> Study:
+    """Build a scenario from the project's configuration, validated as the workflow does.
+
+    Parameters
+    ----------
+    name : str
+        "default" (config/config.yaml) or a scenario file's stem (config/scenarios/<name>.yaml),
+        or the path of any scenario YAML file.
+    root : path, optional
+        Folder holding config/ (default: this checkout).
+    changes : dict, optional
+        Keys to change on top (nested like the YAML, e.g. {"track": {"pad": {"stiffness": 1e8}}}),
+        validated too.
+
+    Returns
+    -------
+    Study
+
+    Raises
+    ------
+    rail.setup.config.ConfigError
+        Naming the file, key, value and valid range of every problem; a sweep file is refused (its
+        points are scenarios of the workflow: snakemake -j2 sweeps).
+    """
+    root = Path(root) if root is not None else ROOT
+    schema = config.load_yaml(root / "config/schema/config.schema.yaml")
+    defaults = config.validate_config(config.load_yaml(root / "config/config.yaml"), schema, source="config/config.yaml")
+    path = Path(name)
+    if path.suffix in (".yaml", ".yml"):
+        source, stem, scen = str(path), path.stem, config.load_yaml(path)
+    elif name == "default":
+        source, stem, scen = "config/config.yaml", "default", {}
+    else:
+        path = root / "config/scenarios" / f"{name}.yaml"
+        if not path.exists():
+            known = sorted(p.stem for p in (root / "config/scenarios").glob("*.yaml"))
+            raise config.ConfigError(f"scenario '{name}' is not defined: the scenarios are default, {', '.join(known)}.")
+        source, stem, scen = str(path.relative_to(root)), name, config.load_yaml(path)
+    if "sweep" in scen:
+        raise config.ConfigError(f"{source} is a sweep study: its grid points are scenarios of the workflow "
+                                 "(snakemake -j2 sweeps); load one point's keys as changes instead.")
+    cfg = config.resolve(defaults, schema, config.deep_merge(scen, changes or {}), source=source)
+    return Study(stem, build.scenario(cfg, stem, source), cfg)
+
+
+def growth(study: Study, *, speed: float, passages: int | None = None, checkpoint=None, progress=sys.stderr) -> xr.Dataset:
+    """Roughness growth of a study at one speed from its initial roughness (secs 4-5).
+
+    Parameters
+    ----------
+    study : Study
+    speed : float
+        Train speed [m/s].
+    passages : int, optional
+        Wheel passages (default: the study's growth.passages); a multiple of growth.save_every.
+    checkpoint : path, optional
+        Resumable checkpoint (a killed run resumes from it).
+    progress : file
+        Where progress lines go.
+
+    Returns
+    -------
+    xr.Dataset
+        As results/growth/<scenario>/V<speed>.nc: levels and profiles at every saved passage count,
+        roughness coefficients, growth rates, the wheel force.
+    """
+    scn = study.scenario
+    if passages is not None:
+        scn = dataclasses.replace(scn, growth=dataclasses.replace(scn.growth, passages=int(passages)))
+    table = chain.receptance_table(scn, speed)
+    history = chain.grow(scn, table, checkpoint=checkpoint, identity={"config": study.config}, progress=progress,
+                         on_mismatch="restart")
+    bays = scn.roughness.bays
+
+    def force(Z, x):
+        return interaction.force_history(chain.solve_forces(scn, table, interaction.Roughness(Z, bays)), x)
+
+    ds = datasets.growth(history, scn.track, speed, len(scn.wheels.positions), bays=bays, force=force)
+    return io.finalize(ds, study.config, title=f"Roughness growth at {speed:g} m/s", source="rail.app.api.growth",
+                       scenario=study.name)
+
+
+def spectrum(study: Study, *, speeds, shortest: float | None = None, longest: float | None = None,
+             per_octave: int | None = None, bays: int | None = None, grid_phases: int | None = None) -> xr.Dataset:
+    """Growth-rate spectrum of a study about the smooth rail at one or more speeds (rail.growth_spectrum).
+
+    Parameters
+    ----------
+    study : Study
+    speeds : float or sequence of float
+        Train speeds [m/s].
+    shortest, longest : float, optional
+        Wavelength range [m] (default: figures.rate_spectrum of the study).
+    per_octave : int, optional
+        Lines per octave at least.
+    bays : int, optional
+        Roughness period N of the lines [bays]; must resolve the longest wavelength.
+    grid_phases : int, optional
+        Contact grids averaged over.
+
+    Returns
+    -------
+    xr.Dataset
+        As results/spectrum/<scenario>/rate_spectrum.nc: growth rate, drift, dB per 100,000
+        passages over (speed, wavelength).
+    """
+    s = dict(study.config["figures"]["rate_spectrum"])
+    s.update({k: v for k, v in dict(shortest=shortest, longest=longest, per_octave=per_octave, bays=bays,
+                                     grid_phases=grid_phases).items() if v is not None})
+    cfg = config.deep_merge(study.config, {"figures": {"rate_spectrum": s}})
+    scn = build.spectrum_scenario(cfg, study.name)
+    lines = growth_spectrum.spectrum_lines(scn.L, scn.roughness.bays, scn.harmonics, float(s["shortest"]),
+                                           float(s["longest"]), int(s["per_octave"]))
+    spectra = {}
+    for v in ([speeds] if isinstance(speeds, (int, float)) else list(speeds)):
+        tables = chain.receptance_table(scn, float(v))
+        spectra[float(v)] = growth_spectrum.rate_spectrum(scn, tables, lines, eps=float(s["eps"]),
+                                                          grid_phases=int(s["grid_phases"]))
+    ds = rate_spectrum.rate_spectrum_dataset(spectra, scn.L, len(scn.wheels.positions))
+    return io.finalize(ds, cfg, title="Growth-rate spectrum", source="rail.app.api.spectrum", scenario=study.name)

@@ -1,0 +1,70 @@
+"""The command line: ``railgrowth check <file>`` and ``railgrowth run <scenario>`` (argparse).
+
+    railgrowth check config/scenarios/my_pad.yaml     validate a scenario file, as the workflow does
+    railgrowth run soft_pad --speed 40                grow roughness; writes soft_pad_V40.nc here
+    railgrowth spectrum default --speed 40            the growth-rate spectrum; default_spectrum.nc
+
+A problem with the input is one line per problem naming file, key, value and valid range, and exit
+status 2; nothing is computed before the input is valid.
+"""
+
+from __future__ import annotations
+
+import argparse
+import sys
+from pathlib import Path
+
+from ..setup.config import ConfigError
+from ..setup.io import write_netcdf
+
+__all__ = ["main"]
+
+
+def _parser() -> argparse.ArgumentParser:
+    p = argparse.ArgumentParser(prog="railgrowth", description="Rail roughness growth on tangent track (Sheng, Thompson & Jones).")
+    p.add_argument("--root", type=Path, default=None, help="project folder holding config/ (default: this checkout)")
+    sub = p.add_subparsers(dest="command", required=True)
+    c = sub.add_parser("check", help="validate a scenario file (merged onto config/config.yaml)")
+    c.add_argument("file", help="scenario YAML file, or a scenario name")
+    r = sub.add_parser("run", help="grow roughness for a scenario at one speed and write a netCDF file")
+    r.add_argument("scenario", help="'default', a name in config/scenarios/, or a YAML file")
+    r.add_argument("--speed", type=float, required=True, help="train speed, m/s")
+    r.add_argument("--passages", type=int, default=None, help="wheel passages (default: the scenario's growth.passages)")
+    r.add_argument("--out", type=Path, default=None, help="output file (default: <scenario>_V<speed>.nc)")
+    r.add_argument("--checkpoint", type=Path, default=None, help="resumable checkpoint file")
+    s = sub.add_parser("spectrum", help="growth-rate spectrum of a scenario about the smooth rail")
+    s.add_argument("scenario", help="'default', a name in config/scenarios/, or a YAML file")
+    s.add_argument("--speed", type=float, nargs="+", required=True, help="train speed(s), m/s")
+    s.add_argument("--out", type=Path, default=None, help="output file (default: <scenario>_spectrum.nc)")
+    return p
+
+
+def main(argv=None) -> int:
+    """Run the command line; returns the exit status (0 ok, 2 invalid input)."""
+    args = _parser().parse_args(argv)
+    from . import api  # after parsing: --help answers without importing the model
+
+    try:
+        study = api.load(args.file if args.command == "check" else args.scenario, root=args.root)
+        if args.command == "check":
+            print(f"ok: scenario '{study.name}' is valid ({len(study.scenario.speeds)} speed(s), "
+                  f"{len(study.scenario.wheels.positions)} wheel(s), roughness period {study.scenario.roughness.bays} bay(s)).")
+            return 0
+        if args.command == "run":
+            if not (args.speed > 0 and args.speed < float("inf")):
+                raise ConfigError(f"--speed = {args.speed} m/s is not allowed: it must be a finite number > 0.")
+            ds = api.growth(study, speed=args.speed, passages=args.passages, checkpoint=args.checkpoint)
+            out = args.out or Path(f"{study.name}_V{args.speed:g}.nc")
+        else:
+            ds = api.spectrum(study, speeds=args.speed)
+            out = args.out or Path(f"{study.name}_spectrum.nc")
+    except (ConfigError, ValueError) as e:
+        print(f"railgrowth: {e}", file=sys.stderr)
+        return 2
+    write_netcdf(ds, out)
+    print(f"wrote {out}")
+    return 0
+
+
+if __name__ == "__main__":
+    sys.exit(main())
