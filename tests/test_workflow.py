@@ -178,3 +178,24 @@ def test_studies_are_named_targets_that_reuse_the_default_tables(root, workdir):
     assert c["stability_case"] == len(stab["cases"]) and c["stability_table"] == 1
     assert n_conv == 26 and c["convergence_point"] == n_conv and c["convergence_aggregate"] == 1
     assert c["receptance"] == 3  # default at 20 and 40 m/s, soft_pad at 40 m/s
+
+
+def test_a_configfile_run_writes_under_its_own_name_and_leaves_the_defaults_untouched(root, workdir):
+    # issue 23: `snakemake --configfile my_changes.yaml` wrote into results/ over the default results
+    import hashlib
+
+    defaults = {workdir / "results/figures/fig06.png": b"default figure", workdir / "results/data/fig06.nc": b"default data"}
+    for path, content in defaults.items():
+        path.parent.mkdir(parents=True, exist_ok=True)
+        path.write_bytes(content)
+    before = {p: hashlib.sha256(p.read_bytes()).hexdigest() for p in defaults}
+    changes = workdir / "my_changes.yaml"
+    changes.write_text("contact:\n  hertz_stiffness: 1.5e+9\n")
+    out = snakemake(root, "-j1", "results/figures/fig06.png", "--configfile", str(changes), cwd=workdir)
+    assert out.returncode == 0, out.stderr
+    assert "it writes under runs/my_changes/" in out.stderr
+    assert {p: hashlib.sha256(p.read_bytes()).hexdigest() for p in defaults} == before
+    run = workdir / "runs/my_changes"
+    assert (run / "results/figures/fig06.png").stat().st_size > 10_000
+    with xr.open_dataset(run / "results/data/fig06.nc") as ds:
+        assert yaml.safe_load(ds.attrs["config"])["contact"]["hertz_stiffness"] == 1.5e9

@@ -1,5 +1,6 @@
 # Helpers that turn the configuration into target lists. Rules live in the other .smk files.
 
+import sys
 from pathlib import Path
 
 from snakemake.utils import validate
@@ -422,3 +423,38 @@ def rate_spectrum_sweep_targets():
     """Spectrum maps of the sweep studies whose swept keys change the smooth rail's spectrum."""
     studies = [s for s, sw in SWEEPS.items() if any(not k.startswith("roughness.") for k in sw["keys"])]
     return expand(["results/spectrum_sweeps/{study}.nc", "results/spectrum_sweeps/{study}.png"], study=sorted(studies))
+
+
+def _differing_keys(a, b, prefix=""):
+    """Dotted keys whose values differ between two configuration mappings."""
+    keys = []
+    for k in sorted(set(a) | set(b), key=str):
+        x, y = a.get(k), b.get(k)
+        if isinstance(x, dict) and isinstance(y, dict):
+            keys += _differing_keys(x, y, f"{prefix}{k}.")
+        elif x != y:
+            keys.append(f"{prefix}{k}")
+    return keys
+
+
+def one_off_run_dir(configfiles):
+    """runs/<name> for a configuration that differs from config/config.yaml (a one-off run:
+    --configfile my_changes.yaml gives runs/my_changes), with runs/<name>/config pointing to this
+    project's config/ (so that scenario and input files resolve as here); None for the defaults.
+    A one-off run never writes over the default results."""
+    import hashlib
+    import re as _re
+
+    changed = _differing_keys(config, load_yaml("config/config.yaml"))
+    if not changed:
+        return None
+    stems = [_re.sub(r"[^A-Za-z0-9_-]", "_", Path(f).stem) for f in configfiles]
+    name = "_".join(stems) or "overrides-" + hashlib.sha256(repr(sorted(changed)).encode()).hexdigest()[:8]
+    run = Path("runs") / name
+    run.mkdir(parents=True, exist_ok=True)
+    link = run / "config"
+    if not link.exists():
+        link.symlink_to(Path("config").resolve(), target_is_directory=True)
+    print(f"one-off configuration (differs from config/config.yaml in {', '.join(changed[:6])}"
+          f"{', ...' if len(changed) > 6 else ''}): it writes under {run}/ and leaves results/ untouched.", file=sys.stderr)
+    return run
