@@ -449,7 +449,8 @@ def one_off_run_dir(configfiles):
     if not changed:
         return None
     stems = [_re.sub(r"[^A-Za-z0-9_-]", "_", Path(f).stem) for f in configfiles]
-    name = "_".join(stems) or "overrides-" + hashlib.sha256(repr(sorted(changed)).encode()).hexdigest()[:8]
+    digest = hashlib.sha256(repr(sorted(changed)).encode()).hexdigest()[:8]
+    name = "_".join(stems) or f"overrides-{digest}"
     run = Path("runs") / name
     run.mkdir(parents=True, exist_ok=True)
     link = run / "config"
