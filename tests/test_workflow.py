@@ -199,3 +199,19 @@ def test_a_configfile_run_writes_under_its_own_name_and_leaves_the_defaults_unto
     assert (run / "results/figures/fig06.png").stat().st_size > 10_000
     with xr.open_dataset(run / "results/data/fig06.nc") as ds:
         assert yaml.safe_load(ds.attrs["config"])["contact"]["hertz_stiffness"] == 1.5e9
+
+
+def test_a_new_scenario_file_gets_its_figures_and_report_entries_from_one_command(root, workdir):
+    # issue 23: a user's scenario gets the one-page overview (spectrum against wavelength beside the
+    # default's, profiles, force), the band view and the 3-D plot from `snakemake -j2 study_<name>`,
+    # and the HTML report lists them (reduced: one speed, 20,000 passages)
+    (workdir / "config/scenarios/my_pad.yaml").write_text(
+        "track:\n  pad:\n    stiffness: 2.0e+8\nspeeds: [40.0]\ngrowth:\n  passages: 20000\n")
+    out = snakemake(root, "-j2", "study_my_pad", cwd=workdir)
+    assert out.returncode == 0, out.stderr[-2000:]
+    for suffix in ("overview", "bands", "3d"):
+        assert (workdir / f"results/growth/my_pad/V40_{suffix}.png").stat().st_size > 10_000, suffix
+    rep = snakemake(root, "--report", "report.html", "results/growth/my_pad/V40_overview.png", cwd=workdir)
+    assert rep.returncode == 0, rep.stderr[-2000:]
+    html = (workdir / "report.html").read_text(errors="replace")
+    assert "V40_overview.png" in html and "my_pad" in html

@@ -233,8 +233,10 @@ def growth_3d(ds: xr.Dataset):
     """The three-dimensional plot of section 5: level over wavenumber and passages."""
     fig = plt.figure(figsize=(7.0, 5.0), layout="constrained")
     ax = fig.add_subplot(projection="3d")
-    kk, nn = np.meshgrid(ds["wavenumber"].values, ds["passage"].values)
-    ax.plot_surface(kk, nn / 1e3, ds["level"].values, cmap="viridis", linewidth=0)
+    level = ds["level"].values
+    keep = np.any(np.isfinite(level), axis=1)  # a smooth rail (no level) is left out, not drawn at a floor
+    kk, nn = np.meshgrid(ds["wavenumber"].values, ds["passage"].values[keep])
+    ax.plot_surface(kk, nn / 1e3, level[keep], cmap="viridis", linewidth=0)
     ax.set_xlabel("wavenumber (rad/m)")
     ax.set_ylabel("passages (thousands)")
     ax.set_zlabel("level (dB re 1 µm)")
@@ -258,7 +260,7 @@ def growth_narrowband(ds: xr.Dataset):
         a1.plot(lam[comb], lev[comb], "o", mfc="none", color="k", ms=3)
     a1.set_xlabel("wavelength (mm)")
     a1.set_ylabel("roughness level (dB re 1 µm)")
-    a1.set_ylim(bottom=max(a1.get_ylim()[0], float(np.max(ds["level"].values)) - 80))
+    a1.set_ylim(bottom=max(a1.get_ylim()[0], float(np.nanmax(ds["level"].values)) - 80))
     a1.set_title(f"narrow band, period {N} bays (circles: the one-bay comb L/k), V = {ds.attrs['speed_m_per_s']:g} m/s", fontsize=9)
     a1.legend(fontsize=8)
     for style, i in zip(_STYLES, picks):
@@ -359,3 +361,40 @@ def sweep_map(ds: xr.Dataset):
     ax.set_title("labels: fastest-growing wavelength", fontsize=9)
     return fig
 
+
+
+def scenario_overview(ds: xr.Dataset, default: xr.Dataset | None = None, name: str = ""):
+    """A growth run of any scenario on one page: (left) the narrow-band level against wavelength at
+    the first, middle and last saved passage counts, beside the default scenario's final spectrum at
+    the same speed (grey); (middle) the profiles at every saved passage count; (right) the contact
+    force of the first wheel along the period at the start and the end."""
+    fig, (a1, a2, a3) = plt.subplots(1, 3, figsize=(15.0, 4.3), layout="constrained")
+    N = int(ds.attrs.get("bays", 1))
+    lam = 2 * np.pi / ds["wavenumber"].values * 1e3
+    n = ds["passage"].values
+    for style, i in zip(_STYLES, sorted({0, len(n) // 2, len(n) - 1})):
+        if np.isfinite(ds["level"].values[i]).any():
+            a1.semilogx(lam, ds["level"].values[i], linestyle=style, color="k", lw=0.8, label=f"{int(n[i])} passages")
+    if default is not None:
+        dl = 2 * np.pi / default["wavenumber"].values * 1e3
+        a1.semilogx(dl, default["level"].values[-1], color="0.6", lw=1.6, zorder=0,
+                    label=f"default, {int(default['passage'].values[-1])} passages")
+    a1.set_xlabel("wavelength (mm)")
+    a1.set_ylabel("roughness level (dB re 1 µm)")
+    top = float(np.nanmax(ds["level"].values))
+    a1.set_ylim(top - 80, top + 5)
+    a1.legend(fontsize=7, loc="lower left")
+    a1.set_title(f"{name}: V = {ds.attrs['speed_m_per_s']:g} m/s, period {N} bay(s)", fontsize=9)
+    for i, p in enumerate(n):
+        a2.plot(ds["position"], ds["profile"].values[i] * 1e6, color=plt.cm.viridis(i / max(len(n) - 1, 1)), lw=0.7,
+                label=f"{int(p)}" if i in (0, len(n) - 1) else None)
+    a2.set_xlabel(f"position over the {N}-bay period (m), 0 above a sleeper")
+    a2.set_ylabel("roughness (µm)")
+    a2.legend(title="passages", fontsize=7, title_fontsize=7)
+    if "force" in ds:
+        for style, i in zip(_STYLES, (0, len(n) - 1)):
+            a3.plot(ds["position"], ds["force"].values[i, 0] / 1e3, linestyle=style, color="k", lw=0.8, label=f"{int(n[i])} passages")
+        a3.set_ylabel("contact force, first wheel (kN)")
+        a3.legend(fontsize=7)
+    a3.set_xlabel(f"position over the {N}-bay period (m)")
+    return fig

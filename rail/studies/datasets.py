@@ -300,22 +300,28 @@ def growth(history, track, speed: float, n_wheels: int, points: int = 601, bays:
     k = np.arange(1, K + 1)
     x = np.linspace(0.0, track.L * bays, points if bays == 1 else points * bays)
     profiles = np.array([Roughness(z, bays).profile(x, track.L) for z in Z])
-    levels = levels_dB(Z)
+    rms = np.sqrt(2) * np.abs(Z[:, K + 1 :])
+    levels = np.where(rms > 0, levels_dB(Z), np.nan)  # a harmonic that is exactly 0 (the smooth rail) has no level
     n = history.passages
     half = n >= n[-1] / 2
-    rms = np.sqrt(2) * np.abs(Z[:, K + 1 :])
     if half.sum() >= 2:
-        slope = np.polyfit(n[half], levels[half], 1)[0] * 1e4
         amp_slope = np.polyfit(n[half], rms[half], 1)[0] * 1e4
+        # the e-folding rate d ln(amplitude) / dn where the amplitude stays positive (growth about a
+        # roughness that is there; from a smooth rail the amplitude grows linearly and this rate is
+        # not a property of the track)
+        positive = np.all(rms[half] > 0, axis=0)
+        log_rms = np.log(np.where(rms[half] > 0, rms[half], 1.0))
+        exp_rate = np.where(positive, np.polyfit(n[half], log_rms, 1)[0], np.nan)
     else:
-        slope = amp_slope = np.full(K, np.nan)
+        amp_slope = exp_rate = np.full(K, np.nan)
     return xr.Dataset(
         {
-            "level": _var(("passage", "harmonic"), levels, "dB re 1 um", "rms roughness level of each harmonic of the bay"),
+            "level": _var(("passage", "harmonic"), levels, "dB re 1 um", "rms roughness level of each harmonic of the bay (NaN where the harmonic is exactly 0)"),
             "profile": _var(("passage", "position"), profiles, "m", "rail-head roughness profile over the bay (upwards positive)"),
             "Z_real": _var(("passage", "harmonic_all"), Z.real, "m", "real part of the roughness coefficients Z_k, k = -K..K"),
             "Z_imag": _var(("passage", "harmonic_all"), Z.imag, "m", "imaginary part of the roughness coefficients Z_k"),
-            "growth_rate": _var("harmonic", slope, "dB per 10000 passages", "growth rate of the level over the second half of the run"),
+            "exponential_rate": _var("harmonic", exp_rate, "1", "e-folding rate of the rms amplitude per wheel passage over the second half "
+                                     "of the run (d ln A / dn; from a smooth rail the growth is linear in the amplitude, see amplitude_growth_rate)"),
             "amplitude_growth_rate": _var("harmonic", amp_slope, "m per 10000 passages", "growth rate of the rms amplitude over the second half of the run"),
             "step_error": _var("update", history.step_error, "1", "estimated local error of each update relative to the roughness (rail.growth.step_error)"),
             "full_slip": _var("update", history.full_slip, "1", "largest fraction of the bay with no stick zone in the contact, per update"),

@@ -370,7 +370,8 @@ def convergence_table(wildcards):
 
 def built_studies():
     """Outputs of the named studies that exist on disk (for the HTML report: report_all)."""
-    candidates = closure_targets() + sweep_targets() + any_wavelength_targets() + [t.replace(".csv", ".png") for t in band_targets()] + [
+    overviews = [str(p) for p in sorted(Path("results/growth").glob("*/V*_overview.png"))]
+    candidates = closure_targets() + sweep_targets() + any_wavelength_targets() + [t.replace(".csv", ".png") for t in band_targets()] + overviews + [
         "results/stability/outcomes.html", "results/convergence/error_vs_time.png", "results/convergence/summary.html",
         "results/spectrum/default/rate_spectrum.png",
     ]
@@ -459,3 +460,36 @@ def one_off_run_dir(configfiles):
     print(f"one-off configuration (differs from config/config.yaml in {', '.join(changed[:6])}"
           f"{', ...' if len(changed) > 6 else ''}): it writes under {run}/ and leaves results/ untouched.", file=sys.stderr)
     return run
+
+
+# A user's own study (issue 23): every scenario file, and every sweep study, is a target
+# study_<name> that builds its growth runs, one-page overviews, band views and the 3-D plots.
+
+def scenario_overview_inputs(wildcards):
+    """The run, and the default scenario's run at the same speed when the default runs there."""
+    out = {"run": f"results/growth/{wildcards.scenario}/V{wildcards.speed}.nc"}
+    if wildcards.scenario != "default" and float(wildcards.speed) in [float(v) for v in config["speeds"]]:
+        out["default"] = f"results/growth/default/V{wildcards.speed}.nc"
+    return out
+
+
+def study_names():
+    """The scenario files and sweep studies of config/scenarios/ (each a target study_<name>)."""
+    points = {p["name"] for sw in SWEEPS.values() for p in sw["points"]}
+    return [n for n in SCENARIOS if n not in points and n != "default"] + sorted(SWEEPS)
+
+
+def study_targets(name):
+    """What study_<name> builds: per speed of the scenario (or per point of the sweep), the growth
+    run's overview, band view and 3-D plot; for a sweep also its dataset and maps."""
+    if name in SWEEPS:
+        runs = [(p["name"], p["speed"]) for p in SWEEPS[name]["points"]]
+        extra = [f"results/sweeps/{name}.nc", f"results/sweeps/{name}.png"]
+    else:
+        runs = [(name, v) for v in SCENARIO_OBJECTS[name].speeds]
+        extra = []
+    out = []
+    for scen, v in runs:
+        base = f"results/growth/{scen}/V{speed_label(v)}"
+        out += [f"{base}_overview.png", f"{base}_bands.png", f"{base}_3d.png"]
+    return out + extra

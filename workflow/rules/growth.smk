@@ -58,6 +58,33 @@ rule growth_narrowband:
         "../scripts/growth_figure.py"
 
 
+rule scenario_overview:
+    """Any scenario's growth run on one page: narrow-band spectrum against wavelength beside the
+    default's, profiles at every saved passage count, and the contact force along the period."""
+    input:
+        unpack(scenario_overview_inputs),
+    output:
+        report("results/growth/{scenario}/V{speed}_overview.png", caption="../report/scenario_overview.rst", category="Scenarios", subcategory="{scenario}"),
+    params:
+        code=code("growth_figure.py"),
+    resources:
+        mem_mb=500,
+        runtime=5,
+    log:
+        "logs/growth/{scenario}/V{speed}_overview.log",
+    script:
+        "../scripts/growth_figure.py"
+
+
+for _study_name in study_names():
+
+    rule:
+        name:
+            f"study_{_study_name}"
+        input:
+            study_targets(_study_name),
+
+
 rule growth_bands:
     """One-third-octave band levels of a growth run at every saved passage count, growth per band,
     the grinding interval against the limit spectrum, and a CSV for rolling-noise tools."""

@@ -21,6 +21,10 @@ def main(rule, nn, config, inputs, outputs):
     if rule == "growth_narrowband":
         report.growth_narrowband(_load(inputs[0])).savefig(outputs[0], dpi=150)
         return
+    if rule == "scenario_overview":
+        default = _load(inputs.default) if "default" in inputs.keys() else None
+        report.scenario_overview(_load(inputs.run), default, nn).savefig(outputs[0], dpi=130)
+        return
     runs = {label: _load(path) for label, path in inputs.items()}
     n = int(nn)
     kind = {20: "profiles", 21: "profiles", 24: "final_profiles"}.get(n, "spectra")
@@ -33,4 +37,5 @@ def main(rule, nn, config, inputs, outputs):
 
 if __name__ == "__main__":
     sys.stderr = open(snakemake.log[0], "w")  # noqa: F821
-    main(snakemake.rule, snakemake.wildcards.get("nn", ""), snakemake.config, snakemake.input, snakemake.output)  # noqa: F821
+    w = snakemake.wildcards  # noqa: F821
+    main(snakemake.rule, w.get("nn", w.get("scenario", "")), snakemake.config, snakemake.input, snakemake.output)  # noqa: F821
