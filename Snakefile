@@ -34,6 +34,26 @@ include: "workflow/rules/closure.smk"
 include: "workflow/rules/studies.smk"
 
 
+# Light jobs (figures and aggregations of seconds) run on the submitting host, not as cluster jobs.
+localrules:
+    fig08,
+    fig22,
+    growth_3d,
+    growth_narrowband,
+    scenario_overview,
+    growth_bands,
+    growth_figure,
+    radiation_figure,
+    rate_spectrum_map,
+    rate_spectrum_sweep,
+    closure_aggregate,
+    stability_table,
+    convergence_aggregate,
+    sweep_aggregate,
+    sweep_bands,
+    wear_figure,
+
+
 rule all:
     input:
         paper_figures(),

@@ -215,3 +215,19 @@ def test_a_new_scenario_file_gets_its_figures_and_report_entries_from_one_comman
     assert rep.returncode == 0, rep.stderr[-2000:]
     html = (workdir / "report.html").read_text(errors="replace")
     assert "V40_overview.png" in html and "my_pad" in html
+
+
+def test_cluster_profile_scales_growth_runtime_from_the_job_and_checks_status_with_squeue(root, workdir):
+    # issue 23: growth asked a flat 30 min whatever the passages, wheels or nodes; and without an
+    # accounting database the plugin's default status check (sacct) left the run waiting silently
+    profile = yaml.safe_load((root / "profiles/slurm/config.yaml").read_text())
+    assert profile["slurm-status-command"] == "squeue"
+    assert "cpus_per_task" in profile["default-resources"]
+    out = snakemake(root, "-n", "--profile", str(root / "profiles/slurm"), "results/figures/fig26.png", cwd=workdir)
+    assert out.returncode == 0, out.stderr[-1500:]
+    runtimes = {}
+    for block in out.stdout.split("rule growth:")[1:]:
+        name = re.search(r"output: results/growth/(\w+)/V20\.nc", block).group(1)
+        runtimes[name] = int(re.search(r"runtime=(\d+)", block).group(1))
+    # 10 updates of 0.5 s per wheel at 61 nodes, three times that plus 10 min: one wheel 10, four 11
+    assert runtimes == {"default": 10, "class87": 11}

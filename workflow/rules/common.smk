@@ -493,3 +493,13 @@ def study_targets(name):
         base = f"results/growth/{scen}/V{speed_label(v)}"
         out += [f"{base}_overview.png", f"{base}_bands.png", f"{base}_3d.png"]
     return out + extra
+
+
+def growth_runtime(wildcards):
+    """Cluster runtime of a growth job (minutes), scaled from the job: 0.5 s CPU per update, wheel
+    and bay at 61 contact nodes (README, one core), as the square of the nodes; three times that,
+    plus 10 min for start-up and the tables' reading, so that a slow node does not kill it."""
+    scn = SCENARIO_OBJECTS[wildcards.scenario]
+    updates = scn.growth.passages / scn.growth.passages_per_update
+    seconds = 0.5 * updates * len(scn.wheels.positions) * scn.roughness.bays * (scn.contact_numerics.nodes / 61) ** 2
+    return int(10 + 3 * seconds / 60)

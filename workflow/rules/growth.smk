@@ -17,8 +17,8 @@ rule growth:
     benchmark:
         "benchmarks/growth/{scenario}/V{speed}.tsv"
     resources:
-        mem_mb=1500,
-        runtime=30,
+        mem_mb=1000,
+        runtime=growth_runtime,
     script:
         "../scripts/growth.py"
 
