@@ -60,18 +60,23 @@ def test_finalize_states_commit_date_and_scenario():
     assert out.attrs["code_version"].split()[0] and "date_created" in out.attrs
     assert out["a"].attrs["units"] == "1" and out["a"].attrs["level_unit"] == "dB"
     assert "update" in out.coords and out["update"].attrs["units"] == "1"  # a coordinate on every dimension
+    assert out["x"].attrs["axis"] == "X"
 
 
-def test_progress_goes_to_the_log_whole_and_to_the_terminal_prefixed():
+def test_progress_goes_to_the_log_whole_and_to_the_terminal_as_a_bar():
     import io as _io
 
     from rail.setup.progress import Tee
 
     log, term = _io.StringIO(), _io.StringIO()
     t = Tee(log, "growth default V40", terminal=term)
+    print("resuming from x.npz: 10000 of 20000 passages done", file=t, flush=True)
     print("10000 of 20000 passages, 825 passages/s, 12 s left", file=t, flush=True)
-    t.write("half a ")
-    t.write("line\n")
-    assert log.getvalue() == "10000 of 20000 passages, 825 passages/s, 12 s left\nhalf a line\n"
-    assert term.getvalue() == ("[growth default V40] 10000 of 20000 passages, 825 passages/s, 12 s left\n"
-                               "[growth default V40] half a line\n")
+    t.write("20000 of 20000 ")
+    t.write("passages, 830 passages/s, 0 s left\n")
+    assert log.getvalue() == ("resuming from x.npz: 10000 of 20000 passages done\n"
+                              "10000 of 20000 passages, 825 passages/s, 12 s left\n"
+                              "20000 of 20000 passages, 830 passages/s, 0 s left\n")
+    shown = term.getvalue()
+    assert "[growth default V40] resuming from x.npz" in shown
+    assert "growth default V40" in shown and "20000/20000" in shown  # the tqdm bar, completed

@@ -101,6 +101,9 @@ def finalize(ds: xr.Dataset, config: dict, *, title: str, source: str, scenario:
     for name in list(ds.data_vars) + list(ds.coords):
         units, extra = cf_units(str(ds[name].attrs["units"]))
         ds[name].attrs.update(units=units, **extra)
+    for name in ds.coords:  # the position along the rail is the X axis (CF axis attribute)
+        if name in ("position", "x") and ds[name].attrs["units"] == "m":
+            ds[name].attrs["axis"] = "X"
     ds.attrs.update(
         title=title,
         source=source,
