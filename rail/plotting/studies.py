@@ -126,7 +126,8 @@ def rate_spectrum_figure(ds: xr.Dataset):
     bx.set_xlabel("wavelength (mm)")
     bx.set_ylabel("speed (m/s)")
     for a in (ax, bx):
-        a.set_xticks([20, 30, 50, 100, 200, 300, 600])
+        a.set_xticks([t for t in (20, 30, 50, 100, 200, 300, 600) if lam_edges.min() <= t <= lam_edges.max()])
+        a.set_xlim(float(lam_edges.min()), float(lam_edges.max()))
         a.xaxis.set_major_formatter(matplotlib.ticker.FormatStrFormatter("%g"))
         a.xaxis.set_minor_formatter(matplotlib.ticker.NullFormatter())
     return fig
@@ -151,7 +152,9 @@ def rate_spectrum_sweep_figure(ds: xr.Dataset):
         zz = (z.isel({second: p}) if second else z).transpose(keys[0], "wavelength").values
         m = ax.pcolormesh(lam_edges, np.arange(len(y) + 1), zz, cmap="RdBu_r", norm=norm)
         ax.set_xscale("log")
-        ax.set_xticks([20, 30, 50, 100, 200, 300, 600])
+        lo_x, hi_x = float(lam_edges.min()), float(lam_edges.max())
+        ax.set_xticks([t for t in (20, 30, 50, 100, 200, 300, 600) if lo_x <= t <= hi_x])
+        ax.set_xlim(lo_x, hi_x)
         ax.xaxis.set_major_formatter(matplotlib.ticker.FormatStrFormatter("%g"))
         ax.xaxis.set_minor_formatter(matplotlib.ticker.NullFormatter())
         ax.set_yticks(np.arange(len(y)) + 0.5, [f"{v:g}" for v in y], fontsize=7)
