@@ -255,3 +255,26 @@ def test_sweep_rate_spectrum_puts_every_point_on_the_grid():
         np.testing.assert_array_equal(ds["growth_dB"].values[i, j], p["growth_dB"].values[0])
         assert ds["fastest_wavelength"].values[i, j] == p["wavelength"].values[np.argmax(p["growth_rate"].values[0])]
     assert ds["track_pad_stiffness"].attrs["units"] == "N/m"
+
+
+def test_spectrum_figures_draw_the_lines_they_are_given(tmp_path):
+    # the spectrum figure and the sweep map draw from datasets alone; their wavelength axis spans
+    # the lines (no empty decades when the range is short)
+    from rail.growth_spectrum import RateSpectrum
+    from rail.plotting import studies as plots
+    from rail.studies.rate_spectrum import rate_spectrum_dataset, sweep_rate_spectrum
+
+    lines = np.arange(24, 61, 4)  # 4 bays: 100 mm to 40 mm
+    spectra = {}
+    for v in (20.0, 40.0):
+        rate = (np.linspace(-1, 1, lines.size) * 1e-7 * v / 40).astype(complex)
+        spectra[v] = RateSpectrum(4 * 0.6 / lines, lines, (lines % 4 == 0).astype(int), rate, rate, np.zeros(lines.size),
+                                  np.zeros(lines.size), np.zeros(lines.size), 1e-4, 1e-9, 4, 1)
+    ds = rate_spectrum_dataset(spectra, 0.6, 1)
+    fig = plots.rate_spectrum_figure(ds)
+    lo, hi = fig.axes[0].get_xlim()
+    assert 35 < lo < 40 and 100 < hi < 110  # mm
+    fig.savefig(tmp_path / "s.png")
+    sweep = sweep_rate_spectrum([ds.isel(speed=[i]) for i in range(2)], ["speed"], [[20.0, 40.0]], [(0,), (1,)])
+    plots.rate_spectrum_sweep_figure(sweep).savefig(tmp_path / "m.png")
+    assert (tmp_path / "m.png").stat().st_size > 5000
