@@ -143,3 +143,19 @@ def test_sweep_band_map_puts_each_runs_band_growth_on_the_grid():
     np.testing.assert_allclose(ds["amplitude_growth_rate"].values[:, :, b50], [[1.0, 3.0], [2.0, 4.0]], rtol=1e-9)
     assert ds.sizes == {"speed": 2, "track_pad_stiffness": 2, "band": len(tob.nominal)}
     assert np.isnan(ds["amplitude_growth_rate"].values[0, 0, 0])  # 1 m: longer than the bay
+
+
+def test_sweep_band_figure_draws_a_panel_per_value_of_the_second_key(tmp_path):
+    # rail.plotting.report.sweep_band_map (its layout shared with the spectrum's sweep map)
+    import xarray as xr
+
+    from rail.plotting import report
+
+    tob = B.third_octave_bands(1.0, 0.00315)
+    rng = np.random.default_rng(0)
+    ds = xr.Dataset({"amplitude_growth_rate": (("speed", "pad", "band"), rng.standard_normal((2, 3, len(tob.nominal))))},
+                    coords={"speed": ("speed", [20.0, 40.0], {"units": "m/s"}), "pad": ("pad", [1e8, 2e8, 3e8], {"units": "N/m"}),
+                            "nominal_wavelength": ("band", tob.nominal)})
+    fig = report.sweep_band_map(ds)
+    assert len([a for a in fig.axes if a.get_title().startswith("pad = ")]) == 3
+    fig.savefig(tmp_path / "m.png")

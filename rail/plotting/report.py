@@ -311,16 +311,25 @@ def band_spectra(ds: xr.Dataset):
     return fig
 
 
-def sweep_band_map(ds: xr.Dataset):
-    """Growth rate per one-third-octave band over a sweep: band wavelength across, the first swept
-    key up; one panel per value of a second swept key (the first value of any further key)."""
-    keys = [d for d in ds["amplitude_growth_rate"].dims if d != "band"]
-    z = ds["amplitude_growth_rate"]
+def sweep_panels(ds: xr.Dataset, name: str, across: str, extra_width: float = 0.0):
+    """The layout of a map over a sweep: ``across`` along x, the first swept key up, one panel per
+    value of a second swept key (the first value of any further key). Returns (z, keys, second,
+    panels, fig, axes): the variable with the further keys fixed, the swept keys, the second key (or
+    None), the panel indices and the figure with its row of axes."""
+    keys = [d for d in ds[name].dims if d != across]
+    z = ds[name]
     for k in keys[2:]:
         z = z.isel({k: 0})
     second = keys[1] if len(keys) > 1 else None
     panels = list(range(ds.sizes[second])) if second else [None]
-    fig, axes = plt.subplots(1, len(panels), figsize=(5.5 * len(panels), 4.2), layout="constrained", squeeze=False)
+    fig, axes = plt.subplots(1, len(panels), figsize=(5.5 * len(panels) + extra_width, 4.2), layout="constrained", squeeze=False)
+    return z, keys, second, panels, fig, axes
+
+
+def sweep_band_map(ds: xr.Dataset):
+    """Growth rate per one-third-octave band over a sweep: band wavelength across, the first swept
+    key up; one panel per value of a second swept key (the first value of any further key)."""
+    z, keys, second, panels, fig, axes = sweep_panels(ds, "amplitude_growth_rate", "band")
     lam = ds["nominal_wavelength"].values * 1e3
     lim = float(np.nanmax(np.abs(z.values))) if np.isfinite(z.values).any() else 1.0
     y = ds[keys[0]].values

@@ -14,6 +14,8 @@ import matplotlib.pyplot as plt  # noqa: E402
 import numpy as np  # noqa: E402
 import xarray as xr  # noqa: E402
 
+from .report import sweep_panels  # noqa: E402
+
 __all__ = ["closure_spectra", "closure_wear_spectra", "convergence_figure"]
 
 
@@ -95,6 +97,28 @@ def convergence_figure(ds: xr.Dataset):
     return fig
 
 
+def _wavelength_edges(lam):
+    """Cell edges of lines at the wavelengths lam (decreasing), at the geometric means."""
+    return np.r_[lam[0] * np.sqrt(lam[0] / lam[1]), np.sqrt(lam[1:] * lam[:-1]), lam[-1] * np.sqrt(lam[-1] / lam[-2])]
+
+
+def _wavelength_axis(ax, lam_edges):
+    """A log wavelength axis (mm) spanning the lines, with round ticks inside it only."""
+    lo, hi = float(lam_edges.min()), float(lam_edges.max())
+    ax.set_xscale("log")
+    ax.set_xticks([t for t in (20, 30, 50, 100, 200, 300, 600) if lo <= t <= hi])
+    ax.set_xlim(lo, hi)
+    ax.xaxis.set_major_formatter(matplotlib.ticker.FormatStrFormatter("%g"))
+    ax.xaxis.set_minor_formatter(matplotlib.ticker.NullFormatter())
+
+
+def _growth_norm(values):
+    """Diverging colour scale about 0 (red grows, blue decays) and its colour-bar ticks."""
+    lo, hi = float(np.nanmin(values)), float(np.nanmax(values))
+    norm = matplotlib.colors.TwoSlopeNorm(vmin=min(lo, -1e-6), vcenter=0.0, vmax=max(hi, 1e-6))
+    return norm, np.r_[np.linspace(norm.vmin, 0, 4)[:-1], np.linspace(0, norm.vmax, 4)]
+
+
 def rate_spectrum_figure(ds: xr.Dataset):
     """Growth-rate spectrum: the level change per 100,000 train passages over wavelength, one line
     per speed (top), and the speed x wavelength map (bottom); comb lines L/k marked."""
@@ -112,56 +136,36 @@ def rate_spectrum_figure(ds: xr.Dataset):
     ax.legend(fontsize=8, ncol=2, loc="best", framealpha=0.9)
     ax.set_title(f"linearised growth-rate spectrum ({int(ds.attrs['wheels'])} wheel(s), probe {ds.attrs['eps_m'] * 1e9:g} nm; "
                  "grey: comb L/k)", fontsize=9)
-    lo, hi = float(np.nanmin(g.values)), float(np.nanmax(g.values))
-    norm = matplotlib.colors.TwoSlopeNorm(vmin=min(lo, -1e-6), vcenter=0.0, vmax=max(hi, 1e-6))  # red grows, blue decays
+    norm, ticks = _growth_norm(g.values)
     V = ds["speed"].values
     edges = np.r_[V[0] - 0.5 * (V[1] - V[0]) if V.size > 1 else V[0] - 5, 0.5 * (V[1:] + V[:-1]),
                   V[-1] + 0.5 * (V[-1] - V[-2]) if V.size > 1 else V[0] + 5]
-    lam_edges = np.r_[lam[0] * np.sqrt(lam[0] / lam[1]), np.sqrt(lam[1:] * lam[:-1]), lam[-1] * np.sqrt(lam[-1] / lam[-2])]
+    lam_edges = _wavelength_edges(lam)
     m = bx.pcolormesh(lam_edges, edges, g.values, cmap="RdBu_r", norm=norm)
-    ticks = np.r_[np.linspace(norm.vmin, 0, 4)[:-1], np.linspace(0, norm.vmax, 4)]
     fig.colorbar(m, ax=bx, ticks=ticks, format="%.2g",
                  label=f"growth (dB per {g.attrs['long_name'].split(' per ')[1].split(' train')[0]} passages)")
-    bx.set_xscale("log")
     bx.set_xlabel("wavelength (mm)")
     bx.set_ylabel("speed (m/s)")
     for a in (ax, bx):
-        a.set_xticks([t for t in (20, 30, 50, 100, 200, 300, 600) if lam_edges.min() <= t <= lam_edges.max()])
-        a.set_xlim(float(lam_edges.min()), float(lam_edges.max()))
-        a.xaxis.set_major_formatter(matplotlib.ticker.FormatStrFormatter("%g"))
-        a.xaxis.set_minor_formatter(matplotlib.ticker.NullFormatter())
+        _wavelength_axis(a, lam_edges)
     return fig
 
 
 def rate_spectrum_sweep_figure(ds: xr.Dataset):
     """Growth-rate spectrum over a sweep: wavelength across, the first swept key up, one panel per
     value of a second swept key (the first value of any further key)."""
-    keys = [d for d in ds["growth_dB"].dims if d != "wavelength"]
-    z = ds["growth_dB"]
-    for k in keys[2:]:
-        z = z.isel({k: 0})
-    second = keys[1] if len(keys) > 1 else None
-    panels = list(range(ds.sizes[second])) if second else [None]
-    fig, axes = plt.subplots(1, len(panels), figsize=(5.5 * len(panels) + 1, 4.2), layout="constrained", squeeze=False)
-    lam = ds["wavelength"].values * 1e3
-    lam_edges = np.r_[lam[0] * np.sqrt(lam[0] / lam[1]), np.sqrt(lam[1:] * lam[:-1]), lam[-1] * np.sqrt(lam[-1] / lam[-2])]
-    lo, hi = float(np.nanmin(z.values)), float(np.nanmax(z.values))
-    norm = matplotlib.colors.TwoSlopeNorm(vmin=min(lo, -1e-6), vcenter=0.0, vmax=max(hi, 1e-6))
+    z, keys, second, panels, fig, axes = sweep_panels(ds, "growth_dB", "wavelength", extra_width=1.0)
+    lam_edges = _wavelength_edges(ds["wavelength"].values * 1e3)
+    norm, ticks = _growth_norm(z.values)
     y = ds[keys[0]].values
     for ax, p in zip(axes[0], panels):
         zz = (z.isel({second: p}) if second else z).transpose(keys[0], "wavelength").values
         m = ax.pcolormesh(lam_edges, np.arange(len(y) + 1), zz, cmap="RdBu_r", norm=norm)
-        ax.set_xscale("log")
-        lo_x, hi_x = float(lam_edges.min()), float(lam_edges.max())
-        ax.set_xticks([t for t in (20, 30, 50, 100, 200, 300, 600) if lo_x <= t <= hi_x])
-        ax.set_xlim(lo_x, hi_x)
-        ax.xaxis.set_major_formatter(matplotlib.ticker.FormatStrFormatter("%g"))
-        ax.xaxis.set_minor_formatter(matplotlib.ticker.NullFormatter())
+        _wavelength_axis(ax, lam_edges)
         ax.set_yticks(np.arange(len(y)) + 0.5, [f"{v:g}" for v in y], fontsize=7)
         ax.set_xlabel("wavelength (mm)")
         ax.set_ylabel(f"{keys[0]} ({ds[keys[0]].attrs.get('units', '')})")
         if second:
             ax.set_title(f"{second} = {ds[second].values[p]:g} {ds[second].attrs.get('units', '')}", fontsize=9)
-    ticks = np.r_[np.linspace(norm.vmin, 0, 4)[:-1], np.linspace(0, norm.vmax, 4)]
     fig.colorbar(m, ax=axes[0].tolist(), ticks=ticks, format="%.2g", label="growth (dB per 100000 passages)")
     return fig
