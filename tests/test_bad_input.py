@@ -19,6 +19,15 @@ from rail import roughness as R
 from rail.setup import config as rconfig
 
 
+def _with(cfg: dict, key: tuple, value) -> dict:
+    """cfg with the nested key (a tuple of names) set to value (in place; returns cfg)."""
+    node = cfg
+    for k in key[:-1]:
+        node = node[k]
+    node[key[-1]] = value
+    return cfg
+
+
 # 2. names and keys that would silently replace something
 
 
@@ -91,11 +100,7 @@ def test_target_speed_and_scenario_are_checked_before_any_job(root, tmp_path):
 @pytest.mark.parametrize("key", [("contact", "friction_static"), ("growth", "step_tolerance"), ("track", "pad", "stiffness")])
 @pytest.mark.parametrize("value", [float("nan"), float("inf")])
 def test_nan_and_inf_fail_validation_naming_the_key(defaults, schema, key, value):
-    cfg = rconfig.deep_merge(defaults, {})
-    node = cfg
-    for k in key[:-1]:
-        node = node[k]
-    node[key[-1]] = value
+    cfg = _with(rconfig.deep_merge(defaults, {}), key, value)
     with pytest.raises(rconfig.ConfigError, match=re.escape(f"s.yaml: {'.'.join(key)} = {value!r} is not allowed: it must be a finite number")):
         rconfig.validate_config(cfg, schema, source="s.yaml")
 
@@ -219,11 +224,7 @@ _value = st.one_of(st.floats(allow_nan=True, allow_infinity=True), st.integers(-
 def test_fuzzed_configuration_value_passes_or_names_its_key(defaults, schema, key, value):
     from rail.setup import build
 
-    cfg = rconfig.deep_merge(defaults, {})
-    node = cfg
-    for k in key[:-1]:
-        node = node[k]
-    node[key[-1]] = value
+    cfg = _with(rconfig.deep_merge(defaults, {}), key, value)
     try:
         build.scenario(rconfig.validate_config(cfg, schema, source="fuzz.yaml"), "fuzz", "fuzz.yaml")
     except (rconfig.ConfigError, ValueError) as e:
@@ -254,11 +255,7 @@ def test_fuzzed_configuration_that_passes_runs_to_a_finite_result(defaults, sche
 
     inside = _RUN_KEYS[key]
     value = data.draw(st.one_of(inside, inside, inside, st.sampled_from([float("nan"), float("inf"), None])))
-    cfg = rconfig.deep_merge(defaults, _SMALL)
-    node = cfg
-    for k in key[:-1]:
-        node = node[k]
-    node[key[-1]] = value
+    cfg = _with(rconfig.deep_merge(defaults, _SMALL), key, value)
     try:
         scn = build.scenario(rconfig.validate_config(cfg, schema, source="fuzz.yaml"), "fuzz", "fuzz.yaml")
     except (rconfig.ConfigError, ValueError) as e:

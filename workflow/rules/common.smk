@@ -115,7 +115,12 @@ def track_config(wildcards):
     """The part of the configuration a receptance table depends on (its track and numerics), so
     that changing anything else does not recompute it. The target's speed is checked first."""
     checked_speed(wildcards.track, wildcards.speed)
-    cfg = SCENARIOS[wildcards.track]
+    return _track_part(wildcards.track)
+
+
+def _track_part(name):
+    """The track and track numerics of a scenario's configuration."""
+    cfg = SCENARIOS[name]
     return {"track": cfg["track"], "numerics": {"track": cfg["numerics"]["track"]}}
 
 
@@ -400,8 +405,7 @@ def spectrum_table_owner(name):
 def scenario_track_config(wildcards):
     """The part of a scenario's configuration its receptance tables depend on (track and numerics)."""
     checked_speed(wildcards.scenario, wildcards.speed)
-    cfg = SCENARIOS[wildcards.scenario]
-    return {"track": cfg["track"], "numerics": {"track": cfg["numerics"]["track"]}}
+    return _track_part(wildcards.scenario)
 
 
 def scenario_wheel_offsets(wildcards):
