@@ -18,10 +18,10 @@ from pathlib import Path
 
 import xarray as xr
 
-from .. import chain, growth_spectrum, interaction
+from .. import chain, growth_spectrum
 from ..scenario import Scenario
 from ..setup import build, config, io
-from ..studies import datasets, rate_spectrum
+from ..studies import rate_spectrum, runs
 
 __all__ = ["Study", "load", "growth", "spectrum", "ROOT"]
 
@@ -114,12 +114,7 @@ def growth(study: Study, *, speed: float, passages: int | None = None, checkpoin
     table = chain.receptance_table(scn, speed)
     history = chain.grow(scn, table, checkpoint=checkpoint, identity={"config": study.config}, progress=progress,
                          on_mismatch="restart")
-    bays = scn.roughness.bays
-
-    def force(Z, x):
-        return interaction.force_history(chain.solve_forces(scn, table, interaction.Roughness(Z, bays)), x)
-
-    ds = datasets.growth(history, scn.track, speed, len(scn.wheels.positions), bays=bays, force=force)
+    ds = runs.growth_dataset(scn, table, history, speed)
     return io.finalize(ds, study.config, title=f"Roughness growth at {speed:g} m/s", source="rail.app.api.growth",
                        scenario=study.name)
 

@@ -5,10 +5,10 @@ from pathlib import Path
 
 import xarray as xr
 
-from rail import chain, interaction
+from rail import chain
 from rail.setup import build, io
 from rail.setup.progress import Tee
-from rail.studies import datasets
+from rail.studies import datasets, runs
 
 
 def main(config, name, table_path, speed, checkpoint, out_path, log):
@@ -17,12 +17,7 @@ def main(config, name, table_path, speed, checkpoint, out_path, log):
         tab = datasets.read_receptance_table(t.load())
     Path(checkpoint).parent.mkdir(parents=True, exist_ok=True)
     history = chain.grow(scn, tab, checkpoint=checkpoint, identity={"config": config}, progress=log, on_mismatch="restart")
-    bays = scn.roughness.bays
-
-    def force(Z, x):  # every wheel's contact force at each saved roughness
-        return interaction.force_history(chain.solve_forces(scn, tab, interaction.Roughness(Z, bays)), x)
-
-    ds = datasets.growth(history, scn.track, speed, len(scn.wheels.positions), bays=bays, force=force)
+    ds = runs.growth_dataset(scn, tab, history, speed)
     io.write_netcdf(io.finalize(ds, config, title=f"Roughness growth at {speed:g} m/s", source="rail.chain.grow", scenario=name), out_path)
 
 
