@@ -18,7 +18,7 @@ from pathlib import Path
 
 import xarray as xr
 
-from .. import chain, growth_spectrum
+from .. import chain
 from ..scenario import Scenario
 from ..setup import build, config, io
 from ..studies import rate_spectrum, runs
@@ -148,12 +148,7 @@ def spectrum(study: Study, *, speeds, shortest: float | None = None, longest: fl
                                      grid_phases=grid_phases).items() if v is not None})
     cfg = config.deep_merge(study.config, {"figures": {"rate_spectrum": s}})
     scn = build.spectrum_scenario(cfg, study.name)
-    lines = growth_spectrum.spectrum_lines(scn.L, scn.roughness.bays, scn.harmonics, float(s["shortest"]),
-                                           float(s["longest"]), int(s["per_octave"]))
-    spectra = {}
-    for v in ([speeds] if isinstance(speeds, (int, float)) else list(speeds)):
-        tables = chain.receptance_table(scn, float(v))
-        spectra[float(v)] = growth_spectrum.rate_spectrum(scn, tables, lines, eps=float(s["eps"]),
-                                                          grid_phases=int(s["grid_phases"]))
+    speeds = [speeds] if isinstance(speeds, (int, float)) else list(speeds)
+    spectra = {float(v): rate_spectrum.spectrum_with_settings(scn, chain.receptance_table(scn, float(v)), s) for v in speeds}
     ds = rate_spectrum.rate_spectrum_dataset(spectra, scn.L, len(scn.wheels.positions))
     return io.finalize(ds, cfg, title="Growth-rate spectrum", source="rail.app.api.spectrum", scenario=study.name)

@@ -5,12 +5,22 @@ from __future__ import annotations
 import numpy as np
 import xarray as xr
 
-from ..growth_spectrum import RateSpectrum
+from ..growth_spectrum import RateSpectrum, rate_spectrum, spectrum_lines
 from .datasets import _unit_of, _var
 
-__all__ = ["rate_spectrum_dataset", "sweep_rate_spectrum", "growing_bands", "summary_markdown", "PASSAGES_PER_DB"]
+__all__ = ["spectrum_with_settings", "rate_spectrum_dataset", "sweep_rate_spectrum", "growing_bands", "summary_markdown", "PASSAGES_PER_DB"]
 
 PASSAGES_PER_DB = 100000  # the dB growth is stated per this many train passages
+
+
+def spectrum_with_settings(scn, tables, settings: dict) -> RateSpectrum:
+    """The growth-rate spectrum of a spectrum scenario (rail.setup.build.spectrum_scenario) at the
+    tables' speed, on the lines and with the probe and grids of ``settings`` (the keys of
+    figures.rate_spectrum: shortest, longest, per_octave, eps, grid_phases)."""
+    s = settings
+    lines = spectrum_lines(scn.L, scn.roughness.bays, scn.harmonics, float(s["shortest"]), float(s["longest"]),
+                           int(s["per_octave"]))
+    return rate_spectrum(scn, tables, lines, eps=float(s["eps"]), grid_phases=int(s["grid_phases"]))
 
 
 def rate_spectrum_dataset(spectra: dict[float, RateSpectrum], L: float, wheels: int) -> xr.Dataset:

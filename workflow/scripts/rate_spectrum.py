@@ -4,7 +4,6 @@ import sys
 
 import xarray as xr
 
-from rail import chain, growth_spectrum
 from rail.setup import build, io
 from rail.studies import datasets, rate_spectrum
 
@@ -14,11 +13,9 @@ def main(config, name, table_path, speed, out_path, log):
     scn = build.spectrum_scenario(config, name)  # smooth rail, the spectrum's N-bay period
     with xr.open_dataset(table_path) as t:
         tabs = datasets.read_receptance_table(t.load())
-    lines = growth_spectrum.spectrum_lines(scn.L, scn.roughness.bays, scn.harmonics, float(s["shortest"]),
-                                           float(s["longest"]), int(s["per_octave"]))
-    print(f"{len(lines)} lines of a {scn.roughness.bays}-bay period, {s['shortest']:g}-{s['longest']:g} m, V = {speed:g} m/s",
+    sp = rate_spectrum.spectrum_with_settings(scn, tabs, s)
+    print(f"{len(sp.line)} lines of a {scn.roughness.bays}-bay period, {s['shortest']:g}-{s['longest']:g} m, V = {speed:g} m/s",
           file=log, flush=True)
-    sp = growth_spectrum.rate_spectrum(scn, tabs, lines, eps=float(s["eps"]), grid_phases=int(s["grid_phases"]))
     print(f"linearity (2 eps against eps): {sp.linearity:.2e}; grid spread of the growth rate: at most "
           f"{(sp.grid_spread / abs(sp.growth_rate).max()).max():.2e} of the largest rate", file=log, flush=True)
     ds = rate_spectrum.rate_spectrum_dataset({speed: sp}, scn.L, len(scn.wheels.positions))
