@@ -345,3 +345,16 @@ def test_a_bad_limit_spectrum_stops_the_workflow_at_start_up(root, tmp_path):
     out = snakemake(root, "-n", "results/figures/fig06.png", cwd=tmp_path)
     assert out.returncode != 0
     assert re.search(r"figures\.bands\.limit: config/roughness/example_limit\.csv, line 3: '0\.05,nan' is not finite", out.stdout + out.stderr)
+
+
+def test_a_spectrum_period_too_short_for_its_resolution_stops_the_workflow_at_start_up(root, tmp_path):
+    # figures.rate_spectrum: 16 bays cannot resolve 0.6 m at 30 lines per octave; before, the
+    # spectrum job said so only after its receptance tables (40 s per speed)
+    import shutil
+
+    shutil.copytree(root / "config", tmp_path / "config")
+    (tmp_path / "short.yaml").write_text("figures:\n  rate_spectrum:\n    bays: 16\n")
+    out = snakemake(root, "-n", "rate_spectrum", "--configfile", str(tmp_path / "short.yaml"), cwd=tmp_path)
+    assert out.returncode != 0
+    assert re.search(r"figures\.rate_spectrum: a roughness period of 16 bays spaces the lines by 6\.2 % at 0\.6 m, "
+                     r"coarser than 1/30 octave \(2\.3 %\): use at least 43 bays", out.stdout + out.stderr), out.stderr[-800:]

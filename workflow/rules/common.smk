@@ -7,6 +7,7 @@ from snakemake.utils import validate
 
 from rail.chain import wheel_offsets as wheel_offsets_of
 from rail.decay import read_measured_decay_rate
+from rail.growth_spectrum import spectrum_lines
 from rail.roughness import read_third_octave_spectrum
 from rail.provenance import code_hash
 from rail.setup.build import scenario as build_scenario
@@ -66,6 +67,11 @@ for _name, _scn in SCENARIO_OBJECTS.items():
             read_third_octave_spectrum(SCENARIOS[_name]["figures"]["bands"]["limit"])
         except (OSError, ValueError) as _e:
             raise ConfigError(f"scenario {_name} ({_SOURCES[_name]}): figures.bands.limit: {_e}") from None
+    _s = SCENARIOS[_name]["figures"]["rate_spectrum"]
+    try:  # the spectrum's period must resolve its longest wavelength, its shortest lie above L / K
+        spectrum_lines(_scn.L, int(_s["bays"]), _scn.harmonics, float(_s["shortest"]), float(_s["longest"]), int(_s["per_octave"]))
+    except ValueError as _e:
+        raise ConfigError(f"scenario {_name} ({_SOURCES[_name]}): figures.rate_spectrum: {_e}") from None
     _given = SCENARIOS[_name].get("measured", {}).get("decay_rate")
     _found = MEASURED_DIR / f"{_name}_decay_rate.csv"  # a track's measured decay rate, found by name
     _file = _given or (_found if _found.exists() else None)
