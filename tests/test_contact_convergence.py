@@ -184,6 +184,26 @@ def test_full_slip_wear_harmonic_converges_to_the_analytic_path_integral():
     assert max(phase_err) < 1e-3
 
 
+def test_full_slip_under_the_issues_large_load_variation_is_second_order_at_moving_edges():
+    # The partial-slip case's +-30 % load at 1600 Hz, in full slip (creepage -0.01): the patch edges
+    # sweep +-15 % of a, about 3 a / Delta units per cycle at 41 nodes, as in partial slip, but
+    # there is no stick zone. Measured against the analytic path integral at 41, 81, 161 nodes:
+    # harmonic amplitude errors 2.2e-3, 5.5e-4, 1.4e-4 (orders 2.0, 2.0), phase 2.7e-5, 7.2e-6,
+    # 1.7e-6 rad (1.9, 2.0), mean 3.8e-5, 9.5e-6, 2.4e-6 (2.0, 2.0). So the time integration along
+    # the paths, the entry and exit at moving edges and the rebuilt basis are second order; the
+    # partial-slip shortfall (below) lies with the stick zone (docs/contact.md).
+    m = material(creepage=-0.01)
+    errs = []
+    for nodes in (41, 81, 161):
+        c, mean, n_per = solver_harmonic(1600.0, 0.3, nodes, m)
+        ref, ref_mean = full_slip_reference(1600.0, 0.3, m, n_per)
+        errs.append((abs(abs(c) / abs(ref) - 1), abs(np.angle(c / ref)), abs(mean / ref_mean - 1)))
+    errs = np.array(errs)
+    orders = np.log2(errs[:-1] / errs[1:])
+    assert np.all(orders > 1.8), (errs, orders)
+    assert errs[1, 0] < 1e-3 and errs[1, 1] < 1e-4
+
+
 # ---- partial slip under a fast load variation: the wear harmonic against itself
 
 
