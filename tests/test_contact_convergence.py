@@ -241,3 +241,27 @@ def test_wear_harmonic_under_a_fast_load_converges_towards_the_independent_solve
     assert abs(amp[2] / limit - 1) < 0.01
     ph = np.angle(c)
     assert abs(ph[1] - ph[2]) < 5e-3
+
+
+@pytest.mark.slow
+@pytest.mark.parametrize("f", [1000.0, 1600.0])
+def test_production_agrees_with_a_boundary_aligned_discretisation_in_partial_slip(f):
+    # The case (+-30 % load, s = 1, creepage -0.001) against the independent reference of
+    # tests/independent/aligned_contact.py, whose stick zone [b(t), a] carries the square-root
+    # departure from the slip zone exactly and whose boundary b(t) is solved for (zero slip velocity
+    # there): a traction discretisation whose error does not come from the production grid.
+    # Measured (161 nodes, one spacing for the reference, four for production): 1000 Hz 118.347 vs
+    # 118.36 (1e-4), 1600 Hz 33.412 vs 33.423 (3e-4); at 641 nodes (1600 Hz) 33.532 vs 33.538.
+    # The reference is not a clean second-order method either (1600 Hz, 41-641 nodes: orders 1.3,
+    # 2.2, 0.8; 0.2 % spread over four spacings at 81 nodes, docs/contact.md), so no order is asserted:
+    # this checks the limit both converge to, in amplitude and phase, well inside the production
+    # default's error (1.1 % at 81 nodes, 1600 Hz).
+    from independent import aligned_contact as ac
+
+    m = material()
+    ref = ac.wear_harmonic(f, 0.3, 161, P0=P0, R=R, speed=V, youngs_modulus=m.youngs_modulus,
+                           poisson_ratio=m.poisson_ratio, half_width=m.half_width,
+                           mu=m.friction_dynamic, creepage=m.creepage)
+    production = averaged_harmonic(f, 161)
+    assert abs(abs(production) / abs(ref) - 1) < 3e-3
+    assert abs(np.angle(production / ref)) < 3e-3
