@@ -13,11 +13,11 @@ moves through the cells under a fast load variation the wear harmonic converges 
 (docs/contact.md). Here the discretisation is aligned with b(t) instead, so the kink is represented
 exactly. What that buys was measured, not assumed (issue 17, docs/contact.md): in the steady
 (Carter) limit this method is second order (tests/independent/test_aligned_contact_selfcheck.py);
-under the +-30 % load at 1600 Hz its wear harmonic at 41-641 nodes gives successive orders 1.3, 2.2,
-0.8 on one grid spacing, and over four grid spacings at 81 nodes it spreads by 0.2 % (the
-rail-point grid against the moving boundary and edges, which this method does not align). So
-aligning the boundary alone does not give a clean second order; the method serves as an independent
-traction discretisation, and it agrees with the production scheme to 2e-4 at 641 nodes.
+under the +-30 % load at 1600 Hz, with its quadrature adequate (nh = 30, K = 2000), its wear harmonic
+converges at about order 1.5-1.6 over 81-161-321 nodes, no faster than the production scheme, and
+the two agree at 321 nodes to 3e-4 (nh = 40, K = 3000 there). So aligning the boundary in space alone does not give second order;
+the method serves as an independent traction discretisation. With nh = 20, K = 1000 (the default,
+cheaper) its quadrature error becomes grid-dependent beyond about 161 nodes.
 
 Model (one stick zone at the leading side, one slip direction: the regime of partial slip under a
 driving or braking creepage with a moderate load variation; anything else is detected and reported)
