@@ -61,3 +61,21 @@ def test_steady_rolling_reproduces_carter_and_its_work_converges_at_second_order
         assert abs(cc.mean() / (delta * w_c) - 1) < 1e-4
     assert errs[0] < 1e-3
     assert np.log2(errs[0] / errs[1]) > 1.8
+
+
+def test_quadratic_entry_reduces_to_the_linear_one_in_steady_rolling():
+    # With a constant edge displacement the three-step interpolation of the entry instant equals the
+    # two-step one (its weights sum to one), so the steady solutions agree to the boundary solver's
+    # tolerance; a wrong weight would shift the traction of every entering point by O(gamma Delta).
+    g = -0.001
+    a = float(ac.hertz_half_length(P0, R, K_C, BW))
+    delta = 2 * a / 40 * 1.013
+    M = int(np.ceil(a * 1.02 / delta)) + 1
+    n = 3 * int(np.ceil(2 * a / delta))
+    kw = dict(k=K_C, mu=MU, creepage=g, half_width=BW, speed=V, delta=delta, M=M)
+    lin = ac.solve(np.full(n, P0), np.full(n, a), **kw)
+    qua = ac.solve(np.full(n, P0), np.full(n, a), entry="quadratic", **kw)
+    assert abs(qua[2][-1] - lin[2][-1]) < 1e-9 * a
+    assert abs(qua[1][-1] / lin[1][-1] - 1) < 1e-9
+    with pytest.raises(ValueError, match="entry = 'cubic'"):
+        ac.solve(np.full(2, P0), np.full(2, a), entry="cubic", **kw)
