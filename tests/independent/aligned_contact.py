@@ -15,9 +15,10 @@ exactly. What that buys was measured, not assumed (issue 17, docs/contact.md): i
 (Carter) limit this method is second order (tests/independent/test_aligned_contact_selfcheck.py);
 under the +-30 % load at 1600 Hz, with its quadrature adequate (nh = 30, K = 2000), its wear harmonic
 converges at about order 1.5-1.6 over 81-161-321 nodes, no faster than the production scheme, and
-the two agree at 321 nodes to 3e-4 (nh = 40, K = 3000 there). So aligning the boundary in space alone does not give second order;
-the method serves as an independent traction discretisation. With nh = 20, K = 1000 (the default,
-cheaper) its quadrature error becomes grid-dependent beyond about 161 nodes.
+the two agree at 321 nodes to 3e-4 (nh = 40, K = 3000 there). So aligning the boundary in space
+alone does not give second order; the method serves as an independent traction discretisation.
+With nh = 20, K = 1000 (the default, cheaper) its quadrature error becomes grid-dependent beyond
+about 161 nodes.
 
 Model (one stick zone at the leading side, one slip direction: the regime of partial slip under a
 driving or braking creepage with a moderate load variation; anything else is detected and reported)
@@ -60,6 +61,8 @@ not a production scheme. Units SI.
 """
 
 from __future__ import annotations
+
+from itertools import pairwise
 
 import numpy as np
 from scipy.optimize import brentq
@@ -155,15 +158,32 @@ class _State:
         out = out - k * log_matrix(x, self.z) @ self.d + k * self.log_l * (_trapezoid_weights(self.z) @ self.d)
         return np.where(np.abs(x) <= a * (1 + 1e-12), out, np.nan)
 
+    def dev(self, x):
+        """The deviation d from the sliding traction (zero outside the stick zone)."""
+        return np.interp(np.atleast_1d(x), self.z, self.d, left=0.0, right=0.0)
+
     def q(self, x):
         x = np.atleast_1d(x)
         p = self.p0 * np.sqrt(np.clip(1 - (x / self.a) ** 2, 0, None))
-        return self.smu * p + np.interp(x, self.z, self.d, left=0.0, right=0.0)
+        return self.smu * p + self.dev(x)
 
 
 def _ell(e):
     e = np.clip(e, -1, 1)
     return 0.5 * (e * np.sqrt(np.clip(1 - e * e, 0, None)) + np.arcsin(e))
+
+
+def _path_load(x, delta, a_prev, a, p0_prev, p0, dt):
+    """Along the step of the particle that ends at x: int p dt [Pa s] and the time in the patch [s].
+
+    The particle moves from x + delta to x while a_prev -> a; in the normalised coordinate
+    eta = x / a it moves linearly from e0 to e1, so the pressure integrates exactly (``_ell``).
+    """
+    e0, e1 = (x + delta) / a_prev, x / a
+    span = e0 - e1
+    int_p = 0.5 * (p0_prev + p0) * dt * (_ell(e0) - _ell(e1)) / span
+    loaded = np.maximum(dt * (np.minimum(e0, 1) - np.maximum(e1, -1)) / span, 0)
+    return int_p, loaded
 
 
 def solve(P, a, *, k, mu, creepage, half_width, speed, delta, M, closure_scale=1.0, nh=20, K=1000, wave=0.0,
@@ -360,32 +380,21 @@ def solve(P, a, *, k, mu, creepage, half_width, speed, delta, M, closure_scale=1
         ref = np.where(inside & (qn != 0), qn, q_old)
         counted = (inside | was) & (s_bar != 0) & (ref != 0)
         sc = np.where(ref > 0, 1.0, -1.0)[counted]
-        e0, e1 = eta0[counted], eta1[counted]
-        span = e0 - e1
-        int_p = 0.5 * (p0_prev + p0) * dt * (_ell(e0) - _ell(e1)) / span
-        loaded = np.maximum(dt * (np.minimum(e0, 1) - np.maximum(e1, -1)) / span, 0)
+        int_p, loaded = _path_load(xi[counted], delta, a_prev, ai, p0_prev, p0, dt)
         d_new = np.where(inside[counted], qn[counted] - sc * mu * p[counted], 0)
         d_old = np.where(was[counted], q_old[counted] - sc * mu * p_old[counted], 0)
         dw = np.zeros(nn)
         dw[counted] = np.abs(s_bar[counted] * (sc * mu * int_p + 0.5 * (d_old + d_new) * loaded))
         work[i:i + nn] += dw
         # grid-free collection (module docstring)
-        def path_p(x):
-            e0, e1 = (x + delta) / a_prev, x / ai
-            span = e0 - e1
-            return 0.5 * (p0_prev + p0) * dt * (_ell(e0) - _ell(e1)) / span, e0, e1, span
-
         total = 0.0j
         b_old = prev.b - delta
         cuts = [-ai, b_old, bb] if -ai < b_old < bb else [-ai, bb]
-        for x0, x1 in zip(cuts[:-1], cuts[1:]):
+        for x0, x1 in pairwise(cuts):
             xq, wq = piece(x0, x1)
             sv = g * speed + (st.u(xq) - prev.u(xq + delta)) / dt
-            ip, e0, e1, span = path_p(xq)
-            loaded = np.maximum(dt * (np.minimum(e0, 1) - np.maximum(e1, -1)) / span, 0)
-            xo = xq + delta
-            d_old = np.where(xo > prev.b, prev.q(xo) - smu * p0_prev * np.sqrt(np.clip(1 - (xo / a_prev) ** 2, 0, None)),
-                             0.0)
+            ip, loaded = _path_load(xq, delta, a_prev, ai, p0_prev, p0, dt)
+            d_old = prev.dev(xq + delta)
             total += np.sum(wq * np.abs(sv * (smu * ip + 0.5 * d_old * loaded)) * np.exp(-1j * wave * xq))
         if -ai > -a_prev - delta:  # particles that left at the trailing edge during the step
             xq, wq = piece(-a_prev - delta, -ai)
@@ -393,7 +402,8 @@ def solve(P, a, *, k, mu, creepage, half_width, speed, delta, M, closure_scale=1
             ph = np.clip((e0 + 1) / (e0 - e1), THETA_EDGE, 1)
             ue = (1 - ph) * u_trail_old + ph * u_trail_new
             sv = g * speed + (ue - prev.u(np.minimum(xq + delta, a_prev))) / (ph * dt)
-            total += np.sum(wq * np.abs(sv * smu * path_p(xq)[0]) * np.exp(-1j * wave * xq))
+            ip = _path_load(xq, delta, a_prev, ai, p0_prev, p0, dt)[0]
+            total += np.sum(wq * np.abs(sv * smu * ip) * np.exp(-1j * wave * xq))
         C[i] = total
         prev, u_old = st, u_new
         u_edge_old2 = u_edge_old
@@ -425,7 +435,7 @@ def wear_harmonics(f, amp, nodes, *, P0, R, speed, youngs_modulus, poisson_ratio
     k = compliance(youngs_modulus, poisson_ratio)
     lam = speed / f
     amax = float(hertz_half_length(P0 * (1 + amp), R, k, half_width))
-    Ns = int(round(lam * (nodes - 1) / (2 * amax)))
+    Ns = round(lam * (nodes - 1) / (2 * amax))
     delta = lam / Ns
     M = int(np.ceil(amax * 1.02 / delta)) + 1
     x = np.arange((spin + 1) * Ns + 2 * M + 1) * delta

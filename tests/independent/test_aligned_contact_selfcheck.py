@@ -72,7 +72,7 @@ def test_quadratic_entry_reduces_to_the_linear_one_in_steady_rolling():
     delta = 2 * a / 40 * 1.013
     M = int(np.ceil(a * 1.02 / delta)) + 1
     n = 3 * int(np.ceil(2 * a / delta))
-    kw = dict(k=K_C, mu=MU, creepage=g, half_width=BW, speed=V, delta=delta, M=M)
+    kw = {"k": K_C, "mu": MU, "creepage": g, "half_width": BW, "speed": V, "delta": delta, "M": M}
     lin = ac.solve(np.full(n, P0), np.full(n, a), **kw)
     qua = ac.solve(np.full(n, P0), np.full(n, a), entry="quadratic", **kw)
     assert abs(qua[2][-1] - lin[2][-1]) < 1e-9 * a
