@@ -17,14 +17,15 @@ import sys
 
 import numpy as np
 
-from . import growth, interaction, moving, provenance, wear
+from . import growth, interaction, moving, normal, provenance, wear
+from .contact import hertz_half_length
 from .interaction import ForceResult, Roughness
 from .moving import MovingReceptance
 from .scenario import Scenario, TrackNumerics
 from .track import Track
 
-__all__ = ["wheel_offsets", "receptance_table", "track_table", "table_speed", "initial_roughness", "solve_forces", "passage_wear", "train_wear", "grow",
-           "single_wheel"]
+__all__ = ["wheel_offsets", "receptance_table", "track_table", "table_speed", "initial_roughness", "solve_forces", "contact_filtered",
+           "passage_wear", "train_wear", "grow", "single_wheel"]
 
 
 def single_wheel(scn: Scenario) -> Scenario:
@@ -142,10 +143,14 @@ def initial_roughness(scn: Scenario, speed: float) -> Roughness:
 def solve_forces(scn: Scenario, table: MovingReceptance, roughness: Roughness) -> ForceResult:
     """Normal force harmonics of every wheel of the scenario (eq 21, rail.interaction.solve_forces).
 
+    With the normal contact 'nonhertzian' the contact spring is driven by the roughness the patch
+    sees, Z_j J0(beta_j a_0) (rail.normal.approach_filter, linearised about the static wheel load's
+    Hertz patch a_0, contact_filter); with 'report' by the roughness at the wheel centre.
+
     Parameters
     ----------
     scn : Scenario
-        Its wheels and contact spring.
+        Its wheels, contact spring and normal-contact model.
     table : MovingReceptance
         At the train's speed, with every wheel offset.
     roughness : Roughness
@@ -156,7 +161,31 @@ def solve_forces(scn: Scenario, table: MovingReceptance, roughness: Roughness) -
     ForceResult
         P[l, p] [N].
     """
-    return interaction.solve_forces(table, scn.wheels, scn.spring, roughness, scn.L)
+    return interaction.solve_forces(table, scn.wheels, scn.spring, contact_filtered(scn, roughness), scn.L)
+
+
+def contact_filtered(scn: Scenario, roughness: Roughness) -> Roughness:
+    """The roughness that drives the normal force: the contact filter J0(beta a_0) of the linearised
+    2D contact about the static Hertz patch a_0 (rail.normal.approach_filter) for the normal contact
+    'nonhertzian'; the roughness itself for 'report'.
+
+    Parameters
+    ----------
+    scn : Scenario
+    roughness : Roughness
+        Z_j over the period N L [m].
+
+    Returns
+    -------
+    Roughness
+        [m].
+    """
+    if scn.contact_numerics.normal != "nonhertzian":
+        return roughness
+    a0 = float(hertz_half_length(scn.wheels.static_load, scn.material.wheel_radius, scn.material))
+    J = roughness.harmonics
+    beta = 2 * np.pi * np.arange(-J, J + 1) / (roughness.bays * scn.L)
+    return Roughness(roughness.Z * normal.approach_filter(beta, a0), roughness.bays)
 
 
 def passage_wear(scn: Scenario, forces: ForceResult, roughness: Roughness, wheel: int = 0,
@@ -244,4 +273,5 @@ def grow(scn: Scenario, table: MovingReceptance, roughness: Roughness | None = N
     rough = initial_roughness(scn, table_speed(table)) if roughness is None else roughness
     ident = {"scenario": repr(scn), "speed": table_speed(table), "code": provenance.module_hash("rail.chain"), **(identity or {})}
     return growth.run_growth(lambda Z, phase: train_wear(scn, table, Z, phase), rough, len(scn.wheels.positions),
-                             scn.growth, checkpoint=checkpoint, identity=ident, progress=progress, **kwargs)
+                             scn.growth, checkpoint=checkpoint, identity=ident, progress=progress,
+                             period=scn.L * scn.roughness.bays, **kwargs)

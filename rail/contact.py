@@ -348,21 +348,27 @@ CHECKERBOARD_LIMIT = 0.25
 THETA_EDGE = 1e-10
 MIN_NODES = 11  # fewest grid nodes across the patch (the schema's bound on numerics.contact.nodes; tested equal)
 CLOSURES = ("default", "report")
+NORMAL_MODELS = ("report", "nonhertzian")
 
 
 @dataclass(frozen=True)
 class ContactNumerics:
-    """How the tangential contact is discretised and closed (config keys ``numerics.contact`` and
-    ``contact.closure``, ``contact.closure_scale``).
+    """How the contact is modelled, discretised and closed (config keys ``numerics.contact`` and
+    ``contact.closure``, ``contact.closure_scale``, ``contact.normal``).
 
     nodes         : grid nodes across the largest patch [-], >= MIN_NODES
     closure       : 'default' (well-posed log kernel) or 'report' (eqs 32-33)
     closure_scale : s, scale of the closure's rigid compliance [-], > 0
+    normal        : normal contact: 'report' (point spring on the roughness at the wheel centre, Hertz
+                    patch with the local rail curvature, eqs 22-24) or 'nonhertzian' (the roughness
+                    under the patch: the force through the contact filter J0(beta a), the exact
+                    single-zone 2D pressure; rail.normal, docs/contact.md)
     """
 
     nodes: int
     closure: str
     closure_scale: float
+    normal: str = "report"
 
     def __post_init__(self):
         if not isinstance(self.nodes, (int, np.integer)) or self.nodes < MIN_NODES:
@@ -371,6 +377,8 @@ class ContactNumerics:
             raise ValueError(f"contact.closure = {self.closure!r} is not allowed: it must be one of {list(CLOSURES)}.")
         if not (np.isfinite(self.closure_scale) and self.closure_scale > 0):
             raise ValueError(f"contact.closure_scale = {self.closure_scale!r} is not allowed: it must be > 0.")
+        if self.normal not in NORMAL_MODELS:
+            raise ValueError(f"contact.normal = {self.normal!r} is not allowed: it must be one of {list(NORMAL_MODELS)}.")
 
 
 def rolling_grid(a_max: float, L: float, nodes: int):
@@ -958,7 +966,7 @@ def _ellipse_area(eta):
 
 
 @njit(cache=True)
-def _step_work(n, xi, delta, a_prev, ai, p0m, dt, mu_d, qn, q, p, p_prev, s, s_exit, inside, inside_prev):
+def _step_work(n, xi, delta, a_prev, ai, p0m, dt, mu_d, qn, q, p, p_prev, s, s_exit, inside, inside_prev, fm):
     """Frictional work per unit area in one step on the particle now at node n (at xi_{n+1} one step
     before), J/m^2: |s_bar int q dt| with s_bar its mean slip velocity over the time it was loaded.
 
@@ -967,7 +975,8 @@ def _step_work(n, xi, delta, a_prev, ai, p0m, dt, mu_d, qn, q, p, p_prev, s, s_e
     between the two steps (clipped at the patch edges, where the particle enters or leaves), so the
     square-root edges of p carry no grid-position error; the deviation d (0 in slip) by the
     trapezoidal rule over the loaded time. s_exit : the mean slip velocity of a particle that left the
-    patch during the step, over its loaded time."""
+    patch during the step, over its loaded time. fm : the mean of the pressure's shape factor (non-Hertzian
+    pressure = Hertz ellipse x shape, rail.normal) at the particle's two positions; 1 for Hertz."""
     nn = xi.size
     was = n < nn - 1 and inside_prev[n + 1]
     if not (inside[n] or was):
@@ -984,7 +993,7 @@ def _step_work(n, xi, delta, a_prev, ai, p0m, dt, mu_d, qn, q, p, p_prev, s, s_e
     eta0 = (xi[n] + delta) / a_prev
     eta1 = xi[n] / ai
     span = eta0 - eta1
-    ip = p0m * dt * (_ellipse_area(eta0) - _ellipse_area(eta1)) / span
+    ip = fm * p0m * dt * (_ellipse_area(eta0) - _ellipse_area(eta1)) / span
     loaded = dt * (min(eta0, 1.0) - max(eta1, -1.0)) / span
     if loaded < 0.0:
         loaded = 0.0
@@ -995,7 +1004,7 @@ def _step_work(n, xi, delta, a_prev, ai, p0m, dt, mu_d, qn, q, p, p_prev, s, s_e
 
 
 @njit(cache=True)
-def _march(P, a, xi, Mom, mu, ws, k, delta, M, speed, g, mu_d, mu_s, half_width, closure, closure_scale,
+def _march(P, a, shape, xi, Mom, mu, ws, k, delta, M, speed, g, mu_d, mu_s, half_width, closure, closure_scale,
            report_coef, q0, max_iter, checkerboard_limit):
     """The time loop of solve_tangential (compiled). Returns the histories and a status
     (code, step, value): 0 ok, 1 no convergence of the stick/slip iteration, 2 not finite,
@@ -1047,7 +1056,7 @@ def _march(P, a, xi, Mom, mu, ws, k, delta, M, speed, g, mu_d, mu_s, half_width,
     inside_prev = np.zeros(nn, dtype=np.bool_)
     for n in range(nn):
         rr = 1 - (xi[n] / a[0]) ** 2
-        p_prev[n] = p0_prev * math.sqrt(rr if rr > 0 else 0.0)
+        p_prev[n] = p0_prev * math.sqrt(rr if rr > 0 else 0.0) * shape[0, n]
         inside_prev[n] = p_prev[n] > 0
     for i in range(steps):
         ai = a[i]
@@ -1059,7 +1068,7 @@ def _march(P, a, xi, Mom, mu, ws, k, delta, M, speed, g, mu_d, mu_s, half_width,
         p0 = P[i] / (math.pi * ai * half_width)
         for n in range(nn):
             rr = 1 - (xi[n] / ai) ** 2
-            p[n] = p0 * math.sqrt(rr if rr > 0 else 0.0)
+            p[n] = p0 * math.sqrt(rr if rr > 0 else 0.0) * shape[i, n]
             inside[n] = p[n] > 0
         for n in range(nn - 1):
             stick[n] = stick_prev[n + 1]
@@ -1202,8 +1211,10 @@ def _march(P, a, xi, Mom, mu, ws, k, delta, M, speed, g, mu_d, mu_s, half_width,
                 u_exit = (1.0 - phi) * u_trail_old + phi * u_trail_new
                 s_exit[n] = g * speed + (u_exit - u_old[n + 1]) / (phi * dt)
         p0m = 0.5 * (p0_prev + p0)
+        ip = i - 1 if i > 0 else 0
         for n in range(nn):
-            dw[n] = _step_work(n, xi, delta, a_prev, ai, p0m, dt, mu_d, qn, q, p, p_prev, s, s_exit, inside, inside_prev)
+            fm = 0.5 * (shape[ip, n + 1] + shape[i, n]) if n < nn - 1 else shape[i, n]
+            dw[n] = _step_work(n, xi, delta, a_prev, ai, p0m, dt, mu_d, qn, q, p, p_prev, s, s_exit, inside, inside_prev, fm)
         tot = 0.0
         for n in range(nn):
             work[i + n] += dw[n]
@@ -1241,7 +1252,7 @@ def _checkerboard_nb(q, stick, inside, p0, mu):
 
 
 def solve_tangential(P, a, m: ContactMaterial, speed: float, delta: float, M: int, closure: str = "default",
-                     closure_scale: float = 1.0, q0=None, max_iter: int = 200) -> TangentialSolution:
+                     closure_scale: float = 1.0, q0=None, max_iter: int = 200, shape=None) -> TangentialSolution:
     """Time-step the unsteady 2D rolling contact over len(P) steps of Delta = V dt (eqs 26-33).
 
     Parameters
@@ -1265,6 +1276,9 @@ def solve_tangential(P, a, m: ContactMaterial, speed: float, delta: float, M: in
         Initial traction at the nodes [Pa] (default 0).
     max_iter : int
         Largest number of active-set iterations per step.
+    shape : ndarray, shape (len(P), 2M + 1), optional
+        Non-Hertzian pressure: p = P / (pi a b) sqrt(1 - xi^2/a^2) shape at the nodes (rail.normal
+        .patch_contact), smooth and > 0 in the patch [-]; default 1 (the Hertz ellipse, eq 22).
 
     Returns
     -------
@@ -1305,13 +1319,18 @@ def solve_tangential(P, a, m: ContactMaterial, speed: float, delta: float, M: in
         raise ValueError("solve_tangential needs a loaded patch at every step (P > 0, a > 0); contact loss is "
                          "detected before (rail.interaction).")
     nn = 2 * M + 1
+    if shape is None:
+        shape = np.ones((P.size, nn))
+    shape = np.ascontiguousarray(shape, dtype=float)
+    if shape.shape != (P.size, nn) or not np.all(np.isfinite(shape)):
+        raise ValueError(f"shape must be finite with one row of {nn} nodes per step; got shape {shape.shape}.")
     xi = (np.arange(nn) - M) * delta
     k = compliance(m)
     Mom, mu = chebyshev_hat_moments(nn)  # Toeplitz Chebyshev moments of the hats (cached)
     q_init = np.zeros(nn) if q0 is None else np.array(q0, dtype=float)
     report_coef = 8 * (1 - m.poisson_ratio**2) / (np.pi * m.youngs_modulus)  # 1/sigma per unit a, eq 33
     q, s, Q, work, power, stick_count, total_iter, status = _march(
-        P, a, xi, Mom, mu, _basis_workspace(nn), k, delta, M, float(speed), float(m.creepage), float(m.friction_dynamic),
+        P, a, shape, xi, Mom, mu, _basis_workspace(nn), k, delta, M, float(speed), float(m.creepage), float(m.friction_dynamic),
         float(m.friction_static), float(m.half_width), 0 if closure == "default" else 1, float(closure_scale),
         report_coef, q_init, int(max_iter), CHECKERBOARD_LIMIT)
     code, i = int(status[0]), int(status[1])

@@ -35,7 +35,8 @@ from pathlib import Path
 
 import numpy as np
 
-from .interaction import Roughness
+from .contact import ContactError
+from .interaction import ContactLossError, Roughness
 
 __all__ = ["GrowthSettings", "GrowthHistory", "GrowthStepError", "grid_phase", "levels_dB", "run_growth", "step_error"]
 
@@ -103,12 +104,43 @@ class GrowthHistory:
     """passages : (n,) wheel passages at each save; Z : (n, 2K+1) roughness coefficients, m.
     step_error : (updates,) estimated local error of each update relative to the roughness, -; NaN
                  where the two rates compared were on different contact grids (grid_phase);
-    full_slip  : (updates,) largest fraction of the bay without a stick zone over the wheels, -."""
+    full_slip  : (updates,) largest fraction of the bay without a stick zone over the wheels, -;
+    stopped    : '' for a run that reached its passages, else the one-line reason it stopped early (a
+                 physical assumption broke: contact lost, multiple contact; run_growth)."""
 
     passages: np.ndarray
     Z: np.ndarray
     step_error: np.ndarray = dataclass_field(default_factory=lambda: np.zeros(0))
     full_slip: np.ndarray = dataclass_field(default_factory=lambda: np.zeros(0))
+    stopped: str = ""
+
+
+def stop_message(done: int, Z0, Z, error: Exception, period: float | None = None) -> str:
+    """One line: why a growth run stopped, at how many passages, and the harmonic that grew most.
+
+    Parameters
+    ----------
+    done : int
+        Wheel passages done [-].
+    Z0, Z : ndarray, shape (2J + 1,)
+        Initial and current roughness coefficients [m].
+    error : Exception
+        The broken assumption (its message, one line).
+    period : float, optional
+        Roughness period [m] (for the wavelength; else the harmonic's index is named).
+
+    Returns
+    -------
+    str
+    """
+    J = (len(Z) - 1) // 2
+    now = levels_dB(Z)
+    grown = now - levels_dB(Z0)
+    j = int(np.argmax(np.where(now > -200, grown, -np.inf))) + 1 if np.any(now > -200) else int(np.argmax(now)) + 1
+    where = f"wavelength {1e3 * period / j:.3g} mm" if period else f"harmonic {j} of {J}"
+    reason = " ".join(str(error).split())
+    return (f"growth stopped at {done} passages: {reason} The fastest-growing roughness is at {where} "
+            f"({grown[j - 1]:+.1f} dB since the start, now {now[j - 1]:.1f} dB re 1 µm); every state saved up to here is kept.")
 
 
 def levels_dB(Z):
@@ -196,6 +228,7 @@ def run_growth(
     progress=sys.stderr,
     stop_after_updates: int | None = None,
     on_mismatch: str = "error",
+    period: float | None = None,
 ) -> GrowthHistory:
     """Grow the roughness over ``settings.passages`` wheel passages (sec. 5, eq 54).
 
@@ -222,6 +255,8 @@ def run_growth(
         Where progress lines go.
     stop_after_updates : int, optional
         Stop early (for tests of the resume path).
+    period : float, optional
+        The roughness period N L [m], to name the wavelength of a harmonic in a stop message.
 
     Returns
     -------
@@ -232,9 +267,12 @@ def run_growth(
     Each update's local error is estimated (step_error) and a value above settings.step_tolerance
     stops the run with GrowthStepError, naming a step that would pass; the wear rate is evaluated
     once more after the last update for this. Force, traction and wear are checked finite where
-    they are computed; contact loss and multiple contact raise their errors (rail.interaction,
-    rail.contact). Updates with no stick zone over part of the bay (full slip) are reported to
-    ``progress`` and kept in the history.
+    they are computed. Where the model's physical assumptions break (contact loss, multiple contact,
+    contact lost inside the patch: rail.interaction.ContactLossError, rail.contact.ContactError) the
+    run stops: the returned history holds every saved state and the state it stopped at, and its
+    ``stopped`` the one-line reason with the passage count and the fastest-growing wavelength (also
+    printed to ``progress``). Updates with no stick zone over part of the bay (full slip) are
+    reported to ``progress`` and kept in the history.
     """
     train_passages_per_update = settings.passages_per_update / n_wheels
     fp = _fingerprint({"identity": identity, "settings": settings.__dict__,
@@ -291,10 +329,23 @@ def run_growth(
                 + (f"The roughness saved up to {int(history.passages[-1])} passages is in {ck}." if ck is not None else "")
             )
 
+    def stop(e, Z):
+        """The history up to the state the model broke at, with the reason (see Notes)."""
+        nonlocal history
+        if done > history.passages[-1]:
+            history = GrowthHistory(np.append(history.passages, done), np.vstack([history.Z, Z[None, :]]), history.step_error,
+                                    history.full_slip)
+        history.stopped = stop_message(done, history.Z[0], Z, e, period)
+        print(history.stopped, file=progress, flush=True)
+        return history
+
     t0, done0 = time.perf_counter(), done
     n_updates = 0
     while done < settings.passages:
-        dZ_train, slip = wear_rate(Z, update)
+        try:
+            dZ_train, slip = wear_rate(Z, update)
+        except (ContactError, ContactLossError) as e:
+            return stop(e, Z)
         if rate_before is not None:
             if same_grid(update - 1, update):
                 check(rate_before, dZ_train, Z, done)
@@ -318,7 +369,10 @@ def run_growth(
         if stop_after_updates is not None and n_updates >= stop_after_updates:
             return history
     if rate_before is not None:
-        dZ_end, _ = wear_rate(Z, update - 1)  # on the last update's grid, for a clean estimate
+        try:
+            dZ_end, _ = wear_rate(Z, update - 1)  # on the last update's grid, for a clean estimate
+        except (ContactError, ContactLossError) as e:
+            return stop(e, Z)
         check(rate_before, dZ_end, Z, done)
         print(f"largest estimated update error {100 * np.nanmax(history.step_error):.3g} % of the roughness "
               f"(growth.step_tolerance {100 * settings.step_tolerance:g} %)", file=progress, flush=True)

@@ -365,6 +365,8 @@ def patch_contact(P, x_wheel, slope, m: ContactMaterial, xi, nodes: int = CHEBYS
     c = _cheb_coefficients(a[:, None] * tau[None, :] / m.wheel_radius - slope(xw[:, None] + a[:, None] * tau[None, :]))
     sigma = np.clip(np.asarray(xi, dtype=float)[None, :] / a[:, None], -1.0, 1.0)
     shape = _u_series(c, sigma) / c[:, 1:2]
-    edges = np.concatenate([np.linspace(-1, 1, 4 * nodes + 1)[None, :].repeat(len(a), 0), sigma], axis=1)
-    min_shape = np.min(_u_series(c, edges) / c[:, 1:2], axis=1)
+    # smallest shape over the whole patch, edges included: on a fixed fine sigma grid, by one product
+    check = np.linspace(-1, 1, 4 * nodes + 1)
+    U = _u_series(np.eye(nodes), check[None, :].repeat(nodes, 0))  # row m: U_{m-1}(check), 0 for m = 0
+    min_shape = np.minimum(np.min(c @ U, axis=1) / c[:, 1], np.min(shape, axis=1))
     return PatchContact(a=a, shape=shape, min_shape=min_shape, shift=-m.wheel_radius * c[:, 0])

@@ -21,10 +21,11 @@ from dataclasses import dataclass
 
 import numpy as np
 
-from .contact import ContactMaterial, ContactNumerics, equivalent_radius, hertz_half_length, rolling_grid, solve_tangential
+from . import normal
+from .contact import ContactError, ContactMaterial, ContactNumerics, equivalent_radius, hertz_half_length, rolling_grid, solve_tangential
 from .interaction import ForceResult, Roughness, force_on_grid
 
-__all__ = ["WearLaw", "WearResult", "bay_wear", "wear_spectrum", "apply_wear", "SPIN_UP_TRANSITS"]
+__all__ = ["WearLaw", "WearResult", "bay_wear", "wear_spectrum", "apply_wear", "roughness_slope", "SPIN_UP_TRANSITS"]
 
 SPIN_UP_TRANSITS = 20
 
@@ -66,6 +67,10 @@ class WearResult:
     full_slip   : fraction of the bay's positions with no stick zone in the loaded patch (0 in
                   the report's regime; 1 with saturated creepage). Reported, not an error: the
                   traction is then mu_d p everywhere, which the model handles.
+    min_shape   : smallest pressure shape factor over the bay (normal contact 'nonhertzian'; 1 for
+                  Hertz): the roughness's share of the pressure at its worst, rail.normal.patch_contact
+    shift       : largest |c| / a over the bay, the neglected move of the contact centre relative to
+                  the wheel (normal contact 'nonhertzian'; 0 for the report's model) [-]
     """
 
     x: np.ndarray
@@ -79,6 +84,8 @@ class WearResult:
     xi: np.ndarray
     periodicity: float
     full_slip: float = 0.0
+    min_shape: float = 1.0
+    shift: float = 0.0
 
 
 def wear_spectrum(depth, K: int):
@@ -170,8 +177,14 @@ def bay_wear(forces: ForceResult, wheel_index: int, roughness: Roughness, materi
     speed, L = forces.speed, forces.period  # L: the period N L of roughness and force
     nodes, closure, closure_scale = numerics.nodes, numerics.closure, numerics.closure_scale
     P_s = force_on_grid(forces, 512 * forces.bays)[wheel_index]  # at x = k L / (512 N)
-    kap_s = _curvature_on_grid(roughness, 512 * forces.bays, L)
-    a_s = hertz_half_length(P_s, equivalent_radius(kap_s, material), material)
+    nonhertzian = numerics.normal == "nonhertzian"
+    if nonhertzian:
+        hertz_half_length(P_s, material.wheel_radius, material)  # refuses a negative (lost) contact force
+        slope = roughness_slope(roughness, L)
+        a_s = normal.patch_contact(P_s, np.arange(P_s.size) * L / P_s.size, slope, material, np.zeros(1)).a
+    else:
+        kap_s = _curvature_on_grid(roughness, 512 * forces.bays, L)
+        a_s = hertz_half_length(P_s, equivalent_radius(kap_s, material), material)
     a_est = float(np.max(a_s)) * 1.02 if a_max is None else a_max
     # the grid of one bay, repeated over the N bays of the period (so that a one-bay-periodic
     # roughness gives the same wear with any N)
@@ -188,10 +201,23 @@ def bay_wear(forces: ForceResult, wheel_index: int, roughness: Roughness, materi
     x_wheel = (np.arange(steps) - spin) * delta  # wheel centre at each step; x = 0 at step `spin`
     on_grid = (np.arange(steps) - spin) % Nx  # x_wheel mod L = on_grid L / Nx: exact grid points
     P = force_on_grid(forces, Nx)[wheel_index][on_grid]
-    kappa = _curvature_on_grid(roughness, Nx, L)[on_grid]
-    R = equivalent_radius(kappa, material)
-    a = hertz_half_length(P, R, material)
-    sol = solve_tangential(P, a, material, speed, delta, M, closure=closure, closure_scale=closure_scale)
+    shape, min_shape, shift = None, 1.0, 0.0
+    if nonhertzian:
+        xi = (np.arange(2 * M + 1) - M) * delta
+        pc = normal.patch_contact(P, x_wheel, slope, material, xi)
+        a, shape = pc.a, pc.shape
+        min_shape = float(pc.min_shape.min())
+        shift = float(np.max(np.abs(pc.shift) / a))
+        if min_shape <= 0:
+            i_bad = int(np.argmin(pc.min_shape))
+            raise ContactError(f"contact lost inside the patch: wheel {wheel_index} at x = {x_wheel[i_bad] % L:.4g} m in the "
+                               f"period, the roughness under the patch (a = {a[i_bad] * 1e3:.3g} mm) lifts the rail off the wheel "
+                               "there (pressure shape factor < 0); the single-zone contact no longer holds.")
+    else:
+        kappa = _curvature_on_grid(roughness, Nx, L)[on_grid]
+        R = equivalent_radius(kappa, material)
+        a = hertz_half_length(P, R, material)
+    sol = solve_tangential(P, a, material, speed, delta, M, closure=closure, closure_scale=closure_scale, shape=shape)
     # particle j is at x = (j - M - spin) Delta; the bay's points x_k = k Delta are j = spin + M + k
     j = spin + M + np.arange(Nx)
     depth = wear_law.depth(sol.work[j])
@@ -216,7 +242,38 @@ def bay_wear(forces: ForceResult, wheel_index: int, roughness: Roughness, materi
         xi=sol.xi,
         periodicity=periodicity,
         full_slip=full_slip,
+        min_shape=min_shape,
+        shift=shift,
     )
+
+
+def roughness_slope(roughness: Roughness, period: float):
+    """The slope r'(x) of the roughness as a function of position (rail.normal.patch_contact).
+
+    r' is sampled by one inverse FFT on a grid of at least 64 points per shortest wavelength and
+    interpolated linearly (periodically): relative error at most (2 pi / 64)^2 / 8 = 1.2e-3 of the
+    shortest harmonic's slope, less for the longer ones.
+
+    Parameters
+    ----------
+    roughness : Roughness
+        Z_j, j = -J..J over the period [m].
+    period : float
+        N L [m].
+
+    Returns
+    -------
+    callable
+        x [m] (any shape) -> r'(x) [-].
+    """
+    J = roughness.harmonics
+    n = 1 << int(np.ceil(np.log2(max(64 * J, 64))))
+    j = np.arange(-J, J + 1)
+    acc = np.zeros(n, dtype=complex)
+    np.add.at(acc, j % n, 1j * j * (2 * np.pi / period) * roughness.Z)
+    values = np.real(np.fft.ifft(acc)) * n
+    grid = np.arange(n) * period / n
+    return lambda x: np.interp(x, grid, values, period=period)
 
 
 def _curvature_on_grid(roughness: Roughness, n: int, period: float):

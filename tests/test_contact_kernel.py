@@ -140,3 +140,40 @@ def test_particle_leaving_at_the_start_of_a_step_does_no_work():
     assert not np.isfinite(off[j]) or off[j] > 1e10 * on[j]
     np.testing.assert_allclose(np.delete(off, j), np.delete(on, j), rtol=1e-9)
     np.testing.assert_allclose(R.solve_tangential_numpy(P, a, m, 40.0, delta, M).work, on, rtol=1e-9)
+
+
+def _rail_shape(M, delta, steps, amp=0.15, lam=0.008):
+    # a non-Hertzian pressure factor fixed to the rail (a ripple under a moving patch): at step i the
+    # node n lies at x = (i + n - M) delta on the rail
+    i, n = np.meshgrid(np.arange(steps), np.arange(2 * M + 1), indexing="ij")
+    return 1 + amp * np.cos(2 * np.pi * (i + n - M) * delta / lam)
+
+
+@pytest.mark.parametrize("freq, amp", [(0.0, 0.0), (1000.0, 0.3)])
+def test_compiled_loop_matches_numpy_with_a_non_hertzian_pressure(freq, amp):
+    m = material()
+    delta, _, M = _grid(m, P0 * (1 + amp))
+    steps = 6 * (2 * M + 1)
+    P = _load(freq, amp, steps, delta)
+    a = C.hertz_half_length(P, R, m)
+    shape = _rail_shape(M, delta, steps)
+    new = C.solve_tangential(P, a, m, V, delta, M, shape=shape)
+    ref = solve_tangential_numpy(P, a, m, V, delta, M, shape=shape)
+    assert np.abs(new.q - ref.q).max() <= 1e-9 * np.abs(ref.q).max()
+    np.testing.assert_allclose(new.work, ref.work, rtol=0, atol=1e-9 * ref.work.max())
+    # and the shape is not ignored: the work differs from the Hertz ellipse's by about the ripple
+    hertz = C.solve_tangential(P, a, m, V, delta, M)
+    assert np.abs(new.work - hertz.work).max() > 0.05 * hertz.work.max()
+
+
+def test_a_uniform_pressure_factor_equals_a_scaled_load():
+    # p = c x Hertz(P, a) is the pressure of the load c P on the same patch: the same solution
+    m = material()
+    delta, _, M = _grid(m, P0)
+    steps = 4 * (2 * M + 1)
+    P = _load(1000.0, 0.2, steps, delta)
+    a = C.hertz_half_length(P, R, m)
+    scaled = C.solve_tangential(P, a, m, V, delta, M, shape=np.full((steps, 2 * M + 1), 1.1))
+    direct = C.solve_tangential(1.1 * P, a, m, V, delta, M)
+    np.testing.assert_allclose(scaled.q, direct.q, rtol=0, atol=1e-12 * np.abs(direct.q).max())
+    np.testing.assert_allclose(scaled.work, direct.work, rtol=0, atol=1e-12 * direct.work.max())

@@ -83,7 +83,9 @@ def load(name: str = "default", *, root: str | Path | None = None, changes: dict
     if "sweep" in scen:
         raise config.ConfigError(f"{source} is a sweep study: its grid points are scenarios of the workflow "
                                  "(snakemake -j2 sweeps); load one point's keys as changes instead.")
-    cfg = config.resolve(defaults, schema, config.deep_merge(scen, changes or {}), source=source)
+    merged = config.deep_merge(scen, changes or {})
+    cfg = (config.resolve(defaults, schema, merged, source=source) if stem == "default" and not path.suffix
+           else config.resolve_scenario_file(defaults, schema, merged, source=source))
     return Study(stem, build.scenario(cfg, stem, source), cfg)
 
 

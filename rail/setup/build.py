@@ -187,7 +187,7 @@ def scenario(cfg: dict, name: str = "default", source: str = "config") -> Scenar
         material=_material(cfg),
         elastic=_elastic(cfg),
         wear_law=WearLaw(float(cfg["material"]["density"]), float(cfg["wear"]["coefficient"])),
-        contact_numerics=ContactNumerics(int(num["contact"]["nodes"]), str(c["closure"]), float(c["closure_scale"])),
+        contact_numerics=ContactNumerics(int(num["contact"]["nodes"]), str(c["closure"]), float(c["closure_scale"]), str(c["normal"])),
         growth=GrowthSettings(passages=int(g["passages"]), passages_per_update=int(g["passages_per_update"]),
                               save_every=int(g["save_every"]), vary_grid_spacing=bool(g["vary_grid_spacing"]),
                               step_tolerance=float(g["step_tolerance"])),

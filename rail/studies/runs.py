@@ -34,4 +34,8 @@ def growth_dataset(scn: Scenario, table, history, speed: float) -> xr.Dataset:
     def force(Z, x):  # every wheel's contact force at each saved roughness
         return interaction.force_history(chain.solve_forces(scn, table, interaction.Roughness(Z, bays)), x)
 
-    return datasets.growth(history, scn.track, speed, len(scn.wheels.positions), bays=bays, force=force)
+    ds = datasets.growth(history, scn.track, speed, len(scn.wheels.positions), bays=bays, force=force)
+    ds.attrs["normal_contact"] = scn.contact_numerics.normal
+    if history.stopped:  # a physical assumption broke: the states up to there, and why
+        ds.attrs["stopped"] = history.stopped
+    return ds

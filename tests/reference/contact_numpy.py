@@ -41,9 +41,10 @@ from rail.contact import (
 
 
 def solve_tangential_numpy(P, a, m: ContactMaterial, speed: float, delta: float, M: int, closure: str = "default",
-                     closure_scale: float = 1.0, q0=None, max_iter: int = 200) -> TangentialSolution:
+                     closure_scale: float = 1.0, q0=None, max_iter: int = 200, shape=None) -> TangentialSolution:
     """rail.contact.solve_tangential in numpy: same arguments, same scheme, same result."""
     P = np.asarray(P, dtype=float)
+    shape = np.ones((P.size, 2 * M + 1)) if shape is None else np.asarray(shape, dtype=float)
     a = np.asarray(a, dtype=float)
     if np.any(a >= M * delta):
         raise ValueError(f"the patch half-length {a.max():.4g} m exceeds the grid's {M * delta:.4g} m.")
@@ -100,7 +101,7 @@ def solve_tangential_numpy(P, a, m: ContactMaterial, speed: float, delta: float,
     u_edge_old = r_edge @ q  # surface displacement at xi = +a and -a at the last step
     u_trail_old = r_trail @ q
     a_prev = a[0]
-    p_prev = hertz_pressure(xi, P[0], a[0], m)
+    p_prev = hertz_pressure(xi, P[0], a[0], m) * shape[0]
     p0_prev = P[0] / (np.pi * a[0] * m.half_width)
     stick_prev = np.zeros(nn, dtype=bool)
     sign_prev = np.full(nn, -sg)
@@ -108,7 +109,7 @@ def solve_tangential_numpy(P, a, m: ContactMaterial, speed: float, delta: float,
     for i in range(steps):
         ai = a[i]
         C, r_edge, r_trail = full_matrix(ai)
-        p = hertz_pressure(xi, P[i], ai, m)
+        p = hertz_pressure(xi, P[i], ai, m) * shape[i]
         p0 = P[i] / (np.pi * ai * m.half_width)
         inside = p > 0
         inside_prev = p_prev > 0
@@ -222,7 +223,10 @@ def solve_tangential_numpy(P, a, m: ContactMaterial, speed: float, delta: float,
         e0, e1 = eta0[counted], eta1[counted]
         span = e0 - e1
         p0m = 0.5 * (p0_prev + p0)
-        int_p = p0m * dt * (ellipse_area(e0) - ellipse_area(e1)) / span
+        # non-Hertzian pressure (ellipse x shape): the shape's mean at the particle's two positions
+        f_prev = shape[max(i - 1, 0)]
+        fm = np.append(0.5 * (f_prev[1:] + shape[i][:-1]), shape[i][-1])[counted]
+        int_p = fm * p0m * dt * (ellipse_area(e0) - ellipse_area(e1)) / span
         loaded = np.maximum(dt * (np.minimum(e0, 1.0) - np.maximum(e1, -1.0)) / span, 0.0)
         sc = sig[counted]
         d_new = np.where(inside[counted], qn[counted] - sc * mu_d * p[counted], 0.0)

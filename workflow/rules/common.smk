@@ -12,7 +12,7 @@ from rail.roughness import read_third_octave_spectrum
 from rail.provenance import code_hash
 from rail.setup.build import scenario as build_scenario
 from rail.setup.build import physics_problems
-from rail.setup.config import ConfigError, check_scenario_names, expand_sweep, load_yaml, resolve, validate_config
+from rail.setup.config import ConfigError, check_scenario_names, expand_sweep, load_yaml, resolve_scenario_file, validate_config
 
 # Clear, actionable messages first (key, value, unit, valid range), then snakemake's own
 # validation against the same schema.
@@ -41,7 +41,7 @@ for _path in sorted(SCENARIO_DIR.glob("*.yaml")):
             _speeds = [_assignment["speed"]] if "speed" in _assignment else _cfg["speeds"][:1]
             SWEEPS[_path.stem]["points"].append({"name": _name, "index": _index, "speed": _speeds[0]})
     else:
-        SCENARIOS[_path.stem] = resolve(config, SCHEMA, _scen, source=str(_path))
+        SCENARIOS[_path.stem] = resolve_scenario_file(config, SCHEMA, _scen, source=str(_path))
         _SOURCES[_path.stem] = str(_path)
 # Every scenario is built once here (rail.setup.build.scenario): the constraints that need physics
 # (rail damping, harmonics reaching the pinned-pinned frequency) fail at start-up, naming the file.
