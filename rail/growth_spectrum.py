@@ -170,7 +170,8 @@ def spectrum_lines(L: float, bays: int, harmonics: int, shortest: float, longest
     harmonics : int
         K of the receptance tables [-]: the shortest wavelength represented is L / K.
     shortest, longest : float
-        Wavelength range [m], 0 < shortest < longest.
+        Wavelength range [m], 0 < shortest < longest; shortest = 0 means L / K, the shortest
+        wavelength the receptance tables represent.
     per_octave : int
         Wavelengths per octave asked for [-] (30: a tenth of a one-third octave).
 
@@ -186,9 +187,11 @@ def spectrum_lines(L: float, bays: int, harmonics: int, shortest: float, longest
         the lines' relative spacing at the longest wavelength, longest / (N L), must not exceed
         2^(1 / per_octave) - 1.
     """
+    if shortest == 0 and harmonics >= 1:
+        shortest = L / harmonics
     if not (np.isfinite(shortest) and np.isfinite(longest) and 0 < shortest < longest):
         raise ValueError(f"wavelengths shortest = {shortest!r} m, longest = {longest!r} m are not allowed: they must be finite "
-                         "with 0 < shortest < longest.")
+                         "with 0 < shortest < longest (shortest 0: down to L / K).")
     if not (isinstance(per_octave, (int, np.integer)) and per_octave >= 1):
         raise ValueError(f"per_octave = {per_octave!r} is not allowed: it must be an integer >= 1.")
     if shortest < L / harmonics * (1 - 1e-12):

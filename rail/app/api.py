@@ -152,5 +152,5 @@ def spectrum(study: Study, *, speeds, shortest: float | None = None, longest: fl
     scn = build.spectrum_scenario(cfg, study.name)
     speeds = [speeds] if isinstance(speeds, (int, float)) else list(speeds)
     spectra = {float(v): rate_spectrum.spectrum_with_settings(scn, chain.receptance_table(scn, float(v)), s) for v in speeds}
-    ds = rate_spectrum.rate_spectrum_dataset(spectra, scn.L, len(scn.wheels.positions))
+    ds = rate_spectrum.spectrum_dataset_of(spectra, scn)
     return io.finalize(ds, cfg, title="Growth-rate spectrum", source="rail.app.api.spectrum", scenario=study.name)

@@ -106,7 +106,7 @@ def _wavelength_axis(ax, lam_edges):
     """A log wavelength axis (mm) spanning the lines, with round ticks inside it only."""
     lo, hi = float(lam_edges.min()), float(lam_edges.max())
     ax.set_xscale("log")
-    ax.set_xticks([t for t in (20, 30, 50, 100, 200, 300, 600) if lo <= t <= hi])
+    ax.set_xticks([t for t in (5, 10, 20, 30, 50, 100, 200, 300, 600) if lo <= t <= hi])
     ax.set_xlim(lo, hi)
     ax.xaxis.set_major_formatter(matplotlib.ticker.FormatStrFormatter("%g"))
     ax.xaxis.set_minor_formatter(matplotlib.ticker.NullFormatter())
@@ -148,7 +148,30 @@ def rate_spectrum_figure(ds: xr.Dataset):
     bx.set_ylabel("speed (m/s)")
     for a in (ax, bx):
         _wavelength_axis(a, lam_edges)
+    _mark_contact(ds, (ax, bx), lam_edges)
     return fig
+
+
+def _mark_contact(ds: xr.Dataset, axes, lam_edges):
+    """The static contact length 2a (dashed) and, for the report's normal contact, the wavelengths
+    below its range of validity (hatched), on spectrum panels with a wavelength axis in mm."""
+    if "contact_length_m" not in ds.attrs:
+        return
+    two_a = 1e3 * float(ds.attrs["contact_length_m"])
+    lo = float(lam_edges.min())
+    for i, a in enumerate(axes):
+        if two_a >= lo:
+            a.axvline(two_a, color="k", ls="--", lw=0.9)
+            if i == 0:
+                a.text(two_a, 0.02, f" contact length 2a = {two_a:.1f} mm", transform=a.get_xaxis_transform(), fontsize=7,
+                       rotation=90, va="bottom", ha="right")
+        if "report_model_valid_above_m" in ds.attrs:
+            limit = 1e3 * float(ds.attrs["report_model_valid_above_m"])
+            if limit > lo:
+                a.axvspan(lo, limit, facecolor="none", edgecolor="0.6", hatch="//", lw=0, zorder=0)
+                if i == 0:
+                    a.text(limit, 0.98, "report's normal contact outside its validity (< 10 x 2a) ", transform=a.get_xaxis_transform(),
+                           fontsize=7, ha="right", va="top", color="0.3")
 
 
 def rate_spectrum_sweep_figure(ds: xr.Dataset):

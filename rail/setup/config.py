@@ -217,8 +217,9 @@ def resolve(defaults: dict, schema: dict, scenario: dict | None = None, source: 
 
 # What every scenario file starts from on top of config/config.yaml: config.yaml reproduces the report
 # (its normal contact, eqs 22-24), a user's scenario gets the normal contact of the field's practice,
-# which sees the roughness under the patch (docs/contact.md); a file that sets the key keeps its own.
-SCENARIO_FILE_DEFAULTS = {"contact": {"normal": "nonhertzian"}}
+# which sees the roughness under the patch (docs/contact.md), and a growth-rate spectrum down to the
+# shortest wavelength L / K; a file that sets a key keeps its own.
+SCENARIO_FILE_DEFAULTS = {"contact": {"normal": "nonhertzian"}, "figures": {"rate_spectrum": {"shortest": 0.0}}}
 
 
 def resolve_scenario_file(defaults: dict, schema: dict, scenario: dict | None, source: str) -> dict:

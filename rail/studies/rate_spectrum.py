@@ -5,12 +5,17 @@ from __future__ import annotations
 import numpy as np
 import xarray as xr
 
+from ..contact import hertz_half_length
 from ..growth_spectrum import RateSpectrum, rate_spectrum, spectrum_lines
 from .datasets import _unit_of, _var
 
-__all__ = ["spectrum_with_settings", "rate_spectrum_dataset", "sweep_rate_spectrum", "growing_bands", "summary_markdown", "PASSAGES_PER_DB"]
+__all__ = ["spectrum_with_settings", "rate_spectrum_dataset", "spectrum_dataset_of", "REPORT_VALID_PATCH_LENGTHS", "sweep_rate_spectrum", "growing_bands", "summary_markdown", "PASSAGES_PER_DB"]
 
 PASSAGES_PER_DB = 100000  # the dB growth is stated per this many train passages
+# The report's normal contact (point spring, Hertz patch with the local curvature) is taken as valid
+# for wavelengths above this many patch lengths 2 a_0: there its contact filter J0(beta a_0) is within
+# 0.22 dB of 1 (docs/contact.md)
+REPORT_VALID_PATCH_LENGTHS = 10
 
 
 def spectrum_with_settings(scn, tables, settings: dict) -> RateSpectrum:
@@ -23,7 +28,8 @@ def spectrum_with_settings(scn, tables, settings: dict) -> RateSpectrum:
     return rate_spectrum(scn, tables, lines, eps=float(s["eps"]), grid_phases=int(s["grid_phases"]))
 
 
-def rate_spectrum_dataset(spectra: dict[float, RateSpectrum], L: float, wheels: int) -> xr.Dataset:
+def rate_spectrum_dataset(spectra: dict[float, RateSpectrum], L: float, wheels: int, contact_length: float | None = None,
+                          normal: str | None = None) -> xr.Dataset:
     """One dataset of the growth-rate spectra of one scenario at several speeds.
 
     Parameters
@@ -34,6 +40,11 @@ def rate_spectrum_dataset(spectra: dict[float, RateSpectrum], L: float, wheels: 
         Sleeper spacing [m].
     wheels : int
         Wheels of the train [-] (the rates are per train passage).
+    contact_length : float, optional
+        2 a_0, the Hertz patch length under the static load [m] (marked on the figures).
+    normal : str, optional
+        The normal-contact model ('report': valid above about ten patch lengths, stated in the
+        attributes and shaded in the figure below that).
 
     Returns
     -------
@@ -87,8 +98,32 @@ def rate_spectrum_dataset(spectra: dict[float, RateSpectrum], L: float, wheels: 
             "frequency": _var(("speed", "wavelength"), np.array(V)[:, None] / lam[None, :], "Hz", "excitation frequency V / wavelength"),
         },
         attrs={"eps_m": first.eps, "bays": first.bays, "grid_phases": first.grid_phases, "wheels": int(wheels), "sleeper_spacing_m": float(L),
-               "passages": "per train passage (a train of n wheels counts once)"},
+               "passages": "per train passage (a train of n wheels counts once)",
+               **({"contact_length_m": float(contact_length)} if contact_length else {}),
+               **({"normal_contact": normal} if normal else {}),
+               **({"report_model_valid_above_m": REPORT_VALID_PATCH_LENGTHS * float(contact_length),
+                   "validity": f"the report's normal contact (point spring, local-curvature Hertz patch) holds for wavelengths above "
+                               f"about {REPORT_VALID_PATCH_LENGTHS} patch lengths ({1e3 * REPORT_VALID_PATCH_LENGTHS * contact_length:.0f} mm); "
+                               "below, use contact.normal: nonhertzian (docs/contact.md)"}
+                  if normal == "report" and contact_length else {})},
     )
+
+
+def spectrum_dataset_of(spectra: dict[float, RateSpectrum], scn) -> xr.Dataset:
+    """rate_spectrum_dataset for a scenario: its sleeper spacing, wheels, static patch length and
+    normal-contact model.
+
+    Parameters
+    ----------
+    spectra : {speed [m/s]: RateSpectrum}
+    scn : rail.scenario.Scenario
+
+    Returns
+    -------
+    xr.Dataset
+    """
+    a0 = float(hertz_half_length(scn.wheels.static_load, scn.material.wheel_radius, scn.material))
+    return rate_spectrum_dataset(spectra, scn.L, len(scn.wheels.positions), 2 * a0, scn.contact_numerics.normal)
 
 
 def growing_bands(wavelength, growth_rate):

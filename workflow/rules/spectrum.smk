@@ -100,3 +100,13 @@ rule rate_spectrum_sweeps:
     (not those sweeping only roughness.*: the spectrum is about the smooth rail)."""
     input:
         rate_spectrum_sweep_targets(),
+
+
+rule short_wave:
+    """Named target (issue 31): roughness shorter than the contact patch. The growth-rate spectrum of
+    the default track with the non-Hertzian normal contact from L / K to 0.6 m at every speed, and the
+    broadband study from a limit-like spectrum with both normal-contact models."""
+    input:
+        "results/spectrum/nonhertzian/rate_spectrum.png",
+        study_targets("short_wave_study"),
+        study_targets("short_wave_study_report"),

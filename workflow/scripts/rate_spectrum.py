@@ -14,11 +14,12 @@ def main(config, name, table_path, speed, out_path, log):
     with xr.open_dataset(table_path) as t:
         tabs = datasets.read_receptance_table(t.load())
     sp = rate_spectrum.spectrum_with_settings(scn, tabs, s)
-    print(f"{len(sp.line)} lines of a {scn.roughness.bays}-bay period, {s['shortest']:g}-{s['longest']:g} m, V = {speed:g} m/s",
+    print(f"{len(sp.line)} lines of a {scn.roughness.bays}-bay period, {sp.wavelength.min():.4g}-{sp.wavelength.max():.4g} m, "
+          f"V = {speed:g} m/s, normal contact {scn.contact_numerics.normal}",
           file=log, flush=True)
     print(f"linearity (2 eps against eps): {sp.linearity:.2e}; grid spread of the growth rate: at most "
           f"{(sp.grid_spread / abs(sp.growth_rate).max()).max():.2e} of the largest rate", file=log, flush=True)
-    ds = rate_spectrum.rate_spectrum_dataset({speed: sp}, scn.L, len(scn.wheels.positions))
+    ds = rate_spectrum.spectrum_dataset_of({speed: sp}, scn)
     io.write_netcdf(io.finalize(ds, config, title=f"Growth-rate spectrum at {speed:g} m/s",
                                 source="rail.growth_spectrum.rate_spectrum", scenario=name), out_path)
 
