@@ -127,3 +127,16 @@ def test_config_yaml_is_the_report_and_a_scenario_file_starts_from_the_nonhertzi
     assert api.load(str(mine)).scenario.contact_numerics.normal == "nonhertzian"
     mine.write_text("contact:\n  normal: report\n")
     assert api.load(str(mine)).scenario.contact_numerics.normal == "report"
+
+
+def test_the_command_line_writes_a_stopped_run_and_exits_3(tmp_path, capsys):
+    from rail.app import cli
+
+    mine = tmp_path / "rough.yaml"
+    mine.write_text("numerics:\n  contact:\n    nodes: 41\nroughness:\n  kind: harmonic\n  amplitude: 2.0e-5\n"
+                    "  wavelength: 0.01\n")
+    out = tmp_path / "rough.nc"
+    assert cli.main(["run", str(mine), "--speed", "40", "--passages", "20000", "--out", str(out)]) == 3
+    assert out.exists()
+    captured = capsys.readouterr()
+    assert "(partial: growth stopped at 0 passages: " in captured.out

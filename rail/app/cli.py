@@ -5,7 +5,8 @@
     railgrowth spectrum default --speed 40            the growth-rate spectrum; default_spectrum.nc
 
 A problem with the input is one line per problem naming file, key, value and valid range, and exit
-status 2; nothing is computed before the input is valid.
+status 2; nothing is computed before the input is valid. A growth run that stops early because the
+model's assumptions broke (contact lost, multiple contact) writes what it computed and exits with 3.
 """
 
 from __future__ import annotations
@@ -40,7 +41,8 @@ def _parser() -> argparse.ArgumentParser:
 
 
 def main(argv=None) -> int:
-    """Run the command line; returns the exit status (0 ok, 2 invalid input)."""
+    """Run the command line; returns the exit status (0 ok, 2 invalid input, 3 a growth run stopped
+    early with a partial result)."""
     args = _parser().parse_args(argv)
     from . import api  # after parsing: --help answers without importing the model
 
@@ -48,7 +50,8 @@ def main(argv=None) -> int:
         study = api.load(args.file if args.command == "check" else args.scenario, root=args.root)
         if args.command == "check":
             print(f"ok: scenario '{study.name}' is valid ({len(study.scenario.speeds)} speed(s), "
-                  f"{len(study.scenario.wheels.positions)} wheel(s), roughness period {study.scenario.roughness.bays} bay(s)).")
+                  f"{len(study.scenario.wheels.positions)} wheel(s), roughness period {study.scenario.roughness.bays} bay(s), "
+                  f"normal contact {study.scenario.contact_numerics.normal}).")
             return 0
         if args.command == "run":
             if not (args.speed > 0 and args.speed < float("inf")):
@@ -62,6 +65,9 @@ def main(argv=None) -> int:
         print(f"railgrowth: {e}", file=sys.stderr)
         return 2
     write_netcdf(ds, out)
+    if ds.attrs.get("stopped"):
+        print(f"wrote {out} (partial: {ds.attrs['stopped']})")
+        return 3
     print(f"wrote {out}")
     return 0
 
