@@ -20,7 +20,7 @@ import xarray as xr
 
 from .. import chain
 from ..scenario import Scenario
-from ..setup import build, config, io
+from ..setup import build, config, inputs, io
 from ..studies import rate_spectrum, runs
 
 __all__ = ["Study", "load", "growth", "spectrum", "ROOT"]
@@ -86,7 +86,10 @@ def load(name: str = "default", *, root: str | Path | None = None, changes: dict
     merged = config.deep_merge(scen, changes or {})
     cfg = (config.resolve(defaults, schema, merged, source=source) if stem == "default" and not path.suffix
            else config.resolve_scenario_file(defaults, schema, merged, source=source))
-    return Study(stem, build.scenario(cfg, stem, source), cfg)
+    cfg = inputs.resolve_paths(cfg, root)  # its files relative to the project, not the current folder
+    scn = build.scenario(cfg, stem, source)
+    inputs.check_inputs(cfg, scn, stem, source, root)  # as the workflow does at start-up
+    return Study(stem, scn, cfg)
 
 
 def growth(study: Study, *, speed: float, passages: int | None = None, checkpoint=None, progress=sys.stderr) -> xr.Dataset:
@@ -113,6 +116,7 @@ def growth(study: Study, *, speed: float, passages: int | None = None, checkpoin
     scn = study.scenario
     if passages is not None:
         scn = dataclasses.replace(scn, growth=dataclasses.replace(scn.growth, passages=int(passages)))
+    speed = inputs.check_speed(study.config, speed, f"{study.name}: growth")
     table = chain.receptance_table(scn, speed)
     history = chain.grow(scn, table, checkpoint=checkpoint, identity={"config": study.config}, progress=progress,
                          on_mismatch="restart")

@@ -37,11 +37,8 @@ def characterisation_speeds(wildcards):
 def measured_decay_rate(wildcards):
     """The scenario's measured.decay_rate CSV, else config/measured/<track>_decay_rate.csv if it
     exists: drawn beside the model's decay rate."""
-    given = characterisation_config(wildcards).get("measured", {}).get("decay_rate")
-    if given:
-        return [given]
-    path = MEASURED_DIR / f"{characterisation_track(wildcards)}_decay_rate.csv"
-    return [str(path)] if path.exists() else []
+    file, _ = measured_decay_file(characterisation_config(wildcards), characterisation_track(wildcards))
+    return [file] if file else []
 
 
 def characterisation_targets():

@@ -6,12 +6,10 @@ from pathlib import Path
 from snakemake.utils import validate
 
 from rail.chain import wheel_offsets as wheel_offsets_of
-from rail.decay import read_measured_decay_rate
-from rail.growth_spectrum import spectrum_lines
-from rail.roughness import read_third_octave_spectrum
 from rail.provenance import code_hash
 from rail.setup.build import scenario as build_scenario
 from rail.setup.build import physics_problems
+from rail.setup.inputs import check_inputs, measured_decay_file
 from rail.setup.config import ConfigError, check_scenario_names, expand_sweep, load_yaml, resolve_scenario_file, validate_config
 
 # Clear, actionable messages first (key, value, unit, valid range), then snakemake's own
@@ -51,36 +49,12 @@ check_scenario_names(
 )
 SCENARIO_OBJECTS = {_name: build_scenario(_cfg, _name, _SOURCES[_name]) for _name, _cfg in SCENARIOS.items()}
 
-# Measured decay rates, one CSV file per track (band_centre_Hz,decay_rate_dB_per_m), used when the
-# scenario gives no measured.decay_rate.
-MEASURED_DIR = Path("config/measured")
-
-# Every input file is read and checked here, before any job runs (its errors name the file and line).
+# Every input file is read and checked here, before any job runs (its errors name the file and line),
+# by the function railgrowth and rail.app.api call too (rail.setup.inputs.check_inputs). A track's
+# measured decay rate, one CSV file (band_centre_Hz,decay_rate_dB_per_m), is measured.decay_rate or
+# config/measured/<scenario>_decay_rate.csv.
 for _name, _scn in SCENARIO_OBJECTS.items():
-    if _scn.roughness.kind in ("file", "profile", "spectrum"):
-        try:
-            _scn.roughness.realise(_scn.speeds[0], _scn.L, _scn.harmonics)
-        except (OSError, ValueError) as _e:
-            raise ConfigError(f"scenario {_name} ({_SOURCES[_name]}): roughness.file: {_e}") from None
-    if SCENARIOS[_name]["figures"]["bands"]["limit"]:
-        try:
-            read_third_octave_spectrum(SCENARIOS[_name]["figures"]["bands"]["limit"])
-        except (OSError, ValueError) as _e:
-            raise ConfigError(f"scenario {_name} ({_SOURCES[_name]}): figures.bands.limit: {_e}") from None
-    _s = SCENARIOS[_name]["figures"]["rate_spectrum"]
-    try:  # the spectrum's period must resolve its longest wavelength, its shortest lie above L / K
-        spectrum_lines(_scn.L, int(_s["bays"]), _scn.harmonics, float(_s["shortest"]), float(_s["longest"]), int(_s["per_octave"]))
-    except ValueError as _e:
-        raise ConfigError(f"scenario {_name} ({_SOURCES[_name]}): figures.rate_spectrum: {_e}") from None
-    _given = SCENARIOS[_name].get("measured", {}).get("decay_rate")
-    _found = MEASURED_DIR / f"{_name}_decay_rate.csv"  # a track's measured decay rate, found by name
-    _file = _given or (_found if _found.exists() else None)
-    if _file:
-        try:
-            read_measured_decay_rate(_file)
-        except (OSError, ValueError) as _e:
-            _key = "measured.decay_rate" if _given else f"{_found} (the track's measured decay rate)"
-            raise ConfigError(f"scenario {_name} ({_SOURCES[_name]}): {_key}: {_e}") from None
+    check_inputs(SCENARIOS[_name], _scn, _name, _SOURCES[_name])
 
 
 def checked_speed(scenario, label):

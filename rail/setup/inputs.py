@@ -1,0 +1,157 @@
+"""A scenario's input files and speed-dependent constraints, checked in one place.
+
+The workflow at start-up (workflow/rules/common.smk), ``railgrowth check`` and ``run`` and
+rail.app.api all call ``check_inputs`` after the schema (rail.setup.config) and the physics checks
+(rail.setup.build.scenario), so that they accept and refuse the same scenarios, with the same
+one-line messages naming the scenario, its file, the key and the problem.
+"""
+
+from __future__ import annotations
+
+import copy
+from pathlib import Path
+
+from ..decay import read_measured_decay_rate
+from ..growth_spectrum import spectrum_lines
+from ..roughness import read_third_octave_spectrum
+from ..scenario import Scenario
+from .build import physics_problems
+from .config import ConfigError
+
+__all__ = ["FILE_KEYS", "MAX_SPEED", "resolve_paths", "measured_decay_file", "check_inputs", "check_speed"]
+
+MAX_SPEED = 300.0  # m/s, the schema's bound on a configured speed (config/schema: speeds.items.maximum)
+
+# The configuration keys that name files (relative paths are relative to the project folder)
+FILE_KEYS = (("roughness", "file"), ("figures", "bands", "limit"), ("measured", "decay_rate"))
+
+
+def _get(cfg: dict, keys):
+    node = cfg
+    for k in keys:
+        if not isinstance(node, dict) or k not in node:
+            return None
+        node = node[k]
+    return node
+
+
+def resolve_paths(cfg: dict, root) -> dict:
+    """The configuration with every relative file path (FILE_KEYS) made relative to the project
+    folder ``root`` instead of the current folder (a copy; absolute paths and empty keys unchanged).
+
+    Parameters
+    ----------
+    cfg : dict
+        Resolved configuration.
+    root : path
+        The project folder holding config/.
+
+    Returns
+    -------
+    dict
+    """
+    out = copy.deepcopy(cfg)
+    root = Path(root)
+    for keys in FILE_KEYS:
+        value = _get(out, keys)
+        if value and not Path(str(value)).is_absolute():
+            node = out
+            for k in keys[:-1]:
+                node = node[k]
+            node[keys[-1]] = str(root / str(value))
+    return out
+
+
+def measured_decay_file(cfg: dict, name: str, root=".") -> tuple[str | None, str]:
+    """The measured decay-rate file of a scenario and the key that names it: measured.decay_rate if
+    given, else config/measured/<name>_decay_rate.csv under ``root`` if it exists, else None."""
+    given = _get(cfg, ("measured", "decay_rate"))
+    if given:
+        return str(given), "measured.decay_rate"
+    found = Path(root) / "config" / "measured" / f"{name}_decay_rate.csv"
+    return (str(found), f"{found} (the track's measured decay rate)") if found.exists() else (None, "")
+
+
+def check_speed(cfg: dict, speed, source: str) -> float:
+    """A speed given outside the configuration (a target, the command line, the API), checked like a
+    configured one: a finite number > 0 within the schema's bound at which the harmonics reach the
+    pinned-pinned frequency.
+
+    Parameters
+    ----------
+    cfg : dict
+        Resolved configuration.
+    speed : float
+        Train speed [m/s].
+    source : str
+        Where the speed comes from (named in the message).
+
+    Returns
+    -------
+    float
+        The speed [m/s].
+
+    Raises
+    ------
+    ConfigError
+    """
+    if isinstance(speed, bool) or not isinstance(speed, (int, float)):
+        raise ConfigError(f"{source}: speed = {speed!r} is not allowed: it must be a number in m/s.")
+    V = float(speed)
+    if not (V == V and 0 < V <= MAX_SPEED):
+        raise ConfigError(f"{source}: speed = {V!r} m/s is not allowed: it must lie in (0, {MAX_SPEED:g}] m/s (as speeds in the "
+                          "configuration).")
+    problems = physics_problems({**cfg, "speeds": [V], "figures": {}}, source)
+    if problems:
+        raise ConfigError("invalid speed:\n  " + "\n  ".join(problems))
+    return V
+
+
+def check_inputs(cfg: dict, scn: Scenario, name: str, source: str, root=".") -> None:
+    """Read and check every input file of a scenario and the settings that need its physics.
+
+    The initial roughness realised at every speed (its file read: a missing file, a folder, a
+    binary or mis-encoded file, a harmonic wavelength that does not divide the period are errors),
+    the limit spectrum of the band view, the growth-rate spectrum's lines, and the measured decay
+    rate (given, or found by the scenario's name under config/measured/).
+
+    Parameters
+    ----------
+    cfg : dict
+        Resolved configuration (its relative paths relative to the current folder).
+    scn : Scenario
+        Built from ``cfg`` (rail.setup.build.scenario).
+    name, source : str
+        The scenario's name and file (named in the messages).
+    root : path
+        The project folder (for config/measured/).
+
+    Raises
+    ------
+    ConfigError
+        One line naming the scenario, its file, the key and the problem.
+    """
+    where = f"scenario {name} ({source})"
+    try:
+        for V in scn.speeds:
+            scn.roughness.realise(V, scn.L, scn.harmonics)
+    except (OSError, ValueError) as e:
+        raise ConfigError(f"{where}: roughness: {e}") from None
+    limit = _get(cfg, ("figures", "bands", "limit"))
+    if limit:
+        try:
+            read_third_octave_spectrum(limit)
+        except (OSError, ValueError) as e:
+            raise ConfigError(f"{where}: figures.bands.limit: {e}") from None
+    s = _get(cfg, ("figures", "rate_spectrum"))
+    if s:
+        try:  # the spectrum's period must resolve its longest wavelength, its shortest lie above L / K
+            spectrum_lines(scn.L, int(s["bays"]), scn.harmonics, float(s["shortest"]), float(s["longest"]), int(s["per_octave"]))
+        except ValueError as e:
+            raise ConfigError(f"{where}: figures.rate_spectrum: {e}") from None
+    file, key = measured_decay_file(cfg, name, root)
+    if file:
+        try:
+            read_measured_decay_rate(file)
+        except (OSError, ValueError) as e:
+            raise ConfigError(f"{where}: {key}: {e}") from None
