@@ -479,6 +479,17 @@ def study_targets(name):
     return out + extra
 
 
+def short_wave_targets():
+    """What the named target short_wave builds (issue 31), of the scenario files that define it:
+    config/scenarios/nonhertzian.yaml's growth-rate spectrum, the studies short_wave_study and
+    short_wave_study_report."""
+    out = ["results/spectrum/nonhertzian/rate_spectrum.png"] if "nonhertzian" in SCENARIOS else []
+    for name in ("short_wave_study", "short_wave_study_report"):
+        if name in SCENARIOS:
+            out += study_targets(name)
+    return out
+
+
 def growth_runtime(wildcards):
     """Cluster runtime of a growth job (minutes), scaled from the job: 0.5 s CPU per update, wheel
     and bay at 61 contact nodes (README, one core), as the square of the nodes; three times that,

@@ -107,6 +107,4 @@ rule short_wave:
     the default track with the non-Hertzian normal contact from L / K to 0.6 m at every speed, and the
     broadband study from a limit-like spectrum with both normal-contact models."""
     input:
-        "results/spectrum/nonhertzian/rate_spectrum.png",
-        study_targets("short_wave_study"),
-        study_targets("short_wave_study_report"),
+        short_wave_targets(),
