@@ -46,3 +46,60 @@ def test_run_writes_a_growth_file_with_its_scenario_and_units(tmp_path, capsys):
         assert ds["level"].attrs["level_unit"] == "dB" and ds["level"].attrs["units"] == "1"
         assert np.all(np.isfinite(ds["profile"].values))
     assert cli.main(["run", "default", "--speed", "-4"]) == 2
+
+
+# issue 32: the arguments of the Python API are checked before anything is computed, with one line
+# naming the argument, its value and what is allowed
+
+
+@pytest.fixture(scope="module")
+def default_study():
+    return api.load("default")
+
+
+@pytest.fixture
+def nothing_computed(monkeypatch):
+    def never(*args, **kwargs):
+        raise AssertionError("computed before the arguments were checked")
+
+    monkeypatch.setattr(api.chain, "receptance_table", never)
+    monkeypatch.setattr(api.chain, "grow", never)
+
+
+@pytest.mark.parametrize("speeds", ["89", "40", [], (), [40.0, float("nan")], float("nan"), -4.0, 0, True, [40.0, True],
+                                    [40.0, "50"], None, float("inf")])
+def test_spectrum_refuses_speeds_that_are_not_positive_numbers_before_computing(default_study, nothing_computed, speeds):
+    # a string is not a list of speeds ('89' is not 8 and 9 m/s); bools are not speeds
+    with pytest.raises(ConfigError, match=r"^speeds = .+ is not allowed: it must be a finite number > 0 \(m/s\) or a non-empty "
+                                          r"list of them"):
+        api.spectrum(default_study, speeds=speeds)
+
+
+def test_spectrum_refuses_settings_it_cannot_resolve_before_computing(default_study, nothing_computed):
+    with pytest.raises(ConfigError, match=r"^bays = 'x' is not allowed: it must be a whole number >= 1\.$"):
+        api.spectrum(default_study, speeds=40.0, bays="x")
+    with pytest.raises(ValueError, match=r"a roughness period of 2 bays spaces the lines by 50 % at 0\.6 m, coarser than 1/30 octave"):
+        api.spectrum(default_study, speeds=40.0, bays=2)
+
+
+@pytest.mark.parametrize("kwargs, message", [
+    ({"speed": "40"}, r"^speed = '40' is not allowed: it must be a finite number > 0 \(a train speed in m/s\)\.$"),
+    ({"speed": True}, r"^speed = True is not allowed: it must be a finite number > 0"),
+    ({"speed": float("nan")}, r"^speed = nan is not allowed: it must be a finite number > 0"),
+    ({"speed": -40.0}, r"^speed = -40\.0 is not allowed: it must be a finite number > 0"),
+    ({"speed": 40.0, "passages": -10}, r"^passages = -10 is not allowed: it must be a whole number >= 1\.$"),
+    ({"speed": 40.0, "passages": "20000"}, r"^passages = '20000' is not allowed: it must be a whole number >= 1\.$"),
+])
+def test_growth_refuses_a_speed_or_passages_that_are_not_numbers_in_range_before_computing(default_study, nothing_computed,
+                                                                                          kwargs, message):
+    with pytest.raises(ConfigError, match=message):
+        api.growth(default_study, **kwargs)
+
+
+def test_load_refuses_a_name_or_changes_of_the_wrong_kind():
+    with pytest.raises(ConfigError, match=r"^name = 123 is not allowed: it must be 'default', a scenario's name "
+                                          r"\(config/scenarios/<name>\.yaml\) or the path of a scenario YAML file\.$"):
+        api.load(123)
+    for changes in ([1, 2], "track", 3):
+        with pytest.raises(ConfigError, match=r"^changes = .+ is not allowed: it must be a dict nested like the YAML"):
+            api.load("x", changes=changes)
