@@ -103,3 +103,53 @@ def test_load_refuses_a_name_or_changes_of_the_wrong_kind():
     for changes in ([1, 2], "track", 3):
         with pytest.raises(ConfigError, match=r"^changes = .+ is not allowed: it must be a dict nested like the YAML"):
             api.load("x", changes=changes)
+
+
+# issue 32: a result file is written whole or not at all, and an output folder that is missing is
+# found before the computation, not after it
+
+
+def test_a_failed_write_leaves_the_old_file_whole_and_no_partial_file(tmp_path, monkeypatch):
+    from rail.setup import io as rio
+
+    target = tmp_path / "result.nc"
+    rio.write_netcdf(xr.Dataset({"a": ("x", np.arange(3.0))}), target)
+    old = target.read_bytes()
+
+    def fails_midway(self, path, *args, **kwargs):
+        with open(path, "wb") as f:  # some bytes written, then the disk is full
+            f.write(b"\x89HDF\r\n\x1a\n partial")
+        raise OSError("NetCDF: HDF error")
+
+    monkeypatch.setattr(xr.Dataset, "to_netcdf", fails_midway)
+    with pytest.raises(OSError, match=r"could not write .*result\.nc: NetCDF: HDF error\. Free space there"):
+        rio.write_netcdf(xr.Dataset({"b": ("x", np.ones(4))}), target)
+    assert target.read_bytes() == old
+    assert sorted(p.name for p in tmp_path.iterdir()) == ["result.nc"]
+    monkeypatch.undo()
+    rio.write_netcdf(xr.Dataset({"b": ("x", np.ones(4))}), target)  # a write that succeeds replaces it
+    with xr.open_dataset(target) as ds:
+        assert list(ds.data_vars) == ["b"]
+    assert sorted(p.name for p in tmp_path.iterdir()) == ["result.nc"]
+
+
+@pytest.mark.parametrize("option", ["--out", "--checkpoint"])
+def test_run_refuses_a_missing_output_folder_before_computing(tmp_path, monkeypatch, capsys, option):
+    def never(*args, **kwargs):
+        raise AssertionError("computed before the output folder was checked")
+
+    monkeypatch.setattr(api, "growth", never)
+    missing = tmp_path / "no_such_folder"
+    assert cli.main(["run", "default", "--speed", "40", option, str(missing / "g.nc")]) == 2
+    err = capsys.readouterr().err.strip()
+    assert err == f"railgrowth: {option} {missing / 'g.nc'}: the folder {missing} does not exist (create it first)."
+    assert not missing.exists()
+
+
+def test_spectrum_refuses_an_output_that_is_a_folder_before_computing(tmp_path, monkeypatch, capsys):
+    def never(*args, **kwargs):
+        raise AssertionError("computed before the output was checked")
+
+    monkeypatch.setattr(api, "spectrum", never)
+    assert cli.main(["spectrum", "default", "--speed", "40", "--out", str(tmp_path)]) == 2
+    assert capsys.readouterr().err.strip() == f"railgrowth: --out {tmp_path}: is a folder; give a file name."
