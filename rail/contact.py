@@ -184,9 +184,9 @@ def hertz_pressure(xi, P, a, m: ContactMaterial):
     xi : float or ndarray
         Position in the patch from its centre [m], leading edge at +a.
     P : float
-        Normal force [N].
+        Normal force [N], finite and >= 0.
     a : float
-        Half-length [m].
+        Half-length [m], finite and > 0.
     m : ContactMaterial
         Gives the half-width b [m].
 
@@ -194,7 +194,18 @@ def hertz_pressure(xi, P, a, m: ContactMaterial):
     -------
     ndarray
         p [Pa].
+
+    Raises
+    ------
+    ValueError
+        If P is negative or not finite, or a is not finite and > 0.
     """
+    if not np.all(np.isfinite(P) & (np.asarray(P) >= 0)):
+        raise ValueError(f"normal force P = {np.asarray(P).tolist()!r} N is not allowed in the Hertz pressure (eq 22): it must be "
+                         "a finite number >= 0.")
+    if not np.all(np.isfinite(a) & (np.asarray(a) > 0)):
+        raise ValueError(f"half-length a = {np.asarray(a).tolist()!r} m is not allowed in the Hertz pressure (eq 22): it must be "
+                         "a finite number > 0.")
     xi = np.asarray(xi, dtype=float)
     r = np.clip(1 - (xi / a) ** 2, 0, None)
     return P / (np.pi * a * m.half_width) * np.sqrt(r)

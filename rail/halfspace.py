@@ -160,9 +160,9 @@ def rayleigh_speed_ratio(poisson_ratio: float) -> float:
     Raises
     ------
     ValueError
-        If the cubic has no unique root in (0, 1); this cannot happen for -1 < nu < 0.5, the range
-        that ElasticMaterial enforces.
+        If poisson_ratio is outside (-1, 0.5), where the cubic has no unique root in (0, 1).
     """
+    _check_range("poisson_ratio", poisson_ratio, -1.0, 0.5)
     nu = poisson_ratio
     roots = np.roots([1.0, -8.0, 8.0 * (2 - nu) / (1 - nu), -8.0 / (1 - nu)])
     x = [r.real for r in roots if abs(r.imag) < 1e-12 and 0.0 < r.real < 1.0]
@@ -394,7 +394,7 @@ def boussinesq(r, material: ElasticMaterial, load=1.0):
     Parameters
     ----------
     r : float or ndarray
-        Distance from the loading point [m].
+        Distance from the loading point [m], finite and > 0 (w is singular at r = 0).
     material : ElasticMaterial
         The half-space material (E and nu are used).
     load : float, optional
@@ -404,8 +404,17 @@ def boussinesq(r, material: ElasticMaterial, load=1.0):
     -------
     float or ndarray
         Surface displacement w [m] in the direction of the load, shape of ``r``.
+
+    Raises
+    ------
+    ValueError
+        If any r is not finite and > 0.
     """
     r = np.asarray(r, dtype=float)
+    bad = ~(np.isfinite(r) & (r > 0))
+    if np.any(bad):
+        raise ValueError(f"r = {float(r[bad].flat[0])!r} m is not allowed in Boussinesq's formula (eq 17): it must be a finite "
+                         "number > 0.")
     return (1 - material.poisson_ratio**2) * load / (np.pi * material.youngs_modulus * r)
 
 
@@ -514,9 +523,9 @@ def surface_displacement(r, omega, material: ElasticMaterial, load=1.0, numerics
         raise ValueError(f"r = {r_arr.min()} m is not allowed: it must be >= 0.")
     if omega < 0:
         raise ValueError(f"omega = {omega} rad/s is not allowed: it must be >= 0.")
-    if omega == 0:
-        with np.errstate(divide="ignore"):
-            out = boussinesq(r_arr, material, load).astype(complex)
+    if omega == 0:  # Boussinesq, infinite at the load point
+        out = np.full(r_arr.shape, np.inf, dtype=complex)
+        out[r_arr > 0] = boussinesq(r_arr[r_arr > 0], material, load)
     else:
         out = np.array([_surface_displacement_scalar(ri, omega, material, numerics) for ri in r_arr])
         out = out * load

@@ -82,6 +82,14 @@ def read_profile(path):
     return x - x[0], z
 
 
+def _check_period(period, J):
+    """ValueError naming the roughness period [m] unless finite and > 0, or J unless a whole number >= 1."""
+    if not (np.isfinite(period) and period > 0):
+        raise ValueError(f"period = {np.asarray(period).tolist()!r} m is not allowed: the roughness period N L must be a finite number > 0.")
+    if isinstance(J, bool) or not (np.isfinite(J) and J >= 1 and J == int(J)):
+        raise ValueError(f"J = {J!r} is not allowed: the highest index N K must be an integer >= 1.")
+
+
 def profile_coefficients(x, z, period: float, J: int, source: str = "profile"):
     """Coefficients Z_j over the period of a measured profile (module docstring: the method).
 
@@ -90,7 +98,7 @@ def profile_coefficients(x, z, period: float, J: int, source: str = "profile"):
     x, z : ndarray
         Positions from 0 [m] (increasing) and heights [m].
     period : float
-        P = N L [m].
+        P = N L [m], finite and > 0.
     J : int
         Highest index j [-] (N K).
     source : str
@@ -101,6 +109,7 @@ def profile_coefficients(x, z, period: float, J: int, source: str = "profile"):
     ndarray, shape (2J + 1,)
         Z_j [m], Z_0 = 0.
     """
+    _check_period(period, J)
     n = 8 * J
     length = float(x[-1])
     if length < period * (1 - 1e-9):
@@ -190,7 +199,7 @@ def spectrum_coefficients(wavelength, level_dB, period: float, J: int, seed: int
     level_dB : ndarray
         rms band levels [dB re 1 µm].
     period : float
-        P = N L [m].
+        P = N L [m], finite and > 0.
     J : int
         Highest index j [-] (N K); shorter wavelengths than P / J are not represented.
     seed : int
@@ -203,6 +212,7 @@ def spectrum_coefficients(wavelength, level_dB, period: float, J: int, seed: int
     ndarray, shape (2J + 1,)
         Z_j [m], Z_0 = 0, Z_-j = conj(Z_j); sum over the band's j of 2 |Z_j|^2 is its mean square.
     """
+    _check_period(period, J)
     rng = np.random.default_rng(int(seed))
     j = np.arange(1, J + 1)
     lam_j = period / j

@@ -174,7 +174,14 @@ def min_harmonics(track: Track, speed: float) -> int:
     -------
     int
         K [-].
+
+    Raises
+    ------
+    ValueError
+        If speed is not a finite number > 0.
     """
+    if not (np.isfinite(speed) and speed > 0):
+        raise ValueError(f"speed = {np.asarray(speed).tolist()!r} m/s is not allowed in min_harmonics: it must be a finite number > 0.")
     return int(np.ceil(pinned_pinned_frequency(track) * track.L / speed - 1e-9))
 
 
@@ -480,7 +487,7 @@ def stationary_receptance(x, x0, omega, track: Track, rtol: float = 1e-7, return
     x0 : float or array_like
         Force position [m], measured from a support.
     omega : float
-        Angular frequency [rad/s], a scalar != 0.
+        Angular frequency [rad/s], a finite scalar != 0.
     track : Track
         The track.
     rtol : float, optional
@@ -498,10 +505,13 @@ def stationary_receptance(x, x0, omega, track: Track, rtol: float = 1e-7, return
     Raises
     ------
     ValueError
-        If omega == 0 (from ``free_receptance_poles``).
+        If omega is not a finite scalar != 0.
     """
     from .quadrature import adaptive_panels
 
+    if np.ndim(omega) != 0 or not (np.isfinite(omega) and omega != 0):
+        raise ValueError(f"omega = {np.asarray(omega).tolist()!r} rad/s is not allowed in the stationary receptance: it must be a finite scalar != 0 "
+                         "(the static receptance has a double pole at 0).")
     x = np.asarray(x, dtype=float)
     x0 = np.asarray(x0, dtype=float)
     x, x0 = np.broadcast_arrays(x, x0)

@@ -48,8 +48,13 @@ class WearLaw:
             raise ValueError(f"wear.coefficient = {self.coefficient!r} kg/(N m) is not allowed: it must be >= 0.")
 
     def depth(self, work):
-        """Removed depth [m] for the frictional work per unit area ``work`` [J/m^2] (eq 49)."""
-        return self.coefficient / self.density * np.asarray(work)
+        """Removed depth [m] for the frictional work per unit area ``work`` [J/m^2], finite and >= 0 (eq 49)."""
+        work = np.asarray(work)
+        bad = ~(np.isfinite(work) & (work >= 0))
+        if np.any(bad):
+            raise ValueError(f"frictional work = {float(work[bad].flat[0])!r} J/m^2 is not allowed in the wear law (eq 49): it "
+                             "must be a finite number >= 0.")
+        return self.coefficient / self.density * work
 
 
 @dataclass(frozen=True)

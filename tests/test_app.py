@@ -92,3 +92,110 @@ def test_a_scenario_file_is_read_from_the_project_not_the_current_folder(root, t
     monkeypatch.chdir(tmp_path)
     study = api.load("profile_example", root=root)
     assert study.config["roughness"]["file"] == str(root / "config/roughness/synthetic_profile.csv")
+
+
+# issue 32: the arguments of the Python API are checked before anything is computed, with one line
+# naming the argument, its value and what is allowed
+
+
+@pytest.fixture(scope="module")
+def default_study():
+    return api.load("default")
+
+
+@pytest.fixture
+def nothing_computed(monkeypatch):
+    def never(*args, **kwargs):
+        raise AssertionError("computed before the arguments were checked")
+
+    monkeypatch.setattr(api.chain, "receptance_table", never)
+    monkeypatch.setattr(api.chain, "grow", never)
+
+
+@pytest.mark.parametrize("speeds", ["89", "40", [], (), [40.0, float("nan")], float("nan"), -4.0, 0, True, [40.0, True],
+                                    [40.0, "50"], None, float("inf")])
+def test_spectrum_refuses_speeds_that_are_not_positive_numbers_before_computing(default_study, nothing_computed, speeds):
+    # a string is not a list of speeds ('89' is not 8 and 9 m/s); bools are not speeds
+    with pytest.raises(ConfigError, match=r"^speeds = .+ is not allowed: it must be a finite number > 0 \(m/s\) or a non-empty "
+                                          r"list of them"):
+        api.spectrum(default_study, speeds=speeds)
+
+
+def test_spectrum_refuses_settings_it_cannot_resolve_before_computing(default_study, nothing_computed):
+    with pytest.raises(ConfigError, match=r"^bays = 'x' is not allowed: it must be a whole number >= 1\.$"):
+        api.spectrum(default_study, speeds=40.0, bays="x")
+    with pytest.raises(ValueError, match=r"a roughness period of 2 bays spaces the lines by 50 % at 0\.6 m, coarser than 1/30 octave"):
+        api.spectrum(default_study, speeds=40.0, bays=2)
+
+
+@pytest.mark.parametrize("kwargs, message", [
+    ({"speed": "40"}, r"^speed = '40' is not allowed: it must be a finite number > 0 \(a train speed in m/s\)\.$"),
+    ({"speed": True}, r"^speed = True is not allowed: it must be a finite number > 0"),
+    ({"speed": float("nan")}, r"^speed = nan is not allowed: it must be a finite number > 0"),
+    ({"speed": -40.0}, r"^speed = -40\.0 is not allowed: it must be a finite number > 0"),
+    ({"speed": 40.0, "passages": -10}, r"^passages = -10 is not allowed: it must be a whole number >= 1\.$"),
+    ({"speed": 40.0, "passages": "20000"}, r"^passages = '20000' is not allowed: it must be a whole number >= 1\.$"),
+])
+def test_growth_refuses_a_speed_or_passages_that_are_not_numbers_in_range_before_computing(default_study, nothing_computed,
+                                                                                          kwargs, message):
+    with pytest.raises(ConfigError, match=message):
+        api.growth(default_study, **kwargs)
+
+
+def test_load_refuses_a_name_or_changes_of_the_wrong_kind():
+    with pytest.raises(ConfigError, match=r"^name = 123 is not allowed: it must be 'default', a scenario's name "
+                                          r"\(config/scenarios/<name>\.yaml\) or the path of a scenario YAML file\.$"):
+        api.load(123)
+    for changes in ([1, 2], "track", 3):
+        with pytest.raises(ConfigError, match=r"^changes = .+ is not allowed: it must be a dict nested like the YAML"):
+            api.load("x", changes=changes)
+
+
+# issue 32: a result file is written whole or not at all, and an output folder that is missing is
+# found before the computation, not after it
+
+
+def test_a_failed_write_leaves_the_old_file_whole_and_no_partial_file(tmp_path, monkeypatch):
+    from rail.setup import io as rio
+
+    target = tmp_path / "result.nc"
+    rio.write_netcdf(xr.Dataset({"a": ("x", np.arange(3.0))}), target)
+    old = target.read_bytes()
+
+    def fails_midway(self, path, *args, **kwargs):
+        with open(path, "wb") as f:  # some bytes written, then the disk is full
+            f.write(b"\x89HDF\r\n\x1a\n partial")
+        raise OSError("NetCDF: HDF error")
+
+    monkeypatch.setattr(xr.Dataset, "to_netcdf", fails_midway)
+    with pytest.raises(OSError, match=r"could not write .*result\.nc: NetCDF: HDF error\. Free space there"):
+        rio.write_netcdf(xr.Dataset({"b": ("x", np.ones(4))}), target)
+    assert target.read_bytes() == old
+    assert sorted(p.name for p in tmp_path.iterdir()) == ["result.nc"]
+    monkeypatch.undo()
+    rio.write_netcdf(xr.Dataset({"b": ("x", np.ones(4))}), target)  # a write that succeeds replaces it
+    with xr.open_dataset(target) as ds:
+        assert list(ds.data_vars) == ["b"]
+    assert sorted(p.name for p in tmp_path.iterdir()) == ["result.nc"]
+
+
+@pytest.mark.parametrize("option", ["--out", "--checkpoint"])
+def test_run_refuses_a_missing_output_folder_before_computing(tmp_path, monkeypatch, capsys, option):
+    def never(*args, **kwargs):
+        raise AssertionError("computed before the output folder was checked")
+
+    monkeypatch.setattr(api, "growth", never)
+    missing = tmp_path / "no_such_folder"
+    assert cli.main(["run", "default", "--speed", "40", option, str(missing / "g.nc")]) == 2
+    err = capsys.readouterr().err.strip()
+    assert err == f"railgrowth: {option} {missing / 'g.nc'}: the folder {missing} does not exist (create it first)."
+    assert not missing.exists()
+
+
+def test_spectrum_refuses_an_output_that_is_a_folder_before_computing(tmp_path, monkeypatch, capsys):
+    def never(*args, **kwargs):
+        raise AssertionError("computed before the output was checked")
+
+    monkeypatch.setattr(api, "spectrum", never)
+    assert cli.main(["spectrum", "default", "--speed", "40", "--out", str(tmp_path)]) == 2
+    assert capsys.readouterr().err.strip() == f"railgrowth: --out {tmp_path}: is a folder; give a file name."

@@ -358,3 +358,73 @@ def test_a_spectrum_period_too_short_for_its_resolution_stops_the_workflow_at_st
     assert out.returncode != 0
     assert re.search(r"figures\.rate_spectrum: a roughness period of 16 bays spaces the lines by 6\.2 % at 0\.6 m, "
                      r"coarser than 1/30 octave \(2\.3 %\): use at least 43 bays", out.stdout + out.stderr), out.stderr[-800:]
+
+
+# issue 32: library functions refuse nonsense with one line naming the argument, its value and the
+# valid range, instead of returning numbers
+
+
+@pytest.mark.parametrize("P, a, message", [
+    (-1.0, 0.006, r"normal force P = -1\.0 N is not allowed in the Hertz pressure \(eq 22\): it must be a finite number >= 0\."),
+    (float("nan"), 0.006, r"normal force P = nan N is not allowed in the Hertz pressure \(eq 22\)"),
+    (float("inf"), 0.006, r"normal force P = inf N is not allowed"),
+    (1e5, 0.0, r"half-length a = 0\.0 m is not allowed in the Hertz pressure \(eq 22\): it must be a finite number > 0\."),
+    (1e5, -0.006, r"half-length a = -0\.006 m is not allowed"),
+])
+def test_hertz_pressure_refuses_a_negative_or_infinite_force_and_a_half_length_not_above_zero(P, a, message):
+    with pytest.raises(ValueError, match=message):
+        C.hertz_pressure(np.linspace(-0.01, 0.01, 5), P, a, MATERIAL)
+
+
+def test_stationary_receptance_refuses_a_frequency_that_is_not_finite():
+    from rail import track as T
+
+    for omega in (float("nan"), float("inf")):
+        with pytest.raises(ValueError, match=rf"omega = {omega} rad/s is not allowed in the stationary receptance: it must be a "
+                                             r"finite scalar != 0"):
+            T.stationary_receptance(0.1, 0.0, omega, track())
+
+
+def test_min_harmonics_refuses_a_speed_not_above_zero():
+    from rail import track as T
+
+    for speed in (0.0, -40.0, float("nan")):
+        with pytest.raises(ValueError, match=rf"speed = {speed} m/s is not allowed in min_harmonics: it must be a finite number > 0"):
+            T.min_harmonics(track(), speed)
+
+
+def test_boussinesq_refuses_a_distance_not_above_zero(steel):
+    from rail import halfspace as H
+
+    for r, shown in ((0.0, "0.0"), (-0.01, "-0.01"), (np.array([0.01, -0.02]), "-0.02")):
+        with pytest.raises(ValueError, match=rf"r = {re.escape(shown)} m is not allowed in Boussinesq's formula \(eq 17\): it must "
+                                             r"be a finite number > 0"):
+            H.boussinesq(r, steel)
+
+
+def test_rayleigh_speed_ratio_refuses_a_poisson_ratio_outside_its_range():
+    from rail import halfspace as H
+
+    for nu in (0.7, 0.5, -1.0, float("nan")):
+        with pytest.raises(ValueError, match=rf"poisson_ratio = {nu} is not allowed: it must lie in \(-1\.0, 0\.5\)"):
+            H.rayleigh_speed_ratio(nu)
+
+
+def test_wear_depth_refuses_negative_or_infinite_work():
+    from rail import wear as W
+
+    law = W.WearLaw(7850.0, 2.5e-9)
+    with pytest.raises(ValueError, match=r"frictional work = -1\.0 J/m\^2 is not allowed in the wear law \(eq 49\): it must be a "
+                                         r"finite number >= 0\."):
+        law.depth(-1)
+    with pytest.raises(ValueError, match=r"frictional work = nan J/m\^2 is not allowed"):
+        law.depth(np.array([1.0, np.nan]))
+
+
+@pytest.mark.parametrize("period", [0.0, -2.4, float("nan"), float("inf")])
+def test_roughness_coefficients_refuse_a_period_not_above_zero(period):
+    message = rf"period = {period} m is not allowed: the roughness period N L must be a finite number > 0\."
+    with pytest.raises(ValueError, match=message):
+        R.profile_coefficients(np.linspace(0.0, 2.4, 49), 1e-6 * np.sin(np.linspace(0.0, 20.0, 49)), period, 64)
+    with pytest.raises(ValueError, match=message):
+        R.spectrum_coefficients(np.array([0.1, 0.05]), np.array([0.0, -3.0]), period, 64, seed=1)

@@ -1,11 +1,16 @@
 """The linearised wear feedback per wavenumber (rail.growth_spectrum) against full nonlinear growth
 runs, for a growing and a decaying wavelength between the one-bay comb lines."""
 
+import contextlib
 import dataclasses
 import io
+import re
+import signal
 
 import numpy as np
 import pytest
+from hypothesis import given, settings
+from hypothesis import strategies as st
 from model import scenario
 from test_growth import MATERIAL, contact_spring, track
 
@@ -74,6 +79,63 @@ def test_spectrum_lines_are_finer_than_a_tenth_of_a_third_octave():
         GS.spectrum_lines(0.6, 16, 64, 0.02, 0.6, 30)
     with pytest.raises(ValueError, match=r"shortest = 0\.005 m is not allowed: it must be >= L / K = 0\.009375 m"):
         GS.spectrum_lines(0.6, 48, 64, 0.005, 0.6, 30)
+
+
+@contextlib.contextmanager
+def _within(seconds: float):
+    """Fail (rather than hang) if the block runs longer than seconds (SIGALRM; the walk is pure Python)."""
+    def expired(signum, frame):
+        raise AssertionError(f"did not return within {seconds} s")
+
+    previous = signal.signal(signal.SIGALRM, expired)
+    signal.setitimer(signal.ITIMER_REAL, seconds)
+    try:
+        yield
+    finally:
+        signal.setitimer(signal.ITIMER_REAL, 0)
+        signal.signal(signal.SIGALRM, previous)
+
+
+def test_spectrum_lines_start_at_the_longest_wavelength_when_its_division_rounds_down():
+    # 1 bay of 0.6 m, longest 0.1 m: 0.6 / 0.1 = 5.999..., the first line is j = 6 (0.1 m), and the
+    # walk moves on from it (it never did from j = 5, 0.12 m, whose next line is 20 % away)
+    with _within(5):
+        lines = GS.spectrum_lines(0.6, 1, 64, 0.02, 0.1, 4)
+    assert lines[0] == 6 and 0.6 / lines[-1] <= 0.02 < 0.6 / lines[-2]  # 0.1 m down to 20 mm
+    assert np.all(np.diff(lines) > 0) and (lines[1:] / lines[:-1]).max() <= 2 ** (1 / 4)
+    with pytest.raises(ValueError, match=r"a roughness period of 1 bays spaces the lines by 20 % at 0\.12 m, coarser than "
+                                         r"1/4 octave \(19 %\): use at least 2 bays"), _within(5):
+        GS.spectrum_lines(0.6, 1, 64, 0.02, 0.11, 4)
+    with pytest.raises(ValueError, match=r"a roughness period of 1 bays \(0\.6 m\) is shorter than longest = 1 m: use at least 2 bays"):
+        GS.spectrum_lines(0.6, 1, 64, 0.02, 1.0, 1)
+    with pytest.raises(ValueError, match=r"bays = 0 is not allowed: it must be an integer >= 1"):
+        GS.spectrum_lines(0.6, 0, 64, 0.02, 0.1, 4)
+
+
+_wavelength = st.one_of(st.floats(0.0, 2.0), st.sampled_from([0.0, 0.1, 0.3, 0.6, 1.2, -0.1, float("nan"), float("inf")]))
+
+
+@settings(max_examples=300, deadline=2000)
+@given(bays=st.one_of(st.integers(-2, 200), st.sampled_from([2.0, 2.5, True, float("nan")])), shortest=_wavelength,
+       longest=_wavelength, per_octave=st.one_of(st.integers(-1, 120), st.sampled_from([10**10, 30.0, 0.5])))
+def test_spectrum_lines_are_distinct_increasing_and_span_the_range_or_are_refused(bays, shortest, longest, per_octave):
+    # every setting returns in bounded time (the deadline; the alarm turns a hang into a failure):
+    # lines 1 <= j <= N K, increasing, neighbours within 2^(1 / per_octave), from the line at or just
+    # beyond the longest wavelength down to the first at or below the shortest (or to L / K)
+    L, K = 0.6, 64
+    try:
+        with _within(10):
+            lines = GS.spectrum_lines(L, bays, K, shortest, longest, per_octave)
+    except ValueError as e:
+        assert re.search(r"bays|shortest|longest|per_octave", str(e)), str(e)
+        return
+    lo = L / K if shortest == 0 else shortest
+    lam = bays * L / lines
+    assert lines.dtype.kind == "i" and 1 <= lines[0] and lines[-1] <= bays * K
+    assert np.all(np.diff(lines) > 0)
+    assert np.all(lines[1:] <= lines[:-1] * 2 ** (1 / per_octave) * (1 + 1e-12))
+    assert longest * (1 - 1e-9) <= lam[0] < longest * 2 ** (1 / per_octave)
+    assert np.all(lam[:-1] > lo) and (lam[-1] <= lo or lines[-1] == bays * K)
 
 
 def test_locked_line_operator_predicts_a_growth_run_from_a_sine(setup):

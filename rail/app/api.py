@@ -12,6 +12,9 @@ workflow writes. A worked example is docs/example.py (run by the tests).
 from __future__ import annotations
 
 import dataclasses
+import math
+import numbers
+import os
 import sys
 from dataclasses import dataclass
 from pathlib import Path
@@ -19,6 +22,7 @@ from pathlib import Path
 import xarray as xr
 
 from .. import chain
+from ..growth_spectrum import spectrum_lines
 from ..scenario import Scenario
 from ..setup import build, config, inputs, io
 from ..studies import rate_spectrum, runs
@@ -42,6 +46,35 @@ class Study:
     config: dict
 
 
+def _speed(name: str, value) -> float:
+    """value [m/s] as a float if it is a finite number > 0 (not a bool or a string), else a ConfigError naming it."""
+    if isinstance(value, bool) or not isinstance(value, numbers.Real) or not (0 < float(value) < math.inf):
+        raise config.ConfigError(f"{name} = {value!r} is not allowed: it must be a finite number > 0 (a train speed in m/s).")
+    return float(value)
+
+
+def _speeds(value) -> list[float]:
+    """speeds as a list of floats [m/s]: one finite number > 0 or a non-empty sequence of them."""
+    single = isinstance(value, numbers.Real) and not isinstance(value, bool)
+    try:
+        out = [value] if single else [] if isinstance(value, (str, bytes, dict)) else list(value)
+    except TypeError:  # not a sequence
+        out = []
+    bad = [v for v in out if isinstance(v, bool) or not isinstance(v, numbers.Real) or not (0 < float(v) < math.inf)]
+    if not out or bad:
+        which = f" ({bad[0]!r} is not)" if bad and not single else ""
+        raise config.ConfigError(f"speeds = {value!r} is not allowed: it must be a finite number > 0 (m/s) or a non-empty "
+                                 f"list of them{which}.")
+    return [float(v) for v in out]
+
+
+def _count(name: str, value) -> int:
+    """value as an int if it is a whole number >= 1 (not a bool or a string), else a ConfigError naming it."""
+    if isinstance(value, bool) or not isinstance(value, numbers.Real) or not math.isfinite(value) or value < 1 or value != int(value):
+        raise config.ConfigError(f"{name} = {value!r} is not allowed: it must be a whole number >= 1.")
+    return int(value)
+
+
 def load(name: str = "default", *, root: str | Path | None = None, changes: dict | None = None) -> Study:
     """Build a scenario from the project's configuration, validated as the workflow does.
 
@@ -54,7 +87,7 @@ def load(name: str = "default", *, root: str | Path | None = None, changes: dict
         Folder holding config/ (default: this checkout).
     changes : dict, optional
         Keys to change on top (nested like the YAML, e.g. {"track": {"pad": {"stiffness": 1e8}}}),
-        validated too.
+        validated too; anything but a dict (or None) is refused.
 
     Returns
     -------
@@ -64,15 +97,24 @@ def load(name: str = "default", *, root: str | Path | None = None, changes: dict
     ------
     rail.setup.config.ConfigError
         Naming the file, key, value and valid range of every problem; a sweep file is refused (its
-        points are scenarios of the workflow: snakemake -j2 sweeps).
+        points are scenarios of the workflow: snakemake -j2 sweeps); a name that is not a string or
+        path, or changes that are not a dict, are refused naming the argument.
     """
+    if not isinstance(name, (str, os.PathLike)):
+        raise config.ConfigError(f"name = {name!r} is not allowed: it must be 'default', a scenario's name "
+                                 "(config/scenarios/<name>.yaml) or the path of a scenario YAML file.")
+    if changes is not None and not isinstance(changes, dict):
+        raise config.ConfigError(f"changes = {changes!r} is not allowed: it must be a dict nested like the YAML "
+                                 "(e.g. {'track': {'pad': {'stiffness': 1e8}}}) or None.")
+    if root is not None and not isinstance(root, (str, os.PathLike)):
+        raise config.ConfigError(f"root = {root!r} is not allowed: it must be the path of the folder holding config/.")
     root = Path(root) if root is not None else ROOT
     schema = config.load_yaml(root / "config/schema/config.schema.yaml")
     defaults = config.validate_config(config.load_yaml(root / "config/config.yaml"), schema, source="config/config.yaml")
     path = Path(name)
     if path.suffix in (".yaml", ".yml"):
         source, stem, scen = str(path), path.stem, config.load_yaml(path)
-    elif name == "default":
+    elif str(name) == "default":
         source, stem, scen = "config/config.yaml", "default", {}
     else:
         path = root / "config/scenarios" / f"{name}.yaml"
@@ -99,9 +141,9 @@ def growth(study: Study, *, speed: float, passages: int | None = None, checkpoin
     ----------
     study : Study
     speed : float
-        Train speed [m/s].
+        Train speed [m/s], finite and > 0.
     passages : int, optional
-        Wheel passages (default: the study's growth.passages); a multiple of growth.save_every.
+        Wheel passages (default: the study's growth.passages), >= 1; a multiple of growth.save_every.
     checkpoint : path, optional
         Resumable checkpoint (a killed run resumes from it).
     progress : file
@@ -112,10 +154,16 @@ def growth(study: Study, *, speed: float, passages: int | None = None, checkpoin
     xr.Dataset
         As results/growth/<scenario>/V<speed>.nc: levels and profiles at every saved passage count,
         roughness coefficients, growth rates, the wheel force.
+
+    Raises
+    ------
+    rail.setup.config.ConfigError
+        If speed is not a finite number > 0 or passages not a whole number >= 1 (before computing).
     """
+    speed = _speed("speed", speed)
     scn = study.scenario
     if passages is not None:
-        scn = dataclasses.replace(scn, growth=dataclasses.replace(scn.growth, passages=int(passages)))
+        scn = dataclasses.replace(scn, growth=dataclasses.replace(scn.growth, passages=_count("passages", passages)))
     speed = inputs.check_speed(study.config, speed, f"{study.name}: growth")
     table = chain.receptance_table(scn, speed)
     history = chain.grow(scn, table, checkpoint=checkpoint, identity={"config": study.config}, progress=progress,
@@ -133,7 +181,7 @@ def spectrum(study: Study, *, speeds, shortest: float | None = None, longest: fl
     ----------
     study : Study
     speeds : float or sequence of float
-        Train speeds [m/s].
+        Train speeds [m/s], each finite and > 0; a sequence must not be empty (a string is refused).
     shortest, longest : float, optional
         Wavelength range [m] (default: figures.rate_spectrum of the study).
     per_octave : int, optional
@@ -148,13 +196,27 @@ def spectrum(study: Study, *, speeds, shortest: float | None = None, longest: fl
     xr.Dataset
         As results/spectrum/<scenario>/rate_spectrum.nc: growth rate, drift, dB per 100,000
         passages over (speed, wavelength).
+
+    Raises
+    ------
+    rail.setup.config.ConfigError, ValueError
+        Naming the argument, before computing: speeds not a finite number > 0 or a non-empty
+        sequence of them; per_octave, bays, grid_phases not whole numbers >= 1; a wavelength range
+        the lines cannot span (rail.growth_spectrum.spectrum_lines).
     """
+    speeds = _speeds(speeds)
+    for name, value in (("per_octave", per_octave), ("bays", bays), ("grid_phases", grid_phases)):
+        if value is not None:
+            _count(name, value)
+    for name, value in (("shortest", shortest), ("longest", longest)):
+        if value is not None and (isinstance(value, bool) or not isinstance(value, numbers.Real)):
+            raise config.ConfigError(f"{name} = {value!r} is not allowed: it must be a wavelength in m.")
     s = dict(study.config["figures"]["rate_spectrum"])
     s.update({k: v for k, v in dict(shortest=shortest, longest=longest, per_octave=per_octave, bays=bays,
                                      grid_phases=grid_phases).items() if v is not None})
     cfg = config.deep_merge(study.config, {"figures": {"rate_spectrum": s}})
     scn = build.spectrum_scenario(cfg, study.name)
-    speeds = [speeds] if isinstance(speeds, (int, float)) else list(speeds)
-    spectra = {float(v): rate_spectrum.spectrum_with_settings(scn, chain.receptance_table(scn, float(v)), s) for v in speeds}
+    spectrum_lines(scn.L, scn.roughness.bays, scn.harmonics, float(s["shortest"]), float(s["longest"]), int(s["per_octave"]))
+    spectra = {v: rate_spectrum.spectrum_with_settings(scn, chain.receptance_table(scn, v), s) for v in speeds}
     ds = rate_spectrum.spectrum_dataset_of(spectra, scn)
     return io.finalize(ds, cfg, title="Growth-rate spectrum", source="rail.app.api.spectrum", scenario=study.name)

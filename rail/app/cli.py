@@ -5,13 +5,16 @@
     railgrowth spectrum default --speed 40            the growth-rate spectrum; default_spectrum.nc
 
 A problem with the input is one line per problem naming file, key, value and valid range, and exit
-status 2; nothing is computed before the input is valid. A growth run that stops early because the
-model's assumptions broke (contact lost, multiple contact) writes what it computed and exits with 3.
+status 2; nothing is computed before the input is valid (a missing or read-only folder of --out or
+--checkpoint included). A growth run that stops early because the model's assumptions broke (contact
+lost, multiple contact) writes what it computed and exits with 3. The file is written whole or not at
+all: an existing file at --out survives a failed write (rail.setup.io.write_netcdf).
 """
 
 from __future__ import annotations
 
 import argparse
+import os
 import sys
 from pathlib import Path
 
@@ -40,6 +43,20 @@ def _parser() -> argparse.ArgumentParser:
     return p
 
 
+def _writable_target(option: str, path: Path | None) -> None:
+    """ConfigError naming the option and the folder unless the file ``path`` can be written there
+    (checked before computing, so that a long run does not end in a missing folder)."""
+    if path is None:
+        return
+    folder = path.parent if str(path.parent) else Path(".")
+    if not folder.is_dir():
+        raise ConfigError(f"{option} {path}: the folder {folder} does not exist (create it first).")
+    if not os.access(folder, os.W_OK | os.X_OK):
+        raise ConfigError(f"{option} {path}: the folder {folder} is not writable.")
+    if path.is_dir():
+        raise ConfigError(f"{option} {path}: is a folder; give a file name.")
+
+
 def main(argv=None) -> int:
     """Run the command line; returns the exit status (0 ok, 2 invalid input, 3 a growth run stopped
     early with a partial result)."""
@@ -47,6 +64,10 @@ def main(argv=None) -> int:
     from . import api  # after parsing: --help answers without importing the model
 
     try:
+        if args.command in ("run", "spectrum"):
+            _writable_target("--out", args.out)
+        if args.command == "run":
+            _writable_target("--checkpoint", args.checkpoint)
         study = api.load(args.file if args.command == "check" else args.scenario, root=args.root)
         if args.command == "check":
             print(f"ok: scenario '{study.name}' is valid ({len(study.scenario.speeds)} speed(s), "

@@ -121,19 +121,28 @@ def finalize(ds: xr.Dataset, config: dict, *, title: str, source: str, scenario:
 def write_netcdf(ds: xr.Dataset, path) -> None:
     """Write a dataset to netCDF4 (complex values must already be split into real parts).
 
-    A failed write (the netCDF library says only "HDF error" when the disk is full) names the file,
-    the free space left and the size of the data, and leaves no partial file behind.
+    The dataset is written to a temporary file in the target's folder and renamed over the target
+    (os.replace, atomic): a write that fails leaves an existing file at ``path`` whole and no partial
+    file behind. A failed write (the netCDF library says only "HDF error" when the disk is full) names
+    the file, the free space left and the size of the data.
     """
     import os
     import shutil
+    import uuid
     from pathlib import Path
 
     path = Path(path)
+    tmp = path.with_name(f".{path.name}.{uuid.uuid4().hex[:12]}.tmp")
     try:
-        ds.to_netcdf(path, engine="netcdf4")
-    except (OSError, RuntimeError) as e:
-        if path.is_file():
-            path.unlink()
+        ds.to_netcdf(tmp, engine="netcdf4")
+        os.replace(tmp, path)
+    except BaseException as e:
+        try:
+            tmp.unlink(missing_ok=True)
+        except OSError:
+            pass
+        if not isinstance(e, (OSError, RuntimeError)):
+            raise
         folder = path.parent if path.parent.exists() else Path(".")
         free = shutil.disk_usage(folder).free
         need = sum(v.nbytes for v in ds.variables.values())
