@@ -231,3 +231,52 @@ def test_cluster_profile_scales_growth_runtime_from_the_job_and_checks_status_wi
         runtimes[name] = int(re.search(r"runtime=(\d+)", block).group(1))
     # 10 updates of 0.5 s per wheel at 61 nodes, three times that plus 10 min: one wheel 10, four 11
     assert runtimes == {"default": 10, "class87": 11}
+
+
+@pytest.fixture(scope="module")
+def built(root, tmp_path_factory):
+    """A working directory in which the default target is marked as built: every output of its
+    jobs exists (empty) and `snakemake --touch` has recorded each job's metadata (its params among
+    them), as a real run would. Nothing is computed."""
+    work = tmp_path_factory.mktemp("built")
+    shutil.copytree(root / "config", work / "config")
+    summary = snakemake(root, "--summary", cwd=work)
+    assert summary.returncode == 0, summary.stderr[-2000:]
+    outputs = [line.split("\t")[0] for line in summary.stdout.splitlines()[1:] if "\t" in line]
+    assert len(outputs) > 60, summary.stdout[-2000:]
+    for path in outputs:
+        (work / path).parent.mkdir(parents=True, exist_ok=True)
+        (work / path).touch()
+    touched = snakemake(root, "-j1", "-F", "--touch", cwd=work)
+    assert touched.returncode == 0, touched.stderr[-2000:]
+    return work
+
+
+@pytest.mark.parametrize(
+    "key, value, jobs",
+    [
+        # issue 32: these edits left Figs 2-6, 8, 22 and 9-19 untouched ("Nothing to be done")
+        # half-space quadrature: Figs 2-6 (the forces' contact damping uses its own quadrature)
+        ("numerics.halfspace.epsrel", 1.0e-9, {"halfspace_figure": 3, "halfspace_radiation": 1, "radiation_figure": 2}),
+        # wheel mass: the forces and all that follows them, not the tracks' tables or the half-space
+        ("wheels.mass", 1200.0, {"fig08": 1, "fig22": 1, "wear_case": 4, "wear_figure": 11, "growth": 7, "growth_figure": 7, "growth_3d": 1}),
+        # wear coefficient: wear and growth, not the forces (Figs 8, 22)
+        ("wear.coefficient", 3.0e-9, {"wear_case": 4, "wear_figure": 11, "growth": 7, "growth_figure": 7, "growth_3d": 1}),
+    ],
+)
+def test_a_config_edit_reruns_exactly_the_jobs_that_read_it(root, built, tmp_path, key, value, jobs):
+    work = tmp_path / "work"
+    shutil.copytree(built, work, symlinks=True)
+    path = work / "config/config.yaml"
+    cfg = yaml.safe_load(path.read_text())
+    *parents, leaf = key.split(".")
+    node = cfg
+    for p in parents:
+        node = node[p]
+    assert node[leaf] != value
+    node[leaf] = value
+    path.write_text(yaml.safe_dump(cfg, sort_keys=False))
+    out = snakemake(root, "-n", cwd=work)
+    assert out.returncode == 0, out.stderr[-2000:]
+    assert job_counts(out.stdout) == {**jobs, "all": 1}
+    assert "Params have changed since last execution" in out.stdout

@@ -10,6 +10,7 @@ from rail.decay import read_measured_decay_rate
 from rail.growth_spectrum import spectrum_lines
 from rail.roughness import read_third_octave_spectrum
 from rail.provenance import code_hash
+from rail.setup.build import PASSAGE_KEYS
 from rail.setup.build import scenario as build_scenario
 from rail.setup.build import physics_problems
 from rail.setup.config import ConfigError, check_scenario_names, expand_sweep, load_yaml, resolve_scenario_file, validate_config
@@ -131,9 +132,37 @@ def _track_part(name):
 
 
 def physics_config(wildcards):
-    """A scenario's configuration without the figure settings and site measurements (which no
-    growth computation reads)."""
-    return {k: v for k, v in SCENARIOS[wildcards.scenario].items() if k not in ("figures", "measured")}
+    """A scenario's configuration without the figure settings, site measurements and half-space
+    quadrature (which no growth computation reads: the contact damping has its own, Fig. 6)."""
+    cfg = SCENARIOS[wildcards.scenario]
+    out = {k: v for k, v in cfg.items() if k not in ("figures", "measured", "numerics")}
+    return {**out, "numerics": {k: v for k, v in cfg["numerics"].items() if k != "halfspace"}}
+
+
+def config_part(keys, cfg=None):
+    """The part of a configuration (default: this run's) under the dotted keys, nested as there.
+
+    Each job is handed exactly the configuration its script reads, as params.cfg. Params are a
+    rerun trigger, so an edit of the configuration reruns the jobs that read it and no other,
+    and each result records (io.finalize) the configuration it was computed from."""
+    cfg = config if cfg is None else cfg
+    out = {}
+    for key in keys:
+        *parents, leaf = key.split(".")
+        src, dst = cfg, out
+        for p in parents:
+            src, dst = src[p], dst.setdefault(p, {})
+        dst[leaf] = src[leaf]
+    return out
+
+
+# What each report figure reads of the configuration (its rule's params.cfg). A figure drawn from
+# another job's result carries that job's keys too, so that it records all it was computed from
+# (its reruns do not grow: a change of those keys reruns the job it is drawn from anyway).
+HALFSPACE_KEYS = ("material", "contact.hertz_stiffness", "numerics.halfspace", "figures.halfspace")
+FORCE_KEYS = tuple(k for k in PASSAGE_KEYS if k != "wear")  # the forces of one passage (rail.chain.solve_forces)
+WEAR_CASE_KEYS = PASSAGE_KEYS + ("figures.wear.speed", "figures.wear.amplitude")
+GROWTH_FIGURE_KEYS = ("figures.growth", "figures.wear.spectrum_max_wavenumber")
 
 
 # Code dependencies: a rule's params hold code("<script>"), the hash of every rail source its script
@@ -237,6 +266,13 @@ def wear_case_file(wildcards):
     n = int(wildcards.nn)
     index = 1 if n <= 11 else (n - 12) // 2
     return f"results/wear/default/V{speed_label(s['speed'])}_f{wear_frequency_label(s['frequencies'][index])}.nc"
+
+
+def wear_figure_config(wildcards):
+    """What a figure of Figs 9-19 reads: its wear case's keys, and for a wear spectrum (Figs 13,
+    15, 17, 19) its wavenumber range."""
+    n = int(wildcards.nn)
+    return config_part(WEAR_CASE_KEYS + (("figures.wear.spectrum_max_wavenumber",) if n >= 13 and n % 2 else ()))
 
 
 def wear_frequency(wildcards):
@@ -345,9 +381,9 @@ def closure_inputs(wildcards=None):
 
 
 def closure_wear_config(wildcards):
-    """The default configuration with the closure value of the wildcard 's'."""
+    """What a wear case reads of the default configuration, with the closure value of the wildcard 's'."""
     s = {closure_label(x): x for x in closure_values()}[wildcards.s]
-    return {**config, "contact": {**config["contact"], "closure_scale": s}}
+    return config_part(WEAR_CASE_KEYS, {**config, "contact": {**config["contact"], "closure_scale": s}})
 
 
 def closure_targets():
