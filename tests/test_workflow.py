@@ -193,12 +193,35 @@ def test_a_configfile_run_writes_under_its_own_name_and_leaves_the_defaults_unto
     changes.write_text("contact:\n  hertz_stiffness: 1.5e+9\n")
     out = snakemake(root, "-j1", "results/figures/fig06.png", "--configfile", str(changes), cwd=workdir)
     assert out.returncode == 0, out.stderr
-    assert "it writes under runs/my_changes/" in out.stderr
+    folder = re.search(r"it writes under (runs/my_changes-[0-9a-f]{8})/", out.stderr)
+    assert folder, out.stderr
     assert {p: hashlib.sha256(p.read_bytes()).hexdigest() for p in defaults} == before
-    run = workdir / "runs/my_changes"
+    run = workdir / folder.group(1)
     assert (run / "results/figures/fig06.png").stat().st_size > 10_000
     with xr.open_dataset(run / "results/data/fig06.nc") as ds:
         assert yaml.safe_load(ds.attrs["config"])["contact"]["hertz_stiffness"] == 1.5e9
+
+
+def test_one_off_configurations_of_the_same_file_name_get_their_own_folders(root, workdir):
+    # issue 32: runs/<file name>/ was shared, so a second my.yaml found the first one's results
+    # ("Nothing to be done") or wrote over them; the folder is keyed by the differing values
+    def start_up_line(folder, stiffness):
+        changes = workdir / folder / "my.yaml"
+        changes.parent.mkdir()
+        changes.write_text(f"contact:\n  hertz_stiffness: {stiffness}\n")
+        out = snakemake(root, "-n", "results/figures/fig06.png", "--configfile", str(changes), cwd=workdir)
+        assert out.returncode == 0, out.stderr[-2000:]
+        line = re.search(r"one-off configuration \(differs from config/config\.yaml in (.*)\): it writes under (runs/my-[0-9a-f]{8})/", out.stderr)
+        assert line, out.stderr[-2000:]
+        assert job_counts(out.stdout) == {"halfspace_radiation": 1, "radiation_figure": 1}
+        return line.group(1), line.group(2)
+
+    keys_a, run_a = start_up_line("a", "1.5e+9")
+    keys_b, run_b = start_up_line("b", "1.6e+9")
+    keys_c, run_c = start_up_line("c", "1.5e+9")  # the first configuration again, from another folder
+    assert keys_a == keys_b == keys_c == "contact.hertz_stiffness"
+    assert run_a != run_b and run_c == run_a
+    assert sorted(p.name for p in (workdir / "runs").iterdir()) == sorted({run_a[5:], run_b[5:]})
 
 
 def test_a_new_scenario_file_gets_its_figures_and_report_entries_from_one_command(root, workdir):

@@ -484,20 +484,31 @@ def _differing_keys(a, b, prefix=""):
     return keys
 
 
+def _value_at(cfg, key):
+    """The value under a dotted key of a configuration mapping (None where it is absent)."""
+    for part in key.split("."):
+        cfg = cfg.get(part) if isinstance(cfg, dict) else None
+    return cfg
+
+
 def one_off_run_dir(configfiles):
-    """runs/<name> for a configuration that differs from config/config.yaml (a one-off run:
-    --configfile my_changes.yaml gives runs/my_changes), with runs/<name>/config pointing to this
-    project's config/ (so that scenario and input files resolve as here); None for the defaults.
+    """runs/<name>-<hash> for a configuration that differs from config/config.yaml (a one-off run:
+    --configfile my_changes.yaml gives runs/my_changes-<hash>), with runs/<...>/config pointing to
+    this project's config/ (so that scenario and input files resolve as here); None for the
+    defaults. <hash> is that of the differing keys and their resolved values, so two configurations
+    of the same file name get their own folders and one configuration always the same one.
     A one-off run never writes over the default results."""
     import hashlib
+    import json
     import re as _re
 
     changed = _differing_keys(config, load_yaml("config/config.yaml"))
     if not changed:
         return None
     stems = [_re.sub(r"[^A-Za-z0-9_-]", "_", Path(f).stem) for f in configfiles]
-    digest = hashlib.sha256(repr(sorted(changed)).encode()).hexdigest()[:8]
-    name = "_".join(stems) or f"overrides-{digest}"
+    content = json.dumps({k: _value_at(config, k) for k in changed}, sort_keys=True, default=str)
+    digest = hashlib.sha256(content.encode()).hexdigest()[:8]
+    name = f"{'_'.join(stems) or 'overrides'}-{digest}"
     run = Path("runs") / name
     run.mkdir(parents=True, exist_ok=True)
     link = run / "config"
