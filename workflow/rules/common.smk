@@ -134,9 +134,19 @@ def _track_part(name):
 def physics_config(wildcards):
     """A scenario's configuration without the figure settings, site measurements and half-space
     quadrature (which no growth computation reads: the contact damping has its own, Fig. 6)."""
-    cfg = SCENARIOS[wildcards.scenario]
+    return _physics(SCENARIOS[wildcards.scenario])
+
+
+def _physics(cfg):
+    """A configuration without figures, measured and numerics.halfspace."""
     out = {k: v for k, v in cfg.items() if k not in ("figures", "measured", "numerics")}
     return {**out, "numerics": {k: v for k, v in cfg["numerics"].items() if k != "halfspace"}}
+
+
+def default_physics(*keys):
+    """The default configuration's physics (as physics_config) and the figure keys given: what a
+    study script reads through rail.setup.build.scenario."""
+    return {**_physics(config), **config_part(keys)}
 
 
 def config_part(keys, cfg=None):
