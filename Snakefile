@@ -16,7 +16,8 @@ include: "workflow/rules/common.smk"
 
 
 # A one-off configuration (--configfile or --config that changes config/config.yaml) writes under its
-# own name, runs/<name>/ (results, logs, report), and never over the default results.
+# own folder, runs/<name>-<hash of the differing values>/ (results, logs, report), and never over
+# the default results.
 ONE_OFF = one_off_run_dir(workflow.overwrite_configfiles)
 if ONE_OFF is not None:
     workflow.workdir(str(ONE_OFF))

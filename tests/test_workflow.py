@@ -193,12 +193,35 @@ def test_a_configfile_run_writes_under_its_own_name_and_leaves_the_defaults_unto
     changes.write_text("contact:\n  hertz_stiffness: 1.5e+9\n")
     out = snakemake(root, "-j1", "results/figures/fig06.png", "--configfile", str(changes), cwd=workdir)
     assert out.returncode == 0, out.stderr
-    assert "it writes under runs/my_changes/" in out.stderr
+    folder = re.search(r"it writes under (runs/my_changes-[0-9a-f]{8})/", out.stderr)
+    assert folder, out.stderr
     assert {p: hashlib.sha256(p.read_bytes()).hexdigest() for p in defaults} == before
-    run = workdir / "runs/my_changes"
+    run = workdir / folder.group(1)
     assert (run / "results/figures/fig06.png").stat().st_size > 10_000
     with xr.open_dataset(run / "results/data/fig06.nc") as ds:
         assert yaml.safe_load(ds.attrs["config"])["contact"]["hertz_stiffness"] == 1.5e9
+
+
+def test_one_off_configurations_of_the_same_file_name_get_their_own_folders(root, workdir):
+    # issue 32: runs/<file name>/ was shared, so a second my.yaml found the first one's results
+    # ("Nothing to be done") or wrote over them; the folder is keyed by the differing values
+    def start_up_line(folder, stiffness):
+        changes = workdir / folder / "my.yaml"
+        changes.parent.mkdir()
+        changes.write_text(f"contact:\n  hertz_stiffness: {stiffness}\n")
+        out = snakemake(root, "-n", "results/figures/fig06.png", "--configfile", str(changes), cwd=workdir)
+        assert out.returncode == 0, out.stderr[-2000:]
+        line = re.search(r"one-off configuration \(differs from config/config\.yaml in (.*)\): it writes under (runs/my-[0-9a-f]{8})/", out.stderr)
+        assert line, out.stderr[-2000:]
+        assert job_counts(out.stdout) == {"halfspace_radiation": 1, "radiation_figure": 1}
+        return line.group(1), line.group(2)
+
+    keys_a, run_a = start_up_line("a", "1.5e+9")
+    keys_b, run_b = start_up_line("b", "1.6e+9")
+    keys_c, run_c = start_up_line("c", "1.5e+9")  # the first configuration again, from another folder
+    assert keys_a == keys_b == keys_c == "contact.hertz_stiffness"
+    assert run_a != run_b and run_c == run_a
+    assert sorted(p.name for p in (workdir / "runs").iterdir()) == sorted({run_a[5:], run_b[5:]})
 
 
 def test_a_new_scenario_file_gets_its_figures_and_report_entries_from_one_command(root, workdir):
@@ -231,3 +254,52 @@ def test_cluster_profile_scales_growth_runtime_from_the_job_and_checks_status_wi
         runtimes[name] = int(re.search(r"runtime=(\d+)", block).group(1))
     # 10 updates of 0.5 s per wheel at 61 nodes, three times that plus 10 min: one wheel 10, four 11
     assert runtimes == {"default": 10, "class87": 11}
+
+
+@pytest.fixture(scope="module")
+def built(root, tmp_path_factory):
+    """A working directory in which the default target is marked as built: every output of its
+    jobs exists (empty) and `snakemake --touch` has recorded each job's metadata (its params among
+    them), as a real run would. Nothing is computed."""
+    work = tmp_path_factory.mktemp("built")
+    shutil.copytree(root / "config", work / "config")
+    summary = snakemake(root, "--summary", cwd=work)
+    assert summary.returncode == 0, summary.stderr[-2000:]
+    outputs = [line.split("\t")[0] for line in summary.stdout.splitlines()[1:] if "\t" in line]
+    assert len(outputs) > 60, summary.stdout[-2000:]
+    for path in outputs:
+        (work / path).parent.mkdir(parents=True, exist_ok=True)
+        (work / path).touch()
+    touched = snakemake(root, "-j1", "-F", "--touch", cwd=work)
+    assert touched.returncode == 0, touched.stderr[-2000:]
+    return work
+
+
+@pytest.mark.parametrize(
+    "key, value, jobs",
+    [
+        # issue 32: these edits left Figs 2-6, 8, 22 and 9-19 untouched ("Nothing to be done")
+        # half-space quadrature: Figs 2-6 (the forces' contact damping uses its own quadrature)
+        ("numerics.halfspace.epsrel", 1.0e-9, {"halfspace_figure": 3, "halfspace_radiation": 1, "radiation_figure": 2}),
+        # wheel mass: the forces and all that follows them, not the tracks' tables or the half-space
+        ("wheels.mass", 1200.0, {"fig08": 1, "fig22": 1, "wear_case": 4, "wear_figure": 11, "growth": 7, "growth_figure": 7, "growth_3d": 1}),
+        # wear coefficient: wear and growth, not the forces (Figs 8, 22)
+        ("wear.coefficient", 3.0e-9, {"wear_case": 4, "wear_figure": 11, "growth": 7, "growth_figure": 7, "growth_3d": 1}),
+    ],
+)
+def test_a_config_edit_reruns_exactly_the_jobs_that_read_it(root, built, tmp_path, key, value, jobs):
+    work = tmp_path / "work"
+    shutil.copytree(built, work, symlinks=True)
+    path = work / "config/config.yaml"
+    cfg = yaml.safe_load(path.read_text())
+    *parents, leaf = key.split(".")
+    node = cfg
+    for p in parents:
+        node = node[p]
+    assert node[leaf] != value
+    node[leaf] = value
+    path.write_text(yaml.safe_dump(cfg, sort_keys=False))
+    out = snakemake(root, "-n", cwd=work)
+    assert out.returncode == 0, out.stderr[-2000:]
+    assert job_counts(out.stdout) == {**jobs, "all": 1}
+    assert "Params have changed since last execution" in out.stdout

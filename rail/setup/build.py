@@ -24,7 +24,7 @@ from ..track import Ballast, Pad, Rail, Sleeper, Track, damping_problem, min_har
 from ..wear import WearLaw
 from .config import ConfigError, configured_speeds
 
-__all__ = ["HalfSpaceFigureSettings", "scenario", "spectrum_scenario", "track", "physics_problems", "halfspace_numerics", "halfspace_figures"]
+__all__ = ["HalfSpaceFigureSettings", "PASSAGE_KEYS", "elastic", "passage_scenario", "scenario", "spectrum_scenario", "track", "physics_problems", "halfspace_numerics", "halfspace_figures"]
 
 
 @dataclass(frozen=True, slots=True)
@@ -45,7 +45,9 @@ class HalfSpaceFigureSettings:
     hertz_stiffness: float
 
 
-def _elastic(cfg: dict) -> ElasticMaterial:
+def elastic(cfg: dict) -> ElasticMaterial:
+    """Rail steel as an elastic half-space (config key ``material``): all that Figs 2-6 read of the
+    physics."""
     m = cfg["material"]
     return ElasticMaterial(float(m["youngs_modulus"]), float(m["poisson_ratio"]), float(m["density"]))
 
@@ -113,7 +115,7 @@ def _spring(cfg: dict) -> ContactSpring:
     kH = float(c["hertz_stiffness"])
     model = c["loss_factor_model"]
     if model == "halfspace":
-        return ContactSpring(kH, loss_slope=_halfspace_loss_slope(kH, _elastic(cfg)))
+        return ContactSpring(kH, loss_slope=_halfspace_loss_slope(kH, elastic(cfg)))
     if model == "constant":
         return ContactSpring(kH, loss_factor=float(c["loss_factor"]))
     return ContactSpring(kH)
@@ -167,6 +169,39 @@ def spectrum_scenario(cfg: dict, name: str = "default", source: str = "config") 
     return scenario({**cfg, "roughness": {**cfg["roughness"], "kind": "smooth", "bays": bays}}, name, source)
 
 
+# What one wheel passage over a given roughness reads (forces, contact and wear: Figs 8, 22, 9-19).
+PASSAGE_KEYS = ("material", "track", "wheels.mass", "wheels.radius", "wheels.static_load", "contact", "numerics.track", "numerics.contact", "wear")
+
+
+def passage_scenario(cfg: dict, name: str = "default", source: str = "config") -> Scenario:
+    """The single-wheel Scenario of one wheel passage over a given roughness (Figs 8, 22 and 9-19),
+    built from the keys of PASSAGE_KEYS alone, so that a job can be handed exactly what it reads.
+
+    Without ``wear`` (the forces alone) the wear law is None; the growth settings, the initial
+    roughness and the traffic, which one passage never reads, are None, and the speeds are those of
+    the figures in ``cfg`` (checked like the scenario's: physics_problems).
+    """
+    problems = physics_problems(cfg, source)
+    if problems:
+        raise ConfigError("invalid configuration:\n  " + "\n  ".join(problems))
+    w, c, num = cfg["wheels"], cfg["contact"], cfg["numerics"]
+    return Scenario(
+        name=name,
+        track=_track(cfg),
+        track_numerics=TrackNumerics(int(num["track"]["harmonics"]), float(num["track"]["rtol"])),
+        wheels=Wheels(float(w["mass"]), float(w["radius"]), float(w["static_load"]), (0.0,)),
+        spring=_spring(cfg),
+        material=_material(cfg),
+        elastic=elastic(cfg),
+        wear_law=WearLaw(float(cfg["material"]["density"]), float(cfg["wear"]["coefficient"])) if "wear" in cfg else None,
+        contact_numerics=ContactNumerics(int(num["contact"]["nodes"]), str(c["closure"]), float(c["closure_scale"]), str(c["normal"])),
+        growth=None,
+        roughness=None,
+        speeds=tuple(configured_speeds(cfg)),
+        axles_per_day=None,
+    )
+
+
 def scenario(cfg: dict, name: str = "default", source: str = "config") -> Scenario:
     """The Scenario of a resolved, validated configuration (rail.setup.config.resolve).
 
@@ -185,7 +220,7 @@ def scenario(cfg: dict, name: str = "default", source: str = "config") -> Scenar
         wheels=Wheels(float(w["mass"]), float(w["radius"]), float(w["static_load"]), tuple(float(a) for a in w["positions"])),
         spring=_spring(cfg),
         material=_material(cfg),
-        elastic=_elastic(cfg),
+        elastic=elastic(cfg),
         wear_law=WearLaw(float(cfg["material"]["density"]), float(cfg["wear"]["coefficient"])),
         contact_numerics=ContactNumerics(int(num["contact"]["nodes"]), str(c["closure"]), float(c["closure_scale"]), str(c["normal"])),
         growth=GrowthSettings(passages=int(g["passages"]), passages_per_update=int(g["passages_per_update"]),

@@ -28,6 +28,7 @@ rule closure_wellposedness:
         "results/closure/wellposedness.nc",
     params:
         code=code("closure_wellposedness.py"),
+        cfg=default_physics("figures.wear.speed"),
         values=closure_values(),
         nodes=CLOSURE["wellposedness_nodes"],
     resources:
@@ -51,6 +52,7 @@ rule closure_aggregate:
         html=report("results/closure/conclusions.html", caption="../report/closure.rst", category="Closure sensitivity study"),
     params:
         code=code("closure_aggregate.py"),
+        cfg=default_physics("figures.wear.spectrum_max_wavenumber"),
         meta=closure_inputs()[1] if closure_values() else [],
     resources:
         mem_mb=1000,

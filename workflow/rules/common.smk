@@ -7,6 +7,7 @@ from snakemake.utils import validate
 
 from rail.chain import wheel_offsets as wheel_offsets_of
 from rail.provenance import code_hash
+from rail.setup.build import PASSAGE_KEYS
 from rail.setup.build import scenario as build_scenario
 from rail.setup.build import physics_problems
 from rail.setup.inputs import check_inputs, measured_decay_file
@@ -105,9 +106,47 @@ def _track_part(name):
 
 
 def physics_config(wildcards):
-    """A scenario's configuration without the figure settings and site measurements (which no
-    growth computation reads)."""
-    return {k: v for k, v in SCENARIOS[wildcards.scenario].items() if k not in ("figures", "measured")}
+    """A scenario's configuration without the figure settings, site measurements and half-space
+    quadrature (which no growth computation reads: the contact damping has its own, Fig. 6)."""
+    return _physics(SCENARIOS[wildcards.scenario])
+
+
+def _physics(cfg):
+    """A configuration without figures, measured and numerics.halfspace."""
+    out = {k: v for k, v in cfg.items() if k not in ("figures", "measured", "numerics")}
+    return {**out, "numerics": {k: v for k, v in cfg["numerics"].items() if k != "halfspace"}}
+
+
+def default_physics(*keys):
+    """The default configuration's physics (as physics_config) and the figure keys given: what a
+    study script reads through rail.setup.build.scenario."""
+    return {**_physics(config), **config_part(keys)}
+
+
+def config_part(keys, cfg=None):
+    """The part of a configuration (default: this run's) under the dotted keys, nested as there.
+
+    Each job is handed exactly the configuration its script reads, as params.cfg. Params are a
+    rerun trigger, so an edit of the configuration reruns the jobs that read it and no other,
+    and each result records (io.finalize) the configuration it was computed from."""
+    cfg = config if cfg is None else cfg
+    out = {}
+    for key in keys:
+        *parents, leaf = key.split(".")
+        src, dst = cfg, out
+        for p in parents:
+            src, dst = src[p], dst.setdefault(p, {})
+        dst[leaf] = src[leaf]
+    return out
+
+
+# What each report figure reads of the configuration (its rule's params.cfg). A figure drawn from
+# another job's result carries that job's keys too, so that it records all it was computed from
+# (its reruns do not grow: a change of those keys reruns the job it is drawn from anyway).
+HALFSPACE_KEYS = ("material", "contact.hertz_stiffness", "numerics.halfspace", "figures.halfspace")
+FORCE_KEYS = tuple(k for k in PASSAGE_KEYS if k != "wear")  # the forces of one passage (rail.chain.solve_forces)
+WEAR_CASE_KEYS = PASSAGE_KEYS + ("figures.wear.speed", "figures.wear.amplitude")
+GROWTH_FIGURE_KEYS = ("figures.growth", "figures.wear.spectrum_max_wavenumber")
 
 
 # Code dependencies: a rule's params hold code("<script>"), the hash of every rail source its script
@@ -211,6 +250,13 @@ def wear_case_file(wildcards):
     n = int(wildcards.nn)
     index = 1 if n <= 11 else (n - 12) // 2
     return f"results/wear/default/V{speed_label(s['speed'])}_f{wear_frequency_label(s['frequencies'][index])}.nc"
+
+
+def wear_figure_config(wildcards):
+    """What a figure of Figs 9-19 reads: its wear case's keys, and for a wear spectrum (Figs 13,
+    15, 17, 19) its wavenumber range."""
+    n = int(wildcards.nn)
+    return config_part(WEAR_CASE_KEYS + (("figures.wear.spectrum_max_wavenumber",) if n >= 13 and n % 2 else ()))
 
 
 def wear_frequency(wildcards):
@@ -319,9 +365,9 @@ def closure_inputs(wildcards=None):
 
 
 def closure_wear_config(wildcards):
-    """The default configuration with the closure value of the wildcard 's'."""
+    """What a wear case reads of the default configuration, with the closure value of the wildcard 's'."""
     s = {closure_label(x): x for x in closure_values()}[wildcards.s]
-    return {**config, "contact": {**config["contact"], "closure_scale": s}}
+    return config_part(WEAR_CASE_KEYS, {**config, "contact": {**config["contact"], "closure_scale": s}})
 
 
 def closure_targets():
@@ -422,20 +468,31 @@ def _differing_keys(a, b, prefix=""):
     return keys
 
 
+def _value_at(cfg, key):
+    """The value under a dotted key of a configuration mapping (None where it is absent)."""
+    for part in key.split("."):
+        cfg = cfg.get(part) if isinstance(cfg, dict) else None
+    return cfg
+
+
 def one_off_run_dir(configfiles):
-    """runs/<name> for a configuration that differs from config/config.yaml (a one-off run:
-    --configfile my_changes.yaml gives runs/my_changes), with runs/<name>/config pointing to this
-    project's config/ (so that scenario and input files resolve as here); None for the defaults.
+    """runs/<name>-<hash> for a configuration that differs from config/config.yaml (a one-off run:
+    --configfile my_changes.yaml gives runs/my_changes-<hash>), with runs/<...>/config pointing to
+    this project's config/ (so that scenario and input files resolve as here); None for the
+    defaults. <hash> is that of the differing keys and their resolved values, so two configurations
+    of the same file name get their own folders and one configuration always the same one.
     A one-off run never writes over the default results."""
     import hashlib
+    import json
     import re as _re
 
     changed = _differing_keys(config, load_yaml("config/config.yaml"))
     if not changed:
         return None
     stems = [_re.sub(r"[^A-Za-z0-9_-]", "_", Path(f).stem) for f in configfiles]
-    digest = hashlib.sha256(repr(sorted(changed)).encode()).hexdigest()[:8]
-    name = "_".join(stems) or f"overrides-{digest}"
+    content = json.dumps({k: _value_at(config, k) for k in changed}, sort_keys=True, default=str)
+    digest = hashlib.sha256(content.encode()).hexdigest()[:8]
+    name = f"{'_'.join(stems) or 'overrides'}-{digest}"
     run = Path("runs") / name
     run.mkdir(parents=True, exist_ok=True)
     link = run / "config"

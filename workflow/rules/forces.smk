@@ -10,6 +10,7 @@ rule fig08:
         figure=report("results/figures/fig08.png", caption="../report/fig08.rst", category="Section 4.2: wheel/rail forces"),
     params:
         code=code("forces_figure.py"),
+        cfg=config_part(FORCE_KEYS + ("figures.fig08",)),
     resources:
         mem_mb=1000,
         runtime=5,
@@ -28,6 +29,7 @@ rule fig22:
         figure=report("results/figures/fig22.png", caption="../report/fig22.rst", category="Section 4.2: wheel/rail forces"),
     params:
         code=code("forces_figure.py"),
+        cfg=config_part(FORCE_KEYS + ("figures.fig22",)),
     resources:
         mem_mb=1000,
         runtime=5,

@@ -132,6 +132,7 @@ rule growth_figure:
         nn="2[013-7]",
     params:
         code=code("growth_figure.py"),
+        cfg=config_part(GROWTH_FIGURE_KEYS),
     resources:
         mem_mb=500,
         runtime=5,

@@ -14,6 +14,7 @@ rule halfspace_figure:
         nn="02|03|04",
     params:
         code=code("halfspace_figure.py"),
+        cfg=config_part(HALFSPACE_KEYS),
     resources:
         mem_mb=500,
         runtime=5,
@@ -29,6 +30,7 @@ rule halfspace_radiation:
         "results/halfspace/radiation.nc",
     params:
         code=code("halfspace_radiation.py"),
+        cfg=config_part(HALFSPACE_KEYS),
     resources:
         mem_mb=500,
         runtime=5,
@@ -53,6 +55,7 @@ rule radiation_figure:
         nn="05|06",
     params:
         code=code("radiation_figure.py"),
+        cfg=config_part(HALFSPACE_KEYS),
     resources:
         mem_mb=500,
         runtime=5,

@@ -83,6 +83,7 @@ rule rate_spectrum_sweep:
         figure=report("results/spectrum_sweeps/{study}.png", caption="../report/rate_spectrum_sweep.rst", category="Growth-rate spectrum"),
     params:
         code=code("rate_spectrum_sweep.py"),
+        cfg={},  # drawn from the spectra alone, each of which records its configuration
         swept=sweep_keys,
         grid=sweep_values,
         indices=sweep_indices,

@@ -8,6 +8,7 @@ rule stability_case:
         "results/stability/cases/{case}.json",
     params:
         code=code("stability_case.py"),
+        cfg=config,  # every case resolves its overrides onto the whole configuration
         case=lambda w: {**STABILITY["defaults"], **STABILITY["cases"][w.case]},
     wildcard_constraints:
         case="|".join(STABILITY["cases"]),
@@ -30,6 +31,7 @@ rule stability_table:
         html=report("results/stability/outcomes.html", caption="../report/stability.rst", category="Numerical studies"),
     params:
         code=code("stability_table.py"),
+        cfg=default_physics(),
         expect={name: c["expect"] for name, c in STABILITY["cases"].items()},
     resources:
         mem_mb=1000,
@@ -54,6 +56,7 @@ rule convergence_point:
         "results/convergence/points/{setting}/{value}.nc",
     params:
         code=code("convergence_point.py"),
+        cfg=default_physics("figures.wear.amplitude"),
         study=CONVERGENCE,
         value=lambda w: CONVERGENCE_VALUES[(w.setting, w.value)],
     wildcard_constraints:
@@ -78,6 +81,7 @@ rule convergence_aggregate:
         html=report("results/convergence/summary.html", caption="../report/convergence.rst", category="Numerical studies"),
     params:
         code=code("convergence_aggregate.py"),
+        cfg=default_physics(),
         study=CONVERGENCE,
     resources:
         mem_mb=1000,

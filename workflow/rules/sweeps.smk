@@ -10,6 +10,7 @@ rule sweep_aggregate:
         figure=report("results/sweeps/{study}.png", caption="../report/sweep.rst", category="Sweep studies"),
     params:
         code=code("sweep_aggregate.py"),
+        cfg={},  # drawn from the runs alone, each of which records its configuration
         swept=sweep_keys,
         grid=sweep_values,
         indices=sweep_indices,
@@ -31,6 +32,7 @@ rule sweep_bands:
         figure=report("results/sweeps/{study}_bands.png", caption="../report/sweep_bands.rst", category="Roughness bands (EN 15610 form)"),
     params:
         code=code("sweep_bands.py"),
+        cfg=config_part(("track", "numerics.track", "figures.bands")),
         swept=sweep_keys,
         grid=sweep_values,
         indices=sweep_indices,

@@ -12,6 +12,7 @@ rule wear_case:
     params:
         code=code("wear_case.py"),
         frequency=wear_frequency,
+        cfg=config_part(WEAR_CASE_KEYS),
     resources:
         mem_mb=1000,
         runtime=10,
@@ -34,6 +35,7 @@ rule wear_figure:
         nn="09|1[0-9]",
     params:
         code=code("wear_figure.py"),
+        cfg=wear_figure_config,
     resources:
         mem_mb=500,
         runtime=5,

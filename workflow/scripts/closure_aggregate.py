@@ -37,4 +37,4 @@ def main(config, paths, meta, out):
 if __name__ == "__main__":
     sys.stderr = open(snakemake.log[0], "w")  # noqa: F821
     o = snakemake.output  # noqa: F821
-    main(snakemake.config, list(snakemake.input), snakemake.params.meta, {k: o[k] for k in ("data", "spectra", "wear", "table", "html")})  # noqa: F821
+    main(snakemake.params.cfg, list(snakemake.input), snakemake.params.meta, {k: o[k] for k in ("data", "spectra", "wear", "table", "html")})  # noqa: F821

@@ -32,4 +32,4 @@ def main(config, values, nodes, out_path, log):
 if __name__ == "__main__":
     log = open(snakemake.log[0], "w")  # noqa: F821
     sys.stderr = log
-    main(snakemake.config, snakemake.params.values, snakemake.params.nodes, snakemake.output[0], log)  # noqa: F821
+    main(snakemake.params.cfg, snakemake.params.values, snakemake.params.nodes, snakemake.output[0], log)  # noqa: F821

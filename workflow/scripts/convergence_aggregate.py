@@ -24,4 +24,4 @@ def main(config, study, paths, out):
 if __name__ == "__main__":
     sys.stderr = open(snakemake.log[0], "w")  # noqa: F821
     o = snakemake.output  # noqa: F821
-    main(snakemake.config, snakemake.params.study, list(snakemake.input), {k: o[k] for k in ("data", "figure", "table", "html")})  # noqa: F821
+    main(snakemake.params.cfg, snakemake.params.study, list(snakemake.input), {k: o[k] for k in ("data", "figure", "table", "html")})  # noqa: F821

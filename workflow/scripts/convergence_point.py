@@ -51,5 +51,5 @@ def main(config, study, setting, value, table_path, out_path):
 
 if __name__ == "__main__":
     sys.stderr = open(snakemake.log[0], "w")  # noqa: F821
-    main(snakemake.config, snakemake.params.study, snakemake.wildcards.setting, float(snakemake.params.value),  # noqa: F821
+    main(snakemake.params.cfg, snakemake.params.study, snakemake.wildcards.setting, float(snakemake.params.value),  # noqa: F821
          snakemake.input.get("table"), snakemake.output[0])  # noqa: F821

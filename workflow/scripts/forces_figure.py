@@ -16,7 +16,7 @@ def _table(path):
 
 
 def main(rule, config, table_paths, data_path, figure_path):
-    scn = chain.single_wheel(build.scenario(config))
+    scn = build.passage_scenario(config)
     track = scn.track
     if rule == "fig08":
         s = config["figures"]["fig08"]
@@ -37,4 +37,4 @@ def main(rule, config, table_paths, data_path, figure_path):
 
 if __name__ == "__main__":
     sys.stderr = open(snakemake.log[0], "w")  # noqa: F821
-    main(snakemake.rule, snakemake.config, list(snakemake.input), snakemake.output.data, snakemake.output.figure)  # noqa: F821
+    main(snakemake.rule, snakemake.params.cfg, list(snakemake.input), snakemake.output.data, snakemake.output.figure)  # noqa: F821

@@ -38,4 +38,4 @@ def main(rule, nn, config, inputs, outputs):
 if __name__ == "__main__":
     sys.stderr = open(snakemake.log[0], "w")  # noqa: F821
     w = snakemake.wildcards  # noqa: F821
-    main(snakemake.rule, w.get("nn", w.get("scenario", "")), snakemake.config, snakemake.input, snakemake.output)  # noqa: F821
+    main(snakemake.rule, w.get("nn", w.get("scenario", "")), getattr(snakemake.params, "cfg", None), snakemake.input, snakemake.output)  # noqa: F821

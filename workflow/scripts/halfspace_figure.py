@@ -8,7 +8,7 @@ from rail.studies import datasets
 
 
 def main(nn, config, data_path, figure_path):
-    material = build.scenario(config).elastic
+    material = build.elastic(config)
     fig_settings = build.halfspace_figures(config)
     numerics = build.halfspace_numerics(config)
     builders = {
@@ -23,4 +23,4 @@ def main(nn, config, data_path, figure_path):
 
 if __name__ == "__main__":
     sys.stderr = open(snakemake.log[0], "w")  # noqa: F821
-    main(snakemake.wildcards.nn, snakemake.config, snakemake.output.data, snakemake.output.figure)  # noqa: F821
+    main(snakemake.wildcards.nn, snakemake.params.cfg, snakemake.output.data, snakemake.output.figure)  # noqa: F821

@@ -7,10 +7,10 @@ from rail.studies import datasets
 
 
 def main(config, out_path):
-    ds = datasets.radiation(build.scenario(config).elastic, build.halfspace_figures(config), build.halfspace_numerics(config))
+    ds = datasets.radiation(build.elastic(config), build.halfspace_figures(config), build.halfspace_numerics(config))
     io.write_netcdf(io.finalize(ds, config, title="Half-space radiation", source="rail.studies.datasets.radiation"), out_path)
 
 
 if __name__ == "__main__":
     sys.stderr = open(snakemake.log[0], "w")  # noqa: F821
-    main(snakemake.config, snakemake.output[0])  # noqa: F821
+    main(snakemake.params.cfg, snakemake.output[0])  # noqa: F821

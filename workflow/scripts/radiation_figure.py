@@ -19,4 +19,4 @@ def main(nn, config, in_path, data_path, figure_path):
 
 if __name__ == "__main__":
     sys.stderr = open(snakemake.log[0], "w")  # noqa: F821
-    main(snakemake.wildcards.nn, snakemake.config, snakemake.input[0], snakemake.output.data, snakemake.output.figure)  # noqa: F821
+    main(snakemake.wildcards.nn, snakemake.params.cfg, snakemake.input[0], snakemake.output.data, snakemake.output.figure)  # noqa: F821

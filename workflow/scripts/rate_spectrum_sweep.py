@@ -21,5 +21,5 @@ def main(config, study, keys, values, indices, paths, data_path, figure_path):
 if __name__ == "__main__":
     sys.stderr = open(snakemake.log[0], "w")  # noqa: F821
     p = snakemake.params  # noqa: F821
-    main(snakemake.config, snakemake.wildcards.study, p.swept, p.grid, p.indices, list(snakemake.input),  # noqa: F821
+    main(snakemake.params.cfg, snakemake.wildcards.study, p.swept, p.grid, p.indices, list(snakemake.input),  # noqa: F821
          snakemake.output.data, snakemake.output.figure)  # noqa: F821

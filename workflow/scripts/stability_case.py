@@ -17,4 +17,4 @@ def main(config, schema_path, name, case, out_path, log):
 if __name__ == "__main__":
     log = open(snakemake.log[0], "w")  # noqa: F821
     sys.stderr = log
-    main(snakemake.config, "config/schema/config.schema.yaml", snakemake.wildcards.case, snakemake.params.case, snakemake.output[0], log)  # noqa: F821
+    main(snakemake.params.cfg, "config/schema/config.schema.yaml", snakemake.wildcards.case, snakemake.params.case, snakemake.output[0], log)  # noqa: F821

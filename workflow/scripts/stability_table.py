@@ -23,4 +23,4 @@ def main(config, paths, expect, out):
 if __name__ == "__main__":
     sys.stderr = open(snakemake.log[0], "w")  # noqa: F821
     o = snakemake.output  # noqa: F821
-    main(snakemake.config, list(snakemake.input), snakemake.params.expect, {k: o[k] for k in ("data", "table", "html")})  # noqa: F821
+    main(snakemake.params.cfg, list(snakemake.input), snakemake.params.expect, {k: o[k] for k in ("data", "table", "html")})  # noqa: F821

@@ -22,4 +22,4 @@ def main(config, study, keys, values, indices, run_paths, data_path, figure_path
 
 if __name__ == "__main__":
     sys.stderr = open(snakemake.log[0], "w")  # noqa: F821
-    main(snakemake.config, snakemake.wildcards.study, snakemake.params.swept, snakemake.params.grid, snakemake.params.indices, list(snakemake.input), snakemake.output.data, snakemake.output.figure)  # noqa: F821
+    main(snakemake.params.cfg, snakemake.wildcards.study, snakemake.params.swept, snakemake.params.grid, snakemake.params.indices, list(snakemake.input), snakemake.output.data, snakemake.output.figure)  # noqa: F821

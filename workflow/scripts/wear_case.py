@@ -10,7 +10,7 @@ from rail.studies import datasets
 
 
 def main(config, table_path, frequency, out_path):
-    scn = chain.single_wheel(build.scenario(config))
+    scn = build.passage_scenario(config)
     s = config["figures"]["wear"]
     with xr.open_dataset(table_path) as t:
         tab = datasets.read_receptance_table(t.load())
@@ -23,5 +23,4 @@ def main(config, table_path, frequency, out_path):
 
 if __name__ == "__main__":
     sys.stderr = open(snakemake.log[0], "w")  # noqa: F821
-    cfg = getattr(snakemake.params, "cfg", None) or snakemake.config  # noqa: F821
-    main(cfg, snakemake.input.table, snakemake.params.frequency, snakemake.output[0])  # noqa: F821
+    main(snakemake.params.cfg, snakemake.input.table, snakemake.params.frequency, snakemake.output[0])  # noqa: F821
