@@ -191,37 +191,52 @@ def bay_wear(forces: ForceResult, wheel_index: int, roughness: Roughness, materi
         kap_s = _curvature_on_grid(roughness, 512 * forces.bays, L)
         a_s = hertz_half_length(P_s, equivalent_radius(kap_s, material), material)
     a_est = float(np.max(a_s)) * 1.02 if a_max is None else a_max
-    # the grid of one bay, repeated over the N bays of the period (so that a one-bay-periodic
-    # roughness gives the same wear with any N)
-    delta, Nx, M = rolling_grid(a_est, forces.L, nodes)
-    if grid_phase:
-        Nx += int(round(grid_phase * forces.L / max(float(np.mean(a_s)), 1e-300)))
-    if grid_phase or forces.bays > 1:
-        Nx *= forces.bays
-        delta = L / Nx
-        M = int(np.ceil(a_est / delta)) + 1
-    # spin-up from zero traction over SPIN_UP_TRANSITS patch transits (at most a bay) before the bay
-    spin = min(Nx, int(np.ceil(SPIN_UP_TRANSITS * 2 * a_est / delta)))
-    steps = spin + Nx + 2 * M + 1
-    x_wheel = (np.arange(steps) - spin) * delta  # wheel centre at each step; x = 0 at step `spin`
-    on_grid = (np.arange(steps) - spin) % Nx  # x_wheel mod L = on_grid L / Nx: exact grid points
-    P = force_on_grid(forces, Nx)[wheel_index][on_grid]
-    shape, min_shape, shift = None, 1.0, 0.0
-    if nonhertzian:
-        xi = (np.arange(2 * M + 1) - M) * delta
-        pc = normal.patch_contact(P, x_wheel, slope, material, xi)
-        a, shape = pc.a, pc.shape
-        min_shape = float(pc.min_shape.min())
-        shift = float(np.max(np.abs(pc.shift) / a))
-        if min_shape <= 0:
-            i_bad = int(np.argmin(pc.min_shape))
-            raise ContactError(f"contact lost inside the patch: wheel {wheel_index} at x = {x_wheel[i_bad] % L:.4g} m in the "
-                               f"period, the roughness under the patch (a = {a[i_bad] * 1e3:.3g} mm) lifts the rail off the wheel "
-                               "there (pressure shape factor < 0); the single-zone contact no longer holds.")
+    # The grid holds the largest patch, estimated from 512 N samples; where the patch at the grid's
+    # own points is larger (a half-length that changes fast between samples: a rail nearly as concave
+    # as the wheel, or a force that peaks between them), the grid is rebuilt for it.
+    for _attempt in range(3):
+        # the grid of one bay, repeated over the N bays of the period (so that a one-bay-periodic
+        # roughness gives the same wear with any N)
+        delta, Nx, M = rolling_grid(a_est, forces.L, nodes)
+        if grid_phase:
+            Nx += int(round(grid_phase * forces.L / max(float(np.mean(a_s)), 1e-300)))
+        if grid_phase or forces.bays > 1:
+            Nx *= forces.bays
+            delta = L / Nx
+            M = int(np.ceil(a_est / delta)) + 1
+        # spin-up from zero traction over SPIN_UP_TRANSITS patch transits (at most a bay) before the bay
+        spin = min(Nx, int(np.ceil(SPIN_UP_TRANSITS * 2 * a_est / delta)))
+        steps = spin + Nx + 2 * M + 1
+        x_wheel = (np.arange(steps) - spin) * delta  # wheel centre at each step; x = 0 at step `spin`
+        on_grid = (np.arange(steps) - spin) % Nx  # x_wheel mod L = on_grid L / Nx: exact grid points
+        P = force_on_grid(forces, Nx)[wheel_index][on_grid]
+        shape, min_shape, shift = None, 1.0, 0.0
+        if nonhertzian:
+            xi = (np.arange(2 * M + 1) - M) * delta
+            pc = normal.patch_contact(P, x_wheel, slope, material, xi)
+            a, shape = pc.a, pc.shape
+            min_shape = float(pc.min_shape.min())
+            shift = float(np.max(np.abs(pc.shift) / a))
+            if min_shape <= 0:
+                i_bad = int(np.argmin(pc.min_shape))
+                raise ContactError(f"contact lost inside the patch: wheel {wheel_index} at x = {x_wheel[i_bad] % L:.4g} m in the "
+                                   f"period, the roughness under the patch (a = {a[i_bad] * 1e3:.3g} mm) lifts the rail off the wheel "
+                                   "there (pressure shape factor < 0); the single-zone contact no longer holds.")
+        else:
+            kappa = _curvature_on_grid(roughness, Nx, L)[on_grid]
+            R = equivalent_radius(kappa, material)
+            a = hertz_half_length(P, R, material)
+        if a_max is not None or float(np.max(a)) < (M - 0.5) * delta:
+            break
+        a_est = 1.02 * float(np.max(a))
     else:
-        kappa = _curvature_on_grid(roughness, Nx, L)[on_grid]
-        R = equivalent_radius(kappa, material)
-        a = hertz_half_length(P, R, material)
+        raise ContactError(f"the patch half-length {float(np.max(a)) * 1e3:.3g} mm of wheel {wheel_index} keeps outgrowing its "
+                           "contact grid (the rail is nearly as concave as the wheel: multiple contact is near).")
+    if float(np.min(a)) < 2.5 * delta:  # the patch changes length by more than the grid can hold along the period
+        raise ContactError(f"multiple contact is near: the patch half-length of wheel {wheel_index} ranges from "
+                           f"{float(np.min(a)) * 1e3:.3g} to {float(np.max(a)) * 1e3:.3g} mm along the period (the rail nearly as "
+                           "concave as the wheel); the report's local-curvature Hertz patch is far outside its validity there "
+                           "(contact.normal: nonhertzian sees the roughness under the patch).")
     sol = solve_tangential(P, a, material, speed, delta, M, closure=closure, closure_scale=closure_scale, shape=shape)
     # particle j is at x = (j - M - spin) Delta; the bay's points x_k = k Delta are j = spin + M + k
     j = spin + M + np.arange(Nx)

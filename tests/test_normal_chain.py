@@ -140,3 +140,35 @@ def test_the_command_line_writes_a_stopped_run_and_exits_3(tmp_path, capsys):
     assert out.exists()
     captured = capsys.readouterr()
     assert "(partial: growth stopped at 0 passages: " in captured.out
+
+
+def test_a_patch_that_outgrows_its_estimate_gets_a_larger_grid_not_an_error(table, monkeypatch):
+    # the grid is sized from the patch at 512 samples per bay; where the patch at the grid's own
+    # points is larger (the broadband study died with "the patch half-length 0.01423 m exceeds the
+    # grid's 0.01375 m"), the grid is rebuilt to hold it. Here the estimate is made too small on
+    # purpose (half the curvature at the 512 samples): the wear is still computed, with the patch of
+    # the undisturbed computation
+    from rail import wear as W
+
+    k = 41
+    beta = 2 * np.pi * k / 0.6
+    rough = I.Roughness.harmonic(0.95 / (MATERIAL.wheel_radius * beta**2), 0.6 / k, 0.6, K)  # trough: 0.95 / R_w
+    s = _scn("report", nodes=41)
+    forces = chain.solve_forces(s, table, rough)
+    plain = chain.passage_wear(s, forces, rough)
+    curvature = W._curvature_on_grid
+    monkeypatch.setattr(W, "_curvature_on_grid", lambda r, n, p: curvature(r, n, p) * (0.5 if n == 512 else 1.0))
+    w = chain.passage_wear(s, forces, rough)
+    assert np.all(np.isfinite(w.depth))
+    assert w.a.max() == pytest.approx(plain.a.max(), rel=0.02)
+
+
+def test_a_patch_whose_length_swings_beyond_the_grid_is_reported_as_near_multiple_contact(table):
+    # the trough's curvature at 0.997 / R_w: the patch ranges from about 0.7 to 20 static half-lengths
+    # along the bay; before, a ValueError of the basis ("must span more than two grid cells")
+    k = 41
+    beta = 2 * np.pi * k / 0.6
+    rough = I.Roughness.harmonic(0.997 / (MATERIAL.wheel_radius * beta**2), 0.6 / k, 0.6, K)
+    s = _scn("report", nodes=41)
+    with pytest.raises(C.ContactError, match=r"multiple contact is near: the patch half-length of wheel 0 ranges from"):
+        chain.passage_wear(s, chain.solve_forces(s, table, rough), rough)
