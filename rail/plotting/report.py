@@ -406,4 +406,11 @@ def scenario_overview(ds: xr.Dataset, default: xr.Dataset | None = None, name: s
         a3.set_ylabel("contact force, first wheel (kN)")
         a3.legend(fontsize=7)
     a3.set_xlabel(f"position over the {N}-bay period (m)")
+    contact = ds.attrs.get("normal_contact")
+    if contact:
+        a1.set_title(f"{name}: V = {ds.attrs['speed_m_per_s']:g} m/s, period {N} bay(s), normal contact {contact}", fontsize=9)
+    if ds.attrs.get("stopped"):  # the run left the model: say where, on the page
+        reason = ds.attrs["stopped"].split(": ", 2)
+        fig.suptitle(f"STOPPED at {int(n[-1])} passages ({reason[1] if len(reason) > 1 else 'see the file'}); "
+                     "the states up to there are shown", fontsize=9, color="firebrick")
     return fig
