@@ -428,3 +428,25 @@ def test_roughness_coefficients_refuse_a_period_not_above_zero(period):
         R.profile_coefficients(np.linspace(0.0, 2.4, 49), 1e-6 * np.sin(np.linspace(0.0, 20.0, 49)), period, 64)
     with pytest.raises(ValueError, match=message):
         R.spectrum_coefficients(np.array([0.1, 0.05]), np.array([0.0, -3.0]), period, 64, seed=1)
+
+
+# issue 32, item 5: a limit spectrum and an initial roughness spectrum in mm stop `check` (and the
+# workflow, through rail.setup.inputs.check_inputs) before anything is computed
+@pytest.mark.parametrize("key, text, message", [
+    ("figures:\n  bands:\n    limit: {f}\n", "wavelength_m,level_dB\n250,10\n200,9\n",
+     r"figures\.bands\.limit: .*mm\.csv, line 2: wavelength 250 m is not allowed: it looks like millimetres \(0\.25 m\)"),
+    ("figures:\n  bands:\n    limit: {f}\n", "wavelength_m,level_dB\n0.25,10\n0.19,9\n",
+     r"figures\.bands\.limit: .*mm\.csv, line 3: wavelength 0\.19 m is not a one-third-octave band centre: the nearest band is 0\.2 m"),
+    ("roughness:\n  kind: spectrum\n  file: {f}\n", "wavelength_m,level_dB\n100,10\n80,9\n",
+     r"roughness: .*mm\.csv, line 2: wavelength 100 m is not allowed: it looks like millimetres \(0\.1 m\)"),
+])
+def test_check_refuses_spectra_in_millimetres_at_start_up(tmp_path, capsys, key, text, message):
+    from rail.app import cli
+
+    f = tmp_path / "mm.csv"
+    f.write_text(text)
+    scen = tmp_path / "mine.yaml"
+    scen.write_text(key.format(f=f))
+    assert cli.main(["check", str(scen)]) == 2
+    err = capsys.readouterr().err
+    assert re.search(message, err), err
