@@ -116,7 +116,10 @@ class GrowthHistory:
 
 
 def stop_message(done: int, Z0, Z, error: Exception, period: float | None = None) -> str:
-    """One line: why a growth run stopped, at how many passages, and the harmonic that grew most.
+    """One line: why a growth run stopped, at how many passages, and the roughness that broke it.
+
+    The contact breaks where the rail is too curved under the wheel, so the harmonic named is the
+    one with the largest curvature amplitude j^2 |Z_j|, with its level and its change since the start.
 
     Parameters
     ----------
@@ -134,13 +137,14 @@ def stop_message(done: int, Z0, Z, error: Exception, period: float | None = None
     str
     """
     J = (len(Z) - 1) // 2
-    now = levels_dB(Z)
-    grown = now - levels_dB(Z0)
-    j = int(np.argmax(np.where(now > -200, grown, -np.inf))) + 1 if np.any(now > -200) else int(np.argmax(now)) + 1
+    Z = np.asarray(Z)
+    j = int(np.argmax(np.arange(1, J + 1) ** 2 * np.abs(Z[J + 1:]))) + 1
+    now, start = levels_dB(Z)[j - 1], levels_dB(Z0)[j - 1]
     where = f"wavelength {1e3 * period / j:.3g} mm" if period else f"harmonic {j} of {J}"
+    change = f"{now - start:+.1f} dB since the start" if start > -400 else "absent at the start"
     reason = " ".join(str(error).split())
-    return (f"growth stopped at {done} passages: {reason} The fastest-growing roughness is at {where} "
-            f"({grown[j - 1]:+.1f} dB since the start, now {now[j - 1]:.1f} dB re 1 µm); every state saved up to here is kept.")
+    return (f"growth stopped at {done} passages: {reason} The most curved roughness is at {where} "
+            f"(now {now:.1f} dB re 1 µm, {change}); every state saved up to here is kept.")
 
 
 def levels_dB(Z):
@@ -335,6 +339,7 @@ def run_growth(
         if done > history.passages[-1]:
             history = GrowthHistory(np.append(history.passages, done), np.vstack([history.Z, Z[None, :]]), history.step_error,
                                     history.full_slip)
+        history.step_error = np.append(history.step_error, np.full(len(history.full_slip) - len(history.step_error), np.nan))
         history.stopped = stop_message(done, history.Z[0], Z, e, period)
         print(history.stopped, file=progress, flush=True)
         return history

@@ -92,7 +92,8 @@ def test_a_growth_run_stops_with_the_reason_and_keeps_its_saved_states():
     h = G.run_growth(wear, I.Roughness(Z0), 1, G.GrowthSettings(50000, 10000, 10000, False, 10.0), progress=out, period=0.6)
     assert list(h.passages) == [0, 10000, 20000]
     assert h.stopped.startswith("growth stopped at 20000 passages: contact lost inside the patch")
-    assert "wavelength 120 mm (+12.0 dB since the start" in h.stopped
+    assert "The most curved roughness is at wavelength 120 mm (now -4.9 dB re 1 µm, +12.0 dB since the start)" in h.stopped
+    assert len(h.step_error) == len(h.full_slip) == 2  # one per update, the last one's error not estimated (NaN)
     assert "\n" not in h.stopped and h.stopped in out.getvalue()
 
 
