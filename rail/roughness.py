@@ -37,7 +37,8 @@ class RoughnessInputWarning(UserWarning):
 
 
 def _read_two_columns(path, header: tuple[str, str], what: str):
-    a, b = [], []
+    """Two columns of numbers and the file's line number of each row (blank lines are skipped)."""
+    a, b, lines = [], [], []
     for n, row in data_rows(path, header):
         if len(row) != 2:
             raise ValueError(f"{path}, line {n}: expected 2 values {','.join(header)}, got {len(row)}.")
@@ -49,9 +50,10 @@ def _read_two_columns(path, header: tuple[str, str], what: str):
             raise ValueError(f"{path}, line {n}: {','.join(row)!r} is not finite.")
         a.append(u)
         b.append(v)
+        lines.append(n)
     if len(a) < 2:
         raise ValueError(f"{path}: needs at least two data lines, has {len(a)}.")
-    return np.array(a), np.array(b)
+    return np.array(a), np.array(b), lines
 
 
 def read_profile(path):
@@ -74,10 +76,10 @@ def read_profile(path):
         Naming the file and the line of a wrong header, a row that is not two finite numbers, or a
         position that does not increase.
     """
-    x, z = _read_two_columns(path, ("position_m", "height_m"), "position in m and height in m")
+    x, z, lines = _read_two_columns(path, ("position_m", "height_m"), "position in m and height in m")
     bad = np.nonzero(np.diff(x) <= 0)[0]
     if bad.size:
-        n = int(bad[0]) + 3  # data line of the second position (header is line 1)
+        n = lines[int(bad[0]) + 1]  # the line of the second position
         raise ValueError(f"{path}, line {n}: position {float(x[bad[0] + 1]):g} m does not increase (previous {float(x[bad[0]]):g} m).")
     return x - x[0], z
 
@@ -150,12 +152,14 @@ def read_third_octave_spectrum(path):
     ValueError
         Naming the file and the line of a wrong header, row, non-positive or repeated wavelength.
     """
-    lam, lev = _read_two_columns(path, ("wavelength_m", "level_dB"), "centre wavelength in m and level in dB re 1 um")
+    lam, lev, lines = _read_two_columns(path, ("wavelength_m", "level_dB"), "centre wavelength in m and level in dB re 1 um")
     for i, v in enumerate(lam):
         if v <= 0:
-            raise ValueError(f"{path}, line {i + 2}: wavelength {float(v):g} m is not allowed: it must be > 0.")
-        if np.any(np.isclose(lam[:i], v, rtol=1e-9)):
-            raise ValueError(f"{path}, line {i + 2}: wavelength {float(v):g} m appears twice.")
+            raise ValueError(f"{path}, line {lines[i]}: wavelength {float(v):g} m is not allowed: it must be > 0.")
+        same = np.nonzero(np.isclose(lam[:i], v, rtol=1e-9))[0]
+        if same.size:
+            raise ValueError(f"{path}, line {lines[i]}: wavelength {float(v):g} m appears twice (first at line {lines[same[0]]}); "
+                             "give each band once.")
     return lam, lev
 
 

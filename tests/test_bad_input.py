@@ -428,3 +428,33 @@ def test_roughness_coefficients_refuse_a_period_not_above_zero(period):
         R.profile_coefficients(np.linspace(0.0, 2.4, 49), 1e-6 * np.sin(np.linspace(0.0, 20.0, 49)), period, 64)
     with pytest.raises(ValueError, match=message):
         R.spectrum_coefficients(np.array([0.1, 0.05]), np.array([0.0, -3.0]), period, 64, seed=1)
+
+
+# issue 32 (item 8): a band given twice in a measured decay rate or a roughness spectrum is refused,
+# naming the file, its line and the band's first line (a blank line does not shift the numbers)
+
+
+@pytest.mark.parametrize(
+    "read, text, message",
+    [
+        ("decay", "band_centre_Hz,decay_rate_dB_per_m\n100,5\n125,4\n100.0,3\n",
+         r"bad\.csv, line 4: band_centre_Hz = 100 Hz is given twice \(first at line 2\); give each band once\."),
+        ("spectrum", "wavelength_m,level_dB\n0.1,3\n\n0.08,2\n0.1,4\n",
+         r"bad\.csv, line 5: wavelength 0\.1 m appears twice \(first at line 2\); give each band once\."),
+    ],
+)
+def test_a_band_given_twice_is_refused_naming_the_file_and_both_lines(tmp_path, read, text, message):
+    from rail import decay
+
+    path = tmp_path / "bad.csv"
+    path.write_text(text)
+    reader = decay.read_measured_decay_rate if read == "decay" else R.read_third_octave_spectrum
+    with pytest.raises(ValueError, match=message):
+        reader(path)
+
+
+def test_a_profile_position_that_does_not_increase_is_named_at_its_line_after_a_blank_line(tmp_path):
+    path = tmp_path / "profile.csv"
+    path.write_text("position_m,height_m\n0,0\n\n0.001,1e-6\n0.001,2e-6\n")
+    with pytest.raises(ValueError, match=r"profile\.csv, line 5: position 0\.001 m does not increase \(previous 0\.001 m\)"):
+        R.read_profile(path)
