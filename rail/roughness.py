@@ -63,7 +63,8 @@ class RoughnessInputWarning(UserWarning):
 
 
 def _read_two_columns(path, header: tuple[str, str], what: str):
-    a, b = [], []
+    """Two columns of numbers and the file's line number of each row (blank lines are skipped)."""
+    a, b, lines = [], [], []
     for n, row in data_rows(path, header):
         if len(row) != 2:
             raise ValueError(f"{path}, line {n}: expected 2 values {','.join(header)}, got {len(row)}.")
@@ -75,9 +76,10 @@ def _read_two_columns(path, header: tuple[str, str], what: str):
             raise ValueError(f"{path}, line {n}: {','.join(row)!r} is not finite.")
         a.append(u)
         b.append(v)
+        lines.append(n)
     if len(a) < 2:
         raise ValueError(f"{path}: needs at least two data lines, has {len(a)}.")
-    return np.array(a), np.array(b)
+    return np.array(a), np.array(b), lines
 
 
 def read_profile(path):
@@ -102,10 +104,10 @@ def read_profile(path):
         a median sample spacing above PROFILE_MAX_SPACING_M = 0.05 m (records are sampled at about
         1 mm) or a record longer than PROFILE_MAX_LENGTH_M = 1000 m.
     """
-    x, z = _read_two_columns(path, ("position_m", "height_m"), "position in m and height in m")
+    x, z, lines = _read_two_columns(path, ("position_m", "height_m"), "position in m and height in m")
     bad = np.nonzero(np.diff(x) <= 0)[0]
     if bad.size:
-        n = int(bad[0]) + 3  # data line of the second position (header is line 1)
+        n = lines[int(bad[0]) + 1]  # the line of the second position
         raise ValueError(f"{path}, line {n}: position {float(x[bad[0] + 1]):g} m does not increase (previous {float(x[bad[0]]):g} m).")
     step = float(np.median(np.diff(x)))
     if step > PROFILE_MAX_SPACING_M:
@@ -189,16 +191,18 @@ def read_third_octave_spectrum(path):
         a wavelength outside SPECTRUM_WAVELENGTH_RANGE_M = 1 mm .. 10 m (naming millimetres when
         the value in mm would lie inside).
     """
-    lam, lev = _read_two_columns(path, ("wavelength_m", "level_dB"), "centre wavelength in m and level in dB re 1 um")
+    lam, lev, lines = _read_two_columns(path, ("wavelength_m", "level_dB"), "centre wavelength in m and level in dB re 1 um")
     lo, hi = SPECTRUM_WAVELENGTH_RANGE_M
     for i, v in enumerate(lam):
         if v <= 0:
-            raise ValueError(f"{path}, line {i + 2}: wavelength {float(v):g} m is not allowed: it must be > 0.")
-        if np.any(np.isclose(lam[:i], v, rtol=1e-9)):
-            raise ValueError(f"{path}, line {i + 2}: wavelength {float(v):g} m appears twice.")
+            raise ValueError(f"{path}, line {lines[i]}: wavelength {float(v):g} m is not allowed: it must be > 0.")
+        same = np.nonzero(np.isclose(lam[:i], v, rtol=1e-9))[0]
+        if same.size:
+            raise ValueError(f"{path}, line {lines[i]}: wavelength {float(v):g} m appears twice (first at line {lines[same[0]]}); "
+                             "give each band once.")
         if not (lo * (1 - 1e-9) <= v <= hi * (1 + 1e-9)):
             unit = (f"it looks like millimetres ({float(v) / 1000:g} m); " if v > hi and v / 1000 >= lo * (1 - 1e-9) else "")
-            raise ValueError(f"{path}, line {i + 2}: wavelength {float(v):g} m is not allowed: {unit}rail roughness wavelengths "
+            raise ValueError(f"{path}, line {lines[i]}: wavelength {float(v):g} m is not allowed: {unit}rail roughness wavelengths "
                              f"lie between {lo * 1000:g} mm and {hi:g} m; write wavelength_m in metres.")
     return lam, lev
 

@@ -2,8 +2,6 @@
 
 import sys
 
-import xarray as xr
-
 from rail.plotting import report
 from rail.roughness import read_limit_spectrum
 from rail.setup import build, io
@@ -13,7 +11,7 @@ from rail.studies import bands
 def main(config, name, growth_path, out):
     scn = build.scenario(config, name)
     s = config["figures"]["bands"]
-    with xr.open_dataset(growth_path) as g:
+    with io.open_intermediate(growth_path) as g:
         growth = g.load()
     limit = read_limit_spectrum(s["limit"]) if s["limit"] else None
     tob = bands.third_octave_bands(float(s["longest"]), float(s["shortest"]))
