@@ -455,7 +455,8 @@ def read_measured_decay_rate(path) -> MeasuredDecayRate:
     ------
     ValueError
         If the file is empty, the header is wrong, there are no data lines, a line does not hold two
-        values, or a value is not a number or not > 0.  Errors name the file and the line:
+        values, a value is not a number or not > 0, or a band is given twice.  Errors name the file
+        and the line:
         ``config/measured/default_decay_rate.csv, line 4: decay_rate_dB_per_m = 'n/a' is not a number.``
     OSError
         If the file cannot be opened.
@@ -471,7 +472,7 @@ def read_measured_decay_rate(path) -> MeasuredDecayRate:
         raise ValueError(f"{where}, line {line}: the header must be '{','.join(_HEADER)}', found '{','.join(header)}'.")
     if len(rows) < 2:
         raise ValueError(f"{where}: no data lines after the header; give one line per band: {','.join(_HEADER)}.")
-    f, dr = [], []
+    f, dr, lines = [], [], []
     for line, row in rows[1:]:
         if len(row) != 2:
             raise ValueError(f"{where}, line {line}: expected 2 values ({','.join(_HEADER)}), found {len(row)}: '{','.join(row)}'.")
@@ -485,7 +486,12 @@ def read_measured_decay_rate(path) -> MeasuredDecayRate:
             if not (np.isfinite(v) and v > 0):
                 raise ValueError(f"{where}, line {line}: {name} = {v:g} {unit} is not allowed: it must be > 0 {unit}.")
             values.append(v)
+        first = [n for n, g in zip(lines, f) if np.isclose(g, values[0], rtol=1e-9, atol=0.0)]
+        if first:
+            raise ValueError(f"{where}, line {line}: band_centre_Hz = {values[0]:g} Hz is given twice (first at line {first[0]}); "
+                             "give each band once.")
         f.append(values[0])
         dr.append(values[1])
+        lines.append(line)
     order = np.argsort(f, kind="stable")
     return MeasuredDecayRate(np.asarray(f)[order], np.asarray(dr)[order], where)

@@ -17,7 +17,21 @@ P / j falls in the band (band_edges: neighbouring bands meet at the geometric me
 centres, the outermost edges are 2^(+-1/6) from the centre), with phases uniformly random from
 ``seed`` (numpy's default generator): the realisation has exactly the band levels. A band that
 holds no wavenumber of the period (too long for P, or shorter than L / K) is left out, and named
-in a warning.
+in a warning; a spectrum none of whose bands holds one is refused (the rail would be smooth).
+
+Plausible units (inputs in the wrong unit are refused when read, naming the likely unit):
+
+* a profile whose median sample spacing exceeds PROFILE_MAX_SPACING_M = 0.05 m (rail roughness
+  records are sampled at steps of about 1 mm; 1 mm steps written in mm are 1 "m") or whose record is
+  longer than PROFILE_MAX_LENGTH_M = 1000 m (a 3 m record written in mm is 3000 "m");
+* a spectrum wavelength outside SPECTRUM_WAVELENGTH_RANGE_M = 1 mm .. 10 m (EN 15610 centres 1 m ..
+  3.15 mm written in mm are 1000 .. 3.15 "m");
+* a limit spectrum (read_limit_spectrum) whose wavelength is not a band of the nominal
+  one-third-octave series NOMINAL_WAVELENGTHS_M (1 m .. 3.15 mm) within NOMINAL_TOLERANCE = 1.5 %
+  of its nominal label or of its exact centre 10^(-n/10) m (nominal_band).
+
+A spectrum in mm that happens to lie within 1 mm .. 10 m as metres (bands 10 mm .. 1 mm written
+10 .. 1) cannot be told from one in metres and is not caught.
 """
 
 from __future__ import annotations
@@ -29,7 +43,19 @@ import numpy as np
 from .csvinput import data_rows
 
 __all__ = ["RoughnessInputWarning", "read_profile", "profile_coefficients", "read_third_octave_spectrum",
-           "band_edges", "spectrum_coefficients"]
+           "band_edges", "spectrum_coefficients", "NOMINAL_WAVELENGTHS_M", "NOMINAL_TOLERANCE", "nominal_band",
+           "read_limit_spectrum", "PROFILE_MAX_SPACING_M", "PROFILE_MAX_LENGTH_M", "SPECTRUM_WAVELENGTH_RANGE_M"]
+
+# EN 15610 nominal centre wavelengths (m) of the exact series 10^(-n/10) m, n = 0..25
+NOMINAL_WAVELENGTHS_M = np.array([1.0, 0.8, 0.63, 0.5, 0.4, 0.315, 0.25, 0.2, 0.16, 0.125, 0.1, 0.08, 0.063, 0.05,
+                                  0.04, 0.0315, 0.025, 0.02, 0.016, 0.0125, 0.01, 0.008, 0.0063, 0.005, 0.004, 0.00315])
+# a wavelength names a band when within this fraction of its nominal label or its exact centre
+# (the labels are at most 0.95 % from the exact centres; neighbouring bands are 26 % apart)
+NOMINAL_TOLERANCE = 0.015
+# plausible units (module docstring)
+PROFILE_MAX_SPACING_M = 0.05
+PROFILE_MAX_LENGTH_M = 1000.0
+SPECTRUM_WAVELENGTH_RANGE_M = (1e-3, 10.0)
 
 
 class RoughnessInputWarning(UserWarning):
@@ -37,7 +63,8 @@ class RoughnessInputWarning(UserWarning):
 
 
 def _read_two_columns(path, header: tuple[str, str], what: str):
-    a, b = [], []
+    """Two columns of numbers and the file's line number of each row (blank lines are skipped)."""
+    a, b, lines = [], [], []
     for n, row in data_rows(path, header):
         if len(row) != 2:
             raise ValueError(f"{path}, line {n}: expected 2 values {','.join(header)}, got {len(row)}.")
@@ -49,9 +76,10 @@ def _read_two_columns(path, header: tuple[str, str], what: str):
             raise ValueError(f"{path}, line {n}: {','.join(row)!r} is not finite.")
         a.append(u)
         b.append(v)
+        lines.append(n)
     if len(a) < 2:
         raise ValueError(f"{path}: needs at least two data lines, has {len(a)}.")
-    return np.array(a), np.array(b)
+    return np.array(a), np.array(b), lines
 
 
 def read_profile(path):
@@ -72,13 +100,24 @@ def read_profile(path):
     ------
     ValueError
         Naming the file and the line of a wrong header, a row that is not two finite numbers, or a
-        position that does not increase.
+        position that does not increase; naming the file, when the positions look like millimetres:
+        a median sample spacing above PROFILE_MAX_SPACING_M = 0.05 m (records are sampled at about
+        1 mm) or a record longer than PROFILE_MAX_LENGTH_M = 1000 m.
     """
-    x, z = _read_two_columns(path, ("position_m", "height_m"), "position in m and height in m")
+    x, z, lines = _read_two_columns(path, ("position_m", "height_m"), "position in m and height in m")
     bad = np.nonzero(np.diff(x) <= 0)[0]
     if bad.size:
-        n = int(bad[0]) + 3  # data line of the second position (header is line 1)
+        n = lines[int(bad[0]) + 1]  # the line of the second position
         raise ValueError(f"{path}, line {n}: position {float(x[bad[0] + 1]):g} m does not increase (previous {float(x[bad[0]]):g} m).")
+    step = float(np.median(np.diff(x)))
+    if step > PROFILE_MAX_SPACING_M:
+        raise ValueError(f"{path}: the positions look like millimetres: the median sample spacing is {step:g} m, and a roughness "
+                         f"record is sampled at steps of about 1 mm (at most {PROFILE_MAX_SPACING_M:g} m allowed); write position_m "
+                         f"in metres.")
+    length = float(x[-1] - x[0])
+    if length > PROFILE_MAX_LENGTH_M:
+        raise ValueError(f"{path}, line {len(x) + 1}: the positions look like millimetres: the record is {length:g} m long (at most "
+                         f"{PROFILE_MAX_LENGTH_M:g} m allowed; in mm it would be {length / 1000:g} m); write position_m in metres.")
     return x - x[0], z
 
 
@@ -148,14 +187,86 @@ def read_third_octave_spectrum(path):
     Raises
     ------
     ValueError
-        Naming the file and the line of a wrong header, row, non-positive or repeated wavelength.
+        Naming the file and the line of a wrong header, row, non-positive or repeated wavelength, or
+        a wavelength outside SPECTRUM_WAVELENGTH_RANGE_M = 1 mm .. 10 m (naming millimetres when
+        the value in mm would lie inside).
     """
-    lam, lev = _read_two_columns(path, ("wavelength_m", "level_dB"), "centre wavelength in m and level in dB re 1 um")
+    lam, lev, lines = _read_two_columns(path, ("wavelength_m", "level_dB"), "centre wavelength in m and level in dB re 1 um")
+    lo, hi = SPECTRUM_WAVELENGTH_RANGE_M
     for i, v in enumerate(lam):
         if v <= 0:
-            raise ValueError(f"{path}, line {i + 2}: wavelength {float(v):g} m is not allowed: it must be > 0.")
-        if np.any(np.isclose(lam[:i], v, rtol=1e-9)):
-            raise ValueError(f"{path}, line {i + 2}: wavelength {float(v):g} m appears twice.")
+            raise ValueError(f"{path}, line {lines[i]}: wavelength {float(v):g} m is not allowed: it must be > 0.")
+        same = np.nonzero(np.isclose(lam[:i], v, rtol=1e-9))[0]
+        if same.size:
+            raise ValueError(f"{path}, line {lines[i]}: wavelength {float(v):g} m appears twice (first at line {lines[same[0]]}); "
+                             "give each band once.")
+        if not (lo * (1 - 1e-9) <= v <= hi * (1 + 1e-9)):
+            unit = (f"it looks like millimetres ({float(v) / 1000:g} m); " if v > hi and v / 1000 >= lo * (1 - 1e-9) else "")
+            raise ValueError(f"{path}, line {lines[i]}: wavelength {float(v):g} m is not allowed: {unit}rail roughness wavelengths "
+                             f"lie between {lo * 1000:g} mm and {hi:g} m; write wavelength_m in metres.")
+    return lam, lev
+
+
+def nominal_band(wavelength: float) -> int:
+    """Index in NOMINAL_WAVELENGTHS_M of the one-third-octave band a wavelength names, or -1.
+
+    A wavelength names band n when it lies within NOMINAL_TOLERANCE (1.5 %) of its nominal label
+    (1, 0.8, 0.63, ... m) or of its exact centre 10^(-n/10) m.
+
+    Parameters
+    ----------
+    wavelength : float
+        [m].
+
+    Returns
+    -------
+    int
+    """
+    n = np.arange(len(NOMINAL_WAVELENGTHS_M))
+    off = np.minimum(np.abs(wavelength / NOMINAL_WAVELENGTHS_M - 1), np.abs(wavelength / 10.0 ** (-n / 10) - 1))
+    k = int(np.argmin(off))
+    return k if off[k] <= NOMINAL_TOLERANCE else -1
+
+
+def read_limit_spectrum(path):
+    """Read a limit spectrum for the grinding interval (rail.studies.bands, figures.bands.limit).
+
+    As read_third_octave_spectrum, and every wavelength must name a band of the nominal series
+    1 m .. 3.15 mm (nominal_band: within 1.5 % of its nominal label or exact centre), each band once.
+
+    Parameters
+    ----------
+    path : str or Path
+        CSV with the header ``wavelength_m,level_dB``.
+
+    Returns
+    -------
+    wavelength, level : ndarray
+        [m] and [dB re 1 µm], as written.
+
+    Raises
+    ------
+    ValueError
+        As read_third_octave_spectrum; naming the file, the line, the value and the nearest nominal
+        band of a wavelength off the series (and millimetres when the value in mm is on it), or a
+        band given twice.
+    """
+    lam, lev = read_third_octave_spectrum(path)
+    seen = {}
+    for i, v in enumerate(lam):
+        k = nominal_band(v)
+        if k < 0:
+            near = int(np.argmin(np.abs(np.log(v / NOMINAL_WAVELENGTHS_M))))
+            nom = NOMINAL_WAVELENGTHS_M[near]
+            unit = "it looks like millimetres; " if nominal_band(v / 1000) >= 0 else ""
+            raise ValueError(f"{path}, line {i + 2}: wavelength {float(v):g} m is not a one-third-octave band centre: {unit}the nearest "
+                             f"band is {nom:g} m ({100 * (v / nom - 1):+.1f} %); a limit spectrum's wavelengths must be the nominal "
+                             f"centres 1 m .. 3.15 mm (1, 0.8, 0.63, ... m) or the exact 10^(-n/10) m, within "
+                             f"{100 * NOMINAL_TOLERANCE:g} %.")
+        if k in seen:
+            raise ValueError(f"{path}, line {i + 2}: wavelength {float(v):g} m names the band {NOMINAL_WAVELENGTHS_M[k]:g} m of line "
+                             f"{seen[k]} again.")
+        seen[k] = i + 2
     return lam, lev
 
 
@@ -229,6 +340,14 @@ def spectrum_coefficients(wavelength, level_dB, period: float, J: int, seed: int
         amp = np.sqrt(ms / (2 * inside.sum()))
         Z[J + j[inside]] = amp * np.exp(1j * phases[inside])
     Z[:J] = np.conj(Z[J + 1 :][::-1])
+    if len(empty) == len(wavelength):
+        lam = np.asarray(wavelength, dtype=float)
+        unit = ""
+        if np.any((lam / 1000 >= period / J / 2 ** (1 / 6)) & (lam / 1000 < period * 2 ** (1 / 6))):
+            unit = "; the wavelengths look like millimetres, wavelength_m is in metres"
+        raise ValueError(f"{source}: no band of the spectrum ({lam.max():g} m .. {lam.min():g} m) holds a wavenumber 2 pi j / (N L) of "
+                         f"the period N L = {period:.4g} m with j <= {J} (wavelengths {period:.4g} m .. {period / J:.4g} m): the rail "
+                         f"would be smooth{unit}.")
     if empty:
         warnings.warn(f"{source}: the bands {', '.join(empty)} hold no wavenumber 2 pi j / (N L) of the period N L = "
                       f"{period:.4g} m with j <= {J}; they are left out (raise roughness.bays for long wavelengths, "

@@ -199,3 +199,24 @@ def test_spectrum_refuses_an_output_that_is_a_folder_before_computing(tmp_path, 
     monkeypatch.setattr(api, "spectrum", never)
     assert cli.main(["spectrum", "default", "--speed", "40", "--out", str(tmp_path)]) == 2
     assert capsys.readouterr().err.strip() == f"railgrowth: --out {tmp_path}: is a folder; give a file name."
+
+
+# issue 32 (item 6): a scenario file may end in .yml as well as .yaml; two files of one name are refused
+
+
+def test_load_finds_a_scenario_file_ending_in_yml(root, tmp_path):
+    import shutil
+
+    shutil.copytree(root / "config", tmp_path / "config")
+    (tmp_path / "config/scenarios/stiff_pad.yml").write_text("track:\n  pad:\n    stiffness: 1.0e+9\n")
+    study = api.load("stiff_pad", root=tmp_path)
+    assert study.config["track"]["pad"]["stiffness"] == 1.0e9
+
+
+def test_load_refuses_two_scenario_files_of_one_name(root, tmp_path):
+    import shutil
+
+    shutil.copytree(root / "config", tmp_path / "config")
+    (tmp_path / "config/scenarios/soft_pad.yml").write_text("track:\n  pad:\n    stiffness: 1.0e+9\n")
+    with pytest.raises(ConfigError, match=r"soft_pad\.yaml and .*soft_pad\.yml: both give the scenario name 'soft_pad'; keep one of them"):
+        api.load("soft_pad", root=tmp_path)

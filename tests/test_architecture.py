@@ -195,3 +195,11 @@ def test_public_physics_functions_have_numpydoc_docstrings_with_units():
             if node.name not in unitless and not re.search(r"\[[^\]]*\]", d):
                 problems.append(f"{f.name}: {node.name} states no unit in brackets")
     assert not problems, "\n".join(problems)
+
+
+def test_workflow_scripts_read_intermediate_netcdf_files_only_through_open_intermediate():
+    # issue 32: a truncated intermediate file is moved aside (and rebuilt by the next run) only when it
+    # is read through rail.setup.io.open_intermediate
+    offenders = [f"{p.name}:{n}" for p in SCRIPTS for n, line in enumerate(p.read_text().splitlines(), 1)
+                 if re.search(r"\b(open_dataset|load_dataset|open_mfdataset|open_dataarray|netCDF4\.Dataset)\(", line)]
+    assert not offenders, "scripts open netCDF files directly:\n" + "\n".join(offenders)

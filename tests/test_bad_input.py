@@ -8,7 +8,7 @@ import numpy as np
 import pytest
 from model import scenario
 from test_growth import MATERIAL, K, contact_spring, track
-from test_workflow import snakemake
+from test_workflow import job_counts, snakemake
 
 from rail import chain
 from rail import contact as C
@@ -428,3 +428,97 @@ def test_roughness_coefficients_refuse_a_period_not_above_zero(period):
         R.profile_coefficients(np.linspace(0.0, 2.4, 49), 1e-6 * np.sin(np.linspace(0.0, 20.0, 49)), period, 64)
     with pytest.raises(ValueError, match=message):
         R.spectrum_coefficients(np.array([0.1, 0.05]), np.array([0.0, -3.0]), period, 64, seed=1)
+
+
+# issue 32, item 5: a limit spectrum and an initial roughness spectrum in mm stop `check` (and the
+# workflow, through rail.setup.inputs.check_inputs) before anything is computed
+@pytest.mark.parametrize("key, text, message", [
+    ("figures:\n  bands:\n    limit: {f}\n", "wavelength_m,level_dB\n250,10\n200,9\n",
+     r"figures\.bands\.limit: .*mm\.csv, line 2: wavelength 250 m is not allowed: it looks like millimetres \(0\.25 m\)"),
+    ("figures:\n  bands:\n    limit: {f}\n", "wavelength_m,level_dB\n0.25,10\n0.19,9\n",
+     r"figures\.bands\.limit: .*mm\.csv, line 3: wavelength 0\.19 m is not a one-third-octave band centre: the nearest band is 0\.2 m"),
+    ("roughness:\n  kind: spectrum\n  file: {f}\n", "wavelength_m,level_dB\n100,10\n80,9\n",
+     r"roughness: .*mm\.csv, line 2: wavelength 100 m is not allowed: it looks like millimetres \(0\.1 m\)"),
+])
+def test_check_refuses_spectra_in_millimetres_at_start_up(tmp_path, capsys, key, text, message):
+    from rail.app import cli
+
+    f = tmp_path / "mm.csv"
+    f.write_text(text)
+    scen = tmp_path / "mine.yaml"
+    scen.write_text(key.format(f=f))
+    assert cli.main(["check", str(scen)]) == 2
+    err = capsys.readouterr().err
+    assert re.search(message, err), err
+
+
+# issue 32 (item 8): a band given twice in a measured decay rate or a roughness spectrum is refused,
+# naming the file, its line and the band's first line (a blank line does not shift the numbers)
+
+
+@pytest.mark.parametrize(
+    "read, text, message",
+    [
+        ("decay", "band_centre_Hz,decay_rate_dB_per_m\n100,5\n125,4\n100.0,3\n",
+         r"bad\.csv, line 4: band_centre_Hz = 100 Hz is given twice \(first at line 2\); give each band once\."),
+        ("spectrum", "wavelength_m,level_dB\n0.1,3\n\n0.08,2\n0.1,4\n",
+         r"bad\.csv, line 5: wavelength 0\.1 m appears twice \(first at line 2\); give each band once\."),
+    ],
+)
+def test_a_band_given_twice_is_refused_naming_the_file_and_both_lines(tmp_path, read, text, message):
+    from rail import decay
+
+    path = tmp_path / "bad.csv"
+    path.write_text(text)
+    reader = decay.read_measured_decay_rate if read == "decay" else R.read_third_octave_spectrum
+    with pytest.raises(ValueError, match=message):
+        reader(path)
+
+
+def test_a_profile_position_that_does_not_increase_is_named_at_its_line_after_a_blank_line(tmp_path):
+    path = tmp_path / "profile.csv"
+    path.write_text("position_m,height_m\n0,0\n\n0.001,1e-6\n0.001,2e-6\n")
+    with pytest.raises(ValueError, match=r"profile\.csv, line 5: position 0\.001 m does not increase \(previous 0\.001 m\)"):
+        R.read_profile(path)
+
+
+# issue 32 (item 8, C): a truncated intermediate netCDF file (a killed job, a full disk) made every
+# rerun fail with "NetCDF: HDF error"; it is now named, moved aside, and rebuilt by the next run
+
+
+def test_a_truncated_intermediate_file_is_named_and_moved_aside(tmp_path):
+    import xarray as xr
+
+    from rail.setup import io as rio
+
+    path = tmp_path / "V40.nc"
+    rio.write_netcdf(xr.Dataset({"a": ("x", np.arange(1000.0))}), path)
+    whole = path.read_bytes()
+    path.write_bytes(whole[: len(whole) // 2])
+    with pytest.raises(rio.UnreadableIntermediateError, match=(
+            rf"^{re.escape(str(path))} is unreadable \(NetCDF: HDF error\) and has been moved aside to "
+            rf"{re.escape(str(path))}\.unreadable: run snakemake again to rebuild it\.$")):
+        rio.open_intermediate(path)
+    assert not path.exists()
+    assert (tmp_path / "V40.nc.unreadable").read_bytes() == whole[: len(whole) // 2]
+
+
+def test_a_truncated_receptance_table_is_rebuilt_by_the_next_run(root, tmp_path):
+    import shutil
+
+    shutil.copytree(root / "config", tmp_path / "config")
+    table = tmp_path / "results/receptance/default/V40.nc"
+    table.parent.mkdir(parents=True)
+    table.write_bytes(b"\x89HDF\r\n\x1a\n" + bytes(200))  # the start of a netCDF4 file, cut short
+    target = "results/growth/default/V40.nc"
+    plan = snakemake(root, "-n", target, cwd=tmp_path)
+    assert plan.returncode == 0, plan.stderr
+    assert job_counts(plan.stdout) == {"growth": 1}  # the table is there and looks up to date
+    run = snakemake(root, "-j1", target, cwd=tmp_path)
+    assert run.returncode != 0
+    log = (tmp_path / "logs/growth/default/V40.log").read_text()
+    assert "results/receptance/default/V40.nc is unreadable (NetCDF: HDF error) and has been moved aside to " \
+           "results/receptance/default/V40.nc.unreadable: run snakemake again to rebuild it." in log
+    again = snakemake(root, "-n", target, cwd=tmp_path)
+    assert again.returncode == 0, again.stderr
+    assert job_counts(again.stdout) == {"receptance": 1, "growth": 1}  # the table is built again

@@ -159,3 +159,45 @@ def test_sweep_band_figure_draws_a_panel_per_value_of_the_second_key(tmp_path):
     fig = report.sweep_band_map(ds)
     assert len([a for a in fig.axes if a.get_title().startswith("pad = ")]) == 3
     fig.savefig(tmp_path / "m.png")
+
+
+# issue 32, item 5: a limit spectrum off the nominal series (or in mm) made the grinding interval
+# 'never' without a word; it is refused when read, naming the line, the value and the nearest band
+
+
+@pytest.mark.parametrize("text, message", [
+    ("wavelength_m,level_dB\n0.315,10\n0.3,9\n", r"line 3: wavelength 0\.3 m is not a one-third-octave band centre: the nearest band "
+                                                 r"is 0\.315 m \(-4\.8 %\); .* within 1\.5 %"),
+    ("wavelength_m,level_dB\n0.315,10\n0.3162,9\n", r"line 3: wavelength 0\.3162 m names the band 0\.315 m of line 2 again"),
+    ("wavelength_m,level_dB\n315,10\n250,9\n", r"line 2: wavelength 315 m is not allowed: it looks like millimetres \(0\.315 m\)"),
+    ("wavelength_m,level_dB\n8,10\n6.3,9\n", r"line 2: wavelength 8 m is not a one-third-octave band centre: it looks like "
+                                             r"millimetres; the nearest band is 1 m"),
+])
+def test_limit_spectrum_off_the_nominal_series_or_in_millimetres_is_refused(tmp_path, text, message):
+    from rail.roughness import read_limit_spectrum
+
+    p = tmp_path / "limit.csv"
+    p.write_text(text)
+    with pytest.raises(ValueError, match=str(p).replace("\\", "\\\\").replace(".", r"\.") + ", " + message):
+        read_limit_spectrum(p)
+
+
+def test_limit_at_nominal_labels_or_exact_centres_is_read_and_used_by_the_band_view(tmp_path):
+    # 0.315 (label), 10^-1.1 = 0.0794 m (exact centre of 0.08) and 0.157 m (0.9 % below the exact
+    # 0.1585 m of the 0.16 band, 1.9 % below its label) all name their band; the band view puts each
+    # limit in its band (before, 0.157 m matched no band and that band had no limit)
+    import xarray as xr
+
+    from rail.roughness import read_limit_spectrum
+
+    p = tmp_path / "limit.csv"
+    p.write_text("wavelength_m,level_dB\n0.315,12\n0.157,11\n0.0794328,10\n")
+    limit = read_limit_spectrum(p)
+    N, K = 4, 64
+    n = np.arange(0, 30001, 10000)
+    Z = np.zeros((len(n), 2 * N * K + 1))
+    g = xr.Dataset({"Z_real": (("passage", "h"), Z), "Z_imag": (("passage", "h"), Z)}, coords={"passage": n}, attrs={"bays": N})
+    tob = B.third_octave_bands()
+    ds = B.bands_dataset(g, L, tob, 1, limit)
+    got = {float(w): float(v) for w, v in zip(tob.nominal, ds["limit"].values) if np.isfinite(v)}
+    assert got == {0.315: 12.0, 0.16: 11.0, 0.08: 10.0}

@@ -124,3 +124,56 @@ def test_initial_roughness_kinds_realise_over_n_bays(tmp_path, root):
     assert max(lev[52], lev[53]) > 10.0
     with pytest.raises(ValueError, match=r"roughness\.kind = 'profile' needs roughness\.file, a CSV with header position_m,height_m"):
         InitialRoughness("profile", 0.0, 1000.0, None, None)
+
+
+# issue 32, item 5: inputs in the wrong unit are refused when read, naming the likely unit
+
+
+def test_profile_positions_in_millimetres_are_refused(tmp_path):
+    # the synthetic 3 m record at 1 mm steps written in mm: 0 .. 3000 at steps of 1 "m"
+    x = np.arange(0, 3001)
+    p = _write(tmp_path / "mm.csv", "position_m,height_m\n" + "".join(f"{a},1e-6\n" for a in x))
+    with pytest.raises(ValueError, match=re_escape_path(p) + r": the positions look like millimetres: the median sample "
+                                         r"spacing is 1 m, .* \(at most 0\.05 m allowed\)"):
+        R.read_profile(p)
+
+
+def test_profile_record_longer_than_1000_m_is_refused_as_millimetres(tmp_path):
+    # 1.2 m written in mm at 0.04 mm steps: the spacing passes, the 1200 "m" record does not
+    x = np.arange(0, 30001) * 0.04
+    p = _write(tmp_path / "mm.csv", "position_m,height_m\n" + "".join(f"{a:.2f},1e-6\n" for a in x))
+    with pytest.raises(ValueError, match=re_escape_path(p) + r", line 30002: the positions look like millimetres: the record "
+                                         r"is 1200 m long \(at most 1000 m allowed; in mm it would be 1\.2 m\)"):
+        R.read_profile(p)
+
+
+def test_spectrum_wavelengths_in_millimetres_are_refused(tmp_path):
+    # EN 15610 centres 1 m .. 3.15 mm written in mm: before, every band was dropped (a smooth rail)
+    # with a warning only
+    lam = [1000, 800, 630, 500, 400, 315, 250, 200, 160, 125, 100, 80, 63, 50, 40, 31.5, 25, 20, 16, 12.5, 10, 8, 6.3, 5,
+           4, 3.15]
+    p = _write(tmp_path / "mm.csv", "wavelength_m,level_dB\n" + "".join(f"{v},0\n" for v in lam))
+    with pytest.raises(ValueError, match=re_escape_path(p) + r", line 2: wavelength 1000 m is not allowed: it looks like "
+                                         r"millimetres \(1 m\); rail roughness wavelengths lie between 1 mm and 10 m"):
+        R.read_third_octave_spectrum(p)
+    q = _write(tmp_path / "um.csv", "wavelength_m,level_dB\n0.01,0\n0.0005,0\n")
+    with pytest.raises(ValueError, match=re_escape_path(q) + r", line 3: wavelength 0\.0005 m is not allowed: rail roughness "
+                                         r"wavelengths lie between 1 mm and 10 m"):
+        R.read_third_octave_spectrum(q)
+
+
+def test_spectrum_no_band_of_which_the_period_holds_is_refused():
+    # 2 m is longer than the 2.4 m period's line j = 1 band allows, 8 mm shorter than 2.4 m / 256:
+    # the realisation would be a smooth rail
+    with pytest.raises(ValueError, match=r"s\.csv: no band of the spectrum \(2 m \.\. 0\.008 m\) holds a wavenumber 2 pi j / \(N L\) "
+                                         r"of the period N L = 2\.4 m with j <= 256 .*: the rail would be smooth"):
+        R.spectrum_coefficients(np.array([2.0, 0.008]), np.array([0.0, 0.0]), 4 * L, 4 * 64, seed=0, source="s.csv")
+
+
+def test_shipped_roughness_examples_pass_the_unit_checks(root):
+    x, _ = R.read_profile(root / "config/roughness/synthetic_profile.csv")
+    assert x[-1] == pytest.approx(3.0)
+    assert len(R.read_third_octave_spectrum(root / "config/roughness/example_spectrum.csv")[0]) == 19
+    for name in ("example_limit.csv", "example_limit_minus10.csv"):
+        lam, _ = R.read_limit_spectrum(root / "config/roughness" / name)
+        assert lam[0] == 1.0 and lam[-1] == 0.00315 and len(lam) == 26

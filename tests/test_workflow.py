@@ -135,6 +135,30 @@ def test_bad_sweep_value_names_the_file_and_the_point(root, workdir):
     ), out.stderr
 
 
+def test_scenario_and_sweep_files_ending_in_yml_are_part_of_the_workflow(root, workdir):
+    # issue 32 (item 6): *.yml was silently skipped (the workflow read *.yaml only)
+    for f in (workdir / "config/scenarios").glob("*.yaml"):
+        f.unlink()
+    (workdir / "config/scenarios/soft.yml").write_text("track:\n  pad:\n    stiffness: 7.0e+7\n")
+    (workdir / "config/scenarios/grid.yml").write_text("sweep:\n  speed: [20.0, 40.0]\n")
+    out = snakemake(root, "-n", "results/receptance/soft/V40.nc", "sweeps", cwd=workdir)
+    assert out.returncode == 0, out.stderr
+    counts = job_counts(out.stdout)
+    assert counts["growth"] == 2 and counts["sweep_aggregate"] == 1
+    assert counts["receptance"] == 3  # soft's table at 40 m/s; the sweep's (default track) at 20 and 40 m/s
+
+
+def test_two_scenario_files_of_one_name_stop_before_any_job(root, workdir):
+    (workdir / "config/scenarios/soft_pad.yml").write_text("track:\n  pad:\n    stiffness: 7.0e+7\n")
+    out = snakemake(root, "-n", cwd=workdir)
+    assert out.returncode != 0
+    assert re.search(
+        r"config/scenarios/soft_pad\.yaml and config/scenarios/soft_pad\.yml: both give the scenario name 'soft_pad'; keep one of them\.",
+        out.stderr + out.stdout,
+    ), out.stderr
+    assert not (workdir / "results").exists()
+
+
 def test_slurm_profile_plans_the_default_target(root, workdir):
     import shutil as sh
 

@@ -81,7 +81,7 @@ def load(name: str = "default", *, root: str | Path | None = None, changes: dict
     Parameters
     ----------
     name : str
-        "default" (config/config.yaml) or a scenario file's stem (config/scenarios/<name>.yaml),
+        "default" (config/config.yaml) or a scenario file's stem (config/scenarios/<name>.yaml or .yml),
         or the path of any scenario YAML file.
     root : path, optional
         Folder holding config/ (default: this checkout).
@@ -117,10 +117,10 @@ def load(name: str = "default", *, root: str | Path | None = None, changes: dict
     elif str(name) == "default":
         source, stem, scen = "config/config.yaml", "default", {}
     else:
-        path = root / "config/scenarios" / f"{name}.yaml"
-        if not path.exists():
-            known = sorted(p.stem for p in (root / "config/scenarios").glob("*.yaml"))
-            raise config.ConfigError(f"scenario '{name}' is not defined: the scenarios are default, {', '.join(known)}.")
+        files = config.scenario_files(root / "config/scenarios")  # <name>.yaml or <name>.yml, not both
+        if str(name) not in files:
+            raise config.ConfigError(f"scenario '{name}' is not defined: the scenarios are default, {', '.join(files)}.")
+        path = files[str(name)]
         source, stem, scen = str(path.relative_to(root)), name, config.load_yaml(path)
     if "sweep" in scen:
         raise config.ConfigError(f"{source} is a sweep study: its grid points are scenarios of the workflow "

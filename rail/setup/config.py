@@ -17,7 +17,7 @@ import yaml
 from jsonschema import Draft202012Validator
 
 __all__ = ["ConfigError", "load_yaml", "deep_merge", "validate_config", "resolve", "expand_sweep", "check_scenario_names",
-           "RESERVED_SCENARIO_NAMES"]
+           "scenario_files", "RESERVED_SCENARIO_NAMES", "SCENARIO_SUFFIXES"]
 
 
 class ConfigError(ValueError):
@@ -160,10 +160,29 @@ def _non_finite(node, source: str, path: str = "") -> list[str]:
     return out
 
 
+SCENARIO_SUFFIXES = (".yaml", ".yml")
+
+
+def scenario_files(directory) -> dict:
+    """{name: path} of the scenario and sweep files in ``directory`` (config/scenarios/): every
+    <name>.yaml and <name>.yml, sorted by name. Two files that give one name (x.yaml and x.yml) are
+    refused, naming both: neither may silently replace the other."""
+    directory = Path(directory)
+    by_name = {}
+    for path in sorted(directory.iterdir()) if directory.is_dir() else []:
+        if path.suffix in SCENARIO_SUFFIXES and path.is_file():
+            by_name.setdefault(path.stem, []).append(path)
+    twice = [f"{' and '.join(map(str, paths))}: both give the scenario name '{name}'; keep one of them."
+             for name, paths in by_name.items() if len(paths) > 1]
+    if twice:
+        raise ConfigError("invalid scenarios:\n  " + "\n  ".join(twice))
+    return {name: paths[0] for name, paths in sorted(by_name.items())}
+
+
 def check_scenario_names(files: dict, sweep_points: dict) -> None:
     """Refuse scenario names that would silently replace another scenario.
 
-    files : {name: path} of config/scenarios/*.yaml; sweep_points : {point name: sweep file}.
+    files : {name: path} of config/scenarios/*.yaml and *.yml (scenario_files); sweep_points : {point name: sweep file}.
     'default' is the configuration itself; '<study>-p<n>' names the points of sweep studies.
     """
     import re

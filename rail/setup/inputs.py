@@ -13,7 +13,7 @@ from pathlib import Path
 
 from ..decay import read_measured_decay_rate
 from ..growth_spectrum import spectrum_lines
-from ..roughness import read_third_octave_spectrum
+from ..roughness import read_limit_spectrum
 from ..scenario import Scenario
 from .build import physics_problems
 from .config import ConfigError
@@ -140,7 +140,7 @@ def check_inputs(cfg: dict, scn: Scenario, name: str, source: str, root=".") -> 
     limit = _get(cfg, ("figures", "bands", "limit"))
     if limit:
         try:
-            read_third_octave_spectrum(limit)
+            read_limit_spectrum(limit)
         except (OSError, ValueError) as e:
             raise ConfigError(f"{where}: figures.bands.limit: {e}") from None
     s = _get(cfg, ("figures", "rate_spectrum"))

@@ -19,7 +19,7 @@ import yaml
 
 from .. import __version__
 
-__all__ = ["package_versions", "cf_units", "code_version", "finalize", "write_netcdf"]
+__all__ = ["package_versions", "cf_units", "code_version", "finalize", "write_netcdf", "open_intermediate", "UnreadableIntermediateError"]
 
 _PACKAGES = ("numpy", "scipy", "numba", "xarray", "netCDF4", "pandas", "matplotlib", "snakemake")
 
@@ -148,3 +148,46 @@ def write_netcdf(ds: xr.Dataset, path) -> None:
         need = sum(v.nbytes for v in ds.variables.values())
         raise OSError(f"could not write {os.fspath(path)}: {e}. Free space there: {free / 2**20:.1f} MiB, data "
                       f"{need / 2**20:.1f} MiB (a full disk or a read-only folder gives this error).") from e
+
+
+class UnreadableIntermediateError(OSError):
+    """An intermediate result file exists but cannot be read (truncated or corrupt); it was moved aside."""
+
+
+def open_intermediate(path) -> xr.Dataset:
+    """An intermediate result (a netCDF file the workflow wrote, e.g. results/receptance/<track>/V40.nc),
+    read whole into memory (the file is closed again).
+
+    A file that exists but cannot be read (truncated by a killed job or a full disk: the netCDF
+    library says only "NetCDF: HDF error") is renamed to <name>.unreadable, so that the next
+    snakemake run, finding the file missing, rebuilds it instead of failing on it again.
+
+    Raises
+    ------
+    UnreadableIntermediateError
+        One line naming the file, the library's reason and where it was moved.
+    FileNotFoundError, PermissionError
+        Unchanged: the file is missing or may not be read (it is not moved).
+    """
+    import os
+
+    path = Path(path)
+    try:
+        with xr.open_dataset(path, engine="netcdf4") as ds:
+            return ds.load()
+    except (FileNotFoundError, PermissionError):
+        raise
+    except (OSError, RuntimeError) as e:
+        if not path.is_file():
+            raise
+        reason = str(getattr(e, "strerror", None) or e).split(": '")[0]
+        aside = path.with_name(path.name + ".unreadable")
+        try:
+            os.replace(path, aside)
+        except OSError as move:
+            raise UnreadableIntermediateError(
+                f"{os.fspath(path)} is unreadable ({reason}) and could not be moved aside to {os.fspath(aside)} "
+                f"({move.strerror or move}): delete it and run snakemake again to rebuild it.") from e
+        raise UnreadableIntermediateError(
+            f"{os.fspath(path)} is unreadable ({reason}) and has been moved aside to {os.fspath(aside)}: "
+            "run snakemake again to rebuild it.") from e

@@ -30,12 +30,13 @@ from dataclasses import dataclass
 
 import numpy as np
 
+from ..roughness import NOMINAL_WAVELENGTHS_M, nominal_band
+
 __all__ = ["NOMINAL_WAVELENGTHS_M", "ThirdOctaveBands", "third_octave_bands", "band_mean_square", "band_levels",
            "BandGrowth", "band_growth", "grinding_interval", "bands_dataset", "write_band_csv", "sweep_band_map"]
 
-# EN 15610 nominal centre wavelengths (m) of the exact series 10^(-n/10) m, n = 0..25
-NOMINAL_WAVELENGTHS_M = np.array([1.0, 0.8, 0.63, 0.5, 0.4, 0.315, 0.25, 0.2, 0.16, 0.125, 0.1, 0.08, 0.063, 0.05,
-                                  0.04, 0.0315, 0.025, 0.02, 0.016, 0.0125, 0.01, 0.008, 0.0063, 0.005, 0.004, 0.00315])
+# NOMINAL_WAVELENGTHS_M: EN 15610 nominal centre wavelengths (m) of the exact series 10^(-n/10) m,
+# n = 0..25 (rail.roughness, where the limit spectrum is read and checked against them)
 
 
 @dataclass(frozen=True)
@@ -256,7 +257,8 @@ def bands_dataset(growth, L: float, bands: ThirdOctaveBands, min_lines: int, lim
     min_lines : int
         Lines a band must hold to be resolved [-].
     limit : (wavelength [m], level [dB re 1 µm]) arrays, optional
-        Limit spectrum; matched to the bands by nominal wavelength (1 % tolerance).
+        Limit spectrum; matched to the bands by rail.roughness.nominal_band (within 1.5 % of a nominal
+        label or exact centre; others are left out).
     per_day : float, optional
         Wheel passages per day on the rail [1/day].
 
@@ -279,9 +281,10 @@ def bands_dataset(growth, L: float, bands: ThirdOctaveBands, min_lines: int, lim
     g = band_growth(n, ms)
     lim = np.full(len(bands.centre), np.nan)
     if limit is not None:
-        for lw, lv in zip(*limit):
-            hit = np.nonzero(np.isclose(bands.nominal, lw, rtol=0.01))[0]
-            if hit.size:
+        for lw, lv in zip(*limit):  # the limit's bands as rail.roughness.read_limit_spectrum names them
+            k = nominal_band(float(lw))
+            hit = np.nonzero(bands.nominal == NOMINAL_WAVELENGTHS_M[k])[0] if k >= 0 else []
+            if len(hit):
                 lim[hit[0]] = lv
     gi = grinding_interval(n, ms, g, lim, per_day)
     band = int(gi["band"])

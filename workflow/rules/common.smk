@@ -11,7 +11,7 @@ from rail.setup.build import PASSAGE_KEYS
 from rail.setup.build import scenario as build_scenario
 from rail.setup.build import physics_problems
 from rail.setup.inputs import check_inputs, measured_decay_file
-from rail.setup.config import ConfigError, check_scenario_names, expand_sweep, load_yaml, resolve_scenario_file, validate_config
+from rail.setup.config import ConfigError, check_scenario_names, expand_sweep, load_yaml, resolve_scenario_file, scenario_files, validate_config
 
 # Clear, actionable messages first (key, value, unit, valid range), then snakemake's own
 # validation against the same schema.
@@ -19,7 +19,7 @@ SCHEMA = load_yaml(workflow.source_path("../../config/schema/config.schema.yaml"
 validate_config(config, SCHEMA, source="configuration (config/config.yaml and --config/--configfile)")
 validate(config, "../../config/schema/config.schema.yaml")
 
-# Scenarios: config/scenarios/<name>.yaml holds only the keys that differ from the defaults.
+# Scenarios: config/scenarios/<name>.yaml (or .yml; both for one name is refused) holds only the keys that differ from the defaults.
 # Each is merged onto the validated defaults and validated itself (errors name its file), at
 # start-up, before any job runs. "default" is the configuration itself.
 # A scenario with a top-level "sweep:" (dotted key or "speed" -> list) is a study: it expands into
@@ -28,7 +28,8 @@ SCENARIO_DIR = Path("config/scenarios")
 SCENARIOS = {"default": config}
 _SOURCES = {"default": "configuration (config/config.yaml and --config/--configfile)"}
 SWEEPS = {}
-for _path in sorted(SCENARIO_DIR.glob("*.yaml")):
+SCENARIO_FILES = scenario_files(SCENARIO_DIR)
+for _path in SCENARIO_FILES.values():
     _scen = load_yaml(_path)
     if "sweep" in _scen:
         _keys, _values, _points = expand_sweep(config, SCHEMA, _scen, str(_path))
@@ -45,8 +46,8 @@ for _path in sorted(SCENARIO_DIR.glob("*.yaml")):
 # Every scenario is built once here (rail.setup.build.scenario): the constraints that need physics
 # (rail damping, harmonics reaching the pinned-pinned frequency) fail at start-up, naming the file.
 check_scenario_names(
-    {p.stem: str(p) for p in sorted(SCENARIO_DIR.glob("*.yaml"))},
-    {pt["name"]: f"config/scenarios/{study}.yaml" for study, sw in SWEEPS.items() for pt in sw["points"]},
+    {name: str(p) for name, p in SCENARIO_FILES.items()},
+    {pt["name"]: str(SCENARIO_FILES[study]) for study, sw in SWEEPS.items() for pt in sw["points"]},
 )
 SCENARIO_OBJECTS = {_name: build_scenario(_cfg, _name, _SOURCES[_name]) for _name, _cfg in SCENARIOS.items()}
 

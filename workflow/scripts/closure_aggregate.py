@@ -2,8 +2,6 @@
 
 import sys
 
-import xarray as xr
-
 from rail import track
 from rail.plotting import studies as plots
 from rail.setup import build, io
@@ -13,7 +11,7 @@ from rail.studies import closure, conclusions
 def main(config, paths, meta, out):
     runs, soft, four, wear, wellposed = {}, {}, {}, {}, None
     for path, (kind, s, x) in zip(paths, meta):
-        with xr.open_dataset(path) as ds:
+        with io.open_intermediate(path) as ds:
             ds = ds.load()
         if kind == "run":
             runs[(s, x)] = ds

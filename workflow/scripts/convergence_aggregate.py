@@ -2,8 +2,6 @@
 
 import sys
 
-import xarray as xr
-
 from rail.plotting import studies as plots
 from rail.setup import build, io
 from rail.studies import conclusions, convergence
@@ -12,7 +10,7 @@ from rail.studies import conclusions, convergence
 def main(config, study, paths, out):
     points = {}
     for p in paths:
-        with xr.open_dataset(p) as ds:
+        with io.open_intermediate(p) as ds:
             ds = ds.load()
         points[(ds.attrs["setting"], float(ds.attrs["value"]))] = ds
     ds = convergence.convergence_dataset(points, study, convergence.default_settings(build.scenario(config)))

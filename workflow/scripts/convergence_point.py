@@ -21,7 +21,7 @@ def main(config, study, setting, value, table_path, out_path):
         ds = xr.Dataset({"force": ("position", P, {"units": "N", "long_name": "normal force on a smooth rail"}), "cpu_time": ((), t, cpu)},
                         coords={"position": ("position", x, {"units": "m", "long_name": "wheel position in the bay, 0 above a sleeper"})})
     else:
-        with xr.open_dataset(table_path) as t:
+        with io.open_intermediate(table_path) as t:
             tab = datasets.read_receptance_table(t.load())
         hk = {"units": "1", "long_name": "harmonic index k of the bay"}
         if s["quantity"] == "wear":

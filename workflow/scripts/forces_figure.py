@@ -2,8 +2,6 @@
 
 import sys
 
-import xarray as xr
-
 from rail import chain, interaction
 from rail.plotting import report
 from rail.setup import build, io
@@ -11,7 +9,7 @@ from rail.studies import datasets
 
 
 def _table(path):
-    with xr.open_dataset(path) as ds:
+    with io.open_intermediate(path) as ds:
         return datasets.read_receptance_table(ds.load())
 
 

@@ -3,8 +3,6 @@
 import sys
 from pathlib import Path
 
-import xarray as xr
-
 from rail import chain
 from rail.setup import build, io
 from rail.setup.progress import Tee
@@ -13,7 +11,7 @@ from rail.studies import datasets, runs
 
 def main(config, name, table_path, speed, checkpoint, out_path, log):
     scn = build.scenario(config, name)
-    with xr.open_dataset(table_path) as t:
+    with io.open_intermediate(table_path) as t:
         tab = datasets.read_receptance_table(t.load())
     Path(checkpoint).parent.mkdir(parents=True, exist_ok=True)
     history = chain.grow(scn, tab, checkpoint=checkpoint, identity={"config": config}, progress=log, on_mismatch="restart")

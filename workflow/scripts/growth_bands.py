@@ -2,10 +2,8 @@
 
 import sys
 
-import xarray as xr
-
 from rail.plotting import report
-from rail.roughness import read_third_octave_spectrum
+from rail.roughness import read_limit_spectrum
 from rail.setup import build, io
 from rail.studies import bands
 
@@ -13,9 +11,9 @@ from rail.studies import bands
 def main(config, name, growth_path, out):
     scn = build.scenario(config, name)
     s = config["figures"]["bands"]
-    with xr.open_dataset(growth_path) as g:
+    with io.open_intermediate(growth_path) as g:
         growth = g.load()
-    limit = read_third_octave_spectrum(s["limit"]) if s["limit"] else None
+    limit = read_limit_spectrum(s["limit"]) if s["limit"] else None
     tob = bands.third_octave_bands(float(s["longest"]), float(s["shortest"]))
     ds = bands.bands_dataset(growth, scn.L, tob, int(s["min_lines"]), limit, scn.axles_per_day)
     io.write_netcdf(io.finalize(ds, config, title=f"One-third-octave roughness bands, scenario {name}", source="rail.studies.bands", scenario=name), out["data"])

@@ -2,15 +2,13 @@
 
 import sys
 
-import xarray as xr
-
 from rail.plotting import report
 from rail.setup import io
 from rail.studies import datasets
 
 
 def _load(path):
-    with xr.open_dataset(path) as ds:
+    with io.open_intermediate(path) as ds:
         return ds.load()
 
 

@@ -2,15 +2,13 @@
 
 import sys
 
-import xarray as xr
-
 from rail.plotting import report
 from rail.setup import io
 from rail.studies import datasets
 
 
 def main(nn, config, in_path, data_path, figure_path):
-    with xr.open_dataset(in_path) as rad:
+    with io.open_intermediate(in_path) as rad:
         ds = getattr(datasets, f"fig{nn}")(rad.load())
     ds = io.finalize(ds, config, title=f"Figure {int(nn)}", source=f"rail.studies.datasets.fig{nn}")
     io.write_netcdf(ds, data_path)

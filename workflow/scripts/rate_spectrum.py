@@ -2,8 +2,6 @@
 
 import sys
 
-import xarray as xr
-
 from rail.setup import build, io
 from rail.studies import datasets, rate_spectrum
 
@@ -11,7 +9,7 @@ from rail.studies import datasets, rate_spectrum
 def main(config, name, table_path, speed, out_path, log):
     s = config["figures"]["rate_spectrum"]
     scn = build.spectrum_scenario(config, name)  # smooth rail, the spectrum's N-bay period
-    with xr.open_dataset(table_path) as t:
+    with io.open_intermediate(table_path) as t:
         tabs = datasets.read_receptance_table(t.load())
     sp = rate_spectrum.spectrum_with_settings(scn, tabs, s)
     print(f"{len(sp.line)} lines of a {scn.roughness.bays}-bay period, {sp.wavelength.min():.4g}-{sp.wavelength.max():.4g} m, "

@@ -10,7 +10,7 @@ from rail.studies import rate_spectrum
 
 
 def main(paths, data_path, figure_path, summary_path):
-    parts = [xr.open_dataset(p).load() for p in paths]
+    parts = [io.open_intermediate(p) for p in paths]
     ds = xr.concat(parts, dim="speed", data_vars="minimal", coords="minimal", compat="override", combine_attrs="override")
     ds = ds.sortby("speed")
     io.write_netcdf(ds, data_path)

@@ -2,15 +2,13 @@
 
 import sys
 
-import xarray as xr
-
 from rail.plotting import studies as plots
 from rail.setup import io
 from rail.studies import rate_spectrum
 
 
 def main(config, study, keys, values, indices, paths, data_path, figure_path):
-    points = [xr.open_dataset(p).load() for p in paths]
+    points = [io.open_intermediate(p) for p in paths]
     ds = rate_spectrum.sweep_rate_spectrum(points, keys, values, indices)
     ds = io.finalize(ds, config, title=f"Growth-rate spectrum over the sweep {study}",
                      source="rail.studies.rate_spectrum.sweep_rate_spectrum", scenario=f"sweep study {study}")

@@ -2,8 +2,6 @@
 
 import sys
 
-import xarray as xr
-
 from rail.plotting import report
 from rail.setup import io
 from rail.studies import datasets
@@ -12,7 +10,7 @@ from rail.studies import datasets
 def main(config, study, keys, values, indices, run_paths, data_path, figure_path):
     runs = []
     for path in run_paths:
-        with xr.open_dataset(path) as ds:
+        with io.open_intermediate(path) as ds:
             runs.append(ds.load())
     ds = datasets.sweep(runs, keys, values, indices)
     ds = io.finalize(ds, config, title=f"Sweep study {study}", source="rail.studies.datasets.sweep", scenario=f"sweep study {study}")

@@ -2,8 +2,6 @@
 
 import sys
 
-import xarray as xr
-
 from rail.plotting import report
 from rail.setup import build, io
 from rail.studies import bands
@@ -12,7 +10,7 @@ from rail.studies import bands
 def main(config, study, keys, values, indices, run_paths, data_path, figure_path):
     runs = []
     for path in run_paths:
-        with xr.open_dataset(path) as ds:
+        with io.open_intermediate(path) as ds:
             runs.append(ds.load())
     s = config["figures"]["bands"]
     tob = bands.third_octave_bands(float(s["longest"]), float(s["shortest"]))

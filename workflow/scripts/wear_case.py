@@ -2,8 +2,6 @@
 
 import sys
 
-import xarray as xr
-
 from rail import chain, interaction
 from rail.setup import build, io
 from rail.studies import datasets
@@ -12,7 +10,7 @@ from rail.studies import datasets
 def main(config, table_path, frequency, out_path):
     scn = build.passage_scenario(config)
     s = config["figures"]["wear"]
-    with xr.open_dataset(table_path) as t:
+    with io.open_intermediate(table_path) as t:
         tab = datasets.read_receptance_table(t.load())
     rough = interaction.Roughness.harmonic(s["amplitude"], s["speed"] / frequency, scn.L, tab.harmonics)
     forces = chain.solve_forces(scn, tab, rough)

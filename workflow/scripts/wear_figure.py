@@ -2,8 +2,6 @@
 
 import sys
 
-import xarray as xr
-
 from rail.plotting import report
 from rail.setup import io
 from rail.studies import datasets
@@ -11,7 +9,7 @@ from rail.studies import datasets
 
 def main(nn, config, case_path, data_path, figure_path):
     n = int(nn)
-    with xr.open_dataset(case_path) as c:
+    with io.open_intermediate(case_path) as c:
         case = c.load()
     if n == 9:
         ds, draw = datasets.fig09(case), report.fig09
