@@ -220,3 +220,20 @@ def test_load_refuses_two_scenario_files_of_one_name(root, tmp_path):
     (tmp_path / "config/scenarios/soft_pad.yml").write_text("track:\n  pad:\n    stiffness: 1.0e+9\n")
     with pytest.raises(ConfigError, match=r"soft_pad\.yaml and .*soft_pad\.yml: both give the scenario name 'soft_pad'; keep one of them"):
         api.load("soft_pad", root=tmp_path)
+
+
+# Issue 32 (unclear cases): a file that does not exist, a project folder that does not exist and a
+# file that is not YAML give one line and exit 2, never a traceback
+@pytest.mark.parametrize("argv, message", [
+    (["check", "/nonexistent.yaml"], r"^railgrowth: /nonexistent\.yaml: No such file or directory$"),
+    (["--root", "/nonexistent", "check", "default"], r"^railgrowth: /nonexistent/config/schema/config\.schema\.yaml: No such file"),
+    (["check", "{tab}"], r"^railgrowth: not a valid YAML file: .*cannot start any token.*line 2, column 1"),
+])
+def test_command_line_failures_are_one_line(tmp_path, capsys, argv, message):
+    import re
+
+    tab = tmp_path / "tab.yaml"
+    tab.write_text("track:\n\tpad: 1\n")
+    assert cli.main([a.format(tab=tab) for a in argv]) == 2
+    err = capsys.readouterr().err.strip()
+    assert "\n" not in err and re.search(message, err), err

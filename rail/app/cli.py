@@ -18,6 +18,8 @@ import os
 import sys
 from pathlib import Path
 
+import yaml
+
 from ..setup.config import ConfigError
 from ..setup.io import write_netcdf
 
@@ -58,10 +60,14 @@ def _writable_target(option: str, path: Path | None) -> None:
 
 
 def main(argv=None) -> int:
-    """Run the command line; returns the exit status (0 ok, 2 invalid input, 3 a growth run stopped
-    early with a partial result)."""
+    """Run the command line; returns the exit status (0 ok, 1 the model broke in a computation that
+    keeps nothing, 2 invalid input, 3 a growth run stopped early with a partial result). Every
+    failure is one line on stderr, never a traceback."""
     args = _parser().parse_args(argv)
-    from . import api  # after parsing: --help answers without importing the model
+    from ..contact import ContactError  # after parsing: --help answers without importing the model
+    from ..growth import GrowthStepError
+    from ..interaction import ContactLossError
+    from . import api
 
     try:
         if args.command in ("run", "spectrum"):
@@ -82,8 +88,17 @@ def main(argv=None) -> int:
         else:
             ds = api.spectrum(study, speeds=args.speed)
             out = args.out or Path(f"{study.name}_spectrum.nc")
+    except (ContactError, ContactLossError, GrowthStepError, FloatingPointError) as e:  # the model broke mid-way
+        print(f"railgrowth: the computation stopped: {' '.join(str(e).split())}", file=sys.stderr)
+        return 1
     except (ConfigError, ValueError) as e:
         print(f"railgrowth: {e}", file=sys.stderr)
+        return 2
+    except yaml.YAMLError as e:  # a file that is not YAML: one line with the file and the line
+        print(f"railgrowth: not a valid YAML file: {' '.join(str(e).split())}", file=sys.stderr)
+        return 2
+    except OSError as e:  # a file or folder that does not exist or cannot be read
+        print(f"railgrowth: {e.filename or ''}: {e.strerror or e}", file=sys.stderr)
         return 2
     write_netcdf(ds, out)
     if ds.attrs.get("stopped"):
