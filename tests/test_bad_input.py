@@ -522,3 +522,37 @@ def test_a_truncated_receptance_table_is_rebuilt_by_the_next_run(root, tmp_path)
     again = snakemake(root, "-n", target, cwd=tmp_path)
     assert again.returncode == 0, again.stderr
     assert job_counts(again.stdout) == {"receptance": 1, "growth": 1}  # the table is built again
+
+
+# issue 32: the command line fuzzed. Any scenario file (fuzzed values of the keys above, YAML that is
+# not a mapping, random bytes) gives `railgrowth check` exit 0 or 2, one line per problem on stderr
+# naming the file, never a traceback
+_yaml_text = st.one_of(
+    st.builds(lambda key, value: _nested_yaml(key, value), st.sampled_from(_KEYS), _value),
+    st.text(max_size=40).map(lambda t: t.encode("utf-8")), st.binary(max_size=40),
+).map(lambda t: t if isinstance(t, bytes) else t.encode("utf-8"))
+
+
+def _nested_yaml(key, value):
+    import yaml
+
+    node = value
+    for k in reversed(key):
+        node = {k: node}
+    return yaml.safe_dump(node)
+
+
+@settings(max_examples=40, deadline=None, suppress_health_check=[HealthCheck.function_scoped_fixture])
+@given(text=_yaml_text)
+def test_fuzzed_scenario_file_through_the_command_line_is_accepted_or_refused_in_one_line(tmp_path, capsys, text):
+    from rail.app import cli
+
+    f = tmp_path / "fuzz.yaml"
+    f.write_bytes(text)
+    code = cli.main(["check", str(f)])
+    out, err = capsys.readouterr()
+    assert code in (0, 2), (code, err)
+    if code == 0:
+        assert out.startswith("ok: scenario 'fuzz' is valid")
+    else:
+        assert err.startswith("railgrowth: ") and "Traceback" not in err, err
