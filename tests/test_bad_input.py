@@ -556,3 +556,38 @@ def test_fuzzed_scenario_file_through_the_command_line_is_accepted_or_refused_in
         assert out.startswith("ok: scenario 'fuzz' is valid")
     else:
         assert err.startswith("railgrowth: ") and "Traceback" not in err, err
+
+
+def _nested(key, value):
+    node = value
+    for k in reversed(key):
+        node = {k: node}
+    return node
+
+
+@settings(max_examples=25, deadline=None, suppress_health_check=[HealthCheck.function_scoped_fixture])
+@given(key=st.sampled_from(_KEYS), value=_value, speed=st.one_of(st.floats(allow_nan=True, allow_infinity=True), st.text(max_size=3),
+                                                                  st.none(), st.booleans(), st.integers(-5, 400)))
+def test_fuzzed_api_calls_are_accepted_or_refused_naming_the_argument(key, value, speed):
+    # issue 32: the API fuzzed: load with fuzzed changes, then growth's speed checked before computing
+    from rail.app import api
+
+    try:
+        study = api.load("default", changes=_nested(key, value))
+    except (rconfig.ConfigError, ValueError) as e:
+        assert key[-1] in str(e) or "speed" in str(e) or "harmonics" in str(e), str(e)
+        return
+    original = api.chain.receptance_table
+    api.chain.receptance_table = lambda *a, **k: (_ for _ in ()).throw(_Reached())
+    try:
+        api.growth(study, speed=speed)
+    except _Reached:
+        assert isinstance(speed, (int, float)) and not isinstance(speed, bool) and 0 < speed <= 300
+    except (rconfig.ConfigError, ValueError) as e:
+        assert "speed" in str(e), str(e)
+    finally:
+        api.chain.receptance_table = original
+
+
+class _Reached(Exception):
+    """The computation was reached: the arguments passed every check."""

@@ -75,3 +75,31 @@ def test_schema_states_a_unit_and_description_for_every_leaf(schema):
         assert "description" in node, path
         if node.get("type") in ("number", "integer"):
             assert "unit" in node, path
+
+
+def test_a_yaml_alias_bomb_gives_a_short_message(tmp_path, schema):
+    # nine levels of nine aliases: a value whose repr is about 10^9 characters; the message names the
+    # key and stays short (it was 28 MB)
+    from rail.setup.config import ConfigError, load_yaml, validate_config
+
+    lines = ["a0: &a0 [x, x, x, x, x, x, x, x, x]"]
+    for i in range(1, 7):
+        lines.append(f"a{i}: &a{i} [" + ", ".join([f"*a{i - 1}"] * 9) + "]")
+    lines.append("speeds: *a6")
+    f = tmp_path / "bomb.yaml"
+    f.write_text("\n".join(lines) + "\n")
+    data = load_yaml(f)
+    with pytest.raises(ConfigError) as e:
+        validate_config({"speeds": data["speeds"]}, schema, source="bomb.yaml")
+    assert "speeds" in str(e.value) and len(str(e.value)) < 5000, len(str(e.value))
+
+
+def test_a_nested_value_given_as_text_gets_the_configfile_hint(defaults, schema):
+    # snakemake --config 'material={poisson_ratio: 0.25}' arrives as the text '{poisson_ratio: 0.25}'
+    from rail.setup.config import ConfigError, validate_config
+
+    cfg = copy.deepcopy(defaults)
+    cfg["material"] = "{poisson_ratio: 0.25}"
+    with pytest.raises(ConfigError, match=r"material = '\{poisson_ratio: 0\.25\}' has the wrong type: it must be of type "
+                                          r"object \(snakemake --config passes a nested value as text: .*--configfile\)"):
+        validate_config(cfg, schema, source="--config")

@@ -327,3 +327,27 @@ def test_a_config_edit_reruns_exactly_the_jobs_that_read_it(root, built, tmp_pat
     assert out.returncode == 0, out.stderr[-2000:]
     assert job_counts(out.stdout) == {**jobs, "all": 1}
     assert "Params have changed since last execution" in out.stdout
+
+
+# Issue 32 (unclear cases): a target or study file the configuration would refuse stops at start-up
+# with one line, not a KeyError, a cast error or a job the schema would refuse
+@pytest.mark.parametrize("target, message", [
+    ("results/receptance/default/V40_N100000.nc", r"target period N100000 is not allowed: it must lie in \[2, 256\] bays"),
+    ("results/wear/default/V40_f1234.nc", r"target names the wear frequency f1234, which is not configured: the labels are"),
+])
+def test_a_target_with_an_unknown_label_is_refused_in_one_line(root, workdir, target, message):
+    out = snakemake(root, "-n", target, cwd=workdir)
+    assert out.returncode != 0
+    assert re.search(message, out.stderr + out.stdout), out.stderr[-2000:]
+    assert "KeyError" not in out.stderr and "Traceback" not in out.stderr
+
+
+def test_nan_in_the_convergence_study_is_refused_naming_the_key(root, workdir):
+    # the study file is read beside the Snakefile: a copy of the workflow with its own file
+    shutil.copytree(root / "workflow", workdir / "workflow")
+    shutil.copy(root / "Snakefile", workdir / "Snakefile")
+    f = workdir / "config/convergence.yaml"
+    f.write_text(f.read_text().replace("reference: 1.0e-7", "reference: .nan"))
+    out = snakemake(workdir, "-n", "results/figures/fig06.png", cwd=workdir)
+    assert out.returncode != 0
+    assert "config/convergence.yaml: settings.rtol.reference = nan is not allowed: it must be a finite number > 0." in out.stderr + out.stdout

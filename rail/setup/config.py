@@ -88,6 +88,17 @@ def _bound_text(validator: str, bound) -> str:
     return {"minimum": ">=", "maximum": "<=", "exclusiveMinimum": ">", "exclusiveMaximum": "<"}[validator] + f" {bound}"
 
 
+def _short(value, limit: int = 120) -> str:
+    """repr of a configuration value, cut to ``limit`` characters (a YAML alias bomb or a huge list
+    would otherwise make a message of megabytes)."""
+    return _cut(repr(value), limit)
+
+
+def _cut(text: str, limit: int = 200) -> str:
+    """A message part cut to ``limit`` characters."""
+    return text if len(text) <= limit else f"{text[:limit]}... ({len(text)} characters)"
+
+
 def _message(error, source: str) -> str:
     key = ".".join(str(p) for p in error.absolute_path) or "(top level)"
     schema = error.schema if isinstance(error.schema, dict) else {}
@@ -96,20 +107,20 @@ def _message(error, source: str) -> str:
     kind = error.validator
     if kind in ("minimum", "maximum", "exclusiveMinimum", "exclusiveMaximum"):
         return (
-            f"{source}: {key} = {error.instance!r}{unit_txt} is not allowed: it must be "
+            f"{source}: {key} = {_short(error.instance)}{unit_txt} is not allowed: it must be "
             f"{_bound_text(kind, error.validator_value)}{unit_txt} (valid range {_range_text(schema)}{unit_txt})."
         )
     if kind == "additionalProperties":
         allowed = sorted(schema.get("properties", {}))
         unknown = sorted(set(error.instance) - set(allowed))
         prefix = f"{key}." if error.absolute_path else ""
-        parts = [f"{prefix}{u} = {error.instance[u]!r}" for u in unknown]
+        parts = [f"{prefix}{u} = {_short(error.instance[u])}" for u in unknown]
         return (
             f"{source}: unknown key {', '.join(parts)}; the keys allowed under {key} are: "
             f"{', '.join(allowed)}."
         )
     if kind == "enum":
-        return f"{source}: {key} = {error.instance!r} is not allowed: it must be one of {error.validator_value}."
+        return f"{source}: {key} = {_short(error.instance)} is not allowed: it must be one of {error.validator_value}."
     if kind == "type":
         hint = ""
         if isinstance(error.instance, str):
@@ -117,11 +128,13 @@ def _message(error, source: str) -> str:
                 float(error.instance)
                 hint = f" (YAML reads {error.instance} as text: write the number with a dot and a signed exponent, e.g. 3.5e+8 or 3.5E+08)"
             except ValueError:
-                pass
-        return f"{source}: {key} = {error.instance!r} has the wrong type: it must be of type {error.validator_value}{hint}."
+                if error.instance.strip()[:1] in ("{", "[") and error.validator_value in ("object", "array"):
+                    hint = (" (snakemake --config passes a nested value as text: put the nested keys in a YAML file "
+                            "and give it with --configfile)")
+        return f"{source}: {key} = {_short(error.instance)} has the wrong type: it must be of type {error.validator_value}{hint}."
     if kind == "required":
         return f"{source}: {key} lacks a required key: {error.message}."
-    return f"{source}: {key} = {error.instance!r}: {error.message}."
+    return f"{source}: {key} = {_short(error.instance)}: {_cut(error.message)}."
 
 
 def _cross_checks(cfg: dict, source: str) -> list[str]:

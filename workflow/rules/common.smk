@@ -11,6 +11,7 @@ from rail.setup.build import PASSAGE_KEYS
 from rail.setup.build import scenario as build_scenario
 from rail.setup.build import physics_problems
 from rail.setup.inputs import check_inputs, measured_decay_file
+from rail.studies.convergence import check_study as check_convergence_study
 from rail.setup.config import ConfigError, check_scenario_names, expand_sweep, load_yaml, resolve_scenario_file, scenario_files, validate_config
 
 # Clear, actionable messages first (key, value, unit, valid range), then snakemake's own
@@ -78,6 +79,17 @@ def checked_speed(scenario, label):
     return V
 
 
+def checked_bays(label):
+    """The roughness period N of a target's file name ('N8' -> 8), within the schema's bounds of a
+    configured period (roughness.bays, figures.rate_spectrum.bays)."""
+    vmax = SCHEMA["properties"]["figures"]["properties"]["rate_spectrum"]["properties"]["bays"]["maximum"]
+    N = int(label)
+    if not 2 <= N <= vmax:
+        raise ConfigError(f"target period N{label} is not allowed: it must lie in [2, {vmax}] bays (as roughness.bays and "
+                          "figures.rate_spectrum.bays in the configuration).")
+    return N
+
+
 def scenario_config(wildcards):
     """Resolved configuration of the scenario named by the wildcard 'scenario'."""
     return SCENARIOS[wildcards.scenario]
@@ -95,8 +107,10 @@ def track_name(name):
 
 def track_config(wildcards):
     """The part of the configuration a receptance table depends on (its track and numerics), so
-    that changing anything else does not recompute it. The target's speed is checked first."""
+    that changing anything else does not recompute it. The target's speed (and period) is checked first."""
     checked_speed(wildcards.track, wildcards.speed)
+    if hasattr(wildcards, "bays"):
+        checked_bays(wildcards.bays)
     return _track_part(wildcards.track)
 
 
@@ -262,7 +276,16 @@ def wear_figure_config(wildcards):
 
 def wear_frequency(wildcards):
     """The configured frequency (Hz) whose label is the wildcard 'freq'."""
-    return {wear_frequency_label(f): float(f) for f in config["figures"]["wear"]["frequencies"]}[wildcards.freq]
+    known = {wear_frequency_label(f): float(f) for f in config["figures"]["wear"]["frequencies"]}
+    return known_value(known, wildcards.freq, "wear frequency f", "figures.wear.frequencies")
+
+
+def known_value(known, label, what, key):
+    """The value a target's file-name label names, or one line saying which labels exist."""
+    if label not in known:
+        raise ConfigError(f"target names the {what}{label}, which is not configured: the labels are "
+                          f"{', '.join(sorted(known))} ({key}).")
+    return known[label]
 
 
 def paper_figures():
@@ -367,7 +390,8 @@ def closure_inputs(wildcards=None):
 
 def closure_wear_config(wildcards):
     """What a wear case reads of the default configuration, with the closure value of the wildcard 's'."""
-    s = {closure_label(x): x for x in closure_values()}[wildcards.s]
+    s = known_value({closure_label(x): x for x in closure_values()}, wildcards.s, "closure value s",
+                    "contact.closure_scale of config/scenarios/closure*.yaml")
     return config_part(WEAR_CASE_KEYS, {**config, "contact": {**config["contact"], "closure_scale": s}})
 
 
@@ -381,6 +405,10 @@ def closure_targets():
 # Numerical studies (workflow/rules/studies.smk): the stability suite and the convergence study.
 STABILITY = load_yaml(workflow.source_path("../../config/stability.yaml"))
 CONVERGENCE = load_yaml(workflow.source_path("../../config/convergence.yaml"))
+try:  # NaN, a negative or a misspelt setting stop here, naming the key (not as a KeyError in a job)
+    check_convergence_study(CONVERGENCE)
+except ValueError as _e:
+    raise ConfigError(str(_e)) from None
 CLOSURE = load_yaml(workflow.source_path("../../config/closure.yaml"))
 # Every point of the convergence study, references included: (setting, value label) -> value.
 CONVERGENCE_VALUES = {
