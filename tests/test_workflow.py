@@ -351,3 +351,14 @@ def test_nan_in_the_convergence_study_is_refused_naming_the_key(root, workdir):
     out = snakemake(workdir, "-n", "results/figures/fig06.png", cwd=workdir)
     assert out.returncode != 0
     assert "config/convergence.yaml: settings.rtol.reference = nan is not allowed: it must be a finite number > 0." in out.stderr + out.stdout
+
+
+@pytest.mark.parametrize("content, message", [
+    (b"track:\n\tpad: 1\n", r"config/scenarios/bad\.yaml, line 2, column 1: not valid YAML: found character '\\t' that cannot start any token"),
+    (bytes(range(128, 256)), r"config/scenarios/bad\.yaml: not a YAML text file \("),
+])
+def test_a_scenario_file_that_is_not_yaml_is_named_with_its_line(root, workdir, content, message):
+    (workdir / "config/scenarios/bad.yaml").write_bytes(content)
+    out = snakemake(root, "-n", "results/figures/fig06.png", cwd=workdir)
+    assert out.returncode != 0
+    assert re.search(message, out.stderr + out.stdout), (out.stderr + out.stdout)[-2000:]

@@ -52,10 +52,19 @@ def load_yaml(path) -> dict:
     an error naming the file and the line."""
     path = Path(path)
     with path.open() as fh:
-        loader = _UniqueKeyLoader(fh)
+        try:
+            loader = _UniqueKeyLoader(fh)
+        except (yaml.YAMLError, UnicodeDecodeError) as e:  # not text: the reader fails at its first bytes
+            raise ConfigError(f"{path}: not a YAML text file ({' '.join(str(e).split())[:200]}).") from None
         loader.name = str(path)
         try:
             data = loader.get_single_data()
+        except yaml.MarkedYAMLError as e:  # a tab, an unclosed bracket, ...: file, line and column in one line
+            mark = e.problem_mark or e.context_mark
+            where = f", line {mark.line + 1}, column {mark.column + 1}" if mark is not None else ""
+            raise ConfigError(f"{path}{where}: not valid YAML: {e.problem or e.context}.") from None
+        except (yaml.YAMLError, UnicodeDecodeError) as e:  # a binary or mis-encoded file
+            raise ConfigError(f"{path}: not a YAML text file ({' '.join(str(e).split())[:200]}).") from None
         finally:
             loader.dispose()
     if data is None:
