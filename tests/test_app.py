@@ -1,6 +1,7 @@
 """railgrowth from Python and from the command line (issue 23): the worked example runs, the
 command line validates before computing and writes a self-describing file."""
 
+import re
 import runpy
 
 import numpy as np
@@ -66,13 +67,7 @@ def test_check_refuses_what_the_workflow_refuses(tmp_path, capsys, text, match):
     assert cli.main(["check", str(scen)]) == 2
     err = capsys.readouterr().err
     assert err.startswith("railgrowth: ") and "Traceback" not in err
-    assert re_search(match, err), err
-
-
-def re_search(pattern, text):
-    import re
-
-    return re.search(pattern, text) is not None
+    assert re.search(match, err), err
 
 
 def test_run_refuses_a_speed_the_workflow_refuses_before_computing(monkeypatch, capsys):

@@ -536,10 +536,7 @@ _yaml_text = st.one_of(
 def _nested_yaml(key, value):
     import yaml
 
-    node = value
-    for k in reversed(key):
-        node = {k: node}
-    return yaml.safe_dump(node)
+    return yaml.safe_dump(_nested(key, value))
 
 
 @settings(max_examples=40, deadline=None, suppress_health_check=[HealthCheck.function_scoped_fixture])

@@ -22,6 +22,14 @@ def job_counts(output: str) -> dict[str, int]:
     return {m.group(1): int(m.group(2)) for m in re.finditer(r"^(\w+)\s+(\d+)\s*$", table, re.M)}
 
 
+def assert_stops_at_start_up(out, pattern, workdir=None):
+    """The run failed, with a message matching ``pattern``, and (given its folder) built nothing."""
+    assert out.returncode != 0
+    assert re.search(pattern, out.stderr + out.stdout), (out.stderr + out.stdout)[-2000:]
+    if workdir is not None:
+        assert not (workdir / "results").exists()
+
+
 @pytest.fixture()
 def workdir(root, tmp_path):
     """An empty working directory holding only the configuration."""
@@ -90,12 +98,8 @@ def test_fig06_run_writes_labelled_data_and_picture(root, workdir):
 def test_bad_scenario_file_is_named_and_stops_before_any_job(root, workdir):
     (workdir / "config/scenarios/soft_pad.yaml").write_text("track:\n  pad:\n    stiffness: -7.0e+7\n")
     out = snakemake(root, "-j1", cwd=workdir)
-    assert out.returncode != 0
-    assert re.search(
-        r"config/scenarios/soft_pad\.yaml: track\.pad\.stiffness = -70000000\.0 N/m is not allowed: it must be > 0 N/m",
-        out.stderr + out.stdout,
-    ), out.stderr
-    assert not (workdir / "results").exists()
+    assert_stops_at_start_up(
+        out, r"config/scenarios/soft_pad\.yaml: track\.pad\.stiffness = -70000000\.0 N/m is not allowed: it must be > 0 N/m", workdir)
 
 
 def test_receptance_rule_holds_only_the_offsets_of_scenarios_sharing_the_track(root, workdir):
@@ -151,12 +155,9 @@ def test_scenario_and_sweep_files_ending_in_yml_are_part_of_the_workflow(root, w
 def test_two_scenario_files_of_one_name_stop_before_any_job(root, workdir):
     (workdir / "config/scenarios/soft_pad.yml").write_text("track:\n  pad:\n    stiffness: 7.0e+7\n")
     out = snakemake(root, "-n", cwd=workdir)
-    assert out.returncode != 0
-    assert re.search(
-        r"config/scenarios/soft_pad\.yaml and config/scenarios/soft_pad\.yml: both give the scenario name 'soft_pad'; keep one of them\.",
-        out.stderr + out.stdout,
-    ), out.stderr
-    assert not (workdir / "results").exists()
+    assert_stops_at_start_up(
+        out, r"config/scenarios/soft_pad\.yaml and config/scenarios/soft_pad\.yml: both give the scenario name 'soft_pad'; "
+             r"keep one of them\.", workdir)
 
 
 def test_slurm_profile_plans_the_default_target(root, workdir):
@@ -337,8 +338,7 @@ def test_a_config_edit_reruns_exactly_the_jobs_that_read_it(root, built, tmp_pat
 ])
 def test_a_target_with_an_unknown_label_is_refused_in_one_line(root, workdir, target, message):
     out = snakemake(root, "-n", target, cwd=workdir)
-    assert out.returncode != 0
-    assert re.search(message, out.stderr + out.stdout), out.stderr[-2000:]
+    assert_stops_at_start_up(out, message)
     assert "KeyError" not in out.stderr and "Traceback" not in out.stderr
 
 
@@ -360,5 +360,4 @@ def test_nan_in_the_convergence_study_is_refused_naming_the_key(root, workdir):
 def test_a_scenario_file_that_is_not_yaml_is_named_with_its_line(root, workdir, content, message):
     (workdir / "config/scenarios/bad.yaml").write_bytes(content)
     out = snakemake(root, "-n", "results/figures/fig06.png", cwd=workdir)
-    assert out.returncode != 0
-    assert re.search(message, out.stderr + out.stdout), (out.stderr + out.stdout)[-2000:]
+    assert_stops_at_start_up(out, message)

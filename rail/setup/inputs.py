@@ -72,10 +72,11 @@ def measured_decay_file(cfg: dict, name: str, root=".") -> tuple[str | None, str
     return (str(found), f"{found} (the track's measured decay rate)") if found.exists() else (None, "")
 
 
-def check_speed(cfg: dict, speed, source: str) -> float:
-    """A speed given outside the configuration (a target, the command line, the API), checked like a
-    configured one: a finite number > 0 within the schema's bound at which the harmonics reach the
-    pinned-pinned frequency.
+def check_speed(cfg: dict, speed, source: str, name: str = "speed") -> float:
+    """A speed given outside the configuration (a target's file name, the command line, the API),
+    checked like a configured one: a finite number > 0 within the schema's bound at which the
+    harmonics reach the pinned-pinned frequency. The workflow's targets, railgrowth and the API all
+    check a speed here.
 
     Parameters
     ----------
@@ -84,7 +85,9 @@ def check_speed(cfg: dict, speed, source: str) -> float:
     speed : float
         Train speed [m/s].
     source : str
-        Where the speed comes from (named in the message).
+        Where the speed comes from (named first in the message).
+    name : str
+        What the message calls the speed (e.g. 'target speed V40').
 
     Returns
     -------
@@ -96,10 +99,10 @@ def check_speed(cfg: dict, speed, source: str) -> float:
     ConfigError
     """
     if isinstance(speed, bool) or not isinstance(speed, (int, float)):
-        raise ConfigError(f"{source}: speed = {speed!r} is not allowed: it must be a number in m/s.")
+        raise ConfigError(f"{source}: {name} = {speed!r} is not allowed: it must be a number in m/s.")
     V = float(speed)
     if not (V == V and 0 < V <= MAX_SPEED):
-        raise ConfigError(f"{source}: speed = {V!r} m/s is not allowed: it must lie in (0, {MAX_SPEED:g}] m/s (as speeds in the "
+        raise ConfigError(f"{source}: {name} = {V!r} m/s is not allowed: it must lie in (0, {MAX_SPEED:g}] m/s (as speeds in the "
                           "configuration).")
     problems = physics_problems({**cfg, "speeds": [V], "figures": {}}, source)
     if problems:

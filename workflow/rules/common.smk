@@ -9,8 +9,7 @@ from rail.chain import wheel_offsets as wheel_offsets_of
 from rail.provenance import code_hash
 from rail.setup.build import PASSAGE_KEYS
 from rail.setup.build import scenario as build_scenario
-from rail.setup.build import physics_problems
-from rail.setup.inputs import check_inputs, measured_decay_file
+from rail.setup.inputs import check_inputs, check_speed, measured_decay_file
 from rail.studies.convergence import check_study as check_convergence_study
 from rail.setup.config import ConfigError, check_scenario_names, expand_sweep, load_yaml, resolve_scenario_file, scenario_files, validate_config
 
@@ -70,13 +69,7 @@ def checked_speed(scenario, label):
         V = float(label)
     except ValueError:
         raise ConfigError(f"target speed V{label} is not a number in m/s.") from None
-    vmax = SCHEMA["properties"]["speeds"]["items"]["maximum"]  # the bound of a configured speed
-    if not (V == V and 0 < V <= vmax):
-        raise ConfigError(f"target speed V{label} = {V!r} m/s is not allowed: it must lie in (0, {vmax}] m/s (as speeds in the configuration).")
-    problems = physics_problems({**SCENARIOS[scenario], "speeds": [V], "figures": {}}, f"target speed V{label} (scenario {scenario})")
-    if problems:
-        raise ConfigError("invalid target:\n  " + "\n  ".join(problems))
-    return V
+    return check_speed(SCENARIOS[scenario], V, f"scenario {scenario}", f"target speed V{label}")
 
 
 def checked_bays(label):
