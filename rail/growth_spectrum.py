@@ -24,7 +24,9 @@ from dataclasses import dataclass
 
 import numpy as np
 
-from . import chain
+from . import chain, wear
+from .contact_tangent import work_tangent
+from .interaction import Roughness
 from .moving import MovingReceptance
 from .scenario import Scenario
 
@@ -103,6 +105,135 @@ def _probe(scn, table, lines, eps, Z0, W0, grid_phase, sidebands=False):
             side[j] = max(abs(W[i] - W0[i]) for i in near) / max(abs(W[J + j] - W0[J + j]), 1e-300) if near else 0.0
     R = np.array([rates[j] for j in lines])
     return (R, np.array([side[j] for j in lines])) if sidebands else R
+
+
+def _tangent_batches(free, locked_probes, N: int):
+    """Batches of probes for _linear_rates: the free lines by _batches (one per pair of classes), and
+    the locked lines' cosine and sine probes, at most one of class 0 and one of class N/2 per batch."""
+    out = [[(j, "free") for j in b] for b in _batches(free, N)]
+    for r in (0, N // 2):
+        probes = [pr for pr in locked_probes if pr[0] % N == r]
+        for n, pr in enumerate(probes):
+            while len(out) <= n:
+                out.append([])
+            out[n].append(pr)
+    return out
+
+
+def _linear_rates(scn, tabs, free, locked, eps, phase, max_columns=None):
+    """R_j at the free lines (and their sideband ratios) and the 2 x 2 operators M at the locked lines
+    (line, kind), by the tangent of the contact march about the smooth rail (method 'linear').
+
+    The smooth rail's state is periodic over one bay, so the derivative of the wear for roughness of
+    the Bloch class r = j mod N is e^{i 2 pi r x / (N L)} times a bay-periodic function: one march of
+    the smooth rail over one bay (with its spin-up), carrying the derivative along every probe at once
+    (rail.contact_tangent), gives every line. The normal contact's inputs along each probe (force,
+    half-length, pressure shape at every step) are the difference of the model's own inputs with
+    and without a probe of amplitude eps over the N bays (one evaluation per batch of lines, as the
+    probes of method 'probe' but without the march), split into the classes by a DFT over the bays.
+    With several wheels, the wear of the wheels before a wheel is taken at the smooth rail's (its
+    derivative, of relative size the wear per passage, ~1e-6, is left out)."""
+    N = scn.roughness.bays
+    K = scn.harmonics
+    J = N * K
+    nums, mat = scn.contact_numerics, scn.material
+    s1 = dataclasses.replace(scn, roughness=dataclasses.replace(scn.roughness, bays=1))
+    Z01 = np.zeros(2 * K + 1, dtype=complex)
+    f1 = chain.solve_forces(s1, tabs[0], Roughness(Z01, 1))
+    order = [int(l) for l in np.argsort(scn.wheels.positions)[::-1]]
+    # the reference inputs of each wheel over one bay, and the smooth rail's wear before each wheel
+    ref, cur1, wear_before = [], Roughness(Z01, 1), []
+    for l in order:
+        mi = wear.march_inputs(f1, l, cur1, mat, nums, phase)
+        ref.append(mi)
+        w = wear.bay_wear(f1, l, cur1, mat, scn.wear_law, nums, phase)
+        wear_before.append(cur1.Z.copy())
+        cur1 = wear.apply_wear(cur1, w.Z)
+    # the same on the N-bay period (the 1-bay coefficients k on the lines k N)
+    def on_period(Z1):
+        Z = np.zeros(2 * J + 1, dtype=complex)
+        Z[J + N * np.arange(-K, K + 1)] = Z1
+        return Z
+    probes = _tangent_batches(free, locked, N)
+    cols = []  # (probe, wheel) -> columns
+    dP, da, dsh = [[] for _ in order], [[] for _ in order], [[] for _ in order]
+    nonh = nums.normal == "nonhertzian"
+    Z0N = np.zeros(2 * J + 1, dtype=complex)
+    fN0 = chain.solve_forces(scn, tabs, Roughness(Z0N, N))
+    base = []
+    for w_i, l in enumerate(order):
+        base.append(wear.march_inputs(fN0, l, Roughness(on_period(wear_before[w_i]), N), mat, nums, phase))
+    for batch in probes:
+        Z = Z0N.copy()
+        for j, kind in batch:
+            c = -1j if kind == "sin" else 1.0
+            Z[J + j] += c * eps / 2
+            Z[J - j] += np.conj(c) * eps / 2
+        fN = chain.solve_forces(scn, tabs, Roughness(Z, N))
+        for w_i, l in enumerate(order):
+            mi1, b0 = ref[w_i], base[w_i]
+            mi = wear.march_inputs(fN, l, Roughness(Z + on_period(wear_before[w_i]), N), mat, nums, phase)
+            # the same grid (the spin-up may differ by a step: positions are taken from each one's own)
+            same = (mi.M == b0.M == mi1.M and mi.Nx == b0.Nx == N * mi1.Nx
+                    and abs(mi.delta - mi1.delta) <= 1e-12 * mi1.delta and abs(b0.delta - mi1.delta) <= 1e-12 * mi1.delta)
+            if not same:
+                raise RuntimeError(f"the probe's contact grid (M {mi.M}, Nx {mi.Nx}) differs from the smooth rail's (M {mi1.M}, "
+                                   f"Nx {N} x {mi1.Nx}); use method='probe'.")
+            nx1, nxN = mi1.Nx, b0.Nx
+            pos = (np.arange(mi1.spin + nx1 + 2 * mi1.M + 1) - mi1.spin)[None, :] + nx1 * np.arange(N)[:, None]
+            F = {}
+            for name, arr, arr0 in (("P", mi.P, b0.P), ("a", mi.a, b0.a)) + ((("shape", mi.shape, b0.shape),) if nonh else ()):
+                d = arr[mi.spin + pos % nxN] - arr0[b0.spin + pos % nxN]
+                F[name] = np.fft.fft(d, axis=0) / N  # class r: F[r]
+            for j, kind in batch:
+                r = j % N
+                scale = 2 / eps if kind == "free" else 1 / eps
+                parts = (np.real, np.imag) if kind == "free" else (np.real,)
+                for part in parts:
+                    if w_i == 0:
+                        cols.append((j, kind, part is np.imag))
+                    dP[w_i].append(part(F["P"][r]) * scale)
+                    da[w_i].append(part(F["a"][r]) * scale)
+                    if nonh:
+                        dsh[w_i].append(part(F["shape"][r]) * scale)
+    ncol = len(cols)
+    gw = np.zeros((mi1.Nx, ncol))
+    kd = scn.wear_law.coefficient / scn.wear_law.density
+    for w_i, l in enumerate(order):
+        mi1 = ref[w_i]
+        nn = 2 * mi1.M + 1
+        chunk = ncol if not nonh else max(1, int(2e8 // (8 * mi1.P.size * nn)))
+        chunk = min(chunk, max_columns or chunk)
+        for c0 in range(0, ncol, chunk):
+            sl = slice(c0, min(c0 + chunk, ncol))
+            dPc = np.array(dP[w_i][sl]).T
+            dac = np.array(da[w_i][sl]).T
+            dshc = np.moveaxis(np.array(dsh[w_i][sl]), 0, -1) if nonh else None
+            _, dwork = work_tangent(mi1.P, mi1.a, mat, tabs[0].speed, mi1.delta, mi1.M, dPc, dac, dshc, closure=nums.closure,
+                                    closure_scale=nums.closure_scale, shape=mi1.shape)
+            gw[:, sl] += kd * dwork[mi1.spin + mi1.M + np.arange(mi1.Nx)]
+    nx1 = gw.shape[0]
+    k = np.arange(nx1)
+
+    def coef(g, jj):  # W_jj per unit probe from the bay-0 derivative g
+        return np.sum(g * np.exp(-2j * np.pi * jj * k / (N * nx1))) / nx1
+
+    R, side, Ms = {}, {}, {}
+    c = 0
+    while c < ncol:
+        j, kind, _ = cols[c]
+        if kind == "free":
+            g = gw[:, c] + 1j * gw[:, c + 1]
+            R[j] = coef(g, j)
+            near = [j + m for m in (-N, N) if abs(j + m) <= J]
+            side[j] = max(abs(coef(g, jj)) for jj in near) / max(abs(R[j]), 1e-300) if near else 0.0
+            c += 2
+        else:
+            D = coef(gw[:, c], j)
+            Ms.setdefault(j, {})[kind] = (2 * D.real, -2 * D.imag)
+            c += 1
+    Mout = {j: np.array([v["cos"], v["sin"]]).T for j, v in Ms.items()}
+    return R, side, Mout
 
 
 @dataclass(frozen=True)
@@ -303,7 +434,7 @@ def _sorted_eigenvalues(M):
 
 
 def rate_spectrum(scn: Scenario, table, lines, eps: float = 1e-9, grid_phases: int = 2,
-                  check_lines: int = 4) -> RateSpectrum:
+                  check_lines: int = 4, method: str = "linear") -> RateSpectrum:
     """Growth-rate spectrum about the smooth rail at the given lines.
 
     Free lines by wear_rates (one probing cosine per pair of classes per wear evaluation over the N
@@ -335,6 +466,13 @@ def rate_spectrum(scn: Scenario, table, lines, eps: float = 1e-9, grid_phases: i
     check_lines : int
         Free lines (spread over the range), and the first locked line, probed again with 2 eps to
         measure the linearity [-] (on the first grid).
+    method : str
+        'linear' (default): every line from one march of the smooth rail over one bay carrying the
+        derivative of the contact along every probe (_linear_rates, rail.contact_tangent); the
+        linearity is then the change of the rate from the derivative to probes of 2 eps.
+        'probe': the previous path, each line from the difference of two nonlinear marches over the
+        N bays (one line per pair of classes per march, _batches), the reference of the tests;
+        about seven times the cost at the default resolution.
 
     Returns
     -------
@@ -360,7 +498,39 @@ def rate_spectrum(scn: Scenario, table, lines, eps: float = 1e-9, grid_phases: i
     source = np.zeros(lines.size)
     sideband = np.zeros(lines.size)
     changes = []
+    if method not in ("linear", "probe"):
+        raise ValueError(f"method = {method!r} is not allowed: it must be 'linear' or 'probe'.")
     for p, phase in enumerate(np.arange(grid_phases) / grid_phases):
+        if method == "linear":
+            s_1 = dataclasses.replace(scn, roughness=dataclasses.replace(scn.roughness, bays=1))
+            Z01 = _smooth(s_1)
+            W01 = chain.train_wear(s_1, tabs[0], Z01, phase)[0]
+            kinds = {int(lines[idx]): int(locked[idx]) for idx in held}
+            probes = [(j, kind) for j in kinds for kind in ("cos", "sin")]
+            R_l, side_l, M_l = _linear_rates(scn, tabs, [int(j) for j in lines[free]], probes, eps, phase)
+            R[p] = [R_l[int(j)] for j in lines[free]]
+            sideband[free] = np.maximum(sideband[free], [side_l[int(j)] for j in lines[free]])
+            for n, idx in enumerate(held):
+                Ms[p, n] = M_l[int(lines[idx])]
+                if locked[idx] == 1:
+                    source[idx] += 2 * abs(W01[len(W01) // 2 + int(lines[idx]) // N]) / grid_phases
+            if p == 0:  # the linear range: probes of 2 eps against the derivative
+                if free.size:
+                    Z0 = _smooth(scn)
+                    W0 = np.zeros(Z0.size, dtype=complex)  # the smooth rail's wear is bay-periodic: on the lines k N
+                    W0[len(Z0) // 2 + N * np.arange(-scn.harmonics, scn.harmonics + 1)] = W01
+                    pick = np.unique(np.linspace(0, free.size - 1, min(check_lines, free.size)).round().astype(int))
+                    R2 = _probe(scn, tabs, lines[free[pick]], 2 * eps, Z0, W0, phase)
+                    changes += list(np.abs(R2.real / R[0, pick].real - 1))
+                if held.size:
+                    kind = int(locked[held[0]])
+                    s_n = dataclasses.replace(scn, roughness=dataclasses.replace(scn.roughness, bays=kind))
+                    t_n = tabs[0] if kind == 1 else (tabs[0], tabs[N // 2])
+                    Z0n = _smooth(s_n)
+                    W0n = chain.train_wear(s_n, t_n, Z0n, phase)[0]
+                    M2 = _locked(s_n, t_n, int(lines[held[0]] * kind // N), 2 * eps, phase, Z0n, W0n)
+                    changes.append(abs(_sorted_eigenvalues(M2)[0].real / _sorted_eigenvalues(Ms[0, 0])[0].real - 1))
+            continue
         if free.size:
             Z0 = _smooth(scn)
             W0, _ = chain.train_wear(scn, tabs, Z0, phase)

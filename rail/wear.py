@@ -25,7 +25,7 @@ from . import normal
 from .contact import ContactError, ContactMaterial, ContactNumerics, equivalent_radius, hertz_half_length, rolling_grid, solve_tangential
 from .interaction import ForceResult, Roughness, force_on_grid
 
-__all__ = ["WearLaw", "WearResult", "bay_wear", "wear_spectrum", "apply_wear", "roughness_slope", "SPIN_UP_TRANSITS"]
+__all__ = ["WearLaw", "WearResult", "MarchInputs", "march_inputs", "bay_wear", "wear_spectrum", "apply_wear", "roughness_slope", "SPIN_UP_TRANSITS"]
 
 SPIN_UP_TRANSITS = 20
 
@@ -180,7 +180,68 @@ def bay_wear(forces: ForceResult, wheel_index: int, roughness: Roughness, materi
         raise ValueError(f"the roughness has {roughness.harmonics} harmonics and the forces {forces.harmonics}: the wear would "
                          f"be computed for the roughness's harmonics only; give both the receptance table's K.")
     speed, L = forces.speed, forces.period  # L: the period N L of roughness and force
-    nodes, closure, closure_scale = numerics.nodes, numerics.closure, numerics.closure_scale
+    closure, closure_scale = numerics.closure, numerics.closure_scale
+    mi = march_inputs(forces, wheel_index, roughness, material, numerics, grid_phase, a_max)
+    P, a, shape, delta, Nx, M, spin = mi.P, mi.a, mi.shape, mi.delta, mi.Nx, mi.M, mi.spin
+    min_shape, shift = mi.min_shape, mi.shift
+    sol = solve_tangential(P, a, material, speed, delta, M, closure=closure, closure_scale=closure_scale, shape=shape)
+    # particle j is at x = (j - M - spin) Delta; the bay's points x_k = k Delta are j = spin + M + k
+    j = spin + M + np.arange(Nx)
+    depth = wear_law.depth(sol.work[j])
+    x = np.arange(Nx) * delta
+    # states with the wheel centre at x_k: step i = spin + k
+    i = spin + np.arange(Nx)
+    qscale = max(np.abs(sol.q).max(), 1e-300)
+    periodicity = float(np.abs(sol.q[spin + Nx] - sol.q[spin]).max() / qscale)
+    if not np.all(np.isfinite(depth)):
+        raise FloatingPointError(f"the wear depth of wheel {wheel_index} is not finite (V = {speed:g} m/s).")
+    loaded = P[i] > 0
+    full_slip = float(np.mean((sol.stick_nodes[i] == 0) & loaded))
+    return WearResult(
+        x=x,
+        depth=depth,
+        Z=wear_spectrum(depth, K),
+        P=P[i],
+        a=a[i],
+        Q=sol.Q[i],
+        q=sol.q[i],
+        s=sol.s[i],
+        xi=sol.xi,
+        periodicity=periodicity,
+        full_slip=full_slip,
+        min_shape=min_shape,
+        shift=shift,
+    )
+
+
+@dataclass(frozen=True)
+class MarchInputs:
+    """What bay_wear hands the tangential march (solve_tangential) for one wheel over the period.
+
+    P, a   : (steps,) normal force [N] and half-length [m] at each step of the march
+    shape  : (steps, 2M + 1) pressure shape factor (normal contact 'nonhertzian'), else None
+    delta  : grid spacing [m]; Nx: spacings over the period; M: centre node; spin: spin-up steps
+             (step spin + k has the wheel at x_k = k delta)
+    min_shape, shift : as WearResult
+    """
+
+    P: np.ndarray
+    a: np.ndarray
+    shape: np.ndarray | None
+    delta: float
+    Nx: int
+    M: int
+    spin: int
+    min_shape: float
+    shift: float
+
+
+def march_inputs(forces: ForceResult, wheel_index: int, roughness: Roughness, material: ContactMaterial,
+                 numerics: ContactNumerics, grid_phase: float = 0.0, a_max: float | None = None) -> MarchInputs:
+    """The contact grid and the normal contact (force, half-length, pressure shape) of every step of
+    bay_wear's march (the same arguments; bay_wear checks them)."""
+    L = forces.period  # the period N L of roughness and force
+    nodes = numerics.nodes
     P_s = force_on_grid(forces, 512 * forces.bays)[wheel_index]  # at x = k L / (512 N)
     nonhertzian = numerics.normal == "nonhertzian"
     if nonhertzian:
@@ -237,34 +298,7 @@ def bay_wear(forces: ForceResult, wheel_index: int, roughness: Roughness, materi
                            f"{float(np.min(a)) * 1e3:.3g} to {float(np.max(a)) * 1e3:.3g} mm along the period (the rail nearly as "
                            "concave as the wheel); the report's local-curvature Hertz patch is far outside its validity there "
                            "(contact.normal: nonhertzian sees the roughness under the patch).")
-    sol = solve_tangential(P, a, material, speed, delta, M, closure=closure, closure_scale=closure_scale, shape=shape)
-    # particle j is at x = (j - M - spin) Delta; the bay's points x_k = k Delta are j = spin + M + k
-    j = spin + M + np.arange(Nx)
-    depth = wear_law.depth(sol.work[j])
-    x = np.arange(Nx) * delta
-    # states with the wheel centre at x_k: step i = spin + k
-    i = spin + np.arange(Nx)
-    qscale = max(np.abs(sol.q).max(), 1e-300)
-    periodicity = float(np.abs(sol.q[spin + Nx] - sol.q[spin]).max() / qscale)
-    if not np.all(np.isfinite(depth)):
-        raise FloatingPointError(f"the wear depth of wheel {wheel_index} is not finite (V = {speed:g} m/s).")
-    loaded = P[i] > 0
-    full_slip = float(np.mean((sol.stick_nodes[i] == 0) & loaded))
-    return WearResult(
-        x=x,
-        depth=depth,
-        Z=wear_spectrum(depth, K),
-        P=P[i],
-        a=a[i],
-        Q=sol.Q[i],
-        q=sol.q[i],
-        s=sol.s[i],
-        xi=sol.xi,
-        periodicity=periodicity,
-        full_slip=full_slip,
-        min_shape=min_shape,
-        shift=shift,
-    )
+    return MarchInputs(P=P, a=a, shape=shape, delta=delta, Nx=Nx, M=M, spin=spin, min_shape=min_shape, shift=shift)
 
 
 def roughness_slope(roughness: Roughness, period: float):

@@ -340,3 +340,26 @@ def test_spectrum_figures_draw_the_lines_they_are_given(tmp_path):
     sweep = sweep_rate_spectrum([ds.isel(speed=[i]) for i in range(2)], ["speed"], [[20.0, 40.0]], [(0,), (1,)])
     plots.rate_spectrum_sweep_figure(sweep).savefig(tmp_path / "m.png")
     assert (tmp_path / "m.png").stat().st_size > 5000
+
+
+@pytest.mark.parametrize("normal", ["report", "nonhertzian"])
+def test_linear_method_matches_the_probes_of_the_nonlinear_march(setup, normal):
+    """The spectrum's default path (the tangent of the contact march about the smooth rail, one bay)
+    against the independent probes of the nonlinear march over the N bays (method 'probe'): free
+    lines of both classes of a pair, a comb and a half-comb line, long and short wavelengths. The
+    two differ by the probes' O(eps) nonlinearity and the tangent's difference of the influence
+    matrix (measured: at most 3e-4 of |R| on this track); a wrong derivative term gives tens of
+    percent (a step of 1e-6 in that difference instead of 1e-9 gave errors of order 1)."""
+    scn, tabs = setup
+    scn = dataclasses.replace(scn, contact_numerics=dataclasses.replace(scn.contact_numerics, normal=normal))
+    lines = [5, 7, 6, 4, 13, 30, 41, 90]
+    fast = GS.rate_spectrum(scn, tabs, lines, grid_phases=1, check_lines=2, method="linear")
+    ref = GS.rate_spectrum(scn, tabs, lines, grid_phases=1, check_lines=2, method="probe")
+    err = np.abs(fast.rate - ref.rate) / np.abs(ref.rate)
+    assert err.max() < 2e-3, dict(zip(lines, err))
+    assert np.abs(fast.rate_other - ref.rate_other).max() < 2e-3 * np.abs(ref.rate).max()
+    assert np.allclose(fast.sideband, ref.sideband, atol=2e-3)
+    assert np.allclose(fast.source, ref.source, rtol=1e-9, atol=0)
+    assert fast.linearity < 1e-2
+    with pytest.raises(ValueError, match="method"):
+        GS.rate_spectrum(scn, tabs, lines, grid_phases=1, method="exact")

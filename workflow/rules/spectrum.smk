@@ -27,7 +27,7 @@ rule rate_spectrum_tables:
 
 
 rule rate_spectrum_speed:
-    """Growth-rate spectrum of one scenario at one speed (about 3 min on one core at 187 lines)."""
+    """Growth-rate spectrum of one scenario at one speed (about 30 s CPU at 187 lines with the report's contact, issue 33; tables apart)."""
     input:
         table=rate_spectrum_table,
     output:
