@@ -23,6 +23,7 @@ if ONE_OFF is not None:
     workflow.workdir(str(ONE_OFF))
 
 
+include: "workflow/rules/kernels.smk"
 include: "workflow/rules/halfspace.smk"
 include: "workflow/rules/track.smk"
 include: "workflow/rules/forces.smk"

@@ -146,7 +146,7 @@ def _linear_rates(scn, tabs, free, locked, eps, phase, max_columns=None):
     for l in order:
         mi = wear.march_inputs(f1, l, cur1, mat, nums, phase)
         ref.append(mi)
-        w = wear.bay_wear(f1, l, cur1, mat, scn.wear_law, nums, phase)
+        w = chain.passage_wear(s1, f1, cur1, l, phase)
         wear_before.append(cur1.Z.copy())
         cur1 = wear.apply_wear(cur1, w.Z)
     # the same on the N-bay period (the 1-bay coefficients k on the lines k N)

@@ -239,7 +239,18 @@ class MarchInputs:
 def march_inputs(forces: ForceResult, wheel_index: int, roughness: Roughness, material: ContactMaterial,
                  numerics: ContactNumerics, grid_phase: float = 0.0, a_max: float | None = None) -> MarchInputs:
     """The contact grid and the normal contact (force, half-length, pressure shape) of every step of
-    bay_wear's march (the same arguments; bay_wear checks them)."""
+    bay_wear's march (eqs 22-24 or rail.normal.patch_contact).
+
+    Parameters
+    ----------
+    forces, wheel_index, roughness, material, numerics, grid_phase, a_max
+        As bay_wear (forces [N], roughness [m], a_max [m]; bay_wear checks them).
+
+    Returns
+    -------
+    MarchInputs
+        Force [N], half-length [m] and pressure shape [-] at each step, grid spacing [m] and sizes.
+    """
     L = forces.period  # the period N L of roughness and force
     nodes = numerics.nodes
     P_s = force_on_grid(forces, 512 * forces.bays)[wheel_index]  # at x = k L / (512 N)

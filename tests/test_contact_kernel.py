@@ -177,3 +177,24 @@ def test_a_uniform_pressure_factor_equals_a_scaled_load():
     direct = C.solve_tangential(1.1 * P, a, m, V, delta, M)
     np.testing.assert_allclose(scaled.q, direct.q, rtol=0, atol=1e-12 * np.abs(direct.q).max())
     np.testing.assert_allclose(scaled.work, direct.work, rtol=0, atol=1e-12 * direct.work.max())
+
+
+def test_compile_kernels_compiles_every_signature_the_production_calls_use():
+    # The workflow compiles the marches once (rule compile_kernels) so that parallel jobs load numba's
+    # cache; that only helps if the production calls use the same argument types. Calls in other
+    # forms (no pressure shape, an initial traction, the report's closure, the tangent march without
+    # a shape direction) must add no signature.
+    from rail import contact_tangent, kernels
+    from rail.contact import _march, solve_tangential
+
+    listed = kernels.compile_kernels(tangent=True)
+    assert any(s.startswith("rail.contact._march(") for s in listed)
+    assert any(s.startswith("rail.contact_tangent._march_tangent(") for s in listed)
+    before = (list(_march.signatures), list(contact_tangent._march_tangent.signatures))
+    m = C.ContactMaterial(2.1e11, 0.3, 0.008, 0.575, 0.3, 0.35, -0.002)
+    M, steps, delta = 20, 40, 2.5e-4
+    P, a = np.full(steps, 9e4), np.full(steps, 3e-3)
+    solve_tangential(P, a, m, 30.0, delta, M, closure="report", q0=np.zeros(2 * M + 1))
+    solve_tangential(P, a, m, 30.0, delta, M)
+    contact_tangent.work_tangent(P, a, m, 30.0, delta, M, np.ones((steps, 2)), np.zeros((steps, 2)))
+    assert (list(_march.signatures), list(contact_tangent._march_tangent.signatures)) == before

@@ -24,6 +24,8 @@ rule closure_wear:
 
 rule closure_wellposedness:
     """Perturbation growth per patch transit of every closure value on three grids."""
+    input:
+        kernels=kernels("march"),
     output:
         "results/closure/wellposedness.nc",
     params:

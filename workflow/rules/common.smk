@@ -577,3 +577,10 @@ def growth_runtime(wildcards):
     updates = scn.growth.passages / scn.growth.passages_per_update
     seconds = 0.5 * updates * len(scn.wheels.positions) * scn.roughness.bays * (scn.contact_numerics.nodes / 61) ** 2
     return int(10 + 3 * seconds / 60)
+
+
+def kernels(which):
+    """The marker of the compiled kernels a rule's script calls: 'march' (rail.contact, every
+    growth and wear job) or 'tangent' (also rail.contact_tangent, the growth-rate spectrum)."""
+    # ancient: the marker's age never reruns a job (each job's own code hash does)
+    return ancient(f"results/cache/kernels_{which}.txt")

@@ -4,6 +4,7 @@
 rule growth:
     """Roughness growth of one scenario at one speed from its initial roughness."""
     input:
+        kernels=kernels("march"),
         table=growth_table,
         roughness=roughness_file,
     output:

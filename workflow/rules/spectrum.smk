@@ -29,6 +29,7 @@ rule rate_spectrum_tables:
 rule rate_spectrum_speed:
     """Growth-rate spectrum of one scenario at one speed (about 30 s CPU at 187 lines with the report's contact, issue 33; tables apart)."""
     input:
+        kernels=kernels("tangent"),
         table=rate_spectrum_table,
     output:
         "results/spectrum/{scenario}/V{speed}.nc",

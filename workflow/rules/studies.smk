@@ -4,6 +4,8 @@
 
 rule stability_case:
     """One case of the stability suite: a checked result or a clear error (never NaN)."""
+    input:
+        kernels=kernels("march"),
     output:
         "results/stability/cases/{case}.json",
     params:
@@ -52,6 +54,7 @@ rule convergence_point:
     """One point of the convergence study (a figure quantity at one value of one setting)."""
     input:
         unpack(convergence_table),
+        kernels=kernels("march"),
     output:
         "results/convergence/points/{setting}/{value}.nc",
     params:

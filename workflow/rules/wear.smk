@@ -4,6 +4,7 @@
 rule wear_case:
     """One wheel passage over a harmonic roughness: contact and wear along the bay."""
     input:
+        kernels=kernels("march"),
         table="results/receptance/{track}/V{speed}.nc",
     output:
         "results/wear/{track}/V{speed}_f{freq}.nc",
