@@ -11,6 +11,7 @@ from rail.
 from __future__ import annotations
 
 import ast
+import functools
 import hashlib
 from pathlib import Path
 
@@ -39,7 +40,17 @@ def _dotted_of(path: Path, root: Path) -> str:
 
 
 def _imported_names(path: Path, root: Path) -> set[str]:
-    """Dotted names of the rail modules a file imports (each may be a module or a package)."""
+    """Dotted names of the rail modules a file imports (each may be a module or a package).
+
+    Parsed once per file version (path, modification time and size): the workflow hashes the
+    imports of about 30 scripts at start-up, which share most of their modules."""
+    st = path.stat()
+    return set(_parse_imports(str(path), str(root), st.st_mtime_ns, st.st_size))
+
+
+@functools.lru_cache(maxsize=None)
+def _parse_imports(path_text: str, root_text: str, _mtime_ns: int, _size: int) -> frozenset[str]:
+    path, root = Path(path_text), Path(root_text)
     tree = ast.parse(path.read_text(), filename=str(path))
     is_pkg = path.name == "__init__.py"
     here = _dotted_of(path, root) if path.is_relative_to(root) else None
@@ -60,7 +71,7 @@ def _imported_names(path: Path, root: Path) -> set[str]:
                 continue
             out.add(mod)
             out |= {f"{mod}.{a.name}" for a in node.names}  # 'from rail import chain': chain may be a module
-    return out
+    return frozenset(out)
 
 
 def rail_imports(path, root: Path = ROOT) -> list[Path]:

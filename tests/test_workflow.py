@@ -58,6 +58,7 @@ def test_default_target_builds_every_figure_and_only_the_receptances_they_need(r
         "growth": 7,  # default at 4 speeds, soft_pad at 40, class87 at 20 and 40 m/s
         "growth_figure": 7,  # Figs 20, 21, 23-27
         "growth_3d": 1,
+        "compile_kernels": 1,  # the contact march, compiled once before the wear and growth jobs
         "all": 1,
     }
 
