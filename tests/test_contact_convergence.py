@@ -6,6 +6,8 @@ is part of: the steady frictional work against Carter's exact value, a wear harm
 harmonic (amplitude and phase), a sign as a sign.
 """
 
+import functools
+
 import numpy as np
 import pytest
 from scipy.integrate import quad
@@ -209,6 +211,7 @@ def test_full_slip_under_the_issues_large_load_variation_is_second_order_at_movi
 # ---- partial slip under a fast load variation: the wear harmonic against itself
 
 
+@functools.cache  # the 161-node harmonic is used by two tests below: computed once
 def averaged_harmonic(f, nodes, amp=0.3, spacings=4, Nw=4, spin_periods=2):
     """Wear harmonic at f under P0 (1 + amp cos 2 pi f t), averaged over ``spacings`` grid spacings
     that sweep a / Delta over one unit (as the growth loop does): each run spans Nw wavelengths
