@@ -12,6 +12,7 @@ from rail.app import api, cli
 from rail.setup.config import ConfigError
 
 
+@pytest.mark.slow
 def test_worked_example_runs(root, capsys):
     runpy.run_path(str(root / "docs/example.py"), run_name="__main__")
     out = capsys.readouterr().out

@@ -78,6 +78,7 @@ def test_byte_order_mark_is_read_and_a_binary_file_is_named(tmp_path):
 # 3. speeds and scenario names in target paths (dry runs: refused before any job)
 
 
+@pytest.mark.slow
 def test_target_speed_and_scenario_are_checked_before_any_job(root, tmp_path):
     import shutil
 
@@ -250,6 +251,7 @@ _SMALL = {"numerics": {"track": {"harmonics": 36}, "contact": {"nodes": 15}}, "s
 
 @settings(max_examples=20, deadline=None, suppress_health_check=[HealthCheck.function_scoped_fixture])
 @given(data=st.data(), key=st.sampled_from(sorted(_RUN_KEYS)))
+@pytest.mark.slow
 def test_fuzzed_configuration_that_passes_runs_to_a_finite_result(defaults, schema, data, key):
     from rail.setup import build
 
@@ -322,6 +324,7 @@ def test_wear_refuses_a_roughness_with_other_harmonics_than_the_forces():
         W.bay_wear(F, 0, I.Roughness.smooth(4), MATERIAL, W.WearLaw(7850.0, 2.5e-9), C.ContactNumerics(41, "default", 1.0))
 
 
+@pytest.mark.slow
 def test_a_bad_measured_decay_rate_found_by_name_stops_the_workflow_at_start_up(root, tmp_path):
     # 7. a measured decay-rate file found by its name (config/measured/<track>_decay_rate.csv, no
     # config key) was read only by its job, after 151 s of computation: now before any job
@@ -336,6 +339,7 @@ def test_a_bad_measured_decay_rate_found_by_name_stops_the_workflow_at_start_up(
                      r"rate\): .*line 3", out.stdout + out.stderr), out.stderr[-800:]
 
 
+@pytest.mark.slow
 def test_a_bad_limit_spectrum_stops_the_workflow_at_start_up(root, tmp_path):
     # the limit file of the band view is read before any job: a non-finite level names file and line
     import shutil
@@ -347,6 +351,7 @@ def test_a_bad_limit_spectrum_stops_the_workflow_at_start_up(root, tmp_path):
     assert re.search(r"figures\.bands\.limit: config/roughness/example_limit\.csv, line 3: '0\.05,nan' is not finite", out.stdout + out.stderr)
 
 
+@pytest.mark.slow
 def test_a_spectrum_period_too_short_for_its_resolution_stops_the_workflow_at_start_up(root, tmp_path):
     # figures.rate_spectrum: 16 bays cannot resolve 0.6 m at 30 lines per octave; before, the
     # spectrum job said so only after its receptance tables (40 s per speed)
@@ -503,6 +508,7 @@ def test_a_truncated_intermediate_file_is_named_and_moved_aside(tmp_path):
     assert (tmp_path / "V40.nc.unreadable").read_bytes() == whole[: len(whole) // 2]
 
 
+@pytest.mark.slow
 def test_a_truncated_receptance_table_is_rebuilt_by_the_next_run(root, tmp_path):
     import shutil
 

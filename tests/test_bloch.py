@@ -25,6 +25,7 @@ def tables4(tr):
 
 
 @pytest.mark.parametrize("nu", [0.25, 0.8])
+@pytest.mark.slow
 def test_bloch_table_against_direct_moving_load_coefficients(tr, nu):
     # column k of the table at fraction nu is a_n((k + nu) Omega_0) from an independent quadrature
     # at that single frequency (rail.moving.moving_coefficients), at the load and 1.9 m away
@@ -85,6 +86,7 @@ def test_a_sinusoid_between_the_comb_lines_excites_only_its_own_bloch_class(tr, 
     np.testing.assert_allclose(Fs.P[0][::-1], np.conj(Fs.P[0]), rtol=0, atol=1e-9 * np.abs(Fs.P[0]).max())
 
 
+@pytest.mark.slow
 def test_far_apart_wheels_over_n_bays_behave_as_single_wheels(tr):
     # two wheels 49.5 m apart (20.6 periods of 2.4 m) over a roughness between the comb lines: the
     # coupling phases of the Bloch classes are right when each wheel, at a given position in the
@@ -106,10 +108,10 @@ def test_far_apart_wheels_over_n_bays_behave_as_single_wheels(tr):
         assert np.abs(P - one).max() < 2e-5 * np.ptp(one)
 
 
-@pytest.mark.parametrize("n", [97, 3001])
-def test_force_and_curvature_on_a_grid_by_fft_equal_the_direct_sums(tr, tables4, n):
-    # at the n grid points of the period every harmonic (and the 1/p^2 tail up to 17 K, far above
-    # n / 2 for n = 97) folds into n bins exactly: the FFT sums equal the direct sums to rounding
+@pytest.fixture(scope="module")
+def random_forces(tr):
+    """Two wheels 1.9 m apart over a random roughness periodic over 4 bays: (its coefficients, the roughness, the
+    forces); the same for both grids of the test below."""
     rng = np.random.default_rng(0)
     J = 4 * K
     Z = np.zeros(2 * J + 1, dtype=complex)
@@ -117,7 +119,15 @@ def test_force_and_curvature_on_a_grid_by_fft_equal_the_direct_sums(tr, tables4,
     Z[:J] = np.conj(Z[J + 1 :][::-1])
     rough = I.Roughness(Z, 4)
     tabs = moving.bloch_tables(tr, V, K, 4, offsets=(0.0, -1.9, 1.9))
-    F = I.solve_forces(tabs, I.Wheels(1350.0, 0.575, 1e5, (0.0, 1.9)), contact_spring(), rough, tr.L)
+    return Z, rough, I.solve_forces(tabs, I.Wheels(1350.0, 0.575, 1e5, (0.0, 1.9)), contact_spring(), rough, tr.L)
+
+
+@pytest.mark.parametrize("n", [97, 3001])
+def test_force_and_curvature_on_a_grid_by_fft_equal_the_direct_sums(random_forces, n):
+    # at the n grid points of the period every harmonic (and the 1/p^2 tail up to 17 K, far above
+    # n / 2 for n = 97) folds into n bins exactly: the FFT sums equal the direct sums to rounding
+    J = 4 * K
+    Z, rough, F = random_forces
     x = np.arange(n) * F.period / n
     direct, fast = I.force_history(F, x), I.force_on_grid(F, n)
     assert np.abs(direct - fast).max() < 1e-12 * np.ptp(direct)

@@ -52,6 +52,7 @@ def continuous_support_decay_rate(f):
     return 20 * np.log10(np.e) * np.min(np.abs(np.sqrt(B.astype(complex)).imag))
 
 
+@pytest.mark.slow
 def test_en15461_decay_rate_matches_free_wavenumber_of_continuously_supported_rail():
     # Supports 5 cm apart with Table 1's stiffness and mass per metre behave as a continuous
     # foundation (pinned-pinned far above 5 kHz; discrete against continuous < 1 % at L = 5 cm,
@@ -113,6 +114,7 @@ def receptance():
     return characterisation.track_receptance(table1(), points=40)
 
 
+@pytest.mark.slow
 def test_characteristic_frequencies_match_closed_forms(receptance):
     # Pinned-pinned: the first mode of the periodic rail at the Brillouin zone edge has nodes at
     # the supports, so it is the simply supported span's mode whatever the support stiffness;
@@ -132,6 +134,7 @@ def test_characteristic_frequencies_match_closed_forms(receptance):
     assert receptance.attrs["out_of_phase_Hz"] == pytest.approx(np.sqrt(PAD * (1 / mr + 1 / M_S)) / (2 * np.pi), rel=0.10)
 
 
+@pytest.mark.slow
 def test_softer_pad_lowers_out_of_phase_resonance_as_the_closed_form_says(receptance):
     # Halving k_P: the out-of-phase resonance falls by about sqrt(1/2) (two-mass ratio 0.709,
     # sqrt 0.707); the track-on-ballast resonance, set by the ballast, barely moves (two-mass
@@ -195,6 +198,7 @@ def test_moving_receptance_tends_to_bay_average_as_speed_vanishes():
     np.testing.assert_allclose(ds["sleeper_passing_frequency"], [0.5 / 0.6, 80 / 0.6])
 
 
+@pytest.mark.slow
 def test_figures_label_axes_with_units(receptance, tmp_path):
     m = tmp_path / "m.csv"
     m.write_text("band_centre_Hz,decay_rate_dB_per_m\n2000,0.7\n")
@@ -228,6 +232,7 @@ def job_counts(output: str) -> dict[str, int]:
     return {m.group(1): int(m.group(2)) for m in re.finditer(r"^(\w+)\s+(\d+)\s*$", table, re.M)}
 
 
+@pytest.mark.slow
 def test_track_characterisation_runs_only_the_track_jobs(root, tmp_path):
     # one scenario on the default track (no jobs of its own), one with its own track; a measured
     # decay rate for the default track only

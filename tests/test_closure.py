@@ -109,6 +109,7 @@ def test_quasi_static_end_follows_carter_for_a_slowly_varying_load():
     assert _carter_tracking(0.01, 25.0) < 5e-3
 
 
+@pytest.mark.slow
 def test_quasi_static_end_follows_carter_for_fast_load_variation_as_the_grid_is_refined():
     # 1000 Hz (+-20 %, 40 m/s; the transit time 2a/V is a third of the period). The deviation from
     # the instantaneous Carter force is the closure's memory, growing with s, plus discretisation
@@ -178,6 +179,7 @@ def _in_phase_rates(nodes, phases):
     return out
 
 
+@pytest.mark.slow
 def test_sign_of_the_in_phase_wear_rate_at_1000_hz_is_the_same_on_two_grids():
     # The sign decides whether roughness near pinned-pinned grows (conclusion 2c). Measured per
     # passage at 41 / 81 / 161 nodes: s = 0.01: +2.447 / +2.449 / +2.449e-6; 0.3: +1.740 / +1.743 /

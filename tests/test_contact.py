@@ -194,6 +194,7 @@ def bay():
     return _bay()
 
 
+@pytest.mark.slow
 def test_wear_law_integrates_the_frictional_power(bay):
     # Sum over the bay of (rho / K) depth * Delta = time integral of the frictional power per width.
     # Over a periodic bay it equals the creep power |Q gamma V| / (2b) up to the work of the rigid

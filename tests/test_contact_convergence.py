@@ -6,6 +6,8 @@ is part of: the steady frictional work against Carter's exact value, a wear harm
 harmonic (amplitude and phase), a sign as a sign.
 """
 
+import functools
+
 import numpy as np
 import pytest
 from scipy.integrate import quad
@@ -163,6 +165,7 @@ def solver_harmonic(f, amp, nodes, m, spin=4):
     return c, mean, n_per
 
 
+@pytest.mark.slow
 def test_full_slip_wear_harmonic_converges_to_the_analytic_path_integral():
     # 1600 Hz, +-3 % load, creepage -0.01 (full slip): the mean work is exact (the pressure is
     # integrated exactly along the paths) and the harmonic, which is 1.4 % of the mean, converges
@@ -184,6 +187,7 @@ def test_full_slip_wear_harmonic_converges_to_the_analytic_path_integral():
     assert max(phase_err) < 1e-3
 
 
+@pytest.mark.slow
 def test_full_slip_under_the_issues_large_load_variation_is_second_order_at_moving_edges():
     # The partial-slip case's +-30 % load at 1600 Hz, in full slip (creepage -0.01): the patch edges
     # sweep +-15 % of a, about 3 a / Delta units per cycle at 41 nodes, as in partial slip, but
@@ -207,6 +211,7 @@ def test_full_slip_under_the_issues_large_load_variation_is_second_order_at_movi
 # ---- partial slip under a fast load variation: the wear harmonic against itself
 
 
+@functools.cache  # the 161-node harmonic is used by two tests below: computed once
 def averaged_harmonic(f, nodes, amp=0.3, spacings=4, Nw=4, spin_periods=2):
     """Wear harmonic at f under P0 (1 + amp cos 2 pi f t), averaged over ``spacings`` grid spacings
     that sweep a / Delta over one unit (as the growth loop does): each run spans Nw wavelengths
@@ -224,6 +229,7 @@ def averaged_harmonic(f, nodes, amp=0.3, spacings=4, Nw=4, spin_periods=2):
 
 
 @pytest.mark.parametrize("f, limit", [(1000.0, 118.5), (1600.0, 33.5)])
+@pytest.mark.slow
 def test_wear_harmonic_under_a_fast_load_converges_towards_the_independent_solver(f, limit):
     # +-30 % load at 1000 and 1600 Hz, 40 m/s, s = 1 (the issue's case; arbitrary units as there).
     # Measured (41, 81, 161, 321 nodes): 1000 Hz 117.76, 118.22, 118.36, 118.41 (amplitude orders

@@ -37,6 +37,7 @@ def test_fig03_beta_G_approaches_the_eq15_limit(steel, settings):
     assert rel[-1] < 5e-3
 
 
+@pytest.mark.slow
 def test_fig04_eq16_follows_boussinesq_near_the_load(steel, settings):
     ds = datasets.fig04(steel, settings, halfspace.HalfSpaceNumerics())
     rel = np.abs(ds["displacement_real"] / ds["displacement_boussinesq"] - 1)

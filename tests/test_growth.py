@@ -3,6 +3,7 @@ report's conclusions (section 7) as statements about the model's own reduced run
 
 import io
 import os
+import shutil
 import signal
 import subprocess
 import sys
@@ -124,6 +125,7 @@ def test_conclusion_4_softer_railpad_gives_lower_overall_roughness(single40):
     assert rms_level(soft.Z[-1]) < rms_level(single40.Z[-1])
 
 
+@pytest.mark.slow
 def test_conclusion_5_four_wheels_and_one_wheel_per_wheel_passage(single40):
     # Class 87: four wheels, bogie wheelbase 3.3 m, bogie centres 10 m; equal wheel passages.
     # The model gives slightly less overall roughness for the four wheels, but by a fraction of a
@@ -134,6 +136,7 @@ def test_conclusion_5_four_wheels_and_one_wheel_per_wheel_passage(single40):
     assert diff > -1.0
 
 
+@pytest.mark.slow
 def test_growth_converges_as_the_update_step_falls():
     # 40,000 passages at 40 m/s with 40k, 20k and 10k passages per update: the levels of the
     # five strongest harmonics change by less each time the step halves. On one contact grid
@@ -167,6 +170,7 @@ _CHILD = textwrap.dedent(
 )
 
 
+@pytest.mark.slow
 def test_killed_run_resumes_and_ends_with_the_uninterrupted_result(tmp_path):
     ck = tmp_path / "run.npz"
     child = subprocess.Popen([sys.executable, "-c", _CHILD.format(tests=os.path.dirname(__file__), ck=str(ck))])
@@ -187,40 +191,56 @@ def test_killed_run_resumes_and_ends_with_the_uninterrupted_result(tmp_path):
     np.testing.assert_array_equal(resumed.full_slip, straight.full_slip)
 
 
-def test_run_killed_after_its_last_update_resumes_to_a_complete_history(tmp_path):
+def test_run_killed_after_its_last_update_resumes_to_a_complete_history(tmp_path, single40):
     # the last checkpoint holds every passage; the run died before its final wear evaluation and
     # its output. Resuming must still give one step error and one full-slip value per update.
     ck = tmp_path / "run.npz"
     run(track(), 40.0, passages=20000, step=10000, checkpoint=ck, stop=2)
     assert int(np.load(ck)["done"]) == 20000
     resumed = run(track(), 40.0, passages=20000, step=10000, checkpoint=ck)
-    straight = run(track(), 40.0, passages=20000, step=10000)
+    straight = single40  # the same run uninterrupted: run(track(), 40.0, passages=20000, step=10000)
     assert resumed.step_error.size == resumed.full_slip.size == 2
     np.testing.assert_allclose(resumed.step_error, straight.step_error, rtol=1e-12)
     np.testing.assert_allclose(resumed.Z, straight.Z, rtol=0, atol=1e-18)
 
 
-def test_checkpoint_of_another_configuration_is_refused(tmp_path):
-    ck = tmp_path / "run.npz"
+@pytest.fixture(scope="module")
+def _one_update_checkpoint(tmp_path_factory):
+    ck = tmp_path_factory.mktemp("checkpoint") / "run.npz"
     run(track(), 40.0, passages=20000, step=10000, checkpoint=ck, stop=1)
+    return ck
+
+
+@pytest.fixture
+def stopped_after_one_update(_one_update_checkpoint):
+    """A copy, in the given folder, of the checkpoint of run(track(), 40.0, passages=20000, step=10000)
+    stopped after its first update (the run is done once for the tests below)."""
+    def copy(folder):
+        ck = folder / "run.npz"
+        shutil.copyfile(_one_update_checkpoint, ck)
+        return ck
+
+    return copy
+
+
+def test_checkpoint_of_another_configuration_is_refused(tmp_path, stopped_after_one_update):
+    ck = stopped_after_one_update(tmp_path)
     with pytest.raises(ValueError, match=r"written for another configuration or code"):
         run(track(), 20.0, passages=20000, step=10000, checkpoint=ck)
 
 
-def test_checkpoint_of_another_initial_roughness_is_refused(tmp_path):
+def test_checkpoint_of_another_initial_roughness_is_refused(tmp_path, stopped_after_one_update):
     # the checkpoint's identity holds the initial roughness itself (not the name of the file it
     # came from): an edited roughness file never resumes the old run
-    ck = tmp_path / "run.npz"
-    run(track(), 40.0, passages=20000, step=10000, checkpoint=ck, stop=1)
+    ck = stopped_after_one_update(tmp_path)
     with pytest.raises(ValueError, match=r"written for another configuration or code"):
         run(track(), 40.0, passages=20000, step=10000, checkpoint=ck, rough=I.Roughness.harmonic(1e-7, 0.04, 0.6, K))
 
 
-def test_checkpoint_of_other_physics_code_is_refused(tmp_path, monkeypatch):
+def test_checkpoint_of_other_physics_code_is_refused(tmp_path, stopped_after_one_update, monkeypatch):
     # rail.chain.grow puts the hash of rail.chain's imports (rail.provenance) in the identity:
     # the same run after a change of any physics module is refused
-    ck = tmp_path / "run.npz"
-    run(track(), 40.0, passages=20000, step=10000, checkpoint=ck, stop=1)
+    ck = stopped_after_one_update(tmp_path)
     from rail import provenance
 
     real = provenance.module_hash("rail.chain")
@@ -229,6 +249,7 @@ def test_checkpoint_of_other_physics_code_is_refused(tmp_path, monkeypatch):
         run(track(), 40.0, passages=20000, step=10000, checkpoint=ck)
 
 
+@pytest.mark.slow
 def test_varying_the_grid_spacing_averages_the_grid_tied_wear_error():
     # The wear of one passage over a smooth rail (the parametric source of growth, 40 m/s): its
     # harmonics k = 1..10 are 1.3 % to 0.05 % of the mean wear. On one 81-node grid they carry an
@@ -256,6 +277,7 @@ def test_varying_the_grid_spacing_averages_the_grid_tied_wear_error():
     assert on < 0.25 * off  # and with it on
 
 
+@pytest.mark.slow
 def test_growth_spectrum_on_the_default_grid_against_twice_the_default():
     # 100,000 passages of one wheel from a smooth rail at 40 m/s (the test track): every harmonic
     # within 40 dB of the peak on the default grid (61 nodes) is within 0.5 dB of twice the default,

@@ -138,6 +138,7 @@ def test_spectrum_lines_are_distinct_increasing_and_span_the_range_or_are_refuse
     assert np.all(lam[:-1] > lo) and (lam[-1] <= lo or lines[-1] == bays * K)
 
 
+@pytest.mark.slow
 def test_locked_line_operator_predicts_a_growth_run_from_a_sine(setup):
     # j = 86 of 4 bays is on the half-comb (class N/2, 2L/(2k+1) = 27.9 mm): the roughness at +j and
     # -j couple through the supports, so the cosine and the sine are probed separately on the 2-bay
@@ -170,6 +171,7 @@ def test_locked_line_operator_predicts_a_growth_run_from_a_sine(setup):
     assert np.abs(got - exact).max() < (1.5 * step_error + 1e-3) * b0
 
 
+@pytest.mark.slow
 def test_closure_study_rate_at_1000_hz_is_the_spectrum_rate_plus_its_source(root):
     # The closure study's in-phase rate at 1000 Hz is -Re(Delta Z_m / Z_m) after one passage over a
     # 10 um cosine at L/m = 40 mm (40 m/s, m = 15; rail/studies/closure.py). The spectrum gives it
@@ -212,6 +214,7 @@ def _rigid_tables(speed, K, N):
     return tuple(table(r) for r in range(N // 2 + 1))
 
 
+@pytest.mark.slow
 def test_rigid_track_spectrum_reduces_to_steady_rolling():
     # A rigid, uniform track: the force is that of the wheel mass on the contact spring over the
     # roughness, P_beta / Z_beta = 1 / (1 / k_H(omega) - 1 / (m omega^2)), and for wavelengths long
@@ -253,6 +256,7 @@ def test_rigid_track_spectrum_reduces_to_steady_rolling():
     assert np.all(np.abs(dev) < 0.006), dev
 
 
+@pytest.mark.slow
 def test_class_operator_predicts_the_sidebands_of_a_growth_run(setup):
     # Within a Bloch class the supports couple a line j to its sidebands j +- N. A full growth run
     # (4 bays, 100,000 passages, 10 updates) from a 0.1 um cosine at j = 65 (36.9 mm, near the

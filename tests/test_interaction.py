@@ -53,6 +53,7 @@ def test_rigid_track_gives_the_wheel_on_contact_spring_result(contact, wheel):
     assert others.max() < 1e-3 * abs(expected)  # parametric excitation vanishes with the stiff track
 
 
+@pytest.mark.slow
 def test_wheels_far_apart_behave_as_independent_single_wheels(track, contact, wheel):
     # Two wheels a whole number of bays apart see the same track. Their interaction falls with
     # distance; at 100.2 m the transfer receptance is 8e-4 of the point receptance at the
@@ -96,6 +97,7 @@ def test_dynamic_force_is_linear_in_roughness_and_mean_is_static_load(track, con
 
 
 @pytest.mark.parametrize("V", [20.0, 40.0])
+@pytest.mark.slow
 def test_force_at_the_sleeper_converges_in_harmonics_with_the_tail_model(track, contact, wheel, V):
     # Without the tail the error at the sleeper falls like 1/K (review notes); with the 1/p^2 tail
     # K = 64 agrees with K = 128 to < 0.2 % of the fluctuation over the bay (measured 0.05 %).

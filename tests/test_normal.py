@@ -2,6 +2,8 @@
 influence-coefficient solver against Hertz and Westergaard, the contact filters against it, and the
 production single-zone solution against it."""
 
+import functools
+
 import numpy as np
 import pytest
 from scipy.special import j0
@@ -95,10 +97,17 @@ def test_cylinder_on_a_short_sinusoid_carries_westergaard_ripple_inside_the_patc
     assert abs(fit[1]) < 0.01 * pstar
 
 
+@functools.cache
+def _brute_smooth(n):
+    """The smooth-rail solution on the fine grid of _brute_filter (the same for every wavelength: computed once)."""
+    x = np.linspace(-1.6 * A0, 1.6 * A0, n)
+    return x, N.solve_normal(x, x**2 / (2 * R), PW, M)
+
+
+@functools.cache
 def _brute_filter(lam_over_2a, n=1201, D=1e-8):
     beta = np.pi / (lam_over_2a * A0)
-    x = np.linspace(-1.6 * A0, 1.6 * A0, n)
-    s0 = N.solve_normal(x, x**2 / (2 * R), PW, M)
+    x, s0 = _brute_smooth(n)
     s1 = N.solve_normal(x, x**2 / (2 * R) - D * np.cos(beta * x), PW, M)
     return -(s1.approach - s0.approach) / D, beta  # the roughness the normal force sees, per unit roughness
 
@@ -156,6 +165,7 @@ def test_patch_contact_half_length_follows_the_curvature_filter():
         assert pc.a[0] / A0 - 1 == pytest.approx(expected, rel=1e-3, abs=1e-12)
 
 
+@pytest.mark.slow
 def test_patch_contact_shift_against_brute_force():
     # a sine under the patch moves the single-zone contact forward by about R_w r' J0: the diagnostic
     # against the centre of the fine-grid contact zone

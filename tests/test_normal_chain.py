@@ -97,6 +97,7 @@ def test_a_growth_run_stops_with_the_reason_and_keeps_its_saved_states():
     assert "\n" not in h.stopped and h.stopped in out.getvalue()
 
 
+@pytest.mark.slow
 def test_a_real_run_that_loses_contact_inside_the_patch_writes_what_it_has(tmp_path):
     # a 20 um roughness at 10 mm (0.8 patch lengths) under the non-Hertzian contact: the pressure
     # would turn negative inside the patch (or the load find no single zone), so the run stops at once, with the initial state and the reason

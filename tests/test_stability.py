@@ -26,7 +26,13 @@ SUITE = load_yaml(ROOT / "config/stability.yaml")
 REDUCED = {"contact": {"nodes": 41}}  # the workflow runs 81 nodes; the harmonics stay at their defaults (the truncation check needs them)
 
 
-@pytest.mark.parametrize("name", list(SUITE["cases"]))
+# the cases that take longest (6-18 s each on a shared 2-core machine) run in the slow run
+_SLOW_CASES = {"low_speed", "light_damping", "even_nodes", "stiff_pad", "near_critical_speed", "soft_pad", "high_speed",
+               "saturated_creepage", "above_critical_speed"}
+
+
+@pytest.mark.parametrize("name", [pytest.param(n, marks=pytest.mark.slow) if n in _SLOW_CASES else n
+                                  for n in SUITE["cases"]])
 def test_stability_case_ends_as_expected(name):
     case = {**SUITE["defaults"], **SUITE["cases"][name]}
     rec = stability.run_case(DEFAULTS, SCHEMA, name, case, numerics=REDUCED)

@@ -127,6 +127,7 @@ def test_stationary_receptance_quadrature_converges(track):
     assert np.all(np.abs(coarse - fine) / np.abs(fine) < 1e-5)
 
 
+@pytest.mark.slow
 def test_pinned_pinned_closed_form_is_recovered_from_the_receptance(track):
     # Timoshenko simply supported span L (closed form) against the mid-span receptance peak
     fc = T.characteristic_frequencies(track)
@@ -135,6 +136,7 @@ def test_pinned_pinned_closed_form_is_recovered_from_the_receptance(track):
 
 
 @pytest.mark.parametrize("f", [300.0, 1000.0])
+@pytest.mark.slow
 def test_moving_load_tends_to_stationary_fourier_coefficients_as_speed_vanishes(track, f):
     # a_n(Omega) -> (1/L) int_0^L alpha(x0, x0; Omega) e^{-i n beta0 x0} dx0 as V -> 0 (Omega != 0,
     # valid for hysteretic damping too); the difference falls in proportion to V.
@@ -163,6 +165,7 @@ def test_receptance_table_columns_equal_single_frequency_coefficients(track):
             np.testing.assert_allclose(table[ok], a[ok], rtol=1e-6, atol=1e-6 * abs(tab.a(0, k, i)))
 
 
+@pytest.mark.slow
 def test_receptance_table_converges_in_quadrature_tolerance(track):
     coarse = moving.receptance_table(track, 40.0, 8, rtol=1e-4)
     fine = moving.receptance_table(track, 40.0, 8, rtol=1e-8)
@@ -191,6 +194,7 @@ def test_bad_arguments_are_rejected(track):
         T.Track(track.rail, track.pad, track.sleeper, track.ballast, "coulomb")
 
 
+@pytest.mark.slow
 def test_transfer_receptance_converges_in_the_wavenumber_window(track):
     # d != 0: the oscillating integrand is windowed from the cut to twice the cut. At a tight
     # quadrature tolerance (so the window is what is measured) doubling the default cut changes

@@ -38,6 +38,7 @@ def _fe_run(P, V, f):
 
 
 @pytest.mark.parametrize("V", [20.0, 40.0])
+@pytest.mark.slow
 def test_moving_constant_load_matches_time_domain_finite_elements(fe_params, viscous_track, V):
     # Tolerance: 1 % of the fluctuation of the displacement over the bay. The FE model's own
     # error (elements, time step) is about 0.4 % of it (rms difference at K = 128), and the

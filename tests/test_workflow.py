@@ -37,6 +37,7 @@ def workdir(root, tmp_path):
     return tmp_path
 
 
+@pytest.mark.slow
 def test_fig06_alone_runs_only_the_radiation_jobs(root, workdir):
     out = snakemake(root, "-n", "results/figures/fig06.png", cwd=workdir)
     assert out.returncode == 0, out.stderr
@@ -67,8 +68,11 @@ def test_default_target_builds_every_figure_and_only_the_receptances_they_need(r
     "override, message",
     [
         ({"material": {"poisson_ratio": 0.5}}, r"material\.poisson_ratio = 0\.5 is not allowed: it must be < 0\.5 \(valid range \(-1, 0\.5\)\)"),
-        ({"track": {"ballast": {"stiffness": -5.0e7}}}, r"track\.ballast\.stiffness = -50000000\.0 N/m is not allowed: it must be > 0 N/m"),
-        ({"wheels": {"mas": 1350.0}}, r"unknown key wheels\.mas = 1350\.0"),
+        # one start-up refusal in the default run; the others (a Snakemake start-up each, 6-8 s) in the slow run
+        pytest.param({"track": {"ballast": {"stiffness": -5.0e7}}},
+                     r"track\.ballast\.stiffness = -50000000\.0 N/m is not allowed: it must be > 0 N/m",
+                     marks=pytest.mark.slow),
+        pytest.param({"wheels": {"mas": 1350.0}}, r"unknown key wheels\.mas = 1350\.0", marks=pytest.mark.slow),
     ],
 )
 def test_bad_configfile_stops_before_any_job(root, workdir, override, message):
@@ -80,6 +84,7 @@ def test_bad_configfile_stops_before_any_job(root, workdir, override, message):
     assert not (workdir / "results").exists()  # nothing was computed
 
 
+@pytest.mark.slow
 def test_fig06_run_writes_labelled_data_and_picture(root, workdir):
     out = snakemake(root, "-j1", "results/figures/fig06.png", cwd=workdir)
     assert out.returncode == 0, out.stderr
@@ -96,6 +101,7 @@ def test_fig06_run_writes_labelled_data_and_picture(root, workdir):
         assert (eta[1:] / f[1:]).std() < 1e-8 * (eta[1:] / f[1:]).mean()
 
 
+@pytest.mark.slow
 def test_bad_scenario_file_is_named_and_stops_before_any_job(root, workdir):
     (workdir / "config/scenarios/soft_pad.yaml").write_text("track:\n  pad:\n    stiffness: -7.0e+7\n")
     out = snakemake(root, "-j1", cwd=workdir)
@@ -103,6 +109,7 @@ def test_bad_scenario_file_is_named_and_stops_before_any_job(root, workdir):
         out, r"config/scenarios/soft_pad\.yaml: track\.pad\.stiffness = -70000000\.0 N/m is not allowed: it must be > 0 N/m", workdir)
 
 
+@pytest.mark.slow
 def test_receptance_rule_holds_only_the_offsets_of_scenarios_sharing_the_track(root, workdir):
     # a two-wheel scenario on the default track adds its wheel spacing to the default table;
     # a scenario with a different track gets its own table (the report's scenarios are removed)
@@ -117,6 +124,7 @@ def test_receptance_rule_holds_only_the_offsets_of_scenarios_sharing_the_track(r
     assert "receptance table: track soft, V = 40 m/s, offsets 0.0 m" in out.stdout
 
 
+@pytest.mark.slow
 def test_sweep_expands_into_one_growth_run_per_grid_point(root, workdir):
     for f in (workdir / "config/scenarios").glob("*.yaml"):
         f.unlink()
@@ -130,6 +138,7 @@ def test_sweep_expands_into_one_growth_run_per_grid_point(root, workdir):
     assert counts["receptance"] == 2  # creepage does not change the track: tables shared per speed
 
 
+@pytest.mark.slow
 def test_bad_sweep_value_names_the_file_and_the_point(root, workdir):
     (workdir / "config/scenarios/grid.yaml").write_text("sweep:\n  track.pad.stiffness: [3.5e+8, -1.0e+8]\n")
     out = snakemake(root, "-n", "sweeps", cwd=workdir)
@@ -140,6 +149,7 @@ def test_bad_sweep_value_names_the_file_and_the_point(root, workdir):
     ), out.stderr
 
 
+@pytest.mark.slow
 def test_scenario_and_sweep_files_ending_in_yml_are_part_of_the_workflow(root, workdir):
     # issue 32 (item 6): *.yml was silently skipped (the workflow read *.yaml only)
     for f in (workdir / "config/scenarios").glob("*.yaml"):
@@ -153,6 +163,7 @@ def test_scenario_and_sweep_files_ending_in_yml_are_part_of_the_workflow(root, w
     assert counts["receptance"] == 3  # soft's table at 40 m/s; the sweep's (default track) at 20 and 40 m/s
 
 
+@pytest.mark.slow
 def test_two_scenario_files_of_one_name_stop_before_any_job(root, workdir):
     (workdir / "config/scenarios/soft_pad.yml").write_text("track:\n  pad:\n    stiffness: 7.0e+7\n")
     out = snakemake(root, "-n", cwd=workdir)
@@ -161,6 +172,7 @@ def test_two_scenario_files_of_one_name_stop_before_any_job(root, workdir):
              r"keep one of them\.", workdir)
 
 
+@pytest.mark.slow
 def test_slurm_profile_plans_the_default_target(root, workdir):
     import shutil as sh
 
@@ -170,6 +182,7 @@ def test_slurm_profile_plans_the_default_target(root, workdir):
     assert job_counts(out.stdout) == {"halfspace_radiation": 1, "radiation_figure": 1}
 
 
+@pytest.mark.slow
 def test_changing_a_scenario_reruns_only_its_jobs(root, workdir):
     # two scenarios with their own tracks; after both tables are built, editing one scenario
     # makes exactly its table out of date (the tables carry only their track and numerics)
@@ -189,6 +202,7 @@ def test_changing_a_scenario_reruns_only_its_jobs(root, workdir):
     assert "track b, V = 40 m/s" in out.stdout and "track a," not in out.stdout
 
 
+@pytest.mark.slow
 def test_studies_are_named_targets_that_reuse_the_default_tables(root, workdir):
     # closure study: 6 closure values x (2 speeds single wheel + soft pad + four wheels) growth
     # runs, 6 x 4 wear cases, one well-posedness job; the soft-pad points share the soft_pad
@@ -206,6 +220,7 @@ def test_studies_are_named_targets_that_reuse_the_default_tables(root, workdir):
     assert c["receptance"] == 3  # default at 20 and 40 m/s, soft_pad at 40 m/s
 
 
+@pytest.mark.slow
 def test_a_configfile_run_writes_under_its_own_name_and_leaves_the_defaults_untouched(root, workdir):
     # issue 23: `snakemake --configfile my_changes.yaml` wrote into results/ over the default results
     import hashlib
@@ -228,6 +243,7 @@ def test_a_configfile_run_writes_under_its_own_name_and_leaves_the_defaults_unto
         assert yaml.safe_load(ds.attrs["config"])["contact"]["hertz_stiffness"] == 1.5e9
 
 
+@pytest.mark.slow
 def test_one_off_configurations_of_the_same_file_name_get_their_own_folders(root, workdir):
     # issue 32: runs/<file name>/ was shared, so a second my.yaml found the first one's results
     # ("Nothing to be done") or wrote over them; the folder is keyed by the differing values
@@ -250,6 +266,7 @@ def test_one_off_configurations_of_the_same_file_name_get_their_own_folders(root
     assert sorted(p.name for p in (workdir / "runs").iterdir()) == sorted({run_a[5:], run_b[5:]})
 
 
+@pytest.mark.slow
 def test_a_new_scenario_file_gets_its_figures_and_report_entries_from_one_command(root, workdir):
     # issue 23: a user's scenario gets the one-page overview (spectrum against wavelength beside the
     # default's, profiles, force), the band view and the 3-D plot from `snakemake -j2 study_<name>`,
@@ -266,6 +283,7 @@ def test_a_new_scenario_file_gets_its_figures_and_report_entries_from_one_comman
     assert "V40_overview.png" in html and "my_pad" in html
 
 
+@pytest.mark.slow
 def test_cluster_profile_scales_growth_runtime_from_the_job_and_checks_status_with_squeue(root, workdir):
     # issue 23: growth asked a flat 30 min whatever the passages, wheels or nodes; and without an
     # accounting database the plugin's default status check (sacct) left the run waiting silently
@@ -313,6 +331,7 @@ def built(root, tmp_path_factory):
         ("wear.coefficient", 3.0e-9, {"wear_case": 4, "wear_figure": 11, "growth": 7, "growth_figure": 7, "growth_3d": 1}),
     ],
 )
+@pytest.mark.slow
 def test_a_config_edit_reruns_exactly_the_jobs_that_read_it(root, built, tmp_path, key, value, jobs):
     work = tmp_path / "work"
     shutil.copytree(built, work, symlinks=True)
@@ -337,12 +356,14 @@ def test_a_config_edit_reruns_exactly_the_jobs_that_read_it(root, built, tmp_pat
     ("results/receptance/default/V40_N100000.nc", r"target period N100000 is not allowed: it must lie in \[2, 256\] bays"),
     ("results/wear/default/V40_f1234.nc", r"target names the wear frequency f1234, which is not configured: the labels are"),
 ])
+@pytest.mark.slow
 def test_a_target_with_an_unknown_label_is_refused_in_one_line(root, workdir, target, message):
     out = snakemake(root, "-n", target, cwd=workdir)
     assert_stops_at_start_up(out, message)
     assert "KeyError" not in out.stderr and "Traceback" not in out.stderr
 
 
+@pytest.mark.slow
 def test_nan_in_the_convergence_study_is_refused_naming_the_key(root, workdir):
     # the study file is read beside the Snakefile: a copy of the workflow with its own file
     shutil.copytree(root / "workflow", workdir / "workflow")
@@ -358,6 +379,7 @@ def test_nan_in_the_convergence_study_is_refused_naming_the_key(root, workdir):
     (b"track:\n\tpad: 1\n", r"config/scenarios/bad\.yaml, line 2, column 1: not valid YAML: found character '\\t' that cannot start any token"),
     (bytes(range(128, 256)), r"config/scenarios/bad\.yaml: not a YAML text file \("),
 ])
+@pytest.mark.slow
 def test_a_scenario_file_that_is_not_yaml_is_named_with_its_line(root, workdir, content, message):
     (workdir / "config/scenarios/bad.yaml").write_bytes(content)
     out = snakemake(root, "-n", "results/figures/fig06.png", cwd=workdir)

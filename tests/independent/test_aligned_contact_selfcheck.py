@@ -31,6 +31,7 @@ def test_hertz_log_integral_matches_quadrature():
         assert ac.hertz_log(x, a) == pytest.approx(ref, rel=1e-9)
 
 
+@pytest.mark.slow
 def test_steady_rolling_reproduces_carter_and_its_work_converges_at_second_order():
     # Constant load, creepage -0.001: the boundary is Carter's a - 2c, the force mu P (1 - c^2/a^2),
     # and the work of a rail point tends to Carter's |gamma| Q / (2 b_w). Measured at 41 and 81 nodes
@@ -63,6 +64,7 @@ def test_steady_rolling_reproduces_carter_and_its_work_converges_at_second_order
     assert np.log2(errs[0] / errs[1]) > 1.8
 
 
+@pytest.mark.slow
 def test_quadratic_entry_reduces_to_the_linear_one_in_steady_rolling():
     # With a constant edge displacement the three-step interpolation of the entry instant equals the
     # two-step one (its weights sum to one), so the steady solutions agree to the boundary solver's
