@@ -211,7 +211,7 @@ def test_transfer_receptance_converges_in_the_wavenumber_window(track):
         assert np.abs(narrow.A[i] - wide.A[i]).max() > np.abs(base.A[i] - wide.A[i]).max()
 
 
-@pytest.mark.parametrize("V", [20.0, 40.0])
+@pytest.mark.parametrize("V", [pytest.param(20.0, marks=pytest.mark.slow), 40.0])
 def test_far_offset_table_matches_direct_oscillatory_quadrature_within_its_stated_error(track, V):
     # The transfer receptances of offsets up to 13.3 m (the four-wheel vehicle) integrate the
     # smooth factors against exp(-i beta d) with Filon weights on the d = 0 rule. Reference: the
@@ -235,6 +235,7 @@ def test_far_offset_table_matches_direct_oscillatory_quadrature_within_its_state
         assert np.max(err / scale) < 2e-5
 
 
+@pytest.mark.slow
 def test_filon_weights_remove_the_aliasing_of_far_offsets_on_the_d0_rule(track):
     # Mechanism check: on the nodes of the d = 0 rule, Gauss weights times exp(-i beta d) alias the
     # oscillation of a 13.3 m offset (measured: 0.16 of the column's scale at K = 24); the Filon
