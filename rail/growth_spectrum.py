@@ -33,6 +33,11 @@ from .scenario import Scenario
 __all__ = ["wear_rates", "RateSpectrum", "spectrum_lines", "rate_spectrum", "locked_operator", "class_operator"]
 
 
+class GridMismatch(RuntimeError):
+    """The contact grid of a probe differs from the smooth rail's (method 'linear' needs one grid);
+    rate_spectrum then takes the probes for that grid phase."""
+
+
 def _batches(lines, N: int):
     """Split lines into batches with at most one line per pair of classes {r, N - r}."""
     pending = list(dict.fromkeys(int(j) for j in lines))
@@ -177,7 +182,7 @@ def _linear_rates(scn, tabs, free, locked, eps, phase, max_columns=None):
             same = (mi.M == b0.M == mi1.M and mi.Nx == b0.Nx == N * mi1.Nx
                     and abs(mi.delta - mi1.delta) <= 1e-12 * mi1.delta and abs(b0.delta - mi1.delta) <= 1e-12 * mi1.delta)
             if not same:
-                raise RuntimeError(f"the probe's contact grid (M {mi.M}, Nx {mi.Nx}) differs from the smooth rail's (M {mi1.M}, "
+                raise GridMismatch(f"the probe's contact grid (M {mi.M}, Nx {mi.Nx}) differs from the smooth rail's (M {mi1.M}, "
                                    f"Nx {N} x {mi1.Nx}); use method='probe'.")
             nx1, nxN = mi1.Nx, b0.Nx
             pos = (np.arange(mi1.spin + nx1 + 2 * mi1.M + 1) - mi1.spin)[None, :] + nx1 * np.arange(N)[:, None]
@@ -261,6 +266,9 @@ class RateSpectrum:
     eps        : amplitude of the probing cosines [m]
     bays       : N [-]
     grid_phases: contact grids averaged over [-]
+    method     : 'linear' (the tangent march) or 'probe'; 'linear, probes at ...' names the grid
+                 phases where the probes' contact grid differed from the smooth rail's and the
+                 probes of the nonlinear march were taken instead
     """
 
     wavelength: np.ndarray
@@ -275,6 +283,7 @@ class RateSpectrum:
     eps: float
     bays: int
     grid_phases: int
+    method: str = "linear"
 
     @property
     def growth_rate(self) -> np.ndarray:
@@ -498,16 +507,23 @@ def rate_spectrum(scn: Scenario, table, lines, eps: float = 1e-9, grid_phases: i
     source = np.zeros(lines.size)
     sideband = np.zeros(lines.size)
     changes = []
+    fallbacks = []  # grid phases where method 'linear' fell back to the probes (GridMismatch)
     if method not in ("linear", "probe"):
         raise ValueError(f"method = {method!r} is not allowed: it must be 'linear' or 'probe'.")
     for p, phase in enumerate(np.arange(grid_phases) / grid_phases):
-        if method == "linear":
+        linear = method == "linear"
+        if linear:
             s_1 = dataclasses.replace(scn, roughness=dataclasses.replace(scn.roughness, bays=1))
             Z01 = _smooth(s_1)
             W01 = chain.train_wear(s_1, tabs[0], Z01, phase)[0]
             kinds = {int(lines[idx]): int(locked[idx]) for idx in held}
             probes = [(j, kind) for j in kinds for kind in ("cos", "sin")]
-            R_l, side_l, M_l = _linear_rates(scn, tabs, [int(j) for j in lines[free]], probes, eps, phase)
+            try:
+                R_l, side_l, M_l = _linear_rates(scn, tabs, [int(j) for j in lines[free]], probes, eps, phase)
+            except GridMismatch as err:  # the probes of the nonlinear march for this grid phase
+                fallbacks.append(f"grid phase {phase:g}: {err}")
+                linear = False
+        if linear:
             R[p] = [R_l[int(j)] for j in lines[free]]
             sideband[free] = np.maximum(sideband[free], [side_l[int(j)] for j in lines[free]])
             for n, idx in enumerate(held):
@@ -568,7 +584,8 @@ def rate_spectrum(scn: Scenario, table, lines, eps: float = 1e-9, grid_phases: i
         spread[idx] = np.ptp(g) / 2
     return RateSpectrum(wavelength=N * scn.L / lines, line=lines, locked=locked, rate=rate, rate_other=other,
                         source=source, grid_spread=spread, sideband=sideband, linearity=float(max(changes)), eps=float(eps), bays=N,
-                        grid_phases=int(grid_phases))
+                        grid_phases=int(grid_phases),
+                        method=method if not fallbacks else f"{method}, probes at " + "; ".join(fallbacks))
 
 
 def class_operator(scn: Scenario, table, lines, eps: float = 1e-9, grid_phases: int = 2):
