@@ -160,7 +160,7 @@ GROWTH_FIGURE_KEYS = ("figures.growth", "figures.wear.spectrum_max_wavenumber")
 # Code dependencies: a rule's params hold code("<script>"), the hash of every rail source its script
 # imports, followed through all imports (rail.provenance), so that changing a module reruns exactly
 # the jobs that depend on it (params changes are a rerun trigger). Derived from the imports, it
-# cannot go stale; tests/test_provenance.py checks that every rule with a script has it.
+# cannot go stale; tests/test_architecture.py checks that every rule with a script has it.
 def code(script):
     """Hash of the rail sources that workflow/scripts/<script> imports."""
     return code_hash(Path(workflow.basedir, "workflow", "scripts", script))
