@@ -16,6 +16,8 @@ rule fig08:
         runtime=5,
     log:
         "logs/fig08.log",
+    benchmark:
+        "benchmarks/figures/fig08.tsv"
     script:
         "../scripts/forces_figure.py"
 
@@ -35,5 +37,7 @@ rule fig22:
         runtime=5,
     log:
         "logs/fig22.log",
+    benchmark:
+        "benchmarks/figures/fig22.tsv"
     script:
         "../scripts/forces_figure.py"

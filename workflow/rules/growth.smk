@@ -37,6 +37,8 @@ rule growth_3d:
         runtime=5,
     log:
         "logs/growth/{scenario}/V{speed}_3d.log",
+    benchmark:
+        "benchmarks/growth/{scenario}/V{speed}_3d.tsv"
     script:
         "../scripts/growth_figure.py"
 
@@ -55,6 +57,8 @@ rule growth_narrowband:
         runtime=5,
     log:
         "logs/growth/{scenario}/V{speed}_narrowband.log",
+    benchmark:
+        "benchmarks/growth/{scenario}/V{speed}_narrowband.tsv"
     script:
         "../scripts/growth_figure.py"
 
@@ -73,6 +77,8 @@ rule scenario_overview:
         runtime=5,
     log:
         "logs/growth/{scenario}/V{speed}_overview.log",
+    benchmark:
+        "benchmarks/growth/{scenario}/V{speed}_overview.tsv"
     script:
         "../scripts/growth_figure.py"
 
@@ -104,6 +110,8 @@ rule growth_bands:
         runtime=5,
     log:
         "logs/growth/{scenario}/V{speed}_bands.log",
+    benchmark:
+        "benchmarks/growth/{scenario}/V{speed}_bands.tsv"
     script:
         "../scripts/growth_bands.py"
 
@@ -139,5 +147,7 @@ rule growth_figure:
         runtime=5,
     log:
         "logs/fig{nn}.log",
+    benchmark:
+        "benchmarks/figures/fig{nn}.tsv"
     script:
         "../scripts/growth_figure.py"

@@ -20,6 +20,8 @@ rule halfspace_figure:
         runtime=5,
     log:
         "logs/fig{nn}.log",
+    benchmark:
+        "benchmarks/figures/fig{nn}.tsv"
     script:
         "../scripts/halfspace_figure.py"
 
@@ -36,6 +38,8 @@ rule halfspace_radiation:
         runtime=5,
     log:
         "logs/halfspace_radiation.log",
+    benchmark:
+        "benchmarks/halfspace/radiation.tsv"
     script:
         "../scripts/halfspace_radiation.py"
 
@@ -61,5 +65,7 @@ rule radiation_figure:
         runtime=5,
     log:
         "logs/fig{nn}.log",
+    benchmark:
+        "benchmarks/figures/fig{nn}.tsv"
     script:
         "../scripts/radiation_figure.py"

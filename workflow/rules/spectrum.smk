@@ -65,6 +65,8 @@ rule rate_spectrum_map:
         runtime=5,
     log:
         "logs/spectrum/{scenario}/map.log",
+    benchmark:
+        "benchmarks/spectrum/{scenario}/map.tsv"
     script:
         "../scripts/rate_spectrum_map.py"
 
@@ -93,6 +95,8 @@ rule rate_spectrum_sweep:
         runtime=5,
     log:
         "logs/spectrum_sweeps/{study}.log",
+    benchmark:
+        "benchmarks/spectrum_sweeps/{study}.tsv"
     script:
         "../scripts/rate_spectrum_sweep.py"
 

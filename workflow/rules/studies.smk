@@ -19,6 +19,8 @@ rule stability_case:
         runtime=15,
     log:
         "logs/stability/{case}.log",
+    benchmark:
+        "benchmarks/stability/{case}.tsv"
     script:
         "../scripts/stability_case.py"
 
@@ -40,6 +42,8 @@ rule stability_table:
         runtime=10,
     log:
         "logs/stability/table.log",
+    benchmark:
+        "benchmarks/stability/table.tsv"
     script:
         "../scripts/stability_table.py"
 
@@ -69,6 +73,8 @@ rule convergence_point:
         runtime=30,
     log:
         "logs/convergence/{setting}_{value}.log",
+    benchmark:
+        "benchmarks/convergence/{setting}_{value}.tsv"
     script:
         "../scripts/convergence_point.py"
 
@@ -91,6 +97,8 @@ rule convergence_aggregate:
         runtime=5,
     log:
         "logs/convergence/aggregate.log",
+    benchmark:
+        "benchmarks/convergence/aggregate.tsv"
     script:
         "../scripts/convergence_aggregate.py"
 

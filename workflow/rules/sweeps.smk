@@ -19,6 +19,8 @@ rule sweep_aggregate:
         runtime=5,
     log:
         "logs/sweeps/{study}.log",
+    benchmark:
+        "benchmarks/sweeps/{study}.tsv"
     script:
         "../scripts/sweep_aggregate.py"
 
@@ -41,6 +43,8 @@ rule sweep_bands:
         runtime=5,
     log:
         "logs/sweeps/{study}_bands.log",
+    benchmark:
+        "benchmarks/sweeps/{study}_bands.tsv"
     script:
         "../scripts/sweep_bands.py"
 

@@ -42,5 +42,7 @@ rule wear_figure:
         runtime=5,
     log:
         "logs/fig{nn}.log",
+    benchmark:
+        "benchmarks/figures/fig{nn}.tsv"
     script:
         "../scripts/wear_figure.py"
