@@ -14,7 +14,7 @@ rule closure_wear:
         frequency=wear_frequency,
         cfg=closure_wear_config,
     resources:
-        mem_mb=1000,
+        mem_mb=900,
         runtime=10,
     log:
         "logs/closure/wear_s{s}_f{freq}.log",
@@ -36,7 +36,7 @@ rule closure_wellposedness:
         values=closure_values(),
         nodes=CLOSURE["wellposedness_nodes"],
     resources:
-        mem_mb=500,
+        mem_mb=900,
         runtime=15,
     log:
         "logs/closure/wellposedness.log",

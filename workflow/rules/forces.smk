@@ -12,7 +12,7 @@ rule fig08:
         code=code("forces_figure.py"),
         cfg=config_part(FORCE_KEYS + ("figures.fig08",)),
     resources:
-        mem_mb=1000,
+        mem_mb=400,
         runtime=5,
     log:
         "logs/fig08.log",
@@ -33,7 +33,7 @@ rule fig22:
         code=code("forces_figure.py"),
         cfg=config_part(FORCE_KEYS + ("figures.fig22",)),
     resources:
-        mem_mb=1000,
+        mem_mb=400,
         runtime=5,
     log:
         "logs/fig22.log",

@@ -33,7 +33,7 @@ rule growth_3d:
     params:
         code=code("growth_figure.py"),
     resources:
-        mem_mb=500,
+        mem_mb=400,
         runtime=5,
     log:
         "logs/growth/{scenario}/V{speed}_3d.log",
@@ -53,7 +53,7 @@ rule growth_narrowband:
     params:
         code=code("growth_figure.py"),
     resources:
-        mem_mb=500,
+        mem_mb=400,
         runtime=5,
     log:
         "logs/growth/{scenario}/V{speed}_narrowband.log",
@@ -73,7 +73,7 @@ rule scenario_overview:
     params:
         code=code("growth_figure.py"),
     resources:
-        mem_mb=500,
+        mem_mb=400,
         runtime=5,
     log:
         "logs/growth/{scenario}/V{speed}_overview.log",
@@ -106,7 +106,7 @@ rule growth_bands:
         code=code("growth_bands.py"),
         cfg=scenario_config,
     resources:
-        mem_mb=500,
+        mem_mb=400,
         runtime=5,
     log:
         "logs/growth/{scenario}/V{speed}_bands.log",
@@ -143,7 +143,7 @@ rule growth_figure:
         code=code("growth_figure.py"),
         cfg=config_part(GROWTH_FIGURE_KEYS),
     resources:
-        mem_mb=500,
+        mem_mb=400,
         runtime=5,
     log:
         "logs/fig{nn}.log",

@@ -16,7 +16,7 @@ rule halfspace_figure:
         code=code("halfspace_figure.py"),
         cfg=config_part(HALFSPACE_KEYS),
     resources:
-        mem_mb=500,
+        mem_mb=900,
         runtime=5,
     log:
         "logs/fig{nn}.log",
@@ -34,7 +34,7 @@ rule halfspace_radiation:
         code=code("halfspace_radiation.py"),
         cfg=config_part(HALFSPACE_KEYS),
     resources:
-        mem_mb=500,
+        mem_mb=800,
         runtime=5,
     log:
         "logs/halfspace_radiation.log",
@@ -61,7 +61,7 @@ rule radiation_figure:
         code=code("radiation_figure.py"),
         cfg=config_part(HALFSPACE_KEYS),
     resources:
-        mem_mb=500,
+        mem_mb=400,
         runtime=5,
     log:
         "logs/fig{nn}.log",

@@ -15,7 +15,7 @@ rule sweep_aggregate:
         grid=sweep_values,
         indices=sweep_indices,
     resources:
-        mem_mb=500,
+        mem_mb=400,
         runtime=5,
     log:
         "logs/sweeps/{study}.log",
@@ -39,7 +39,7 @@ rule sweep_bands:
         grid=sweep_values,
         indices=sweep_indices,
     resources:
-        mem_mb=500,
+        mem_mb=400,
         runtime=5,
     log:
         "logs/sweeps/{study}_bands.log",

@@ -15,7 +15,7 @@ rule wear_case:
         frequency=wear_frequency,
         cfg=config_part(WEAR_CASE_KEYS),
     resources:
-        mem_mb=1000,
+        mem_mb=900,
         runtime=10,
     log:
         "logs/wear/{track}/V{speed}_f{freq}.log",
@@ -38,7 +38,7 @@ rule wear_figure:
         code=code("wear_figure.py"),
         cfg=wear_figure_config,
     resources:
-        mem_mb=500,
+        mem_mb=400,
         runtime=5,
     log:
         "logs/fig{nn}.log",
