@@ -14,7 +14,7 @@ rule closure_wear:
         frequency=wear_frequency,
         cfg=closure_wear_config,
     resources:
-        mem_mb=900,
+        mem_mb=1000,
         runtime=10,
     log:
         "logs/closure/wear_s{s}_f{freq}.log",

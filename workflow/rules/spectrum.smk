@@ -20,7 +20,7 @@ rule rate_spectrum_tables:
     benchmark:
         "benchmarks/spectrum/{scenario}/tables_V{speed}_N{bays}.tsv"
     resources:
-        mem_mb=1100,
+        mem_mb=1200,
         runtime=30,
     script:
         "../scripts/receptance.py"
@@ -44,7 +44,7 @@ rule rate_spectrum_speed:
     benchmark:
         "benchmarks/spectrum/{scenario}/V{speed}.tsv"
     resources:
-        mem_mb=1300,
+        mem_mb=1400,
         runtime=20,
     script:
         "../scripts/rate_spectrum.py"

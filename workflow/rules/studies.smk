@@ -15,7 +15,7 @@ rule stability_case:
     wildcard_constraints:
         case="|".join(STABILITY["cases"]),
     resources:
-        mem_mb=1500,
+        mem_mb=1800,
         runtime=15,
     log:
         "logs/stability/{case}.log",
@@ -69,7 +69,7 @@ rule convergence_point:
     wildcard_constraints:
         setting="|".join(CONVERGENCE["settings"]),
     resources:
-        mem_mb=2000,
+        mem_mb=6200,
         runtime=30,
     log:
         "logs/convergence/{setting}_{value}.log",

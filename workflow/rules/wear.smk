@@ -15,7 +15,7 @@ rule wear_case:
         frequency=wear_frequency,
         cfg=config_part(WEAR_CASE_KEYS),
     resources:
-        mem_mb=900,
+        mem_mb=1000,
         runtime=10,
     log:
         "logs/wear/{track}/V{speed}_f{freq}.log",
