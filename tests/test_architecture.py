@@ -146,6 +146,52 @@ def test_every_rule_with_a_script_hashes_that_scripts_imports():
     assert not missing, "rules without code=code(<their script>):\n" + "\n".join(missing)
 
 
+def _unmeasured_rules(text: str) -> list[str]:
+    """Rules of a .smk text that run a script or shell without a benchmark file (peak memory,
+    max_rss) or without mem_mb; and benchmark files whose wildcards differ from the log's (two jobs
+    would write one file). A `use rule ... with:` that changes the log must change the benchmark."""
+    problems = []
+    for block in re.split(r"(?m)^(?=rule |use rule )", text):
+        head = block.splitlines()[0].rstrip(":") if block.strip() else ""
+        runs = re.search(r"(?m)^    (script|shell|run|notebook|wrapper):", block)
+        log = re.search(r'(?m)^    log:\n\s+"([^"]+)"', block)
+        bench = re.search(r'(?m)^    benchmark:\n\s+"([^"]+)"', block)
+        if head.startswith("rule ") and runs:
+            if not bench:
+                problems.append(f"{head}: no benchmark")
+            if not re.search(r"(?m)^    resources:\n(\s{8}.*\n)*?\s{8}mem_mb=", block):
+                problems.append(f"{head}: no resources mem_mb")
+        if head.startswith("use rule ") and log and not bench:
+            problems.append(f"{head}: changes the log, not the benchmark")
+        if bench and log and set(re.findall(r"{(\w+)", bench.group(1))) != set(re.findall(r"{(\w+)", log.group(1))):
+            problems.append(f"{head}: benchmark {bench.group(1)} and log {log.group(1)} differ in wildcards")
+        if bench and not re.fullmatch(r"benchmarks/.+\.tsv", bench.group(1)):
+            problems.append(f"{head}: benchmark {bench.group(1)} not benchmarks/...tsv")
+    return problems
+
+
+def test_every_rule_with_a_script_records_its_peak_memory_and_declares_mem_mb():
+    # issue 33: each job's peak memory (max_rss) in its benchmark file, and a measured mem_mb for
+    # the SLURM profile (README, "Memory per job")
+    problems = [f"{smk.name}: {p}" for smk in sorted((ROOT / "workflow/rules").glob("*.smk")) for p in _unmeasured_rules(smk.read_text())]
+    assert not problems, "\n".join(problems)
+
+
+def test_the_memory_check_finds_a_rule_without_benchmark_or_mem_mb():
+    good = ('rule a:\n    output:\n        "results/{x}.nc",\n    log:\n        "logs/a/{x}.log",\n'
+            '    benchmark:\n        "benchmarks/a/{x}.tsv"\n    resources:\n        mem_mb=300,\n        runtime=5,\n'
+            '    script:\n        "../scripts/a.py"\n')
+    assert _unmeasured_rules(good) == []
+    assert _unmeasured_rules(good.replace('    benchmark:\n        "benchmarks/a/{x}.tsv"\n', "")) == ["rule a: no benchmark"]
+    assert _unmeasured_rules(good.replace("        mem_mb=300,\n", "")) == ["rule a: no resources mem_mb"]
+    assert _unmeasured_rules(good.replace("benchmarks/a/{x}.tsv", "benchmarks/a.tsv")) == [
+        "rule a: benchmark benchmarks/a.tsv and log logs/a/{x}.log differ in wildcards"]
+    assert _unmeasured_rules('use rule a as b with:\n    log:\n        "logs/b/{y}.log",\n') == [
+        "use rule a as b with: changes the log, not the benchmark"]
+    # a named target without a script needs neither
+    assert _unmeasured_rules('rule all:\n    input:\n        "results/x.nc",\n') == []
+
+
 def test_rerun_hash_follows_the_imports_in_a_changed_copy(tmp_path):
     # a copy of the package: changing a plotting module changes the hash of the scripts that draw
     # with it and not that of the growth script; changing a physics module two imports deep

@@ -27,7 +27,7 @@ rule track_receptance:
     benchmark:
         "benchmarks/characterisation/default/track_receptance.tsv"
     resources:
-        mem_mb=1000,
+        mem_mb=900,
         runtime=10,
     script:
         "../scripts/track_receptance.py"
@@ -70,7 +70,7 @@ rule moving_receptance:
     benchmark:
         "benchmarks/characterisation/default/moving_receptance.tsv"
     resources:
-        mem_mb=1000,
+        mem_mb=900,
         runtime=15,
     script:
         "../scripts/moving_receptance.py"
@@ -114,7 +114,7 @@ rule track_decay_rate:
     benchmark:
         "benchmarks/characterisation/default/track_decay_rate.tsv"
     resources:
-        mem_mb=1000,
+        mem_mb=900,
         runtime=20,
     script:
         "../scripts/track_decay_rate.py"

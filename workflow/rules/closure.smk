@@ -18,6 +18,8 @@ rule closure_wear:
         runtime=10,
     log:
         "logs/closure/wear_s{s}_f{freq}.log",
+    benchmark:
+        "benchmarks/closure/wear_s{s}_f{freq}.tsv"
     script:
         "../scripts/wear_case.py"
 
@@ -34,10 +36,12 @@ rule closure_wellposedness:
         values=closure_values(),
         nodes=CLOSURE["wellposedness_nodes"],
     resources:
-        mem_mb=500,
+        mem_mb=900,
         runtime=15,
     log:
         "logs/closure/wellposedness.log",
+    benchmark:
+        "benchmarks/closure/wellposedness.tsv"
     script:
         "../scripts/closure_wellposedness.py"
 
@@ -61,6 +65,8 @@ rule closure_aggregate:
         runtime=5,
     log:
         "logs/closure/aggregate.log",
+    benchmark:
+        "benchmarks/closure/aggregate.tsv"
     script:
         "../scripts/closure_aggregate.py"
 

@@ -12,10 +12,12 @@ rule fig08:
         code=code("forces_figure.py"),
         cfg=config_part(FORCE_KEYS + ("figures.fig08",)),
     resources:
-        mem_mb=1000,
+        mem_mb=400,
         runtime=5,
     log:
         "logs/fig08.log",
+    benchmark:
+        "benchmarks/figures/fig08.tsv"
     script:
         "../scripts/forces_figure.py"
 
@@ -31,9 +33,11 @@ rule fig22:
         code=code("forces_figure.py"),
         cfg=config_part(FORCE_KEYS + ("figures.fig22",)),
     resources:
-        mem_mb=1000,
+        mem_mb=400,
         runtime=5,
     log:
         "logs/fig22.log",
+    benchmark:
+        "benchmarks/figures/fig22.tsv"
     script:
         "../scripts/forces_figure.py"

@@ -33,10 +33,12 @@ rule growth_3d:
     params:
         code=code("growth_figure.py"),
     resources:
-        mem_mb=500,
+        mem_mb=400,
         runtime=5,
     log:
         "logs/growth/{scenario}/V{speed}_3d.log",
+    benchmark:
+        "benchmarks/growth/{scenario}/V{speed}_3d.tsv"
     script:
         "../scripts/growth_figure.py"
 
@@ -51,10 +53,12 @@ rule growth_narrowband:
     params:
         code=code("growth_figure.py"),
     resources:
-        mem_mb=500,
+        mem_mb=400,
         runtime=5,
     log:
         "logs/growth/{scenario}/V{speed}_narrowband.log",
+    benchmark:
+        "benchmarks/growth/{scenario}/V{speed}_narrowband.tsv"
     script:
         "../scripts/growth_figure.py"
 
@@ -69,10 +73,12 @@ rule scenario_overview:
     params:
         code=code("growth_figure.py"),
     resources:
-        mem_mb=500,
+        mem_mb=400,
         runtime=5,
     log:
         "logs/growth/{scenario}/V{speed}_overview.log",
+    benchmark:
+        "benchmarks/growth/{scenario}/V{speed}_overview.tsv"
     script:
         "../scripts/growth_figure.py"
 
@@ -100,10 +106,12 @@ rule growth_bands:
         code=code("growth_bands.py"),
         cfg=scenario_config,
     resources:
-        mem_mb=500,
+        mem_mb=400,
         runtime=5,
     log:
         "logs/growth/{scenario}/V{speed}_bands.log",
+    benchmark:
+        "benchmarks/growth/{scenario}/V{speed}_bands.tsv"
     script:
         "../scripts/growth_bands.py"
 
@@ -135,9 +143,11 @@ rule growth_figure:
         code=code("growth_figure.py"),
         cfg=config_part(GROWTH_FIGURE_KEYS),
     resources:
-        mem_mb=500,
+        mem_mb=400,
         runtime=5,
     log:
         "logs/fig{nn}.log",
+    benchmark:
+        "benchmarks/figures/fig{nn}.tsv"
     script:
         "../scripts/growth_figure.py"

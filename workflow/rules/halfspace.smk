@@ -16,10 +16,12 @@ rule halfspace_figure:
         code=code("halfspace_figure.py"),
         cfg=config_part(HALFSPACE_KEYS),
     resources:
-        mem_mb=500,
+        mem_mb=900,
         runtime=5,
     log:
         "logs/fig{nn}.log",
+    benchmark:
+        "benchmarks/figures/fig{nn}.tsv"
     script:
         "../scripts/halfspace_figure.py"
 
@@ -32,10 +34,12 @@ rule halfspace_radiation:
         code=code("halfspace_radiation.py"),
         cfg=config_part(HALFSPACE_KEYS),
     resources:
-        mem_mb=500,
+        mem_mb=800,
         runtime=5,
     log:
         "logs/halfspace_radiation.log",
+    benchmark:
+        "benchmarks/halfspace/radiation.tsv"
     script:
         "../scripts/halfspace_radiation.py"
 
@@ -57,9 +61,11 @@ rule radiation_figure:
         code=code("radiation_figure.py"),
         cfg=config_part(HALFSPACE_KEYS),
     resources:
-        mem_mb=500,
+        mem_mb=400,
         runtime=5,
     log:
         "logs/fig{nn}.log",
+    benchmark:
+        "benchmarks/figures/fig{nn}.tsv"
     script:
         "../scripts/radiation_figure.py"

@@ -15,7 +15,7 @@ rule compile_kernels:
     benchmark:
         "benchmarks/kernels/{which}.tsv"
     resources:
-        mem_mb=1000,
+        mem_mb=1100,
         runtime=10,
     script:
         "../scripts/compile_kernels.py"

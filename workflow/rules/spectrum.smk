@@ -20,7 +20,7 @@ rule rate_spectrum_tables:
     benchmark:
         "benchmarks/spectrum/{scenario}/tables_V{speed}_N{bays}.tsv"
     resources:
-        mem_mb=4000,
+        mem_mb=1200,
         runtime=30,
     script:
         "../scripts/receptance.py"
@@ -44,7 +44,7 @@ rule rate_spectrum_speed:
     benchmark:
         "benchmarks/spectrum/{scenario}/V{speed}.tsv"
     resources:
-        mem_mb=2000,
+        mem_mb=1400,
         runtime=20,
     script:
         "../scripts/rate_spectrum.py"
@@ -65,6 +65,8 @@ rule rate_spectrum_map:
         runtime=5,
     log:
         "logs/spectrum/{scenario}/map.log",
+    benchmark:
+        "benchmarks/spectrum/{scenario}/map.tsv"
     script:
         "../scripts/rate_spectrum_map.py"
 
@@ -93,6 +95,8 @@ rule rate_spectrum_sweep:
         runtime=5,
     log:
         "logs/spectrum_sweeps/{study}.log",
+    benchmark:
+        "benchmarks/spectrum_sweeps/{study}.tsv"
     script:
         "../scripts/rate_spectrum_sweep.py"
 

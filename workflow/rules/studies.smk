@@ -15,10 +15,12 @@ rule stability_case:
     wildcard_constraints:
         case="|".join(STABILITY["cases"]),
     resources:
-        mem_mb=1500,
+        mem_mb=1800,
         runtime=15,
     log:
         "logs/stability/{case}.log",
+    benchmark:
+        "benchmarks/stability/{case}.tsv"
     script:
         "../scripts/stability_case.py"
 
@@ -40,6 +42,8 @@ rule stability_table:
         runtime=10,
     log:
         "logs/stability/table.log",
+    benchmark:
+        "benchmarks/stability/table.tsv"
     script:
         "../scripts/stability_table.py"
 
@@ -65,10 +69,12 @@ rule convergence_point:
     wildcard_constraints:
         setting="|".join(CONVERGENCE["settings"]),
     resources:
-        mem_mb=2000,
+        mem_mb=6200,
         runtime=30,
     log:
         "logs/convergence/{setting}_{value}.log",
+    benchmark:
+        "benchmarks/convergence/{setting}_{value}.tsv"
     script:
         "../scripts/convergence_point.py"
 
@@ -91,6 +97,8 @@ rule convergence_aggregate:
         runtime=5,
     log:
         "logs/convergence/aggregate.log",
+    benchmark:
+        "benchmarks/convergence/aggregate.tsv"
     script:
         "../scripts/convergence_aggregate.py"
 

@@ -15,10 +15,12 @@ rule sweep_aggregate:
         grid=sweep_values,
         indices=sweep_indices,
     resources:
-        mem_mb=500,
+        mem_mb=400,
         runtime=5,
     log:
         "logs/sweeps/{study}.log",
+    benchmark:
+        "benchmarks/sweeps/{study}.tsv"
     script:
         "../scripts/sweep_aggregate.py"
 
@@ -37,10 +39,12 @@ rule sweep_bands:
         grid=sweep_values,
         indices=sweep_indices,
     resources:
-        mem_mb=500,
+        mem_mb=400,
         runtime=5,
     log:
         "logs/sweeps/{study}_bands.log",
+    benchmark:
+        "benchmarks/sweeps/{study}_bands.tsv"
     script:
         "../scripts/sweep_bands.py"
 

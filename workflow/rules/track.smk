@@ -18,7 +18,7 @@ rule receptance:
     benchmark:
         "benchmarks/receptance/{track}/V{speed}.tsv"
     resources:
-        mem_mb=2000,
+        mem_mb=1200,
         runtime=10,
     script:
         "../scripts/receptance.py"
@@ -43,7 +43,7 @@ rule receptance_bloch:
     benchmark:
         "benchmarks/receptance/{track}/V{speed}_N{bays}.tsv"
     resources:
-        mem_mb=4000,
+        mem_mb=1200,
         runtime=30,
     script:
         "../scripts/receptance.py"

@@ -38,9 +38,11 @@ rule wear_figure:
         code=code("wear_figure.py"),
         cfg=wear_figure_config,
     resources:
-        mem_mb=500,
+        mem_mb=400,
         runtime=5,
     log:
         "logs/fig{nn}.log",
+    benchmark:
+        "benchmarks/figures/fig{nn}.tsv"
     script:
         "../scripts/wear_figure.py"
