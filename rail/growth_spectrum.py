@@ -167,7 +167,9 @@ def _linear_rates(scn, tabs, free, locked, eps, phase, max_columns=None):
     fN0 = chain.solve_forces(scn, tabs, Roughness(Z0N, N))
     base = []
     for w_i, l in enumerate(order):
-        base.append(wear.march_inputs(fN0, l, Roughness(on_period(wear_before[w_i]), N), mat, nums, phase))
+        g1 = ref[w_i]
+        base.append(wear.march_inputs(fN0, l, Roughness(on_period(wear_before[w_i]), N), mat, nums, phase,
+                                      grid=(g1.delta, g1.Nx, g1.M, g1.spin)))
     for batch in probes:
         Z = Z0N.copy()
         for j, kind in batch:
@@ -177,10 +179,12 @@ def _linear_rates(scn, tabs, free, locked, eps, phase, max_columns=None):
         fN = chain.solve_forces(scn, tabs, Roughness(Z, N))
         for w_i, l in enumerate(order):
             mi1, b0 = ref[w_i], base[w_i]
-            mi = wear.march_inputs(fN, l, Roughness(Z + on_period(wear_before[w_i]), N), mat, nums, phase)
+            mi = wear.march_inputs(fN, l, Roughness(Z + on_period(wear_before[w_i]), N), mat, nums, phase,
+                                   grid=(mi1.delta, mi1.Nx, mi1.M, mi1.spin))  # the smooth rail's grid
             # the same grid (the spin-up may differ by a step: positions are taken from each one's own)
             same = (mi.M == b0.M == mi1.M and mi.Nx == b0.Nx == N * mi1.Nx
                     and abs(mi.delta - mi1.delta) <= 1e-12 * mi1.delta and abs(b0.delta - mi1.delta) <= 1e-12 * mi1.delta)
+            same = same and float(np.max(mi.a)) < (mi.M - 0.5) * mi.delta  # the probe's patch inside the grid
             if not same:
                 raise GridMismatch(f"the probe's contact grid (M {mi.M}, Nx {mi.Nx}) differs from the smooth rail's (M {mi1.M}, "
                                    f"Nx {N} x {mi1.Nx}); use method='probe'.")

@@ -237,7 +237,8 @@ class MarchInputs:
 
 
 def march_inputs(forces: ForceResult, wheel_index: int, roughness: Roughness, material: ContactMaterial,
-                 numerics: ContactNumerics, grid_phase: float = 0.0, a_max: float | None = None) -> MarchInputs:
+                 numerics: ContactNumerics, grid_phase: float = 0.0, a_max: float | None = None,
+                 grid: tuple | None = None) -> MarchInputs:
     """The contact grid and the normal contact (force, half-length, pressure shape) of every step of
     bay_wear's march (eqs 22-24 or rail.normal.patch_contact).
 
@@ -245,6 +246,10 @@ def march_inputs(forces: ForceResult, wheel_index: int, roughness: Roughness, ma
     ----------
     forces, wheel_index, roughness, material, numerics, grid_phase, a_max
         As bay_wear (forces [N], roughness [m], a_max [m]; bay_wear checks them).
+    grid : tuple, optional
+        (delta [m], spacings per bay, centre node M, spin-up steps) of a one-bay march to use as is,
+        repeated over the N bays (the linearised spectrum holds the smooth rail's grid for its
+        probes: a probe must not move the grid). Default: chosen from the patch as bay_wear does.
 
     Returns
     -------
@@ -269,15 +274,18 @@ def march_inputs(forces: ForceResult, wheel_index: int, roughness: Roughness, ma
     for _attempt in range(3):
         # the grid of one bay, repeated over the N bays of the period (so that a one-bay-periodic
         # roughness gives the same wear with any N)
-        delta, Nx, M = rolling_grid(a_est, forces.L, nodes)
-        if grid_phase:
-            Nx += int(round(grid_phase * forces.L / max(float(np.mean(a_s)), 1e-300)))
-        if grid_phase or forces.bays > 1:
-            Nx *= forces.bays
-            delta = L / Nx
-            M = int(np.ceil(a_est / delta)) + 1
-        # spin-up from zero traction over SPIN_UP_TRANSITS patch transits (at most a bay) before the bay
-        spin = min(Nx, int(np.ceil(SPIN_UP_TRANSITS * 2 * a_est / delta)))
+        if grid is not None:
+            delta, Nx, M, spin = float(grid[0]), int(grid[1]) * forces.bays, int(grid[2]), int(grid[3])
+        else:
+            delta, Nx, M = rolling_grid(a_est, forces.L, nodes)
+            if grid_phase:
+                Nx += int(round(grid_phase * forces.L / max(float(np.mean(a_s)), 1e-300)))
+            if grid_phase or forces.bays > 1:
+                Nx *= forces.bays
+                delta = L / Nx
+                M = int(np.ceil(a_est / delta)) + 1
+            # spin-up from zero traction over SPIN_UP_TRANSITS patch transits (at most a bay) before the bay
+            spin = min(Nx, int(np.ceil(SPIN_UP_TRANSITS * 2 * a_est / delta)))
         steps = spin + Nx + 2 * M + 1
         x_wheel = (np.arange(steps) - spin) * delta  # wheel centre at each step; x = 0 at step `spin`
         on_grid = (np.arange(steps) - spin) % Nx  # x_wheel mod L = on_grid L / Nx: exact grid points
@@ -298,7 +306,7 @@ def march_inputs(forces: ForceResult, wheel_index: int, roughness: Roughness, ma
             kappa = _curvature_on_grid(roughness, Nx, L)[on_grid]
             R = equivalent_radius(kappa, material)
             a = hertz_half_length(P, R, material)
-        if a_max is not None or float(np.max(a)) < (M - 0.5) * delta:
+        if a_max is not None or grid is not None or float(np.max(a)) < (M - 0.5) * delta:
             break
         a_est = 1.02 * float(np.max(a))
     else:
