@@ -152,8 +152,8 @@ def _filon_segments(q, to_beta, order, limit):
     (node index (S, order), segment starts, segment ends)."""
     a, b = q.edges[:, 0], q.edges[:, 1]
     m = 0.5 * (a + b)
-    ends = np.sort(np.concatenate([np.stack([a, m], 1), np.stack([m, b], 1)]), axis=0)
-    ends = ends[np.argsort(ends[:, 0])]
+    ends = np.concatenate([np.stack([a, m], 1), np.stack([m, b], 1)])
+    ends = ends[np.argsort(ends[:, 0])]  # the half-panels in order, each [start, end] kept together
     idx = np.arange(len(q.nodes)).reshape(len(ends), order)
     ba, bb = to_beta(ends[:, 0])[0], to_beta(ends[:, 1])[0]
     inside = np.abs(0.5 * (ba + bb)) < limit
