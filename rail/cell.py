@@ -257,9 +257,10 @@ def cell_lattice_sums_excluding(beta, omega, xs, period: float, track: Track, ex
 
     For wavenumbers near the static point (beta, omega -> 0), where H(beta) ~ 1/(EI beta^4) diverges
     and the closed form would lose every digit to the cancellation with the m = 0 term.  Explicit
-    summation: H itself for 0 < |m| <= ``explicit``, its quasi-static form beyond, to |m| = ``tail``
-    (the terms fall like 1/(kappa G A m^2 beta_P^2); for x != 0 they alternate in phase, and for
-    x = 0 the rest of the sum is added in closed form by polygamma, as rail.moving._static_tail).
+    summation: H itself for 0 < |m| <= ``explicit``, then its quasi-static form 1/(EI q^4) +
+    1/(kappa G A q^2): for x = 0 the whole rest in closed form by polygamma (as the uniform track
+    always did), for x != 0 explicitly to |m| = ``tail`` (the terms fall like 1/(kappa G A m^2 beta_P^2)
+    and turn in phase with m, so the truncation error is O(1/tail^2)).
 
     Parameters
     ----------
@@ -288,16 +289,17 @@ def cell_lattice_sums_excluding(beta, omega, xs, period: float, track: Track, ex
     q1 = beta[:, None] + m1[None, :] * bP
     H1 = free_receptance(q1, omega[:, None], track)
     out += H1 @ np.exp(1j * np.outer(m1 * bP, xs))
-    m2 = np.concatenate([np.arange(-tail, -explicit), np.arange(explicit + 1, tail + 1)])
-    q2 = beta[:, None] + m2[None, :] * bP
-    H2 = _static_free(q2, omega[:, None], track)
-    out += H2 @ np.exp(1j * np.outer(m2 * bP, xs))
-    out *= np.exp(1j * np.outer(beta, xs))
     zero = xs == 0
-    if zero.any():  # the rest |m| > tail of the unphased sum, in closed form
+    if (~zero).any():  # phased: the quasi-static terms explicitly to |m| = tail
+        m2 = np.concatenate([np.arange(-tail, -explicit), np.arange(explicit + 1, tail + 1)])
+        q2 = beta[:, None] + m2[None, :] * bP
+        H2 = _static_free(q2, omega[:, None], track)
+        out[:, ~zero] += H2 @ np.exp(1j * np.outer(m2 * bP, xs[~zero]))
+    out *= np.exp(1j * np.outer(beta, xs))
+    if zero.any():  # unphased: the quasi-static rest |m| > explicit in closed form (polygamma)
         EI, kGA = rail_stiffnesses(track, omega)
         a = beta / bP
-        M = tail
+        M = explicit
         s2 = (special.polygamma(1, M + 1 + a) + special.polygamma(1, M + 1 - a)) / bP**2
         s4 = (special.polygamma(3, M + 1 + a) + special.polygamma(3, M + 1 - a)) / (6 * bP**4)
         out[:, zero] += (s4 / EI + s2 / kGA)[:, None]

@@ -27,12 +27,12 @@ from __future__ import annotations
 from dataclasses import dataclass
 
 import numpy as np
-from scipy import special
 
 from .quadrature import adaptive_panels, filon_weights
-from .track import Track, damping_problem, free_receptance, periodic_sum, rail_stiffnesses, support_stiffness
+from .cell import TrackCell, cell_sum_matrix, point_stiffness
+from .track import Track, damping_problem, free_receptance
 
-__all__ = ["MovingReceptance", "receptance_table", "bloch_tables", "moving_coefficients", "critical_speed"]
+__all__ = ["MovingReceptance", "receptance_table", "bloch_tables", "cell_receptance_table", "moving_coefficients", "critical_speed"]
 
 
 @dataclass(frozen=True)
@@ -49,6 +49,8 @@ class MovingReceptance:
                 the rule with half the nodes; the result's own error is far smaller (docs/track.md)
     nodes     : number of wavenumber quadrature nodes
     fraction  : Bloch fraction nu in [0, 1) of the base frequency nu Omega_0 (0: bay-periodic loads)
+    bays      : N, the track's cell in bays (rail.cell): the harmonics are then of the cell
+                frequency Omega_P = Omega_0 / N and ``harmonics`` counts them (N K)
     """
 
     speed: float
@@ -58,6 +60,7 @@ class MovingReceptance:
     error: np.ndarray
     nodes: int
     fraction: float = 0.0
+    bays: int = 1
 
     @property
     def indices(self) -> np.ndarray:
@@ -74,57 +77,85 @@ class MovingReceptance:
         return complex(self.A[offset_index, k + n + K, k + K])
 
 
-def _static_tail(beta, omega, track, M):
-    """sum over |m| > M of the quasi-static H_0(beta + m beta0) = 1/(EI b^4) + 1/(kGA b^2), via polygamma."""
-    EI, kGA = rail_stiffnesses(track, omega)
-    b0 = track.beta0
-    a = beta / b0
-    s2 = (special.polygamma(1, M + 1 + a) + special.polygamma(1, M + 1 - a)) / b0**2
-    s4 = (special.polygamma(3, M + 1 + a) + special.polygamma(3, M + 1 - a)) / (6 * b0**4)
-    return s4 / EI + s2 / kGA
+def _node_tables(beta, Omega, V, js, cell: TrackCell, static_j):
+    """Everything the wavenumber integrands need at the nodes ``beta`` (docs/track.md, "A cell of N bays").
 
+    h_j = H(beta - j beta_P, omega), omega = Omega + beta V, for the columns ``js``; the reactions of
+    the cell's attachments to a unit load of every column, Y[:, q, k] = (I + diag(K) S / P)^-1 diag(K) v_k
+    with v_k[l] = h_k exp(-i (beta - k beta_P) s_l); the row factors U[:, q, p] = h_p exp(i (beta - p beta_P) s_q),
+    so that the support part of A[p, k] integrates -(1 / 2 pi P) sum_q U[q, p] Y[q, k]; and each
+    column's whole diagonal integrand h_k - sum_q U[q, k] Y[q, k] / P.
 
-def _sum_excluding(beta, omega, m_star, track, M=40):
-    """sum over m != m_star of H(beta + m beta0, omega), by explicit summation and a static tail.
+    ``static_j``: the column whose h diverges at the static point (beta = static_j beta_P, omega = 0),
+    or None.  Within half a cell wavenumber of it the divergent lattice term is taken out of S and
+    put back by the Sherman-Morrison formula, so that no quantity there is formed from the
+    difference of two large ones: with B = I + diag(K) S' / P (S' without it), a = exp(-i beta' s),
+    b = exp(i beta' s), z = B^-1 diag(K) a and c = b^T z, the static column's diagonal is
+    h / (1 + h c / P), its reactions h z / (1 + h c / P), and its row b^T B^-1 diag(K) v_k h / (1 + h c / P).
+    For one support this is the combined form h (L + K_s (S - h)) / (L + K_s S) of the uniform track.
 
-    Used near the static point, where the closed-form periodic sum would lose every digit
-    to the cancellation with the m_star term, which diverges like 1/(EI beta^4).
+    Returns
+    -------
+    G : (n, J) h_j;  diag : (n, J) diagonal integrands;  U, Y : (n, Q, J);
+    row : (n, J) or None, the static column's row (replacing U[:, :, static] . Y at the near nodes);
+    near : (n,) bool
     """
-    b0 = track.beta0
-    out = _static_tail(beta + m_star * b0, omega, track, M)
-    for m in range(-M, M + 1):
-        if m != 0:
-            out = out + free_receptance(beta + (m_star + m) * b0, omega, track)
-    return out
-
-
-def _node_tables(beta, Omega, V, js, track, static_j):
-    """Columns g_j = H(beta - j beta0, Omega + beta V), support weight parts, and the combined
-    diagonal factor at the wavenumber nodes ``beta``.  ``static_j``: index j whose column
-    diverges at the static point (None if there is none)."""
-    b0, L = track.beta0, track.L
+    P, bP = cell.period, cell.beta_p
+    s = cell.positions
     omega = Omega + beta * V
-    G = free_receptance(beta[:, None] - js[None, :] * b0, omega[:, None], track)
-    Ks = support_stiffness(track, omega)
-    S = np.empty(beta.shape, dtype=complex)
-    near = np.zeros(beta.shape, dtype=bool)
+    G = free_receptance(beta[:, None] - js[None, :] * bP, omega[:, None], cell.track)
+    Kq = point_stiffness(cell, omega)  # (n, Q)
+    if len(s) == 1 and s[0] == 0.0:  # the uniform track: no phases
+        U = Vv = G[:, None, :]
+    else:  # exp(i (beta - j beta_P) s_q) as the product of two small tables
+        eplus = np.exp(1j * beta[:, None] * s[None, :])[:, :, None] * np.exp(-1j * bP * np.outer(s, js))[None]
+        U = G[:, None, :] * eplus
+        Vv = G[:, None, :] / eplus
+    n, Q, J = U.shape
+    near = np.zeros(n, dtype=bool)
     if static_j is not None:
-        near = np.abs(beta - static_j * b0) < b0 / 2
+        near = np.abs(beta - static_j * bP) < bP / 2
     far = ~near
+    Y = np.empty_like(U)
+    row = None
+    eye = np.eye(Q)
     if far.any():
-        S[far] = periodic_sum(beta[far], omega[far], track)
-    S_excl = None
-    if near.any():
-        S_excl = _sum_excluding(beta[near], omega[near], -static_j, track)
-        S[near] = S_excl + free_receptance(beta[near] - static_j * b0, omega[near], track)
-    denom = L + Ks * S
-    # combined diagonal factor (L + K_s (S - g_j)) / (L + K_s S), stable at the static point
-    diag_factor = (L + Ks[:, None] * (S[:, None] - G)) / denom[:, None]
+        S = cell_sum_matrix(beta[far], omega[far], cell)
+        if Q == 1:
+            Y[far] = (Kq[far] / (1 + Kq[far] * S[:, :, 0] / P))[:, :, None] * Vv[far]
+        else:
+            Mx = eye[None] + Kq[far][:, :, None] * S / P
+            Y[far] = np.linalg.solve(Mx, Kq[far][:, :, None] * Vv[far])
+    diag = G - (U[:, 0] * Y[:, 0] if Q == 1 else np.einsum("nqj,nqj->nj", U, Y)) / P if far.all() else None
     if near.any():
         col = int(np.where(js == static_j)[0][0])
-        diag_factor[near, col] = (L + Ks[near] * S_excl) / denom[near]
-    w = L * Ks / denom
-    return G, w, diag_factor
+        bn, on = beta[near] - static_j * bP, omega[near]
+        Sx = cell_sum_matrix(bn, on, cell, exclude_zero=True)
+        Kn = Kq[near]
+        B = eye[None] + Kn[:, :, None] * Sx / P
+        a = np.exp(-1j * bn[:, None] * s[None, :])
+        rhs = np.concatenate([(Kn * a)[:, :, None], Kn[:, :, None] * Vv[near]], axis=2)
+        Z = np.linalg.solve(B, rhs)
+        z, Zk = Z[:, :, 0], Z[:, :, 1:]
+        b = 1.0 / a
+        c = np.sum(b * z, axis=1)
+        t = np.einsum("nq,nqj->nj", b, Zk)
+        h = G[near, col]
+        gam = h / (P + h * c)  # (h / P) / (1 + h c / P), finite as h -> inf
+        Yn = Zk - z[:, :, None] * (gam[:, None] * t)[:, None, :]
+        Yn[:, :, col] = P * gam[:, None] * z
+        Y[near] = Yn
+        row = np.zeros((n, J), dtype=complex)
+        row[near] = P * gam[:, None] * t
+        row[near, col] = 0.0
+        if diag is None:
+            Un = U[near].copy()
+            Un[:, :, col] = 0.0
+            diag = np.empty((n, J), dtype=complex)
+            diag[far] = G[far] - np.einsum("nqj,nqj->nj", U[far], Y[far]) / P
+            diag[near] = G[near] - np.einsum("nqj,nqj->nj", Un, Yn) / P
+            diag[near, col] = P * gam
+    return G, diag, U, Y, row, near
 
 
 def _edges_theta(Bmap, points, cut=None, panels=96):
@@ -160,31 +191,43 @@ def _filon_segments(q, to_beta, order, limit):
     return idx[inside], ba[inside], bb[inside]
 
 
-def _integrate(track, V, Omega, js, offsets, static_j, rtol, cut, order=16, max_panels=40000, block=4096, filon=True):
+def _integrate(cell: TrackCell, V, Omega, js, offsets, static_j, rtol, cut, order=16, max_panels=40000, block=None, filon=True):
     """Adaptive wavenumber quadrature of the receptance matrices (shared by the table and the
     single-frequency coefficients).  Returns (A, error, nodes).
 
-    The rule adapts to the smooth factors of the integrands only (every column's diagonal integrand
-    and the support weight); the oscillating factor exp(-i beta d) of an offset d != 0 is integrated
-    exactly against the piecewise polynomial interpolant of those factors on the same nodes (Filon
-    weights, rail.quadrature.filon_weights), so the cost does not grow with |d| (docs/track.md,
+    The harmonics ``js`` are of the cell wavenumber beta_P = 2 pi / P (for the uniform track, the
+    cell of one support: beta0).  The rule adapts to the smooth factors of the integrands only
+    (every column's diagonal integrand and the reactions to the central column); the oscillating
+    factor exp(-i beta d) of an offset d != 0 is integrated exactly against the piecewise
+    polynomial interpolant of those factors on the same nodes (Filon weights,
+    rail.quadrature.filon_weights), so the cost does not grow with |d| (docs/track.md,
     "Quadrature"). ``filon=False`` multiplies the Gauss weights by exp(-i beta d) instead (for tests:
-    on the nodes of the d = 0 rule that aliases the oscillation of a far offset)."""
-    b0, L = track.beta0, track.L
+    on the nodes of the d = 0 rule that aliases the oscillation of a far offset).  The node tables
+    are evaluated in blocks of ``block`` nodes (default: about 2**21 / (attachments x columns)), so
+    memory does not grow with the node count."""
+    b0, P = cell.beta_p, cell.period
     offsets = np.asarray(offsets, dtype=float)
+    J = len(js)
+    Q = len(cell.positions)
+    if block is None:
+        block = int(min(4096, max(64, 2**21 // (Q * J))))
     Bmap = (np.max(np.abs(js)) + 4) * b0
     beta_s = -Omega / V  # where omega = 0: hysteretic damping changes sign
     has_offsets = np.any(offsets != 0)
+    c0 = int(np.argmin(np.abs(js)))
 
     def to_beta(th):
         return Bmap * np.tan(th), Bmap / np.cos(th) ** 2
 
     def proxy(th):
-        beta, jac = to_beta(th)
-        G, w, dfac = _node_tables(beta, Omega, V, js, track, static_j)
-        # diagonal integrands (free-wave peaks of every column) and the support weight w
-        # (Floquet-wave peaks) carry every feature of the off-diagonal integrands w h_k h_p
-        return np.concatenate([G * dfac, (w * G[:, np.argmin(np.abs(js))])[:, None]], axis=1) * jac[:, None]
+        # diagonal integrands (free-wave peaks of every column) and the reactions to the central
+        # column (Floquet-wave peaks) carry every feature of the off-diagonal integrands
+        out = []
+        for lo in range(0, len(th), block):
+            beta, jac = to_beta(th[lo : lo + block])
+            G, diag, U, Y, row, near = _node_tables(beta, Omega, V, js, cell, static_j)
+            out.append(np.concatenate([diag, Y[:, 0, c0][:, None]], axis=1) * jac[:, None])
+        return np.concatenate(out)
 
     edges = _edges_theta(Bmap, [beta_s], cut if has_offsets else None)
     q = adaptive_panels(proxy, edges, rtol=rtol, order=order, max_panels=max_panels)
@@ -202,18 +245,23 @@ def _integrate(track, V, Omega, js, offsets, static_j, rtol, cut, order=16, max_
             elif d != 0:
                 W[i, seg] = (wt * jac)[seg] * np.exp(-1j * beta[seg] * d) * taper
     # the Gram products in blocks of nodes: memory bounded by the block, not by the node count
-    J = len(js)
     M = np.zeros((len(offsets), J, J), dtype=complex)
     D = np.zeros((len(offsets), J), dtype=complex)
     for lo in range(0, len(th), block):
         sl = slice(lo, lo + block)
-        G, w, dfac = _node_tables(beta[sl], Omega, V, js, track, static_j)
-        D += W[:, sl] @ (G * dfac)
+        G, diag, U, Y, row, near = _node_tables(beta[sl], Omega, V, js, cell, static_j)
+        D += W[:, sl] @ diag
+        if row is not None and near.any():
+            U[near, :, int(np.where(js == static_j)[0][0])] = 0.0
+        n = U.shape[0]
+        Yf = Y.reshape(n * Q, J)
         for i in range(len(offsets)):
-            M[i] += (G * (w * W[i, sl])[:, None]).T @ G  # M[k, p] = int w g_k g_p e^d_p (e^-i beta d in W)
-    A = -np.swapaxes(M, 1, 2) / (2 * np.pi * L)  # A[p, k]
+            M[i] += (U * W[i, sl][:, None, None]).reshape(n * Q, J).T @ Yf  # M[p, k] = int sum_q u_p^q Y_k^q e^d_p
+            if row is not None and near.any():
+                M[i, int(np.where(js == static_j)[0][0])] += W[i, sl] @ row
+    A = -M / (2 * np.pi * P)  # A[p, k]
     A[:, np.arange(J), np.arange(J)] = D / (2 * np.pi)
-    A *= np.exp(1j * js[None, :] * b0 * offsets[:, None])[:, :, None]  # row factor exp(i p beta0 d)
+    A *= np.exp(1j * js[None, :] * b0 * offsets[:, None])[:, :, None]  # row factor exp(i p beta_P d)
     # Error bound: the proxies' |coarse - fine| per panel (the error of the rule with half the
     # nodes), relative to each proxy, applied to every entry of a column on the scale of that
     # column: the larger of the entry and the column's diagonal at d = 0 (the proxy integral).
@@ -288,7 +336,7 @@ def receptance_table(
     offsets = np.atleast_1d(np.asarray(offsets, dtype=float))
     cut = (K + 12) * track.beta0 if transfer_cut is None else float(transfer_cut)
     Omega = fraction * track.beta0 * speed
-    A, err, n = _integrate(track, speed, Omega, js, offsets, 0 if fraction == 0 else None, rtol, cut)
+    A, err, n = _integrate(TrackCell.uniform(track), speed, Omega, js, offsets, 0 if fraction == 0 else None, rtol, cut)
     return MovingReceptance(float(speed), K, offsets, A, err, n, float(fraction))
 
 
@@ -318,6 +366,55 @@ def bloch_tables(track: Track, speed: float, harmonics: int, bays: int, offsets=
     if int(bays) != bays or bays < 1:
         raise ValueError(f"roughness.bays = {bays!r} is not allowed: it must be an integer >= 1.")
     return tuple(receptance_table(track, speed, harmonics, offsets, rtol, fraction=r / bays) for r in range(int(bays) // 2 + 1))
+
+
+def cell_receptance_table(cell: TrackCell, speed: float, harmonics: int, offsets=(0.0,), rtol: float = 1e-4,
+                          transfer_cut: float | None = None) -> MovingReceptance:
+    """Receptance matrices of a track periodic over a cell of N bays (docs/track.md, "A cell of N bays").
+
+    The loads and responses are periodic over the cell: frequencies q Omega_P, Omega_P = 2 pi V / P,
+    |q| <= N K, so the force harmonics reach K Omega_0 as on the uniform track (Omega_0 = 2 pi V / L,
+    L = P / N).  A_d[p, q] = a_{p-q}(q Omega_P, d) with the cell's reactions in the support term
+    (one N x N solve per wavenumber node).  For a cell of one support this is
+    ``receptance_table``; for N identical supports at equal spacing its entries with p = q (mod N)
+    are those of the Bloch tables of rail.moving.bloch_tables and the others vanish.
+
+    Parameters
+    ----------
+    cell : TrackCell
+    speed : float
+        V [m/s], > 0.
+    harmonics : int
+        K per bay [-], >= 0: the table has 2 N K + 1 harmonics of Omega_P.
+    offsets : sequence of float
+        Offsets d [m] of the receiving wheels from the loading one.
+    rtol : float
+        Relative tolerance of the adaptive wavenumber quadrature [-].
+    transfer_cut : float, optional
+        Start of the cos^2 window of the d != 0 integrands [rad/m]; default (K + 12) beta0.
+
+    Returns
+    -------
+    MovingReceptance
+        harmonics = N K (of Omega_P), bays = N; A [m/N] of shape (offset, 2 N K + 1, 2 N K + 1).
+    """
+    if not isinstance(cell, TrackCell):
+        raise TypeError(f"cell must be a rail.cell.TrackCell, not {type(cell).__name__}.")
+    if not (np.isfinite(speed) and speed > 0):
+        raise ValueError(f"speed = {speed!r} m/s is not allowed: it must be a finite number > 0.")
+    if not (np.isfinite(rtol) and 0 < rtol < 1):
+        raise ValueError(f"rtol = {rtol!r} is not allowed: the quadrature tolerance must lie in (0, 1).")
+    if int(harmonics) != harmonics or harmonics < 0:
+        raise ValueError(f"harmonics = {harmonics!r} is not allowed: it must be an integer >= 0.")
+    if (problem := damping_problem(cell.track)) is not None:
+        raise ValueError(problem)
+    N = cell.bays
+    J = N * int(harmonics)
+    js = np.arange(-J, J + 1)
+    offsets = np.atleast_1d(np.asarray(offsets, dtype=float))
+    cut = (int(harmonics) + 12) * 2 * np.pi / cell.mean_spacing if transfer_cut is None else float(transfer_cut)
+    A, err, n = _integrate(cell, speed, 0.0, js, offsets, 0, rtol, cut)
+    return MovingReceptance(float(speed), J, offsets, A, err, n, 0.0, N)
 
 
 def moving_coefficients(track: Track, speed: float, Omega: float, n_max: int, offset: float = 0.0, rtol: float = 1e-6):
@@ -369,7 +466,7 @@ def moving_coefficients(track: Track, speed: float, Omega: float, n_max: int, of
         j = -int(round(kk))
         static_j = j if abs(j) <= n_max else None
     cut = (n_max + 12) * track.beta0 + abs(Omega) / speed
-    A, err, _ = _integrate(track, speed, Omega, js, [offset], static_j, rtol, cut)
+    A, err, _ = _integrate(TrackCell.uniform(track), speed, Omega, js, [offset], static_j, rtol, cut)
     col = n_max  # j = 0 is the load's own column
     return ns, A[0, :, col], err[0, :, col]
 
