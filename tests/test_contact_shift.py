@@ -6,6 +6,7 @@ import io
 
 import numpy as np
 import pytest
+import xarray as xr
 from scipy.special import j0, j1
 
 from model import scenario
@@ -128,7 +129,6 @@ def test_growth_result_carries_the_contact_shift_with_units_and_no_flag_from_a_s
     assert "contact_shift_warning" not in ds.attrs and warn.getvalue() == ""
     assert ds.attrs["contact_shift_sweep_limit"] == chain.SWEEP_ERROR_LIMIT
     ds.to_netcdf(tmp_path / "g.nc")
-    import xarray as xr
     with xr.open_dataset(tmp_path / "g.nc") as back:
         assert back["contact_shift"].attrs["units"] == "m"
         np.testing.assert_array_equal(back["contact_shift"].values, ds["contact_shift"].values)
