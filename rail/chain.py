@@ -8,6 +8,7 @@ in one place (report secs 4-5):
     wear   = passage_wear(scn, forces, roughness)    contact and wear of one wheel passage (eqs 22-54, rail.wear)
     dZ, _  = train_wear(scn, table, Z)               wear of one train passage, wheel after wheel
     hist   = grow(scn, table, roughness)             roughness growth over many passages (sec. 5, rail.growth)
+    cs     = contact_shift(scn, table, Z)            the neglected move of the contact centre (docs/contact.md)
 """
 
 from __future__ import annotations
@@ -18,14 +19,17 @@ import sys
 import numpy as np
 
 from . import growth, interaction, moving, normal, provenance, wear
-from .contact import hertz_half_length
+from .contact import ContactError, hertz_half_length
 from .interaction import ForceResult, Roughness
 from .moving import MovingReceptance
 from .scenario import Scenario, TrackNumerics
 from .track import Track
 
 __all__ = ["wheel_offsets", "receptance_table", "track_table", "table_speed", "initial_roughness", "solve_forces", "contact_filtered",
-           "passage_wear", "train_wear", "grow", "single_wheel"]
+           "passage_wear", "train_wear", "grow", "single_wheel", "ContactShift", "contact_shift",
+           "SWEEP_ERROR_LIMIT"]
+
+SWEEP_ERROR_LIMIT = 2e-3  # largest |dc/dx| the wear model is taken to hold for (docs/contact.md, "The move of the contact centre")
 
 
 def single_wheel(scn: Scenario) -> Scenario:
@@ -275,3 +279,67 @@ def grow(scn: Scenario, table: MovingReceptance, roughness: Roughness | None = N
     return growth.run_growth(lambda Z, phase: train_wear(scn, table, Z, phase), rough, len(scn.wheels.positions),
                              scn.growth, checkpoint=checkpoint, identity=ident, progress=progress,
                              period=scn.L * scn.roughness.bays, **kwargs)
+
+
+@dataclasses.dataclass(frozen=True)
+class ContactShift:
+    """The largest move of the contact centre over the wheels and the period (contact_shift).
+
+    shift : largest |c| [m], c the centre of the single-zone patch relative to the wheel centre
+    ratio : largest |c| / a [-]
+    sweep : largest |dc/dx_w| [-]: the patch sweeps the rail at V (1 + dc/dx_w), so the wear depth the
+            model leaves out is -dc/dx_w of the mean wear (for a harmonic, beta |c|)
+    """
+
+    shift: float
+    ratio: float
+    sweep: float
+
+
+def contact_shift(scn: Scenario, table: MovingReceptance, Z) -> ContactShift:
+    """Where the contact patch sits relative to the wheel centre along the period, which the wear
+    model neglects (docs/contact.md, "The move of the contact centre").
+
+    The single-zone 2D contact (rail.normal.patch_contact) centres the patch at c = R_w <r'>, the
+    roughness slope averaged over the patch with the weight 1 / (pi sqrt(a^2 - s^2)) (c = R_w r'
+    J0(beta a) for a small cosine). It is evaluated for every wheel with the forces of the
+    roughness Z, on either normal-contact model (the report's keeps the patch on the wheel centre
+    too), at max(512, 16 K) positions per bay: the largest |c| sampled at 16 points per shortest
+    wavelength is low by at most 1 - cos(pi / 16) = 1.9 %. dc/dx_w is the spectral derivative.
+
+    Parameters
+    ----------
+    scn : Scenario
+    table : MovingReceptance
+        At the train's speed.
+    Z : ndarray
+        Roughness coefficients j = -J..J over the period [m].
+
+    Returns
+    -------
+    ContactShift
+        Largest |c| [m], |c| / a [-] and |dc/dx_w| [-]; NaN where the single-zone contact does not
+        hold (contact lost, multiple contact: the run stops there, rail.growth.run_growth).
+    """
+    rough = Roughness(np.asarray(Z), scn.roughness.bays)
+    if not np.any(rough.Z):
+        return ContactShift(0.0, 0.0, 0.0)
+    forces = solve_forces(scn, table, rough)
+    period = forces.period
+    n = max(512, 16 * forces.harmonics // forces.bays) * forces.bays
+    x = np.arange(n) * period / n
+    slope = wear.roughness_slope(rough, period)
+    k = 2 * np.pi * np.fft.fftfreq(n, period / n)  # rad/m
+    shift = ratio = sweep = 0.0
+    for P in interaction.force_on_grid(forces, n):
+        if not np.all(P > 0):
+            return ContactShift(np.nan, np.nan, np.nan)
+        try:
+            pc = normal.patch_contact(P, x, slope, scn.material, np.zeros(1))
+        except ContactError:
+            return ContactShift(np.nan, np.nan, np.nan)
+        dc = np.real(np.fft.ifft(1j * k * np.fft.fft(pc.shift)))
+        shift = max(shift, float(np.max(np.abs(pc.shift))))
+        ratio = max(ratio, float(np.max(np.abs(pc.shift) / pc.a)))
+        sweep = max(sweep, float(np.max(np.abs(dc))))
+    return ContactShift(shift, ratio, sweep)

@@ -168,7 +168,7 @@ def growth(study: Study, *, speed: float, passages: int | None = None, checkpoin
     table = chain.receptance_table(scn, speed)
     history = chain.grow(scn, table, checkpoint=checkpoint, identity={"config": study.config}, progress=progress,
                          on_mismatch="restart")
-    ds = runs.growth_dataset(scn, table, history, speed)
+    ds = runs.growth_dataset(scn, table, history, speed, warn=progress)
     return io.finalize(ds, study.config, title=f"Roughness growth at {speed:g} m/s", source="rail.app.api.growth",
                        scenario=study.name)
 

@@ -340,6 +340,33 @@ def growth(history, track, speed: float, n_wheels: int, points: int = 601, bays:
     )
 
 
+def with_contact_shift(ds: xr.Dataset, shifts, limit: float) -> xr.Dataset:
+    """The growth dataset ``ds`` with the neglected move of the contact centre at each saved state
+    (rail.chain.ContactShift, one per passage) and, where its sweep error exceeds ``limit`` [-], the
+    attribute ``contact_shift_warning`` (docs/contact.md, "The move of the contact centre")."""
+    c = np.array([s.shift for s in shifts])
+    ratio = np.array([s.ratio for s in shifts])
+    sweep = np.array([s.sweep for s in shifts])
+    ds = ds.assign(
+        contact_shift=_var("passage", c, "m", "largest |c| over the wheels and the period, c the neglected move of the contact "
+                           "patch centre relative to the wheel centre (R_w times the patch-weighted roughness slope)"),
+        contact_shift_ratio=_var("passage", ratio, "1", "largest |c| / a, the neglected move of the contact centre relative to "
+                                 "the patch half-length"),
+        contact_shift_sweep=_var("passage", sweep, "1", "largest |dc/dx|: the wear depth the neglected move of the contact centre "
+                                 "leaves out, relative to the mean wear (beta |c| for a harmonic)"),
+    )
+    ds.attrs["contact_shift_sweep_limit"] = float(limit)
+    over = np.flatnonzero(sweep > limit)
+    if over.size:
+        i = int(over[0])
+        ds.attrs["contact_shift_warning"] = (
+            f"the neglected move of the contact centre leaves out {100 * sweep[i]:.2g} % of the mean wear from "
+            f"{int(ds['passage'].values[i])} passages on (|dc/dx| > {limit:g}; largest |c| = {1e6 * c[i]:.3g} µm, "
+            f"{100 * ratio[i]:.2g} % of the half-length): comparable with the wear modulation that drives growth, "
+            "the growth beyond is outside the model's validity (docs/contact.md)")
+    return ds
+
+
 def _slug(prefix: str, label: str) -> str:
     """A netCDF-safe variable name for a plotted line: 'level' + '20 m/s' -> 'level_20_m_per_s'."""
     return prefix + "_" + re.sub(r"[^0-9A-Za-z.+-]+", "_", label.replace("/", " per ")).strip("_")

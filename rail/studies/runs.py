@@ -12,9 +12,13 @@ from . import datasets
 __all__ = ["growth_dataset"]
 
 
-def growth_dataset(scn: Scenario, table, history, speed: float) -> xr.Dataset:
+def growth_dataset(scn: Scenario, table, history, speed: float, warn=None) -> xr.Dataset:
     """The growth dataset of a run (rail.studies.datasets.growth) with every wheel's contact force
-    at each saved roughness.
+    and the neglected move of the contact centre (rail.chain.contact_shift) at each saved roughness.
+
+    Where the move's sweep error |dc/dx| exceeds rail.chain.SWEEP_ERROR_LIMIT at a saved state, the
+    attribute ``contact_shift_warning`` holds one line saying so (docs/contact.md), also written to
+    ``warn``.
 
     Parameters
     ----------
@@ -24,6 +28,8 @@ def growth_dataset(scn: Scenario, table, history, speed: float) -> xr.Dataset:
     history : rail.growth.GrowthHistory
     speed : float
         Train speed [m/s].
+    warn : file, optional
+        Where the one-line warning goes (default: nowhere).
 
     Returns
     -------
@@ -35,6 +41,9 @@ def growth_dataset(scn: Scenario, table, history, speed: float) -> xr.Dataset:
         return interaction.force_history(chain.solve_forces(scn, table, interaction.Roughness(Z, bays)), x)
 
     ds = datasets.growth(history, scn.track, speed, len(scn.wheels.positions), bays=bays, force=force)
+    ds = datasets.with_contact_shift(ds, [chain.contact_shift(scn, table, Z) for Z in history.Z], chain.SWEEP_ERROR_LIMIT)
+    if "contact_shift_warning" in ds.attrs and warn is not None:
+        print("warning: " + ds.attrs["contact_shift_warning"], file=warn, flush=True)
     ds.attrs["normal_contact"] = scn.contact_numerics.normal
     if history.stopped:  # a physical assumption broke: the states up to there, and why
         ds.attrs["stopped"] = history.stopped

@@ -15,7 +15,7 @@ def main(config, name, table_path, speed, checkpoint, out_path, log):
         tab = datasets.read_receptance_table(t.load())
     Path(checkpoint).parent.mkdir(parents=True, exist_ok=True)
     history = chain.grow(scn, tab, checkpoint=checkpoint, identity={"config": config}, progress=log, on_mismatch="restart")
-    ds = runs.growth_dataset(scn, tab, history, speed)
+    ds = runs.growth_dataset(scn, tab, history, speed, warn=log)
     io.write_netcdf(io.finalize(ds, config, title=f"Roughness growth at {speed:g} m/s", source="rail.chain.grow", scenario=name), out_path)
 
 
