@@ -25,7 +25,7 @@ import numpy as np
 
 from .track import Ballast, Pad, Sleeper, Track, _damped, _nonnegative, _positive, free_receptance, free_receptance_poles
 
-__all__ = ["Support", "RailDamper", "TrackCell", "point_stiffness", "cell_lattice_sum", "cell_lattice_sums_excluding",
+__all__ = ["Support", "RailDamper", "TrackCell", "RandomSupports", "make_cell", "point_stiffness", "cell_lattice_sum", "cell_lattice_sums_excluding",
            "cell_stationary_receptance"]
 
 
@@ -399,3 +399,117 @@ def cell_stationary_receptance(x, x0, omega, cell: TrackCell, rtol: float = 1e-7
     if return_error:
         return alpha, float(q.error[0] / (2 * np.pi))
     return alpha
+
+
+@dataclass(frozen=True)
+class RandomSupports:
+    """Seeded random factors on the supports of a cell (a random track).
+
+    seed         : seed of numpy.random.default_rng [-]
+    distribution : 'uniform' (factor 1 + s u, u uniform in [-1, 1]) or 'normal' (1 + s g, g standard
+                   normal cut at +-3)
+    spacing, pad, ballast, sleeper_mass : spreads s [-] in [0, 0.3]
+
+    The draws are taken in a fixed order (spacing, pad, ballast, sleeper mass; N each), whatever the
+    spreads, so that a seed gives the same track bit for bit and a spread of 0 leaves the others'
+    draws unchanged.
+    """
+
+    seed: int
+    distribution: str = "uniform"
+    spacing: float = 0.0
+    pad: float = 0.0
+    ballast: float = 0.0
+    sleeper_mass: float = 0.0
+
+    def __post_init__(self):
+        if int(self.seed) != self.seed or self.seed < 0:
+            raise ValueError(f"track.cell.random.seed = {self.seed!r} is not allowed: it must be an integer >= 0.")
+        if self.distribution not in ("uniform", "normal"):
+            raise ValueError(f"track.cell.random.distribution = {self.distribution!r} is not allowed: it must be 'uniform' or 'normal'.")
+        for name in ("spacing", "pad", "ballast", "sleeper_mass"):
+            v = getattr(self, name)
+            if not (np.isfinite(v) and 0.0 <= v <= 0.3):
+                raise ValueError(f"track.cell.random.{name} = {v!r} is not allowed: the spread must lie in [0, 0.3].")
+
+    def factors(self, bays: int) -> dict:
+        """The drawn factors {'spacing', 'pad', 'ballast', 'sleeper_mass'}: arrays of N [-]."""
+        rng = np.random.default_rng(int(self.seed))
+        out = {}
+        for name in ("spacing", "pad", "ballast", "sleeper_mass"):
+            if self.distribution == "uniform":
+                u = rng.uniform(-1.0, 1.0, bays)
+            else:
+                u = np.clip(rng.standard_normal(bays), -3.0, 3.0)
+            out[name] = 1.0 + getattr(self, name) * u
+        return out
+
+
+def make_cell(track: Track, bays: int, spacing=None, pad=None, ballast=None, sleeper_mass=None,
+              damper: dict | None = None, random: RandomSupports | None = None) -> TrackCell:
+    """A cell of N bays from the nominal track and per-support factors.
+
+    Parameters
+    ----------
+    track : Track
+        The nominal track (rail, damping model, nominal pad, sleeper, ballast).
+    bays : int
+        N [-], >= 1.
+    spacing : sequence of N float, optional
+        Bay lengths [m]; support j + 1 sits spacing[j] after support j (default: the nominal spacing).
+    pad, ballast, sleeper_mass : sequence of N float, optional
+        Factors [-] (> 0) on each support's pad stiffness and dashpot, ballast stiffness and dashpot,
+        and half-sleeper mass; loss factors stay (default 1).
+    damper : dict, optional
+        A rail damper in every bay: mass [kg], frequency [Hz] (tuning sqrt(k/m) / 2 pi), loss_factor
+        [-] (default 0.3), viscous_damping [N s/m] (default 0), position [-] as a fraction of the
+        bay after its support (default 0.5).
+    random : RandomSupports, optional
+        Random factors multiplying the given ones; the random bay lengths are rescaled so that the
+        period keeps the length of the given ones.
+
+    Returns
+    -------
+    TrackCell
+        With the nominal track's spacing set to the mean P / N.
+    """
+    if int(bays) != bays or bays < 1:
+        raise ValueError(f"track.cell.bays = {bays!r} is not allowed: it must be an integer >= 1.")
+    N = int(bays)
+
+    def arr(name, v, default):
+        if v is None:
+            return np.full(N, float(default))
+        a = np.asarray(v, dtype=float)
+        if a.shape != (N,):
+            raise ValueError(f"track.cell.{name} has {a.size} values: it needs one per bay, N = {N}.")
+        if not np.all(np.isfinite(a) & (a > 0)):
+            raise ValueError(f"track.cell.{name} = {a.tolist()} is not allowed: every value must be a finite number > 0.")
+        return a
+
+    sp = arr("spacing", spacing, track.L)
+    fp, fb, fm = arr("pad", pad, 1.0), arr("ballast", ballast, 1.0), arr("sleeper_mass", sleeper_mass, 1.0)
+    if random is not None:
+        r = random.factors(N)
+        period = sp.sum()
+        sp = sp * r["spacing"]
+        sp = sp * (period / sp.sum())
+        fp, fb, fm = fp * r["pad"], fb * r["ballast"], fm * r["sleeper_mass"]
+    period = float(sp.sum())
+    pos = np.concatenate([[0.0], np.cumsum(sp)[:-1]])
+    nominal = dataclasses.replace(track, sleeper=Sleeper(track.sleeper.mass, period / N))
+    supports = tuple(
+        Support(float(pos[j]), Pad(track.pad.stiffness * fp[j], track.pad.loss_factor, track.pad.viscous_damping * fp[j]),
+                track.sleeper.mass * fm[j],
+                Ballast(track.ballast.stiffness * fb[j], track.ballast.loss_factor, track.ballast.viscous_damping * fb[j]))
+        for j in range(N))
+    dampers = ()
+    if damper is not None:
+        m = float(damper["mass"])
+        f = float(damper["frequency"])
+        frac = float(damper.get("position", 0.5))
+        if not 0.0 <= frac < 1.0:
+            raise ValueError(f"track.cell.damper.position = {frac!r} is not allowed: it must lie in [0, 1) (a fraction of the bay).")
+        dampers = tuple(RailDamper(float(pos[j] + frac * sp[j]), m, m * (2 * np.pi * f) ** 2, float(damper.get("loss_factor", 0.3)),
+                                   float(damper.get("viscous_damping", 0.0))) for j in range(N))
+    return TrackCell(nominal, supports, period, dampers)

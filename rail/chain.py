@@ -83,10 +83,10 @@ def receptance_table(scn: Scenario, speed: float, offsets=None):
         the Bloch fractions r / N, r = 0..floor(N/2) (rail.moving.bloch_tables).
     """
     return track_table(scn.track, scn.track_numerics, speed, wheel_offsets(scn) if offsets is None else offsets,
-                       scn.roughness.bays)
+                       scn.roughness.bays, scn.cell)
 
 
-def track_table(track: Track, numerics: TrackNumerics, speed: float, offsets, bays: int = 1):
+def track_table(track: Track, numerics: TrackNumerics, speed: float, offsets, bays: int = 1, cell=None):
     """Moving-load receptance table of a track alone (what receptance_table computes for a scenario;
     the workflow shares one table between the scenarios on one track).
 
@@ -101,12 +101,19 @@ def track_table(track: Track, numerics: TrackNumerics, speed: float, offsets, ba
         Offsets d [m] between the wheels of every scenario that uses the table.
     bays : int
         Roughness period N in bays [-].
+    cell : rail.cell.TrackCell, optional
+        The track's cell of N bays whose supports differ (then one table over the cell's harmonics,
+        rail.moving.cell_receptance_table; ``track`` is ignored).
 
     Returns
     -------
     MovingReceptance or tuple of MovingReceptance
         A_d[p, k] [m/N]: one table (N = 1) or those of the fractions r / N, r = 0..floor(N/2).
     """
+    if cell is not None:
+        if cell.bays != bays:
+            raise ValueError(f"roughness.bays = {bays} is not allowed with track.cell.bays = {cell.bays}: the roughness must be periodic over the cell.")
+        return moving.cell_receptance_table(cell, speed, numerics.harmonics, offsets, numerics.rtol)
     if bays == 1:
         return moving.receptance_table(track, speed, numerics.harmonics, offsets, numerics.rtol)
     return moving.bloch_tables(track, speed, numerics.harmonics, bays, offsets, numerics.rtol)

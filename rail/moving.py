@@ -51,6 +51,7 @@ class MovingReceptance:
     fraction  : Bloch fraction nu in [0, 1) of the base frequency nu Omega_0 (0: bay-periodic loads)
     bays      : N, the track's cell in bays (rail.cell): the harmonics are then of the cell
                 frequency Omega_P = Omega_0 / N and ``harmonics`` counts them (N K)
+    supports  : positions of the cell's point attachments in the period [m] (None: the uniform track)
     """
 
     speed: float
@@ -61,6 +62,7 @@ class MovingReceptance:
     nodes: int
     fraction: float = 0.0
     bays: int = 1
+    supports: tuple | None = None
 
     @property
     def indices(self) -> np.ndarray:
@@ -414,7 +416,7 @@ def cell_receptance_table(cell: TrackCell, speed: float, harmonics: int, offsets
     offsets = np.atleast_1d(np.asarray(offsets, dtype=float))
     cut = (int(harmonics) + 12) * 2 * np.pi / cell.mean_spacing if transfer_cut is None else float(transfer_cut)
     A, err, n = _integrate(cell, speed, 0.0, js, offsets, 0, rtol, cut)
-    return MovingReceptance(float(speed), J, offsets, A, err, n, 0.0, N)
+    return MovingReceptance(float(speed), J, offsets, A, err, n, 0.0, N, tuple(float(x) for x in cell.positions))
 
 
 def moving_coefficients(track: Track, speed: float, Omega: float, n_max: int, offset: float = 0.0, rtol: float = 1e-6):

@@ -130,6 +130,9 @@ class Scenario:
     roughness        : the initial roughness
     speeds           : train speeds of the scenario's studies [m/s]
     axles_per_day    : traffic over the rail, wheel passages per day on one rail [1/day]
+    cell             : the track's cell of N bays whose supports differ (rail.cell.TrackCell), or None
+                       for identical supports at equal spacing; ``track`` is then its nominal track
+                       with the mean spacing P / N
     """
 
     name: str
@@ -145,6 +148,7 @@ class Scenario:
     roughness: InitialRoughness
     speeds: tuple
     axles_per_day: float
+    cell: object = None
 
     @property
     def L(self) -> float:

@@ -10,11 +10,13 @@ value, the valid range and the source file, like the schema's checks (rail.setup
 
 from __future__ import annotations
 
+import dataclasses
 import functools
 from dataclasses import dataclass
 
 import numpy as np
 
+from ..cell import RandomSupports, TrackCell, make_cell
 from ..contact import ContactMaterial, ContactNumerics
 from ..growth import GrowthSettings
 from ..halfspace import ElasticMaterial, HalfSpaceNumerics, contact_loss_factor
@@ -24,7 +26,7 @@ from ..track import Ballast, Pad, Rail, Sleeper, Track, damping_problem, min_har
 from ..wear import WearLaw
 from .config import ConfigError, configured_speeds
 
-__all__ = ["HalfSpaceFigureSettings", "PASSAGE_KEYS", "elastic", "passage_scenario", "scenario", "spectrum_scenario", "track", "physics_problems", "halfspace_numerics", "halfspace_figures"]
+__all__ = ["HalfSpaceFigureSettings", "PASSAGE_KEYS", "elastic", "track_cell", "passage_scenario", "scenario", "spectrum_scenario", "track", "physics_problems", "halfspace_numerics", "halfspace_figures"]
 
 
 @dataclass(frozen=True, slots=True)
@@ -79,6 +81,29 @@ def track(cfg: dict) -> tuple[Track, TrackNumerics]:
         raise ConfigError(f"invalid configuration:\n  {problem}")
     n = cfg["numerics"]["track"]
     return tr, TrackNumerics(int(n["harmonics"]), float(n["rtol"]))
+
+
+def track_cell(cfg: dict) -> TrackCell | None:
+    """The track's cell of N bays (config key ``track.cell``, rail.cell.make_cell), or None for
+    identical supports at equal spacing. Raises ConfigError naming the key if a list has the wrong
+    length."""
+    c = cfg["track"].get("cell")
+    if c is None:
+        return None
+    r = c.get("random")
+    rnd = None if r is None else RandomSupports(int(r["seed"]), str(r.get("distribution", "uniform")), float(r.get("spacing", 0.0)),
+                                               float(r.get("pad", 0.0)), float(r.get("ballast", 0.0)), float(r.get("sleeper_mass", 0.0)))
+    try:
+        return make_cell(_track(cfg), int(c["bays"]), c.get("spacing"), c.get("pad"), c.get("ballast"), c.get("sleeper_mass"),
+                         c.get("damper"), rnd)
+    except ValueError as e:
+        raise ConfigError(f"invalid configuration:\n  {e}") from None
+
+
+def _cell_track(cfg: dict) -> Track:
+    """The scenario's nominal track: with a cell, its spacing is the cell's mean P / N."""
+    c = track_cell(cfg)
+    return _track(cfg) if c is None else c.track
 
 
 def _track(cfg: dict) -> Track:
@@ -149,6 +174,17 @@ def physics_problems(cfg: dict, source: str) -> list[str]:
     tr = _track(cfg)
     if (problem := damping_problem(tr)) is not None:
         out.append(f"{source}: {problem}")
+    cell = cfg["track"].get("cell")
+    if cell is not None:
+        nb, rb = int(cell["bays"]), int(cfg["roughness"].get("bays", 1))
+        if nb != rb:
+            out.append(f"{source}: roughness.bays = {rb} is not allowed with track.cell.bays = {nb}: the roughness must be "
+                       f"periodic over the track's cell, so roughness.bays must be {nb}.")
+        for key in ("spacing", "pad", "ballast", "sleeper_mass"):
+            if key in cell and len(cell[key]) != nb:
+                out.append(f"{source}: track.cell.{key} has {len(cell[key])} values: it needs one per bay, track.cell.bays = {nb}.")
+        if "spacing" in cell and len(cell["spacing"]) == nb:
+            tr = dataclasses.replace(tr, sleeper=Sleeper(tr.sleeper.mass, float(np.mean(cell["spacing"]))))
     K = int(cfg["numerics"]["track"]["harmonics"])
     for V in configured_speeds(cfg):
         need = min_harmonics(tr, V)
@@ -166,6 +202,10 @@ def spectrum_scenario(cfg: dict, name: str = "default", source: str = "config") 
     the smooth rail, with the spectrum's roughness period N = figures.rate_spectrum.bays (its lines
     2 pi j / (N L), rail.growth_spectrum)."""
     bays = int(cfg["figures"]["rate_spectrum"]["bays"])
+    cell = cfg["track"].get("cell")
+    if cell is not None and int(cell["bays"]) != bays:
+        raise ConfigError(f"invalid configuration:\n  {source}: figures.rate_spectrum.bays = {bays} is not allowed with track.cell.bays = "
+                          f"{int(cell['bays'])}: the spectrum's lines must be periodic over the track's cell; set it to {int(cell['bays'])}.")
     return scenario({**cfg, "roughness": {**cfg["roughness"], "kind": "smooth", "bays": bays}}, name, source)
 
 
@@ -187,7 +227,7 @@ def passage_scenario(cfg: dict, name: str = "default", source: str = "config") -
     w, c, num = cfg["wheels"], cfg["contact"], cfg["numerics"]
     return Scenario(
         name=name,
-        track=_track(cfg),
+        track=_cell_track(cfg),
         track_numerics=TrackNumerics(int(num["track"]["harmonics"]), float(num["track"]["rtol"])),
         wheels=Wheels(float(w["mass"]), float(w["radius"]), float(w["static_load"]), (0.0,)),
         spring=_spring(cfg),
@@ -215,7 +255,7 @@ def scenario(cfg: dict, name: str = "default", source: str = "config") -> Scenar
     num = cfg["numerics"]
     return Scenario(
         name=name,
-        track=_track(cfg),
+        track=_cell_track(cfg),
         track_numerics=TrackNumerics(int(num["track"]["harmonics"]), float(num["track"]["rtol"])),
         wheels=Wheels(float(w["mass"]), float(w["radius"]), float(w["static_load"]), tuple(float(a) for a in w["positions"])),
         spring=_spring(cfg),
@@ -229,4 +269,5 @@ def scenario(cfg: dict, name: str = "default", source: str = "config") -> Scenar
         roughness=_roughness(cfg),
         speeds=tuple(float(v) for v in cfg["speeds"]),
         axles_per_day=float(cfg["traffic"]["axles_per_day"]),
+        cell=track_cell(cfg),
     )

@@ -115,7 +115,7 @@ def receptance_table(tab, track) -> xr.Dataset:
     K = tab.harmonics
     h = np.arange(-K, K + 1)
     dims = ("offset", "response_harmonic", "force_harmonic")
-    return xr.Dataset(
+    ds = xr.Dataset(
         {
             "receptance_real": _var(dims, tab.A.real, "m/N", "real part of a_{p-k}(k Omega_0, d): response harmonic p at offset d per unit force harmonic k"),
             "receptance_imag": _var(dims, tab.A.imag, "m/N", "imaginary part of a_{p-k}(k Omega_0, d)"),
@@ -134,6 +134,16 @@ def receptance_table(tab, track) -> xr.Dataset:
             "convention": "harmonic p of the rail displacement at offset d equals sum_k A[d, p, k] P_k for force harmonics P_k; time factor exp(+i p Omega_0 t); displacement and force positive downwards",
         },
     )
+    if tab.bays > 1:  # a track periodic over a cell of N bays (rail.moving.cell_receptance_table)
+        ds.attrs.update({
+            "cell_bays": int(tab.bays),
+            "cell_attachment_positions_m": np.asarray(tab.supports, dtype=float),
+            "cell_frequency_Hz": tab.speed / (track.L * tab.bays),
+            "convention": ds.attrs["convention"].replace("Omega_0", "Omega_P") + "; Omega_P = 2 pi V / P, the frequency of the track's cell of N bays (P = N L)",
+        })
+        for c in ("response_harmonic", "force_harmonic"):
+            ds[c].attrs["long_name"] = ds[c].attrs["long_name"].replace("of the sleeper-passing frequency", "of the cell frequency V / (N L)")
+    return ds
 
 
 def bloch_tables(tabs, track) -> xr.Dataset:
@@ -177,6 +187,10 @@ def read_receptance_table(ds: xr.Dataset):
         return tuple(out)
     A = ds["receptance_real"].values + 1j * ds["receptance_imag"].values
     K = (A.shape[1] - 1) // 2
+    if "cell_bays" in ds.attrs:
+        sup = tuple(float(x) for x in np.atleast_1d(ds.attrs["cell_attachment_positions_m"]))
+        return MovingReceptance(float(ds.attrs["speed_m_per_s"]), K, ds["offset"].values, A, ds["quadrature_error"].values,
+                                int(ds.attrs["quadrature_nodes"]), 0.0, int(ds.attrs["cell_bays"]), sup)
     return MovingReceptance(
         float(ds.attrs["speed_m_per_s"]), K, ds["offset"].values, A, ds["quadrature_error"].values, int(ds.attrs["quadrature_nodes"])
     )

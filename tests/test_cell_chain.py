@@ -1,0 +1,151 @@
+"""A track periodic over a cell of N bays (rail.cell, issue 34): the cell's moving-load tables and forces
+against the uniform track's Bloch tables, continuity towards the uniform track, reciprocity of the
+stationary receptance, the random track's seed, and the configuration's checks. The comparisons with
+independent references (direct superposition, time-domain FE) are in tests/test_cell.py."""
+
+import dataclasses
+
+import numpy as np
+import pytest
+
+from rail import interaction as I
+from rail import moving
+from rail.cell import RandomSupports, TrackCell, cell_stationary_receptance, make_cell
+from rail.setup import build, config
+from rail.setup.config import ConfigError
+
+V = 40.0
+
+
+@pytest.fixture(scope="module")
+def cfg():
+    return config.load_yaml("config/config.yaml")
+
+
+@pytest.fixture(scope="module")
+def tr(cfg):
+    return build.track(cfg)[0]
+
+
+def _forces(tab, N, L, Z):
+    return I.solve_forces(tab, I.Wheels(1350.0, 0.46, 1e5, (0.0,)), I.ContactSpring(1.4e9), I.Roughness(Z, N), L)
+
+
+def _roughness(J):
+    Z = np.zeros(2 * J + 1, complex)
+    Z[J + 7] = Z[J - 7] = 2.5e-6
+    Z[J + 2], Z[J - 2] = -1.5e-6j, 1.5e-6j
+    return Z
+
+
+def test_uniform_cell_table_is_the_bloch_tables(tr):
+    # identical supports at equal spacing: every entry with p = q (mod N) is the Bloch table's, within
+    # the two quadratures' stated errors; the entries coupling different classes vanish (round-off)
+    N, K = 3, 6
+    cell = moving.cell_receptance_table(TrackCell.uniform(tr, N), V, K, (0.0, 3.3), 1e-5)
+    J = N * K
+    worst = 0.0
+    for r in range(N):
+        b = moving.receptance_table(tr, V, K, (0.0, 3.3), 1e-5, fraction=r / N)
+        for ip, p in enumerate(b.indices):
+            for ik, k in enumerate(b.indices):
+                P, Q = N * p + r, N * k + r
+                if abs(P) > J or abs(Q) > J:
+                    continue
+                d = np.abs(cell.A[:, P + J, Q + J] - b.A[:, ip, ik])
+                worst = max(worst, float(np.max(d / (cell.error[:, P + J, Q + J] + b.error[:, ip, ik]))))
+    assert worst < 1.0
+    other = (np.subtract.outer(np.arange(-J, J + 1), np.arange(-J, J + 1)) % N) != 0
+    assert np.abs(cell.A[:, other]).max() < 1e-12 * np.abs(cell.A).max()
+
+
+def test_one_support_cell_is_the_uniform_table(tr):
+    a = moving.receptance_table(tr, V, 8, (0.0,), 1e-4)
+    b = moving.cell_receptance_table(TrackCell.uniform(tr, 1), V, 8, (0.0,), 1e-4)
+    assert b.bays == 1 and a.nodes == b.nodes
+    assert np.abs(a.A - b.A).max() <= 1e-13 * np.abs(a.A).max()
+
+
+@pytest.fixture(scope="module")
+def bloch_and_cell_forces(tr):
+    N, K = 3, 12
+    J = N * K
+    Z = _roughness(J)
+    fb = _forces(moving.bloch_tables(tr, V, K, N, rtol=1e-6), N, tr.L, Z)
+    fc = _forces(moving.cell_receptance_table(TrackCell.uniform(tr, N), V, K, rtol=1e-6), N, tr.L, Z)
+    return fb, fc
+
+
+@pytest.mark.slow
+def test_uniform_cell_forces_are_the_bloch_forces(bloch_and_cell_forces):
+    fb, fc = bloch_and_cell_forces
+    J = fb.harmonics
+    # the harmonics: within the quadrature tolerance (rtol 1e-6) of the largest dynamic harmonic
+    assert np.abs(fb.P - fc.P).max() < 1e-7 * np.abs(fb.P[:, J + 1 :]).max()
+    # the force history: the same tail model (the cell's support positions are the uniform track's)
+    x = np.linspace(0, 3 * fb.L, 900, endpoint=False)
+    a, b = I.force_history(fb, x)[0], I.force_history(fc, x)[0]
+    assert np.abs(a - b).max() < 1e-7 * np.ptp(a)
+
+
+@pytest.mark.slow
+def test_cell_tends_continuously_to_the_uniform_track(tr):
+    # one support's ballast factor 1 + eps: the force differs from the uniform track's in proportion to eps
+    N, K = 2, 6
+    J = N * K
+    Z = _roughness(J)
+    x = np.linspace(0, N * tr.L, 400, endpoint=False)
+    base = I.force_history(_forces(moving.cell_receptance_table(TrackCell.uniform(tr, N), V, K, rtol=1e-8), N, tr.L, Z), x)[0]
+    diffs = []
+    for eps in (1e-2, 1e-3):
+        cell = make_cell(tr, N, ballast=[1.0, 1.0 + eps])
+        P = I.force_history(_forces(moving.cell_receptance_table(cell, V, K, rtol=1e-8), N, tr.L, Z), x)[0]
+        diffs.append(np.abs(P - base).max())
+    assert 8.0 < diffs[0] / diffs[1] < 12.0  # first order in eps
+    assert diffs[1] < 1e-3 * np.ptp(base)
+
+
+def test_irregular_cell_stationary_receptance_is_reciprocal(tr):
+    cell = make_cell(tr, 3, spacing=[0.55, 0.65, 0.6], ballast=[1.0, 1e-3, 1.0], pad=[1.0, 1.0, 3.0])
+    for f in (150.0, 1000.0):
+        om = 2 * np.pi * f
+        a = cell_stationary_receptance(0.2, 1.4, om, cell)
+        b = cell_stationary_receptance(1.4, 0.2, om, cell)
+        assert abs(a - b) < 1e-6 * abs(a)
+
+
+def test_random_track_is_reproducible_from_its_seed(tr):
+    spec = RandomSupports(7, "uniform", spacing=0.1, pad=0.2)
+    a, b = make_cell(tr, 8, random=spec), make_cell(tr, 8, random=spec)
+    assert a == b  # bit for bit
+    c = make_cell(tr, 8, random=dataclasses.replace(spec, seed=8))
+    assert [s.position for s in c.supports] != [s.position for s in a.supports]
+    assert a.period == pytest.approx(8 * tr.L, rel=1e-14)  # the period keeps its length
+    sp = np.diff([s.position for s in a.supports] + [a.period])
+    assert np.all(np.abs(sp / tr.L - 1) <= 0.1 / 0.9 + 1e-12) and np.ptp(sp) > 0
+    # a zero spread leaves that property at the nominal, and the others' draws unchanged
+    d = make_cell(tr, 8, random=dataclasses.replace(spec, spacing=0.0))
+    assert all(np.isclose(s.position, j * tr.L, rtol=0, atol=1e-12) for j, s in enumerate(d.supports))
+    assert [s.pad for s in d.supports] == [s.pad for s in a.supports]
+
+
+def test_cell_configuration_is_checked_at_start_up(cfg):
+    bad = config.deep_merge(cfg, {"track": {"cell": {"bays": 4, "ballast": [1, 1e-3, 1]}}, "roughness": {"bays": 4}})
+    with pytest.raises(ConfigError, match=r"track.cell.ballast has 3 values.*track.cell.bays = 4"):
+        build.scenario(bad)
+    bad = config.deep_merge(cfg, {"track": {"cell": {"bays": 4}}, "roughness": {"bays": 2}})
+    with pytest.raises(ConfigError, match=r"roughness.bays = 2 is not allowed with track.cell.bays = 4"):
+        build.scenario(bad)
+    good = config.deep_merge(cfg, {"track": {"cell": {"bays": 4, "spacing": [0.55, 0.65, 0.6, 0.6]}}, "roughness": {"bays": 4}})
+    scn = build.scenario(good)
+    assert scn.cell.bays == 4 and scn.track.L == pytest.approx(0.6)
+    assert [s.position for s in scn.cell.supports] == pytest.approx([0.0, 0.55, 1.2, 1.8])
+
+
+def test_schema_accepts_the_cell_and_refuses_a_bad_spread(cfg):
+    schema = config.load_yaml("config/schema/config.schema.yaml")
+    ok = {"track": {"cell": {"bays": 4, "random": {"seed": 1, "spacing": 0.05}}}, "roughness": {"bays": 4}}
+    config.resolve(cfg, schema, ok, "test.yaml")
+    bad = {"track": {"cell": {"bays": 4, "random": {"seed": 1, "spacing": 0.5}}}, "roughness": {"bays": 4}}
+    with pytest.raises(ConfigError, match="spacing"):
+        config.resolve(cfg, schema, bad, "test.yaml")
