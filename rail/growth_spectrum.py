@@ -500,6 +500,8 @@ def rate_spectrum(scn: Scenario, table, lines, eps: float = 1e-9, grid_phases: i
         raise ValueError(f"eps = {eps!r} m is not allowed: it must be a finite number > 0.")
     if not (isinstance(grid_phases, (int, np.integer)) and grid_phases >= 1):
         raise ValueError(f"grid_phases = {grid_phases!r} is not allowed: it must be an integer >= 1.")
+    if getattr(scn, "cell", None) is not None:
+        return _cell_rate_spectrum(scn, table, lines, eps, grid_phases)
     tabs = (table,) if isinstance(table, MovingReceptance) else tuple(table)
     locked = np.where(lines % N == 0, 1, np.where((N % 2 == 0) & (lines % N == N // 2) & (N > 1), 2, 0))
     if N == 1:
@@ -590,6 +592,46 @@ def rate_spectrum(scn: Scenario, table, lines, eps: float = 1e-9, grid_phases: i
                         source=source, grid_spread=spread, sideband=sideband, linearity=float(max(changes)), eps=float(eps), bays=N,
                         grid_phases=int(grid_phases),
                         method=method if not fallbacks else f"{method}, probes at " + "; ".join(fallbacks))
+
+
+def _cell_rate_spectrum(scn: Scenario, table: MovingReceptance, lines, eps: float, grid_phases: int) -> RateSpectrum:
+    """rate_spectrum on a track periodic over a cell of N bays whose supports differ (rail.cell).
+
+    The smooth rail's state is periodic over the cell, not over one bay, so the Bloch classes that
+    keep the lines of the uniform track apart are coupled by the supports, and the cosine and the
+    sine of every line couple through the cell harmonic 2 j: every line is treated as the comb of
+    the uniform track is, by the 2 x 2 operator of a probing cosine and sine over the cell
+    (_locked, the nonlinear march over the N bays), its eigenvalues the rate and the other rate,
+    and the smooth rail's wear at the line its parametric source.  Two marches per line and grid
+    phase.  The coupling of a line to the others (its sidebands j + m, every m) is not in the
+    diagonal rate; growth runs (rail.chain.grow) carry it.
+    """
+    N = scn.roughness.bays
+    lines = np.asarray(lines, dtype=int)
+    if not (isinstance(table, MovingReceptance) and table.bays == N):
+        raise ValueError(f"a track cell of {N} bays needs its one table over the cell's harmonics (rail.moving.cell_receptance_table).")
+    J = len(_smooth(scn)) // 2
+    Ms = np.zeros((grid_phases, lines.size, 2, 2))
+    source = np.zeros(lines.size)
+    changes = []
+    for p, phase in enumerate(np.arange(grid_phases) / grid_phases):
+        Z0 = _smooth(scn)
+        W0, _ = chain.train_wear(scn, table, Z0, phase)
+        for n, j in enumerate(lines):
+            Ms[p, n] = _locked(scn, table, int(j), eps, phase, Z0, W0)
+            source[n] += 2 * abs(W0[J + int(j)]) / grid_phases
+        if p == 0:
+            M2 = _locked(scn, table, int(lines[0]), 2 * eps, phase, Z0, W0)
+            changes.append(abs(_sorted_eigenvalues(M2)[0].real / _sorted_eigenvalues(Ms[0, 0])[0].real - 1))
+    rate = np.zeros(lines.size, dtype=complex)
+    other = np.zeros(lines.size, dtype=complex)
+    spread = np.zeros(lines.size)
+    for n in range(lines.size):
+        rate[n], other[n] = _sorted_eigenvalues(Ms[:, n].mean(axis=0))
+        spread[n] = np.ptp([_sorted_eigenvalues(M)[0].real for M in Ms[:, n]]) / 2
+    return RateSpectrum(wavelength=N * scn.L / lines, line=lines, locked=np.ones(lines.size, dtype=int), rate=rate, rate_other=other,
+                        source=source, grid_spread=spread, sideband=np.zeros(lines.size), linearity=float(max(changes)), eps=float(eps),
+                        bays=N, grid_phases=int(grid_phases), method=f"cell of {N} bays: cosine and sine probes at every line (nonlinear march)")
 
 
 def class_operator(scn: Scenario, table, lines, eps: float = 1e-9, grid_phases: int = 2):
