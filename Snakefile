@@ -34,6 +34,7 @@ include: "workflow/rules/sweeps.smk"
 include: "workflow/rules/characterisation.smk"
 include: "workflow/rules/closure.smk"
 include: "workflow/rules/studies.smk"
+include: "workflow/rules/irregular.smk"
 
 
 # Light jobs (figures and aggregations of seconds) run on the submitting host, not as cluster jobs.

@@ -352,8 +352,9 @@ def cell_stationary_receptance(x, x0, omega, cell: TrackCell, rtol: float = 1e-7
 
     Parameters
     ----------
-    x, x0 : float
-        Response and force positions [m] (any real).
+    x, x0 : float or array_like
+        Response and force positions [m] (any real), broadcast together: one receptance per pair,
+        all from one adaptive zone quadrature.
     omega : float
         Angular frequency [rad/s], a finite scalar != 0.
     cell : TrackCell
@@ -364,22 +365,23 @@ def cell_stationary_receptance(x, x0, omega, cell: TrackCell, rtol: float = 1e-7
 
     Returns
     -------
-    complex (and float with return_error)
-        alpha [m/N].
+    complex or complex ndarray (and its error with return_error)
+        alpha [m/N], the broadcast shape of x and x0.
     """
     from .quadrature import adaptive_panels
     from .track import free_green
 
     if np.ndim(omega) != 0 or not (np.isfinite(omega) and omega != 0):
         raise ValueError(f"omega = {omega!r} rad/s is not allowed: it must be a finite scalar != 0.")
-    x, x0 = float(x), float(x0)
+    xb, x0b = np.broadcast_arrays(np.asarray(x, dtype=float), np.asarray(x0, dtype=float))
+    xs, x0s = xb.ravel(), x0b.ravel()
     P = cell.period
     s = cell.positions
     n = len(s)
     Kj = point_stiffness(cell, omega)  # (n,)
 
     def phased(kap, dist):
-        # S_dist(kap) for any real dist: reduce into (-P, P) with S_{d + P} = e^{i kap P} S_d
+        # S_dist(kap) for any real dist: reduce into [0, P) with S_{d + P} = e^{i kap P} S_d
         j = np.floor(dist / P)
         r = dist - j * P
         return cell_lattice_sum(kap, omega, float(r), P, cell.track) * np.exp(1j * kap * P * j)
@@ -387,18 +389,19 @@ def cell_stationary_receptance(x, x0, omega, cell: TrackCell, rtol: float = 1e-7
     def integrand(kap):
         om = np.full(kap.shape, float(omega))
         S = cell_sum_matrix(kap, om, cell)  # (nk, n, n)
-        rhs = np.stack([phased(kap, x0 - sl) for sl in s], axis=-1) * Kj / P  # (nk, n)
+        rhs = np.stack([np.stack([phased(kap, a0 - sl) for sl in s], axis=-1) for a0 in x0s], axis=-1) * Kj[None, :, None] / P
         Mx = np.eye(n)[None] + Kj[None, :, None] * S / P
-        R = np.linalg.solve(Mx, rhs[..., None])[..., 0]
-        obs = np.stack([phased(-kap, x - sj) for sj in s], axis=-1)
-        return np.sum(obs * R, axis=-1)[:, None]
+        R = np.linalg.solve(Mx, rhs)  # (nk, n, pairs)
+        obs = np.stack([np.stack([phased(-kap, a - sj) for sj in s], axis=-1) for a in xs], axis=-1)
+        return np.sum(obs * R, axis=1)
 
     bP = 2 * np.pi / P
     q = adaptive_panels(integrand, np.linspace(-bP / 2, bP / 2, 9), rtol=rtol)
-    alpha = complex(free_green(np.array([x - x0]), omega, cell.track)[0]) - q.integral[0] / (2 * np.pi)
-    if return_error:
-        return alpha, float(q.error[0] / (2 * np.pi))
-    return alpha
+    alpha = (free_green(xs - x0s, omega, cell.track) - q.integral / (2 * np.pi)).reshape(xb.shape)
+    err = (q.error / (2 * np.pi)).reshape(xb.shape)
+    if alpha.ndim == 0:
+        alpha, err = complex(alpha), float(err)
+    return (alpha, err) if return_error else alpha
 
 
 @dataclass(frozen=True)

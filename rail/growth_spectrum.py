@@ -608,7 +608,7 @@ def _cell_rate_spectrum(scn: Scenario, table: MovingReceptance, lines, eps: floa
     """
     N = scn.roughness.bays
     lines = np.asarray(lines, dtype=int)
-    if not (isinstance(table, MovingReceptance) and table.bays == N):
+    if not (isinstance(table, MovingReceptance) and table.supports is not None and table.bays == N):
         raise ValueError(f"a track cell of {N} bays needs its one table over the cell's harmonics (rail.moving.cell_receptance_table).")
     J = len(_smooth(scn)) // 2
     Ms = np.zeros((grid_phases, lines.size, 2, 2))

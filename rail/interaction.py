@@ -380,7 +380,7 @@ def solve_forces(
     N = int(roughness.bays)
     if not np.all(np.isfinite(roughness.Z)):
         raise ValueError("the roughness coefficients are not finite (NaN or inf): check the roughness input.")
-    if isinstance(tab, MovingReceptance) and tab.bays > 1:
+    if isinstance(tab, MovingReceptance) and tab.supports is not None:
         return _solve_cell(tab, wheels, contact, roughness, L)
     tabs = (tab,) if isinstance(tab, MovingReceptance) else tuple(tab)
     if len(tabs) != N // 2 + 1 or any(not np.isclose(t.fraction, r / N) for r, t in enumerate(tabs)):

@@ -134,7 +134,7 @@ def receptance_table(tab, track) -> xr.Dataset:
             "convention": "harmonic p of the rail displacement at offset d equals sum_k A[d, p, k] P_k for force harmonics P_k; time factor exp(+i p Omega_0 t); displacement and force positive downwards",
         },
     )
-    if tab.bays > 1:  # a track periodic over a cell of N bays (rail.moving.cell_receptance_table)
+    if tab.supports is not None:  # a track periodic over a cell of N bays (rail.moving.cell_receptance_table)
         ds.attrs.update({
             "cell_bays": int(tab.bays),
             "cell_attachment_positions_m": np.asarray(tab.supports, dtype=float),

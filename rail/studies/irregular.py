@@ -1,0 +1,177 @@
+"""The irregular-track study (issue 34, named target irregular_track): each kind of support beside the
+uniform track, and what the pinned-pinned band does as the irregularity grows.
+
+Per case (a scenario file config/scenarios/irregular_<kind>.yaml with a track cell): the point
+receptance above each support of the cell and of the uniform track; the contact force of one wheel
+over the smooth rail along the cell; the roughness grown after the run's passages; the growth-rate
+spectrum.  Over the cases and the random-track ensemble: the level of the one-third-octave band that
+holds the pinned-pinned wavelength V / f_pp, and the fastest-growing band, after the run.
+"""
+
+from __future__ import annotations
+
+import numpy as np
+import xarray as xr
+
+from ..cell import TrackCell, cell_stationary_receptance
+from ..track import Track, pinned_pinned_frequency, stationary_receptance
+from .bands import band_levels, third_octave_bands
+from .datasets import _var
+
+__all__ = ["support_labels", "support_receptances", "case_dataset", "band_summary", "FREQUENCIES_HZ"]
+
+FREQUENCIES_HZ = np.geomspace(50.0, 3000.0, 80)
+
+
+def support_labels(cell: TrackCell) -> list[str]:
+    """A short label per support: its position and how it differs from the nominal support."""
+    tr = cell.track
+    out = []
+    for j, s in enumerate(cell.supports):
+        diff = []
+        if not np.isclose(s.pad.stiffness, tr.pad.stiffness, rtol=1e-9):
+            diff.append(f"pad ×{s.pad.stiffness / tr.pad.stiffness:.3g}")
+        if not np.isclose(s.ballast.stiffness, tr.ballast.stiffness, rtol=1e-9):
+            diff.append(f"ballast ×{s.ballast.stiffness / tr.ballast.stiffness:.3g}")
+        if not np.isclose(s.sleeper_mass, tr.sleeper.mass, rtol=1e-9):
+            diff.append(f"sleeper ×{s.sleeper_mass / tr.sleeper.mass:.3g}")
+        out.append(f"support {j} at {s.position:.3f} m" + (f" ({', '.join(diff)})" if diff else ""))
+    return out
+
+
+def support_receptances(cell: TrackCell, uniform: Track, frequencies=FREQUENCIES_HZ):
+    """Point receptances above every support and at every mid-bay of the cell, and of the uniform track.
+
+    Parameters
+    ----------
+    cell : TrackCell
+    uniform : Track
+        The uniform track beside it.
+    frequencies : array_like
+        [Hz].
+
+    Returns
+    -------
+    above, mid : complex ndarray, shape (frequencies, N) [m/N]
+    uniform_above, uniform_mid : complex ndarray, shape (frequencies,) [m/N]
+    """
+    s = np.array([x.position for x in cell.supports])
+    nxt = np.append(s[1:], cell.period)
+    mid = 0.5 * (s + nxt)
+    pts = np.concatenate([s, mid])
+    above, middle, ua, um = [], [], [], []
+    for f in np.asarray(frequencies, dtype=float):
+        om = 2 * np.pi * f
+        r = cell_stationary_receptance(pts, pts, om, cell)
+        above.append(r[: len(s)])
+        middle.append(r[len(s):])
+        ua.append(stationary_receptance(0.0, 0.0, om, uniform))
+        um.append(stationary_receptance(uniform.L / 2, uniform.L / 2, om, uniform))
+    return np.array(above), np.array(middle), np.array(ua), np.array(um)
+
+
+def _last_level(growth: xr.Dataset):
+    """Wavelengths [m] and levels [dB re 1 µm] of the lines after the run's last saved passage."""
+    lam = 2 * np.pi / growth["wavenumber"].values
+    return lam, growth["level"].values[-1]
+
+
+def band_summary(growth: xr.Dataset, speed: float, track: Track) -> dict:
+    """Level of the pinned-pinned band and the loudest band after the run.
+
+    Parameters
+    ----------
+    growth : xr.Dataset
+        A growth result (results/growth/<scenario>/V<speed>.nc).
+    speed : float
+        [m/s].
+    track : Track
+        Its nominal track (for the pinned-pinned frequency).
+
+    Returns
+    -------
+    dict
+        pinned_pinned_wavelength_m, pp_band_m (nominal centre), pp_level_dB, loudest_band_m,
+        loudest_level_dB, passages.
+    """
+    Z = growth["Z_real"].values[-1] + 1j * growth["Z_imag"].values[-1]
+    N = int(growth.attrs.get("bays", 1))
+    period = N * track.L
+    bands = third_octave_bands(1.0, 0.02)
+    lev, resolved = band_levels(Z, period, bands)
+    lam_pp = speed / pinned_pinned_frequency(track)
+    b = int(np.argmin(np.abs(np.log(bands.centre / lam_pp))))
+    ok = resolved & np.isfinite(lev)
+    loud = int(np.nanargmax(np.where(ok, lev, -np.inf))) if ok.any() else b
+    return {"pinned_pinned_wavelength_m": float(lam_pp), "pp_band_m": float(bands.nominal[b]), "pp_level_dB": float(lev[b]),
+            "loudest_band_m": float(bands.nominal[loud]), "loudest_level_dB": float(lev[loud]),
+            "passages": int(growth["passage"].values[-1])}
+
+
+def case_dataset(cell: TrackCell, uniform: Track, speed: float, growth: xr.Dataset, growth_uniform: xr.Dataset,
+                 spectrum: xr.Dataset, spectrum_uniform: xr.Dataset, frequencies=FREQUENCIES_HZ) -> xr.Dataset:
+    """Everything the case's figure shows, in one dataset (units and long names).
+
+    Parameters
+    ----------
+    cell : TrackCell
+        The case's track.
+    uniform : Track
+        The uniform track beside it.
+    speed : float
+        [m/s].
+    growth, growth_uniform : xr.Dataset
+        Growth results of the case and of the uniform track at the speed.
+    spectrum, spectrum_uniform : xr.Dataset
+        Their growth-rate spectra at the speed.
+
+    Returns
+    -------
+    xr.Dataset
+    """
+    above, mid, ua, um = support_receptances(cell, uniform, frequencies)
+    lam, lev = _last_level(growth)
+    lam_u, lev_u = _last_level(growth_uniform)
+    x = growth["position"].values
+    force = growth["force"].values[0, 0]
+    xu = growth_uniform["position"].values
+    fu = growth_uniform["force"].values[0, 0]
+    sp, su = spectrum.sel(speed=speed), spectrum_uniform.sel(speed=speed)
+    labels = support_labels(cell)
+    s_case, s_uni = band_summary(growth, speed, cell.track), band_summary(growth_uniform, speed, uniform)
+
+    def db(a):
+        return 20 * np.log10(np.abs(a))
+
+    return xr.Dataset(
+        {
+            "receptance_above_support_dB": _var(("frequency", "support"), db(above), "dB re 1 m/N", "point receptance magnitude above each support"),
+            "receptance_mid_bay_dB": _var(("frequency", "support"), db(mid), "dB re 1 m/N", "point receptance magnitude mid-way to the next support"),
+            "uniform_receptance_above_support_dB": _var("frequency", db(ua), "dB re 1 m/N", "uniform track: point receptance above a support"),
+            "uniform_receptance_mid_bay_dB": _var("frequency", db(um), "dB re 1 m/N", "uniform track: point receptance at mid-span"),
+            "force": _var("position", force, "N", "contact force of the wheel over the smooth rail along the cell"),
+            "uniform_force": _var("position_uniform", fu, "N", "uniform track: contact force over the smooth rail along one bay"),
+            "level": _var("wavelength", lev, "dB re 1 µm", f"roughness level per line after {int(growth['passage'].values[-1])} passages"),
+            "uniform_level": _var("wavelength_uniform", lev_u, "dB re 1 µm", "uniform track: roughness level per line after the same run"),
+            "growth_dB": _var("spectrum_wavelength", sp["growth_dB"].values, "dB", "growth-rate spectrum: level change per 100000 train passages"),
+            "uniform_growth_dB": _var("spectrum_wavelength_uniform", su["growth_dB"].values, "dB", "uniform track: growth-rate spectrum"),
+        },
+        coords={
+            "frequency": _var("frequency", np.asarray(frequencies, dtype=float), "Hz", "frequency"),
+            "support": _var("support", np.arange(cell.bays), "1", "support index in the cell"),
+            "support_label": _var("support", np.array(labels), "1", "support position and how it differs from the nominal"),
+            "position": _var("position", x, "m", "wheel position along the cell"),
+            "position_uniform": _var("position_uniform", xu, "m", "wheel position along the uniform track's period"),
+            "wavelength": _var("wavelength", lam, "m", "roughness wavelength of the line"),
+            "wavelength_uniform": _var("wavelength_uniform", lam_u, "m", "roughness wavelength of the line (uniform track)"),
+            "spectrum_wavelength": _var("spectrum_wavelength", sp["wavelength"].values, "m", "growth-rate spectrum wavelength"),
+            "spectrum_wavelength_uniform": _var("spectrum_wavelength_uniform", su["wavelength"].values, "m", "growth-rate spectrum wavelength (uniform track)"),
+        },
+        attrs={"speed_m_per_s": float(speed), "cell_bays": cell.bays, "cell_period_m": cell.period,
+               "rail_dampers": len(cell.dampers),
+               "pinned_pinned_wavelength_m": s_case["pinned_pinned_wavelength_m"],
+               "pp_band_m": s_case["pp_band_m"], "pp_level_dB": s_case["pp_level_dB"], "uniform_pp_level_dB": s_uni["pp_level_dB"],
+               "loudest_band_m": s_case["loudest_band_m"], "loudest_level_dB": s_case["loudest_level_dB"],
+               "uniform_loudest_band_m": s_uni["loudest_band_m"], "uniform_loudest_level_dB": s_uni["loudest_level_dB"],
+               "validity": "linear track model: a voided sleeper is a very soft ballast whose gap never closes under load"},
+    )

@@ -1,0 +1,68 @@
+# Irregular track (issue 34): supports that vary over a cell of N bays (rail/cell.py, docs/track.md
+# "A cell of N bays"). Named target irregular_track (README): the cases config/scenarios/irregular_<kind>.yaml
+# each beside the uniform track (irregular_uniform.yaml), and the random-track ensemble (irregular_random.yaml).
+
+IRREGULAR_SPEED = "40"
+IRREGULAR_CASES = [n for n in ("irregular_voided", "irregular_spacing", "irregular_stiff_pad", "irregular_dampers") if n in SCENARIOS]
+
+
+rule irregular_case:
+    """One irregular case beside the uniform track: receptance above each support, force along the
+    cell over the smooth rail, roughness after the run, growth-rate spectrum."""
+    input:
+        growth=f"results/growth/{{case}}/V{IRREGULAR_SPEED}.nc",
+        growth_uniform=f"results/growth/irregular_uniform/V{IRREGULAR_SPEED}.nc",
+        spectrum=f"results/spectrum/{{case}}/V{IRREGULAR_SPEED}.nc",
+        spectrum_uniform=f"results/spectrum/irregular_uniform/V{IRREGULAR_SPEED}.nc",
+    output:
+        data="results/irregular/{case}.nc",
+        figure=report("results/irregular/{case}.png", caption="../report/irregular_case.rst", category="Irregular track"),
+    wildcard_constraints:
+        case="irregular_[a-z_]+",
+    params:
+        code=code("irregular_case.py"),
+        cfg=lambda w: {"case": config_part(("track",), SCENARIOS[w.case]), "uniform": config_part(("track", "numerics.track"), SCENARIOS["irregular_uniform"])},
+        speed=float(IRREGULAR_SPEED),
+    log:
+        "logs/irregular/{case}.log",
+    benchmark:
+        "benchmarks/irregular/{case}.tsv"
+    resources:
+        mem_mb=800,
+        runtime=20,
+    script:
+        "../scripts/irregular_case.py"
+
+
+rule irregular_summary:
+    """The pinned-pinned band and the loudest band after the run: uniform track, named cases and the
+    random-track ensemble (median and range over seeds per spread)."""
+    input:
+        cases=expand("results/irregular/{case}.nc", case=IRREGULAR_CASES),
+        uniform=f"results/growth/irregular_uniform/V{IRREGULAR_SPEED}.nc",
+        random=lambda w: [f"results/growth/{p['name']}/V{IRREGULAR_SPEED}.nc" for p in SWEEPS.get("irregular_random", {"points": []})["points"]],
+    output:
+        data="results/irregular/summary.nc",
+        figure=report("results/irregular/summary.png", caption="../report/irregular_summary.rst", category="Irregular track"),
+        table="results/irregular/summary.md",
+    params:
+        code=code("irregular_summary.py"),
+        cfg=lambda w: {p["name"]: config_part(("track",), SCENARIOS[p["name"]]) for p in SWEEPS.get("irregular_random", {"points": []})["points"]},
+        uniform_cfg=lambda w: config_part(("track", "numerics.track"), SCENARIOS["irregular_uniform"]),
+        speed=float(IRREGULAR_SPEED),
+    log:
+        "logs/irregular/summary.log",
+    benchmark:
+        "benchmarks/irregular/summary.tsv"
+    resources:
+        mem_mb=600,
+        runtime=5,
+    script:
+        "../scripts/irregular_summary.py"
+
+
+rule irregular_track:
+    """Named target: the irregular-track study (issue 34)."""
+    input:
+        expand("results/irregular/{case}.png", case=IRREGULAR_CASES),
+        "results/irregular/summary.png",
