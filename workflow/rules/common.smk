@@ -437,6 +437,9 @@ def rate_spectrum_table(wildcards):
     """The Bloch tables of the spectrum's N-bay period (figures.rate_spectrum.bays) at the speed."""
     checked_speed(wildcards.scenario, wildcards.speed)
     bays = SCENARIOS[wildcards.scenario]["figures"]["rate_spectrum"]["bays"]
+    if SCENARIOS[wildcards.scenario]["track"].get("cell") is not None:
+        # a track cell: the spectrum's period is the cell, so its one table is the growth runs' (track.smk)
+        return f"results/receptance/{track_name(wildcards.scenario)}/V{wildcards.speed}_N{bays}.nc"
     return f"results/spectrum/{spectrum_table_owner(wildcards.scenario)}/tables_V{wildcards.speed}_N{bays}.nc"
 
 
