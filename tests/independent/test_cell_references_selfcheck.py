@@ -243,3 +243,30 @@ def test_wheel_force_smooth_rail_is_periodic_over_the_cell(pf):
     assert np.max(np.abs(nxt - seg)) < 1e-3 * fluct
     bay = r["P"][i0 + n_bay:i0 + n_bay + n_cell]
     assert np.max(np.abs(bay - seg)) > 0.2 * fluct
+
+
+@pytest.mark.slow
+def test_wheel_force_smooth_rail_converges_in_time_step_and_elements(pf):
+    """Harmonics k = 1..24 of the cell-passing frequency of the smooth-rail wheel force (voided sleeper in 4
+    bays, 40 m/s, cell 6 after a static start at cell 3, errors relative to the largest harmonic, 4.3 kN):
+    time step, 8 elements/bay, against dt = 1.25e-5 s: measured 6.3e-4, 1.5e-4, 3.0e-5 for dt = 1e-4, 5e-5,
+    2.5e-5 s (against 6.25e-6 s: 6.4e-4, 1.6e-4, 3.7e-5, 7.5e-6; second order).  Elements, dt = 5e-5 s, against
+    32/bay: measured 4.1e-5 and 4.7e-6 for 8 and 16 per bay.  Tolerances 1e-4.  About 45 s CPU."""
+    pos, P, sup, dmp = cases(pf, viscous=True)["voided"]
+    cell = ft.make_cell(pf, pos, P, sup)
+    V = 40.0
+
+    def harmonics(epb, dt):
+        r = ft.wheel_force_smooth_rail(pf, cell, V, 14, epb, dt, 3 * P, 7 * P, wheel_mass=1350.0,
+                                       static_load=1e5, hertz_stiffness=1.4e9)
+        sel = (r["x"] >= 6 * P - 1e-9) & (r["x"] < 7 * P - 1e-9)
+        return (np.fft.rfft(r["P"][sel]) / sel.sum())[1:25]
+
+    ref = harmonics(8, 1.25e-5)
+    m = np.abs(ref).max()
+    errs = np.array([np.abs(harmonics(8, dt) - ref).max() / m for dt in (1e-4, 5e-5, 2.5e-5)])
+    assert np.all(errs[:-1] / errs[1:] > 3.0), errs  # second order (ratios 4.2 and 5.0 expected vs the reference)
+    assert errs[-1] < 1e-4
+    fine = harmonics(32, 5e-5)
+    for epb in (8, 16):
+        assert np.abs(harmonics(epb, 5e-5) - fine).max() / m < 1e-4
