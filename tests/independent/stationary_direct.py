@@ -56,6 +56,11 @@ __all__ = [
     "continuous_support_receptance",
     "stationary_receptance",
     "static_deflection_discrete",
+    "make_cell",
+    "cell_point_stiffness",
+    "cell_receptance",
+    "static_green",
+    "static_cell",
     "pinned_pinned_frequency",
     "report",
 ]
@@ -413,6 +418,218 @@ def static_support_forces(x0, params, n_supports=400):
     jlo = math.floor(x0 / L) - n_supports
     jhi = math.ceil(x0 / L) + n_supports
     return L * np.arange(jlo, jhi + 1), forces
+
+
+# ----------------------------------------------------------------------------------------------------------------
+# a cell of N supports with their own properties (and rail dampers): direct superposition, dense solve
+# ----------------------------------------------------------------------------------------------------------------
+_SUPPORT_KEYS = ("k_pad", "eta_pad", "c_pad", "m_sleeper", "k_ballast", "eta_ballast", "c_ballast")
+
+
+def make_cell(params, positions, period, supports=None, dampers=()):
+    """A cell description for ``cell_receptance`` / ``static_cell``.
+
+    positions : support positions s_j in [0, period), strictly increasing, m
+    period    : P, m (the pattern repeats at s_j + m P, m integer)
+    supports  : None, or a list (one per position) of dicts overriding any of k_pad, eta_pad, c_pad, m_sleeper,
+                k_ballast, eta_ballast, c_ballast of ``params`` for that support
+    dampers   : list of dicts dict(position, mass, stiffness, eta=0, c=0): a mass on a spring (loss factor eta
+                for hysteretic damping, dashpot c for viscous damping) fixed to the rail at ``position``
+    Returns dict(period, supports=[complete dicts with 'position'], dampers=[dicts]).
+    """
+    positions = np.asarray(positions, dtype=float)
+    P = float(period)
+    if positions.ndim != 1 or positions.size < 1:
+        raise ValueError("positions must be a non-empty 1-d sequence")
+    if np.any(np.diff(positions) <= 0) or positions[0] < 0 or positions[-1] >= P:
+        raise ValueError(f"positions {positions.tolist()} must be strictly increasing in [0, P = {P})")
+    if supports is None:
+        supports = [{}] * positions.size
+    if len(supports) != positions.size:
+        raise ValueError("supports must have one dict per position")
+    sup = []
+    for s, over in zip(positions, supports):
+        bad = set(over) - set(_SUPPORT_KEYS)
+        if bad:
+            raise ValueError(f"unknown support keys {sorted(bad)}")
+        d = {k: params.get(k, 0.0) for k in _SUPPORT_KEYS}
+        d.update(over)
+        d["position"] = float(s)
+        sup.append(d)
+    dmp = []
+    for d in dampers:
+        if not 0.0 <= d["position"] < P:
+            raise ValueError(f"damper position {d['position']} outside [0, {P})")
+        dmp.append(dict(position=float(d["position"]), mass=float(d["mass"]), stiffness=float(d["stiffness"]),
+                        eta=float(d.get("eta", 0.0)), c=float(d.get("c", 0.0))))
+    return dict(period=P, supports=sup, dampers=dmp)
+
+
+def _damped_spring(k, eta, c, omega, damping):
+    if damping == "hysteretic":
+        return k * (1.0 + 1j * eta * np.sign(omega))
+    if damping == "viscous":
+        return k + 1j * omega * c
+    raise ValueError(f"unknown damping model {damping!r}")
+
+
+def cell_point_stiffness(omega, params, cell):
+    """Positions (within the cell) and dynamic stiffnesses of all point attachments at scalar omega.
+
+    Support: pad k_P in series with (ballast k_B - m_S omega^2); damper: spring k_D in series with -m_D omega^2.
+    Every spring damped by the model params['damping'] (hysteretic loss factors or viscous dashpots).
+    """
+    damping = params.get("damping", "hysteretic")
+    pos, K = [], []
+    for s in cell["supports"]:
+        kp = _damped_spring(s["k_pad"], s["eta_pad"], s["c_pad"], omega, damping)
+        kbm = _damped_spring(s["k_ballast"], s["eta_ballast"], s["c_ballast"], omega, damping) - s["m_sleeper"] * omega**2
+        pos.append(s["position"])
+        K.append(kp * kbm / (kp + kbm))
+    for d in cell["dampers"]:
+        kd = _damped_spring(d["stiffness"], d["eta"], d["c"], omega, damping)
+        mm = -d["mass"] * omega**2
+        pos.append(d["position"])
+        K.append(kd * mm / (kd + mm))
+    return np.array(pos), np.array(K, dtype=complex)
+
+
+_CELL_DENSE_LIMIT = 6000  # largest dense system (number of attachments) cell_receptance solves
+
+
+def _cell_window(xo, x0, omega, params, cell, J, betas, amps):
+    """Receptance at xo (1-d) for a force at scalar x0, attachments of cells floor(lo/P)-J .. ceil(hi/P)+J."""
+    P = cell["period"]
+    s, Ks = cell_point_stiffness(omega, params, cell)
+    lo = min(float(xo.min()), float(x0))
+    hi = max(float(xo.max()), float(x0))
+    m = np.arange(math.floor(lo / P) - J, math.ceil(hi / P) + J + 1)
+    xs = (m[:, None] * P + s[None, :]).ravel()
+    K = np.tile(Ks, m.size)
+    n = xs.size
+    if n > _CELL_DENSE_LIMIT:
+        raise RuntimeError(f"cell_receptance: {n} attachments exceed the dense limit {_CELL_DENSE_LIMIT}")
+    # w_i + sum_j G(x_i - x_j) K_j w_j = G(x_i - x0)   (reactions -K_j w_j act on the rail at x_j)
+    A = _green_eval(xs[:, None] - xs[None, :], betas, amps) * K[None, :]
+    A[np.diag_indices(n)] += 1.0
+    wsup = np.linalg.solve(A, _green_eval(xs - x0, betas, amps))
+    g = _green_eval(xo[:, None] - xs[None, :], betas, amps)
+    return _green_eval(xo - x0, betas, amps) - g @ (K * wsup), n
+
+
+def cell_receptance(x_obs, x0, omega, params, cell, n_cells=None, *, rtol=1e-7, j_start=32, j_max=2500,
+                    return_info=False):
+    """Receptance of the infinite rail on the cell's supports (periodic over P), by direct superposition.
+
+    w(x) = G(x - x0) - sum_i K_i w(x_i) G(x - x_i) over every attachment x_i = m P + s_j (supports and dampers),
+    G the closed-form free-beam Green's function; the attachment displacements follow from the dense system
+    (I + G(x_i - x_j) K_j) w_j = G(x_i - x0) (LU).  No Floquet theory, no wavenumber integral.
+
+    Cells floor(min(x_obs, x0)/P) - J .. ceil(max(x_obs, x0)/P) + J are kept.
+    * n_cells given: J = n_cells.
+    * None: adaptive; J starts at ceil(j_start / N) cells (N supports per cell, so about j_start supports
+      each side) and doubles until the largest change between J and 2J is below rtol * max|result| (the
+      truncation error decays geometrically in J, so the accepted result is then accurate to about rtol^2
+      relative).  A RuntimeWarning is issued if more than j_max supports each side (or the dense limit)
+      would be needed.
+
+    x_obs, x0, omega broadcast (omega != 0).  return_info adds dict(J=[...], rel_change=[...], n=[...]).
+    """
+    x_obs = np.asarray(x_obs, dtype=float)
+    x0 = np.asarray(x0, dtype=float)
+    omega = np.asarray(omega, dtype=float)
+    shape = np.broadcast_shapes(x_obs.shape, x0.shape, omega.shape)
+    xo_b, x0_b, om_b = (np.broadcast_to(v, shape).ravel() for v in (x_obs, x0, omega))
+    out = np.empty(xo_b.size, dtype=complex)
+    info = {"J": [], "rel_change": [], "n": []}
+    nsup = len(cell["supports"])
+    nper = nsup + len(cell["dampers"])
+    keys = np.stack([x0_b, om_b], axis=1)
+    uniq, inv = np.unique(keys, axis=0, return_inverse=True)
+    inv = inv.ravel()
+    for k, (x0k, omk) in enumerate(uniq):
+        if omk == 0:
+            raise ValueError("cell_receptance: omega must be non-zero; use static_cell")
+        sel = np.nonzero(inv == k)[0]
+        xo = xo_b[sel]
+        betas, amps = _residue_terms(omk, params, 0.0, "timoshenko")
+        change = np.nan
+        if n_cells is not None:
+            J = int(n_cells)
+            val, n = _cell_window(xo, x0k, omk, params, cell, J, betas, amps)
+        else:
+            J = max(1, math.ceil(j_start / nsup))
+            val, n = _cell_window(xo, x0k, omk, params, cell, J, betas, amps)
+            span = math.ceil(max(xo.max(), x0k) / cell["period"]) - math.floor(min(xo.min(), x0k) / cell["period"])
+            while True:
+                J2 = 2 * J
+                if J2 * nsup > j_max or (2 * J2 + span + 1) * nper > _CELL_DENSE_LIMIT:
+                    warnings.warn(f"cell_receptance: not converged at J={J} cells (rel change {change:.2e}) "
+                                  f"for omega={omk:.6g}", RuntimeWarning, stacklevel=2)
+                    break
+                val2, n = _cell_window(xo, x0k, omk, params, cell, J2, betas, amps)
+                change = float(np.max(np.abs(val2 - val)) / max(np.max(np.abs(val2)), 1e-300))
+                J, val = J2, val2
+                if change < rtol:
+                    break
+        out[sel] = val
+        info["J"].append(J)
+        info["rel_change"].append(change)
+        info["n"].append(n)
+    out = out.reshape(shape)
+    if return_info:
+        return out, info
+    return out
+
+
+def static_green(x, params):
+    """Static Green's function of the free Timoshenko beam, up to a rigid motion (unit force at 0, undamped):
+    g(x) = |x|^3 / (12 EI) - |x| / (2 kappa G A); the bending part solves EI w'''' = delta, the shear part
+    kappa G A w'' = -delta."""
+    ax = np.abs(np.asarray(x, dtype=float))
+    EI = params["E"] * params["I"]
+    kGA = params["kappa"] * params["G"] * params["A"]
+    return ax**3 / (12.0 * EI) - ax / (2.0 * kGA)
+
+
+def static_cell(x_obs, x0, params, cell, n_supports=32):
+    """Static deflection of the rail on the cell's supports under a unit load at x0, by superposition.
+
+    The beam carries the load and the spring reactions R_i = k_i w(x_i) (k_i = k_pad k_ballast / (k_pad +
+    k_ballast), static, undamped; dampers carry no static load) of the supports of cells
+    floor(min/P) - J .. ceil(max/P) + J, J = ceil(n_supports / N) (about n_supports supports each side):
+    w(x) = g(x - x0) - sum_i R_i g(x - x_i) + a + b x with g the static free-beam Green's function
+    (``static_green``) and a rigid motion a + b x fixed by equilibrium (sum R_i = 1, sum R_i x_i = x0): one dense
+    system of size n + 2.  Exact for that finite set of supports
+    (the free overhangs beyond the outer supports carry no load); the truncation error decays like
+    exp(-lambda J P) (lambda ~ 1.3 /m for Table 1: ~1e-10 for 32 supports of 0.6 m), and the round-off grows
+    with the beam length through g ~ |x|^3 (measured 1e-12 relative with 32 supports each side, 5e-10 with
+    120).  x_obs array, x0 scalar.
+    """
+    x_obs = np.atleast_1d(np.asarray(x_obs, dtype=float))
+    x0 = float(x0)
+    P = cell["period"]
+    s = np.array([q["position"] for q in cell["supports"]])
+    ks = np.array([q["k_pad"] * q["k_ballast"] / (q["k_pad"] + q["k_ballast"]) for q in cell["supports"]])
+    n_cells = max(1, math.ceil(n_supports / s.size))
+    lo, hi = min(x_obs.min(), x0), max(x_obs.max(), x0)
+    m = np.arange(math.floor(lo / P) - n_cells, math.ceil(hi / P) + n_cells + 1)
+    xs = (m[:, None] * P + s[None, :]).ravel()
+    k = np.tile(ks, m.size)
+    n = xs.size
+    xc = 0.5 * (xs[0] + xs[-1])  # rigid motion about the centre (conditioning)
+    A = np.zeros((n + 2, n + 2))
+    # w_i - R_i / k_i = 0,  w_i = g(x_i - x0) - sum_j g(x_i - x_j) R_j + a + b (x_i - xc)
+    A[:n, :n] = static_green(xs[:, None] - xs[None, :], params) + np.diag(1.0 / k)
+    A[:n, n] = -1.0
+    A[:n, n + 1] = -(xs - xc)
+    A[n, :n] = 1.0
+    A[n + 1, :n] = xs - xc
+    rhs = np.concatenate([static_green(xs - x0, params), [1.0, x0 - xc]])
+    sol = np.linalg.solve(A, rhs)
+    R, a, b = sol[:n], sol[n], sol[n + 1]
+    return (static_green(x_obs - x0, params) - static_green(x_obs[:, None] - xs[None, :], params) @ R
+            + a + b * (x_obs - xc))
 
 
 # ----------------------------------------------------------------------------------------------------------------
