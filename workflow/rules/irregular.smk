@@ -49,6 +49,7 @@ rule irregular_summary:
         code=code("irregular_summary.py"),
         cfg=lambda w: {p["name"]: config_part(("track",), SCENARIOS[p["name"]]) for p in SWEEPS.get("irregular_random", {"points": []})["points"]},
         uniform_cfg=lambda w: config_part(("track", "numerics.track"), SCENARIOS["irregular_uniform"]),
+        spreads=lambda w: {p["name"]: SCENARIOS[p["name"]]["track"]["cell"]["random"].get("spacing", 0.0) for p in SWEEPS.get("irregular_random", {"points": []})["points"]},
         speed=float(IRREGULAR_SPEED),
     log:
         "logs/irregular/summary.log",

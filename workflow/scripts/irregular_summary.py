@@ -10,7 +10,7 @@ from rail.studies import irregular
 from rail.studies.datasets import _var
 
 
-def main(cfgs, uniform_cfg, speed, cases, uniform_path, random_paths, out, log):
+def main(cfgs, spreads, uniform_cfg, speed, cases, uniform_path, random_paths, out, log):
     from rail.plotting.irregular import summary_figure
 
     rows = []
@@ -26,7 +26,7 @@ def main(cfgs, uniform_cfg, speed, cases, uniform_path, random_paths, out, log):
                                                  "pinned_pinned_wavelength_m": a["pinned_pinned_wavelength_m"]}))
     for name, path in random_paths:
         cell = build.track_cell(cfgs[name])
-        spread = float(cfgs[name]["track"]["cell"]["random"].get("spacing", 0.0))
+        spread = float(spreads[name])
         with io.open_intermediate(path) as g:
             rows.append((name, "random", spread, irregular.band_summary(g.load(), speed, cell.track)))
     n = len(rows)
@@ -71,5 +71,5 @@ if __name__ == "__main__":
     p = snakemake.params  # noqa: F821
     names = list(p.cfg)
     rnd = list(zip(names, snakemake.input.random))  # noqa: F821
-    main(p.cfg, p.uniform_cfg, p.speed, list(snakemake.input.cases), snakemake.input.uniform, rnd,  # noqa: F821
+    main(p.cfg, p.spreads, p.uniform_cfg, p.speed, list(snakemake.input.cases), snakemake.input.uniform, rnd,  # noqa: F821
          {k: snakemake.output[k] for k in ("data", "figure", "table")}, log)  # noqa: F821
