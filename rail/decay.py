@@ -250,7 +250,7 @@ def en15461_decay_rate(distances, squared_transfer) -> np.ndarray:
     return LOG10_E_10 / np.sum(ratio * trapezoid_weights(distances), axis=-1)
 
 
-def band_averaged_squared_transfer(track: Track, x0: float, distances, frequencies, rtol: float = 1e-6) -> np.ndarray:
+def band_averaged_squared_transfer(track, x0: float, distances, frequencies, rtol: float = 1e-6) -> np.ndarray:
     """Mean of |A(x0 + d_n, x0; f)|^2 over the frequencies of each band.
 
     A is the transfer receptance of the periodically supported rail
@@ -258,10 +258,11 @@ def band_averaged_squared_transfer(track: Track, x0: float, distances, frequenci
 
     Parameters
     ----------
-    track : Track
-        The track.
+    track : Track or rail.cell.TrackCell
+        The track (a cell of N bays: ``rail.cell.cell_stationary_receptance``, all positions of one
+        frequency from one zone quadrature).
     x0 : float
-        Excitation point [m], measured from a support.
+        Excitation point [m], measured from a support (of the cell: from its first support).
     distances : array_like, shape (positions,)
         Distances d_n [m] of the response points x0 + d_n.
     frequencies : array_like, shape (bands, per_band)
@@ -278,8 +279,14 @@ def band_averaged_squared_transfer(track: Track, x0: float, distances, frequenci
     x = x0 + np.asarray(distances, dtype=float)
     f = np.asarray(frequencies, dtype=float)
     out = np.empty(f.shape + x.shape)
+    from .cell import TrackCell, cell_stationary_receptance
+
     for idx in np.ndindex(f.shape):
-        out[idx] = np.abs(stationary_receptance(x, x0, 2 * np.pi * f[idx], track, rtol=rtol)) ** 2
+        om = 2 * np.pi * f[idx]
+        if isinstance(track, TrackCell):
+            out[idx] = np.abs(cell_stationary_receptance(x, np.full(x.shape, float(x0)), om, track, rtol=rtol)) ** 2
+        else:
+            out[idx] = np.abs(stationary_receptance(x, x0, om, track, rtol=rtol)) ** 2
     return out.mean(axis=1)
 
 
@@ -316,7 +323,7 @@ class DecayRate:
 
 
 def track_decay_rate(
-    track: Track,
+    track,
     excitation=None,
     f_min: float = 100.0,
     f_max: float = 5000.0,
@@ -334,8 +341,9 @@ def track_decay_rate(
 
     Parameters
     ----------
-    track : Track
-        The track.
+    track : Track or rail.cell.TrackCell
+        The track; a cell of N bays has a decay rate per excitation point (above each support, at
+        each mid-bay), and its L is the mean spacing P / N.
     excitation : array_like, optional
         Excitation points x_0 [m] from a support; default: above a sleeper, 0, and at mid-span, L/2.
     f_min : float, optional
@@ -371,7 +379,7 @@ def track_decay_rate(
         bays (the sum would be truncated noticeably); also if no band lies in [f_min, f_max] or
         per_band is not an integer >= 1.
     """
-    L = track.L
+    L = track.mean_spacing if hasattr(track, "mean_spacing") else track.L
     x0 = np.atleast_1d(np.asarray([0.0, L / 2] if excitation is None else excitation, dtype=float))
     bands = third_octave_bands(f_min, f_max)
     freqs = band_frequencies(bands.lower, bands.upper, per_band)

@@ -166,3 +166,22 @@ def test_cell_spectrum_on_a_uniform_cell_is_the_bloch_spectrum(cfg):
     rb = gs.rate_spectrum(s0, chain.receptance_table(s0, V), lines, method="probe")
     assert np.allclose(rc.rate.real, rb.rate.real, rtol=1e-6, atol=0)
     assert rc.method.startswith("cell of 2 bays")
+
+
+def test_decay_rate_of_a_uniform_cell_is_the_uniform_tracks(tr):
+    # rail.decay on a TrackCell (cell_stationary_receptance) against the uniform track, a few bands
+    from rail import decay
+    d = np.arange(0, 40) * tr.L
+    a = decay.track_decay_rate(tr, excitation=[0.0], f_min=800.0, f_max=1250.0, per_band=2, distances=d)
+    b = decay.track_decay_rate(TrackCell.uniform(tr, 2), excitation=[0.0], f_min=800.0, f_max=1250.0, per_band=2, distances=d)
+    assert np.allclose(a.decay_rate, b.decay_rate, rtol=1e-6, atol=0)
+
+
+def test_voided_sleeper_changes_the_decay_rate_by_excitation_point(tr):
+    # above the voided sleeper and above a sound one: the decay rates differ (and both are finite)
+    from rail import decay
+    cell = make_cell(tr, 4, ballast=[1.0, 1e-3, 1.0, 1.0])
+    d = np.arange(0, 40) * tr.L
+    r = decay.track_decay_rate(cell, excitation=[0.0, tr.L], f_min=200.0, f_max=250.0, per_band=2, distances=d)
+    assert np.all(np.isfinite(r.decay_rate)) and np.all(r.decay_rate > 0)
+    assert not np.allclose(r.decay_rate[:, 0], r.decay_rate[:, 1], rtol=1e-3)
