@@ -240,6 +240,7 @@ def wheel_material(scn: Scenario, wheel: int):
     Returns
     -------
     rail.contact.ContactMaterial
+        With creepage gamma_1 [-] of the wheel.
     """
     c = scn.wheels.creepage
     if c is None or c[wheel] == scn.material.creepage:

@@ -195,6 +195,7 @@ def speed_classes(spec: dict) -> SpeedClasses:
     Parameters
     ----------
     spec : dict
+        Speeds [m/s] and weights [-], or the distribution's parameters [m/s] and classes [-].
 
     Returns
     -------

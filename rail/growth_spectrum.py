@@ -708,12 +708,14 @@ class FleetRateSpectrum:
     classes : the spectrum of each (vehicle, speed) class, rates per passage of that class's train
     weights : (c,) the classes' weights w_c [-], summing to 1
     labels  : (c,) '<vehicle> at <speed> m/s'
+    speeds  : (c,) the classes' speeds [m/s]
     """
 
     total: RateSpectrum
     classes: tuple
     weights: np.ndarray
     labels: tuple
+    speeds: np.ndarray
 
 
 def combine_spectra(spectra, weights) -> RateSpectrum:
@@ -770,7 +772,7 @@ def fleet_rate_spectrum(classes, tables: dict, lines, **kwargs) -> FleetRateSpec
         {speed: the N-bay period's receptance tables} (rail.chain.fleet_tables), shared by the
         vehicles at a speed.
     lines : sequence of int
-        Lines j, 1 <= j <= N K.
+        Lines j, 1 <= j <= N K [-] (wavenumbers 2 pi j / (N L)).
     **kwargs
         Passed to rate_spectrum (eps, grid_phases, check_lines, method).
 
@@ -780,4 +782,5 @@ def fleet_rate_spectrum(classes, tables: dict, lines, **kwargs) -> FleetRateSpec
     """
     spectra = tuple(rate_spectrum(c.scenario, tables[c.speed], lines, **kwargs) for c in classes)
     w = np.array([c.weight for c in classes])
-    return FleetRateSpectrum(combine_spectra(spectra, w), spectra, w, tuple(c.label for c in classes))
+    return FleetRateSpectrum(combine_spectra(spectra, w), spectra, w, tuple(c.label for c in classes),
+                             np.array([c.speed for c in classes]))
