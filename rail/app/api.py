@@ -22,13 +22,13 @@ from pathlib import Path
 import xarray as xr
 
 from .. import chain
-from ..growth_spectrum import spectrum_lines
+from ..growth_spectrum import fleet_rate_spectrum, spectrum_lines
 from ..scenario import Scenario
 from ..setup import build, config, inputs, io
 from ..studies import fleet as fleet_study
 from ..studies import rate_spectrum, runs
 
-__all__ = ["Study", "load", "growth", "spectrum", "ROOT"]
+__all__ = ["Study", "load", "growth", "spectrum", "fleet_spectrum", "ROOT"]
 
 ROOT = Path(__file__).resolve().parents[2]  # the project folder holding config/
 
@@ -244,3 +244,50 @@ def spectrum(study: Study, *, speeds, shortest: float | None = None, longest: fl
     spectra = {v: rate_spectrum.spectrum_with_settings(scn, chain.receptance_table(scn, v), s) for v in speeds}
     ds = rate_spectrum.spectrum_dataset_of(spectra, scn)
     return io.finalize(ds, cfg, title="Growth-rate spectrum", source="rail.app.api.spectrum", scenario=study.name)
+
+
+def fleet_spectrum(study: Study, *, shortest: float | None = None, longest: float | None = None,
+                   per_octave: int | None = None, bays: int | None = None, grid_phases: int | None = None) -> xr.Dataset:
+    """Growth-rate spectrum about the smooth rail under a study's fleet (docs/traffic.md): the
+    traffic-weighted rate per wavelength with each (vehicle, speed) class's contribution, per fleet
+    passage and per year (rail.growth_spectrum.fleet_rate_spectrum, rail.studies.fleet).
+
+    Parameters
+    ----------
+    study : Study
+        With a fleet (config key ``fleet``).
+    shortest, longest : float, optional
+        Wavelength range [m] (default: figures.rate_spectrum of the study).
+    per_octave, bays, grid_phases : int, optional
+        As spectrum.
+
+    Returns
+    -------
+    xr.Dataset
+        growth_rate, growth_dB, growth_dB_per_year over wavelength; class_growth_rate and
+        class_contribution over (class, wavelength).
+
+    Raises
+    ------
+    rail.setup.config.ConfigError
+        If the study has no fleet, or an argument is not allowed (as spectrum).
+    """
+    if "fleet" not in study.config:
+        raise config.ConfigError(f"{study.name} has no fleet: give the key fleet (docs/traffic.md), or use spectrum.")
+    for name, value in (("per_octave", per_octave), ("bays", bays), ("grid_phases", grid_phases)):
+        if value is not None:
+            _count(name, value)
+    s = dict(study.config["figures"]["rate_spectrum"])
+    s.update({k: v for k, v in dict(shortest=shortest, longest=longest, per_octave=per_octave, bays=bays,
+                                     grid_phases=grid_phases).items() if v is not None})
+    cfg = config.deep_merge(study.config, {"figures": {"rate_spectrum": s}})
+    scn = build.spectrum_scenario(cfg, study.name)
+    lines = spectrum_lines(scn.L, scn.roughness.bays, scn.harmonics, float(s["shortest"]), float(s["longest"]), int(s["per_octave"]))
+    fl = build.fleet(cfg)
+    classes = fl.classes(scn, float(cfg["wheels"]["static_load"]))
+    for c in classes:
+        inputs.check_speed(cfg, c.speed, f"{study.name}: fleet spectrum")
+    fs = fleet_rate_spectrum(classes, chain.fleet_tables(classes), lines, eps=float(s["eps"]), grid_phases=int(s["grid_phases"]))
+    ds = fleet_study.fleet_spectrum_dataset(fs, fl)
+    return io.finalize(ds, cfg, title="Growth-rate spectrum under the fleet", source="rail.app.api.fleet_spectrum",
+                       scenario=study.name)
