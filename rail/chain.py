@@ -8,6 +8,9 @@ in one place (report secs 4-5):
     wear   = passage_wear(scn, forces, roughness)    contact and wear of one wheel passage (eqs 22-54, rail.wear)
     dZ, _  = train_wear(scn, table, Z)               wear of one train passage, wheel after wheel
     hist   = grow(scn, table, roughness)             roughness growth over many passages (sec. 5, rail.growth)
+    tables = fleet_tables(classes)                     one table per speed of a fleet, shared by its vehicles (rail.fleet)
+    dZ, _  = fleet_wear(classes, tables, Z)            traffic-weighted wear of one fleet passage, sum_c w_c dZ_c
+    hist   = grow_fleet(classes, tables, roughness)    growth under the fleet
     cs     = contact_shift(scn, table, Z)            the neglected move of the contact centre (docs/contact.md)
 """
 
@@ -26,7 +29,7 @@ from .scenario import Scenario, TrackNumerics
 from .track import Track
 
 __all__ = ["wheel_offsets", "receptance_table", "track_table", "table_speed", "initial_roughness", "solve_forces", "contact_filtered",
-           "passage_wear", "train_wear", "grow", "single_wheel", "ContactShift", "contact_shift",
+           "wheel_material", "passage_wear", "train_wear", "grow", "fleet_tables", "fleet_wear", "fleet_wheels", "grow_fleet", "single_wheel", "ContactShift", "contact_shift",
            "SWEEP_ERROR_LIMIT"]
 
 SWEEP_ERROR_LIMIT = 2e-3  # largest |dc/dx| the wear model is taken to hold for (docs/contact.md, "The move of the contact centre")
@@ -220,7 +223,29 @@ def passage_wear(scn: Scenario, forces: ForceResult, roughness: Roughness, wheel
     -------
     WearResult
     """
-    return wear.bay_wear(forces, wheel, roughness, scn.material, scn.wear_law, scn.contact_numerics, grid_phase=grid_phase)
+    return wear.bay_wear(forces, wheel, roughness, wheel_material(scn, wheel), scn.wear_law, scn.contact_numerics,
+                         grid_phase=grid_phase)
+
+
+def wheel_material(scn: Scenario, wheel: int):
+    """The contact parameters of one wheel: the scenario's, with the wheel's own creepage where the
+    wheels carry one per axle (rail.interaction.Wheels.creepage, rail.fleet).
+
+    Parameters
+    ----------
+    scn : Scenario
+    wheel : int
+        Index of the wheel in scn.wheels.positions.
+
+    Returns
+    -------
+    rail.contact.ContactMaterial
+        With creepage gamma_1 [-] of the wheel.
+    """
+    c = scn.wheels.creepage
+    if c is None or c[wheel] == scn.material.creepage:
+        return scn.material
+    return dataclasses.replace(scn.material, creepage=float(c[wheel]))
 
 
 def train_wear(scn: Scenario, table: MovingReceptance, Z, grid_phase: float = 0.0):
@@ -284,6 +309,111 @@ def grow(scn: Scenario, table: MovingReceptance, roughness: Roughness | None = N
     rough = initial_roughness(scn, table_speed(table)) if roughness is None else roughness
     ident = {"scenario": repr(scn), "speed": table_speed(table), "code": provenance.module_hash("rail.chain"), **(identity or {})}
     return growth.run_growth(lambda Z, phase: train_wear(scn, table, Z, phase), rough, len(scn.wheels.positions),
+                             scn.growth, checkpoint=checkpoint, identity=ident, progress=progress,
+                             period=scn.L * scn.roughness.bays, **kwargs)
+
+
+def fleet_tables(classes) -> dict:
+    """The receptance tables of a fleet: one per speed, computed once and shared by every vehicle at
+    that speed (rail.fleet).
+
+    Parameters
+    ----------
+    classes : sequence of rail.fleet.FleetClass
+
+    Returns
+    -------
+    dict
+        {speed [m/s]: table} (receptance_table), each with the offsets of every wheel pair of every
+        vehicle at that speed (the union of wheel_offsets).
+    """
+    by_speed = {}
+    for c in classes:
+        by_speed.setdefault(c.speed, []).append(c.scenario)
+    tables = {}
+    for speed, scns in by_speed.items():
+        offsets = sorted({d for s in scns for d in wheel_offsets(s)}, key=lambda d: (abs(d), d))
+        tables[speed] = receptance_table(scns[0], speed, offsets)
+    return tables
+
+
+def fleet_wheels(classes) -> float:
+    """Mean wheels on the rail per fleet passage, sum_c w_c n_c [-] (rail.fleet.Fleet.axles_per_train).
+
+    Parameters
+    ----------
+    classes : sequence of rail.fleet.FleetClass
+
+    Returns
+    -------
+    float
+    """
+    return float(sum(c.weight * len(c.scenario.wheels.positions) for c in classes))
+
+
+def fleet_wear(classes, tables: dict, Z, grid_phase: float = 0.0):
+    """Expected wear of one fleet passage, one train drawn from the traffic: sum_c w_c dZ_c over the
+    (vehicle, speed) classes, dZ_c the wear of one passage of class c's train (train_wear).
+
+    Parameters
+    ----------
+    classes : sequence of rail.fleet.FleetClass
+        Weights w_c summing to 1.
+    tables : dict
+        {speed: receptance table} (fleet_tables).
+    Z : ndarray
+        Roughness coefficients [m].
+    grid_phase : float
+        Contact grid phase in [0, 1) [-].
+
+    Returns
+    -------
+    dZ : ndarray
+        sum_c w_c Delta Z_k,c [m].
+    full_slip : float
+        Largest fraction of the bay without a stick zone over the classes and wheels [-].
+    """
+    dZ, slip = None, 0.0
+    for c in classes:
+        d, s = train_wear(c.scenario, tables[c.speed], Z, grid_phase)
+        dZ = c.weight * d if dZ is None else dZ + c.weight * d
+        slip = max(slip, s)
+    return dZ, slip
+
+
+def grow_fleet(classes, tables: dict, roughness: Roughness | None = None, *, checkpoint=None, identity: dict | None = None,
+               progress=sys.stderr, **kwargs) -> growth.GrowthHistory:
+    """Roughness growth under a fleet (sec. 5, rail.growth.run_growth with fleet_wear).
+
+    Passages are axle (wheel) passages on the rail, as for one train: an update of
+    growth.passages_per_update wheel passages applies passages_per_update / fleet_wheels(classes)
+    fleet passages, each the traffic-weighted wear fleet_wear.
+
+    Parameters
+    ----------
+    classes : sequence of rail.fleet.FleetClass
+        Their scenarios share growth settings and initial roughness (rail.fleet.Fleet.classes).
+    tables : dict
+        {speed: receptance table} (fleet_tables).
+    roughness : Roughness, optional
+        Initial roughness [m] (default: the scenarios', which must not depend on the speed).
+    checkpoint, identity, progress, **kwargs
+        As grow.
+
+    Returns
+    -------
+    GrowthHistory
+    """
+    scn = classes[0].scenario
+    if roughness is None:
+        r = scn.roughness
+        if r.kind == "harmonic" and r.wavelength is None:
+            raise ValueError("roughness.frequency sets the wavelength at one speed: under a fleet at several speeds give "
+                             "roughness.wavelength instead.")
+        roughness = initial_roughness(scn, classes[0].speed)
+    ident = {"fleet": [(c.weight, repr(c.scenario)) for c in classes], "speeds": sorted(tables),
+             "code": provenance.module_hash("rail.chain"), **(identity or {})}
+    return growth.run_growth(lambda Z, phase: fleet_wear(classes, tables, Z, phase), roughness, fleet_wheels(classes),
                              scn.growth, checkpoint=checkpoint, identity=ident, progress=progress,
                              period=scn.L * scn.roughness.bays, **kwargs)
 

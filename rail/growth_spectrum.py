@@ -30,7 +30,8 @@ from .interaction import Roughness
 from .moving import MovingReceptance
 from .scenario import Scenario
 
-__all__ = ["wear_rates", "RateSpectrum", "spectrum_lines", "rate_spectrum", "locked_operator", "class_operator"]
+__all__ = ["wear_rates", "RateSpectrum", "spectrum_lines", "rate_spectrum", "locked_operator", "class_operator",
+           "FleetRateSpectrum", "fleet_rate_spectrum", "combine_spectra"]
 
 
 class GridMismatch(RuntimeError):
@@ -141,7 +142,7 @@ def _linear_rates(scn, tabs, free, locked, eps, phase, max_columns=None):
     N = scn.roughness.bays
     K = scn.harmonics
     J = N * K
-    nums, mat = scn.contact_numerics, scn.material
+    nums = scn.contact_numerics  # the contact parameters of each wheel: chain.wheel_material (its own creepage)
     s1 = dataclasses.replace(scn, roughness=dataclasses.replace(scn.roughness, bays=1))
     Z01 = np.zeros(2 * K + 1, dtype=complex)
     f1 = chain.solve_forces(s1, tabs[0], Roughness(Z01, 1))
@@ -149,7 +150,7 @@ def _linear_rates(scn, tabs, free, locked, eps, phase, max_columns=None):
     # the reference inputs of each wheel over one bay, and the smooth rail's wear before each wheel
     ref, cur1, wear_before = [], Roughness(Z01, 1), []
     for l in order:
-        mi = wear.march_inputs(f1, l, cur1, mat, nums, phase)
+        mi = wear.march_inputs(f1, l, cur1, chain.wheel_material(scn, l), nums, phase)
         ref.append(mi)
         w = chain.passage_wear(s1, f1, cur1, l, phase)
         wear_before.append(cur1.Z.copy())
@@ -168,7 +169,7 @@ def _linear_rates(scn, tabs, free, locked, eps, phase, max_columns=None):
     base = []
     for w_i, l in enumerate(order):
         g1 = ref[w_i]
-        base.append(wear.march_inputs(fN0, l, Roughness(on_period(wear_before[w_i]), N), mat, nums, phase,
+        base.append(wear.march_inputs(fN0, l, Roughness(on_period(wear_before[w_i]), N), chain.wheel_material(scn, l), nums, phase,
                                       grid=(g1.delta, g1.Nx, g1.M, g1.spin)))
     for batch in probes:
         Z = Z0N.copy()
@@ -179,7 +180,7 @@ def _linear_rates(scn, tabs, free, locked, eps, phase, max_columns=None):
         fN = chain.solve_forces(scn, tabs, Roughness(Z, N))
         for w_i, l in enumerate(order):
             mi1, b0 = ref[w_i], base[w_i]
-            mi = wear.march_inputs(fN, l, Roughness(Z + on_period(wear_before[w_i]), N), mat, nums, phase,
+            mi = wear.march_inputs(fN, l, Roughness(Z + on_period(wear_before[w_i]), N), chain.wheel_material(scn, l), nums, phase,
                                    grid=(mi1.delta, mi1.Nx, mi1.M, mi1.spin))  # the smooth rail's grid
             # the same grid (the spin-up may differ by a step: positions are taken from each one's own)
             same = (mi.M == b0.M == mi1.M and mi.Nx == b0.Nx == N * mi1.Nx
@@ -218,7 +219,7 @@ def _linear_rates(scn, tabs, free, locked, eps, phase, max_columns=None):
             dPc = np.array(dP[w_i][sl]).T
             dac = np.array(da[w_i][sl]).T
             dshc = np.moveaxis(np.array(dsh[w_i][sl]), 0, -1) if nonh else None
-            _, dwork = work_tangent(mi1.P, mi1.a, mat, tabs[0].speed, mi1.delta, mi1.M, dPc, dac, dshc, closure=nums.closure,
+            _, dwork = work_tangent(mi1.P, mi1.a, chain.wheel_material(scn, l), tabs[0].speed, mi1.delta, mi1.M, dPc, dac, dshc, closure=nums.closure,
                                     closure_scale=nums.closure_scale, shape=mi1.shape)
             gw[:, sl] += kd * dwork[mi1.spin + mi1.M + np.arange(mi1.Nx)]
     nx1 = gw.shape[0]
@@ -273,6 +274,9 @@ class RateSpectrum:
     method     : 'linear' (the tangent march) or 'probe'; 'linear, probes at ...' names the grid
                  phases where the probes' contact grid differed from the smooth rail's and the
                  probes of the nonlinear march were taken instead
+    operator   : (n, 2, 2) the (cosine, sine) wear operator per train passage averaged over the grids
+                 at the locked lines (its eigenvalues are rate and rate_other), zero at free lines;
+                 kept so that operators of several trains can be summed (fleet_rate_spectrum)
     """
 
     wavelength: np.ndarray
@@ -288,6 +292,7 @@ class RateSpectrum:
     bays: int
     grid_phases: int
     method: str = "linear"
+    operator: np.ndarray | None = None
 
     @property
     def growth_rate(self) -> np.ndarray:
@@ -584,14 +589,16 @@ def rate_spectrum(scn: Scenario, table, lines, eps: float = 1e-9, grid_phases: i
     rate[free] = R.mean(axis=0)
     other[free] = np.conj(rate[free])
     spread[free] = np.ptp(R.real, axis=0) / 2
+    operator = np.zeros((lines.size, 2, 2))
     for n, idx in enumerate(held):
-        rate[idx], other[idx] = _sorted_eigenvalues(Ms[:, n].mean(axis=0))
+        operator[idx] = Ms[:, n].mean(axis=0)
+        rate[idx], other[idx] = _sorted_eigenvalues(operator[idx])
         g = [_sorted_eigenvalues(M)[0].real for M in Ms[:, n]]
         spread[idx] = np.ptp(g) / 2
     return RateSpectrum(wavelength=N * scn.L / lines, line=lines, locked=locked, rate=rate, rate_other=other,
                         source=source, grid_spread=spread, sideband=sideband, linearity=float(max(changes)), eps=float(eps), bays=N,
                         grid_phases=int(grid_phases),
-                        method=method if not fallbacks else f"{method}, probes at " + "; ".join(fallbacks))
+                        method=method if not fallbacks else f"{method}, probes at " + "; ".join(fallbacks), operator=operator)
 
 
 def _cell_rate_spectrum(scn: Scenario, table: MovingReceptance, lines, eps: float, grid_phases: int) -> RateSpectrum:
@@ -631,7 +638,8 @@ def _cell_rate_spectrum(scn: Scenario, table: MovingReceptance, lines, eps: floa
         spread[n] = np.ptp([_sorted_eigenvalues(M)[0].real for M in Ms[:, n]]) / 2
     return RateSpectrum(wavelength=N * scn.L / lines, line=lines, locked=np.ones(lines.size, dtype=int), rate=rate, rate_other=other,
                         source=source, grid_spread=spread, sideband=np.zeros(lines.size), linearity=float(max(changes)), eps=float(eps),
-                        bays=N, grid_phases=int(grid_phases), method=f"cell of {N} bays: cosine and sine probes at every line (nonlinear march)")
+                        bays=N, grid_phases=int(grid_phases), method=f"cell of {N} bays: cosine and sine probes at every line (nonlinear march)",
+                        operator=Ms.mean(axis=0))
 
 
 def class_operator(scn: Scenario, table, lines, eps: float = 1e-9, grid_phases: int = 2):
@@ -690,3 +698,89 @@ def class_operator(scn: Scenario, table, lines, eps: float = 1e-9, grid_phases: 
             W, _ = chain.train_wear(scn, table, Z, phase)
             C[:, k] += (W[idx] - W0[idx]) / (eps / 2) / grid_phases
     return C, _sorted_eigenvalues(C)
+
+
+@dataclass(frozen=True)
+class FleetRateSpectrum:
+    """The growth-rate spectrum under a fleet (fleet_rate_spectrum).
+
+    total   : the traffic-weighted spectrum, rates per fleet passage (one train drawn from the traffic)
+    classes : the spectrum of each (vehicle, speed) class, rates per passage of that class's train
+    weights : (c,) the classes' weights w_c [-], summing to 1
+    labels  : (c,) '<vehicle> at <speed> m/s'
+    speeds  : (c,) the classes' speeds [m/s]
+    """
+
+    total: RateSpectrum
+    classes: tuple
+    weights: np.ndarray
+    labels: tuple
+    speeds: np.ndarray
+
+
+def combine_spectra(spectra, weights) -> RateSpectrum:
+    """The weighted sum of growth-rate spectra on the same lines (the wear is linear about the smooth rail).
+
+    At a free line the rate is sum_c w_c R_c; at a locked line the 2 x 2 operators are summed and the
+    rates are the eigenvalues of sum_c w_c M_c (not the sum of the eigenvalues, unless the classes'
+    operators commute). The smooth rail's source and the grid spread are summed with the weights: an
+    upper bound, since the classes' smooth-rail wear and grid errors need not be in phase. The sideband
+    ratio and the linearity are the largest over the classes.
+
+    Parameters
+    ----------
+    spectra : sequence of RateSpectrum
+        On the same lines and period.
+    weights : sequence of float
+        w_c [-].
+
+    Returns
+    -------
+    RateSpectrum
+    """
+    first = spectra[0]
+    w = np.asarray(weights, dtype=float)
+    if any(not np.array_equal(s.line, first.line) or s.bays != first.bays for s in spectra):
+        raise ValueError("the classes' spectra must share their lines and period (one spectrum_lines call).")
+    rate = sum(wc * s.rate for wc, s in zip(w, spectra))
+    other = np.conj(rate)
+    held = np.flatnonzero(first.locked)
+    operator = None
+    if held.size:
+        if any(s.operator is None for s in spectra):
+            raise ValueError("a locked line needs the classes' 2 x 2 operators (RateSpectrum.operator).")
+        operator = sum(wc * s.operator for wc, s in zip(w, spectra))
+        for idx in held:
+            rate[idx], other[idx] = _sorted_eigenvalues(operator[idx])
+    methods = sorted({s.method for s in spectra})
+    return RateSpectrum(wavelength=first.wavelength, line=first.line, locked=first.locked, rate=rate, rate_other=other,
+                        source=sum(wc * s.source for wc, s in zip(w, spectra)),
+                        grid_spread=sum(wc * s.grid_spread for wc, s in zip(w, spectra)),
+                        sideband=np.max([s.sideband for s in spectra], axis=0), linearity=max(s.linearity for s in spectra),
+                        eps=first.eps, bays=first.bays, grid_phases=first.grid_phases, method="; ".join(methods), operator=operator)
+
+
+def fleet_rate_spectrum(classes, tables: dict, lines, **kwargs) -> FleetRateSpectrum:
+    """Growth-rate spectrum about the smooth rail under a fleet: the traffic-weighted rate per
+    wavelength, sum_c w_c R_c per fleet passage (combine_spectra), with each class's spectrum kept.
+
+    Parameters
+    ----------
+    classes : sequence of rail.fleet.FleetClass
+        Each with roughness.bays = N (the lines' period).
+    tables : dict
+        {speed: the N-bay period's receptance tables} (rail.chain.fleet_tables), shared by the
+        vehicles at a speed.
+    lines : sequence of int
+        Lines j, 1 <= j <= N K [-] (wavenumbers 2 pi j / (N L)).
+    **kwargs
+        Passed to rate_spectrum (eps, grid_phases, check_lines, method).
+
+    Returns
+    -------
+    FleetRateSpectrum
+    """
+    spectra = tuple(rate_spectrum(c.scenario, tables[c.speed], lines, **kwargs) for c in classes)
+    w = np.array([c.weight for c in classes])
+    return FleetRateSpectrum(combine_spectra(spectra, w), spectra, w, tuple(c.label for c in classes),
+                             np.array([c.speed for c in classes]))

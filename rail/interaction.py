@@ -51,12 +51,15 @@ class Wheels:
     radius      : m, > 0
     static_load : N, > 0 (each wheel; the mean contact force)
     positions   : m, positions a_l along the train (the first wheel passes a support at t = 0)
+    creepage    : -, one signed creepage per wheel (eq 25; rail.fleet), or None for the contact's
+                  creepage on every wheel (rail.contact.ContactMaterial.creepage)
     """
 
     mass: float
     radius: float
     static_load: float
     positions: tuple
+    creepage: tuple | None = None
 
     def __post_init__(self):
         for name in ("mass", "radius", "static_load"):
@@ -67,6 +70,8 @@ class Wheels:
             raise ValueError("wheels.positions = [] is not allowed: give at least one wheel position.")
         if len(set(self.positions)) != len(self.positions):
             raise ValueError(f"wheels.positions = {list(self.positions)} is not allowed: two wheels at one position.")
+        if self.creepage is not None and len(self.creepage) != len(self.positions):
+            raise ValueError(f"wheels.creepage has {len(self.creepage)} values: it needs one per wheel ({len(self.positions)}).")
 
 
 @dataclass(frozen=True)

@@ -22,12 +22,13 @@ from pathlib import Path
 import xarray as xr
 
 from .. import chain
-from ..growth_spectrum import spectrum_lines
+from ..growth_spectrum import fleet_rate_spectrum, spectrum_lines
 from ..scenario import Scenario
 from ..setup import build, config, inputs, io
+from ..studies import fleet as fleet_study
 from ..studies import rate_spectrum, runs
 
-__all__ = ["Study", "load", "growth", "spectrum", "ROOT"]
+__all__ = ["Study", "load", "growth", "spectrum", "fleet_spectrum", "ROOT"]
 
 ROOT = Path(__file__).resolve().parents[2]  # the project folder holding config/
 
@@ -134,14 +135,16 @@ def load(name: str = "default", *, root: str | Path | None = None, changes: dict
     return Study(stem, scn, cfg)
 
 
-def growth(study: Study, *, speed: float, passages: int | None = None, checkpoint=None, progress=sys.stderr) -> xr.Dataset:
-    """Roughness growth of a study at one speed from its initial roughness (secs 4-5).
+def growth(study: Study, *, speed: float | None = None, passages: int | None = None, checkpoint=None,
+           progress=sys.stderr) -> xr.Dataset:
+    """Roughness growth of a study at one speed from its initial roughness (secs 4-5), or under the
+    study's fleet (config key ``fleet``: every (vehicle, speed) class each update, rail.chain.grow_fleet).
 
     Parameters
     ----------
     study : Study
     speed : float
-        Train speed [m/s], finite and > 0.
+        Train speed [m/s], finite and > 0; not given for a study with a fleet (its speeds are the fleet's).
     passages : int, optional
         Wheel passages (default: the study's growth.passages), >= 1; a multiple of growth.save_every.
     checkpoint : path, optional
@@ -160,16 +163,37 @@ def growth(study: Study, *, speed: float, passages: int | None = None, checkpoin
     rail.setup.config.ConfigError
         If speed is not a finite number > 0 or passages not a whole number >= 1 (before computing).
     """
-    speed = _speed("speed", speed)
     scn = study.scenario
     if passages is not None:
         scn = dataclasses.replace(scn, growth=dataclasses.replace(scn.growth, passages=_count("passages", passages)))
+    if "fleet" in study.config:
+        if speed is not None:
+            raise config.ConfigError(f"speed = {speed!r} is not allowed for {study.name}: its fleet sets the speeds "
+                                     "(fleet.speeds); leave speed out.")
+        return _fleet_growth(study, scn, checkpoint, progress)
+    if speed is None:
+        raise config.ConfigError(f"speed is needed for {study.name}: a train speed in m/s (a finite number > 0).")
+    speed = _speed("speed", speed)
     speed = inputs.check_speed(study.config, speed, f"{study.name}: growth")
     table = chain.receptance_table(scn, speed)
     history = chain.grow(scn, table, checkpoint=checkpoint, identity={"config": study.config}, progress=progress,
                          on_mismatch="restart")
     ds = runs.growth_dataset(scn, table, history, speed, warn=progress)
     return io.finalize(ds, study.config, title=f"Roughness growth at {speed:g} m/s", source="rail.app.api.growth",
+                       scenario=study.name)
+
+
+def _fleet_growth(study: Study, scn: Scenario, checkpoint, progress) -> xr.Dataset:
+    """growth under the study's fleet: one table per speed, shared by the vehicles (rail.chain.fleet_tables)."""
+    fl = build.fleet(study.config)
+    classes = fl.classes(scn, float(study.config["wheels"]["static_load"]))
+    for c in classes:
+        inputs.check_speed(study.config, c.speed, f"{study.name}: fleet growth")
+    tables = chain.fleet_tables(classes)
+    history = chain.grow_fleet(classes, tables, checkpoint=checkpoint, identity={"config": study.config}, progress=progress,
+                               on_mismatch="restart")
+    ds = fleet_study.fleet_growth_dataset(classes, tables, history, fl)
+    return io.finalize(ds, study.config, title="Roughness growth under the fleet", source="rail.app.api.growth",
                        scenario=study.name)
 
 
@@ -220,3 +244,50 @@ def spectrum(study: Study, *, speeds, shortest: float | None = None, longest: fl
     spectra = {v: rate_spectrum.spectrum_with_settings(scn, chain.receptance_table(scn, v), s) for v in speeds}
     ds = rate_spectrum.spectrum_dataset_of(spectra, scn)
     return io.finalize(ds, cfg, title="Growth-rate spectrum", source="rail.app.api.spectrum", scenario=study.name)
+
+
+def fleet_spectrum(study: Study, *, shortest: float | None = None, longest: float | None = None,
+                   per_octave: int | None = None, bays: int | None = None, grid_phases: int | None = None) -> xr.Dataset:
+    """Growth-rate spectrum about the smooth rail under a study's fleet (docs/traffic.md): the
+    traffic-weighted rate per wavelength with each (vehicle, speed) class's contribution, per fleet
+    passage and per year (rail.growth_spectrum.fleet_rate_spectrum, rail.studies.fleet).
+
+    Parameters
+    ----------
+    study : Study
+        With a fleet (config key ``fleet``).
+    shortest, longest : float, optional
+        Wavelength range [m] (default: figures.rate_spectrum of the study).
+    per_octave, bays, grid_phases : int, optional
+        As spectrum.
+
+    Returns
+    -------
+    xr.Dataset
+        growth_rate, growth_dB, growth_dB_per_year over wavelength; class_growth_rate and
+        class_contribution over (class, wavelength).
+
+    Raises
+    ------
+    rail.setup.config.ConfigError
+        If the study has no fleet, or an argument is not allowed (as spectrum).
+    """
+    if "fleet" not in study.config:
+        raise config.ConfigError(f"{study.name} has no fleet: give the key fleet (docs/traffic.md), or use spectrum.")
+    for name, value in (("per_octave", per_octave), ("bays", bays), ("grid_phases", grid_phases)):
+        if value is not None:
+            _count(name, value)
+    s = dict(study.config["figures"]["rate_spectrum"])
+    s.update({k: v for k, v in dict(shortest=shortest, longest=longest, per_octave=per_octave, bays=bays,
+                                     grid_phases=grid_phases).items() if v is not None})
+    cfg = config.deep_merge(study.config, {"figures": {"rate_spectrum": s}})
+    scn = build.spectrum_scenario(cfg, study.name)
+    lines = spectrum_lines(scn.L, scn.roughness.bays, scn.harmonics, float(s["shortest"]), float(s["longest"]), int(s["per_octave"]))
+    fl = build.fleet(cfg)
+    classes = fl.classes(scn, float(cfg["wheels"]["static_load"]))
+    for c in classes:
+        inputs.check_speed(cfg, c.speed, f"{study.name}: fleet spectrum")
+    fs = fleet_rate_spectrum(classes, chain.fleet_tables(classes), lines, eps=float(s["eps"]), grid_phases=int(s["grid_phases"]))
+    ds = fleet_study.fleet_spectrum_dataset(fs, fl)
+    return io.finalize(ds, cfg, title="Growth-rate spectrum under the fleet", source="rail.app.api.fleet_spectrum",
+                       scenario=study.name)

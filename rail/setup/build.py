@@ -18,6 +18,7 @@ import numpy as np
 
 from ..cell import RandomSupports, TrackCell, make_cell
 from ..contact import ContactMaterial, ContactNumerics
+from ..fleet import Fleet, Vehicle, speed_classes
 from ..growth import GrowthSettings
 from ..halfspace import ElasticMaterial, HalfSpaceNumerics, contact_loss_factor
 from ..interaction import ContactSpring, Wheels
@@ -26,7 +27,7 @@ from ..track import Ballast, Pad, Rail, Sleeper, Track, damping_problem, min_har
 from ..wear import WearLaw
 from .config import ConfigError, configured_speeds
 
-__all__ = ["HalfSpaceFigureSettings", "PASSAGE_KEYS", "elastic", "track_cell", "passage_scenario", "scenario", "spectrum_scenario", "track", "physics_problems", "halfspace_numerics", "halfspace_figures"]
+__all__ = ["HalfSpaceFigureSettings", "PASSAGE_KEYS", "elastic", "fleet", "fleet_classes", "track_cell", "passage_scenario", "scenario", "spectrum_scenario", "track", "physics_problems", "halfspace_numerics", "halfspace_figures"]
 
 
 @dataclass(frozen=True, slots=True)
@@ -271,3 +272,30 @@ def scenario(cfg: dict, name: str = "default", source: str = "config") -> Scenar
         axles_per_day=float(cfg["traffic"]["axles_per_day"]),
         cell=track_cell(cfg),
     )
+
+
+def fleet(cfg: dict) -> Fleet | None:
+    """The traffic of a resolved configuration (config key ``fleet``, rail.fleet), or None without one.
+
+    Raises ConfigError naming the key if a vehicle or the speed distribution is not allowed (the
+    schema and rail.setup.config's cross-checks have refused most of it already).
+    """
+    f = cfg.get("fleet")
+    if f is None:
+        return None
+    try:
+        vehicles = tuple(Vehicle(str(v["name"]), tuple(float(a) for a in v["positions"]), float(v["static_load"]),
+                                 float(v["unsprung_mass"]), tuple(float(c) for c in v["creepage"]), float(v["share"]))
+                         for v in f["vehicles"])
+        return Fleet(vehicles, speed_classes(f["speeds"]), float(cfg["traffic"]["axles_per_day"]))
+    except ValueError as e:
+        raise ConfigError(f"invalid configuration:\n  {e}") from None
+
+
+def fleet_classes(cfg: dict, scn: Scenario) -> tuple:
+    """The (vehicle, speed) classes of the configuration's fleet (rail.fleet.Fleet.classes), each the
+    scenario ``scn`` with the vehicle's wheels, contact spring (scaled from the load
+    ``wheels.static_load`` that ``contact.hertz_stiffness`` is given for) and per-axle creepage, at
+    one speed; () without a fleet."""
+    fl = fleet(cfg)
+    return () if fl is None else fl.classes(scn, float(cfg["wheels"]["static_load"]))

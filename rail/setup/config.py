@@ -165,6 +165,77 @@ def _cross_checks(cfg: dict, source: str) -> list[str]:
             f"{source}: figures.halfspace.radius_min = {h['radius_min']!r} m is not allowed: it must be "
             f"< figures.halfspace.radius_max = {h['radius_max']!r} m."
         )
+    if "fleet" in cfg:
+        out += _fleet_checks(cfg["fleet"], source)
+    return out
+
+
+def _sum_problem(key: str, values, source: str) -> list[str]:
+    """Weights that do not sum to 1 (rail.fleet.SUM_TOLERANCE)."""
+    from ..fleet import SUM_TOLERANCE
+
+    total = float(np.sum(values))
+    if abs(total - 1) <= SUM_TOLERANCE:
+        return []
+    return [f"{source}: {key} = {_short(list(values))} sums to {total:.9g}: it must sum to 1 (each value in [0, 1], the sum "
+            f"within {SUM_TOLERANCE:g} of 1)."]
+
+
+def _fleet_checks(fleet: dict, source: str) -> list[str]:
+    """The fleet's constraints between keys (docs/traffic.md): one creepage per axle, no two axles at one
+    position, distinct names, shares and speed weights summing to 1, one form of speed distribution
+    with its parameters, every speed class > 0."""
+    from ..fleet import speed_classes
+
+    out = []
+    vehicles = fleet["vehicles"]
+    for i, v in enumerate(vehicles):
+        key = f"fleet.vehicles[{i}] ({v['name']})"
+        if len(v["creepage"]) != len(v["positions"]):
+            out.append(f"{source}: {key}.creepage has {len(v['creepage'])} values: it needs one per axle, "
+                       f"{key}.positions has {len(v['positions'])}.")
+        if len(set(v["positions"])) != len(v["positions"]):
+            out.append(f"{source}: {key}.positions = {_short(v['positions'])} m is not allowed: two axles at one position.")
+    names = [v["name"] for v in vehicles]
+    if len(set(names)) != len(names):
+        out.append(f"{source}: fleet.vehicles names {names} are not all different: give each vehicle type its own name.")
+    out += _sum_problem("fleet.vehicles[*].share", [v["share"] for v in vehicles], source)
+    sp = fleet["speeds"]
+    given, named = "values" in sp or "weights" in sp, "distribution" in sp
+    need = {"normal": ("mean", "std", "classes"), "uniform": ("low", "high", "classes")}
+    if given == named:
+        out.append(f"{source}: fleet.speeds = {_short(sp)} is not allowed: give either values and weights, or distribution "
+                   "(normal with mean, std and classes; uniform with low, high and classes).")
+        return out
+    if given:
+        if not {"values", "weights"} <= set(sp):
+            out.append(f"{source}: fleet.speeds needs both values (m/s) and weights (-), one weight per speed.")
+            return out
+        extra = sorted(set(sp) - {"values", "weights"})
+        if extra:
+            out.append(f"{source}: fleet.speeds.{extra[0]} is not allowed with fleet.speeds.values: it belongs to a distribution.")
+        if len(sp["weights"]) != len(sp["values"]):
+            out.append(f"{source}: fleet.speeds.weights has {len(sp['weights'])} values: it needs one per speed, "
+                       f"fleet.speeds.values has {len(sp['values'])}.")
+        out += _sum_problem("fleet.speeds.weights", sp["weights"], source)
+    else:
+        d = sp["distribution"]
+        missing = [k for k in need[d] if k not in sp]
+        extra = sorted(set(sp) - {"distribution", *need[d]})
+        if missing:
+            out.append(f"{source}: fleet.speeds.distribution = '{d}' needs fleet.speeds.{missing[0]} "
+                       f"(a {d} distribution takes {', '.join(need[d])}).")
+        if extra:
+            out.append(f"{source}: fleet.speeds.{extra[0]} is not allowed with fleet.speeds.distribution = '{d}' "
+                       f"(it takes {', '.join(need[d])}).")
+        if d == "uniform" and not missing and not sp["low"] <= sp["high"]:
+            out.append(f"{source}: fleet.speeds.low = {sp['low']!r} m/s is not allowed: it must be <= fleet.speeds.high = "
+                       f"{sp['high']!r} m/s.")
+    if not out:
+        try:
+            speed_classes(sp)
+        except ValueError as e:
+            out.append(f"{source}: {e}")
     return out
 
 
@@ -228,6 +299,10 @@ def configured_speeds(cfg: dict) -> list[float]:
     v = set(cfg.get("speeds", []))
     v |= set(f.get("fig22", {}).get("speeds", [])) | set(f.get("growth", {}).get("speeds", []))
     v |= {x for x in (f.get("fig08", {}).get("speed"), f.get("wear", {}).get("speed")) if x is not None}
+    if "fleet" in cfg:  # the speed classes of the traffic (rail.fleet)
+        from ..fleet import speed_classes
+
+        v |= set(speed_classes(cfg["fleet"]["speeds"]).speeds)
     return sorted(float(x) for x in v)
 
 

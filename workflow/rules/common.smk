@@ -50,6 +50,13 @@ check_scenario_names(
     {pt["name"]: str(SCENARIO_FILES[study]) for study, sw in SWEEPS.items() for pt in sw["points"]},
 )
 SCENARIO_OBJECTS = {_name: build_scenario(_cfg, _name, _SOURCES[_name]) for _name, _cfg in SCENARIOS.items()}
+# A fleet (rail.fleet, docs/traffic.md) is not yet run by the workflow: its per-speed growth rule would
+# run the one train of `wheels` and leave the fleet out, so a configuration with one is refused here.
+_FLEETS = [f"{_SOURCES.get(_n, 'config')}: fleet is not yet run by the workflow (its growth rules run one train at one "
+           f"speed and would leave the fleet out); run it with rail.app.api.growth(api.load('{_n}')) (docs/traffic.md)."
+           for _n, _c in SCENARIOS.items() if "fleet" in _c]
+if _FLEETS:
+    raise ConfigError("invalid configuration:\n  " + "\n  ".join(_FLEETS))
 
 # Every input file is read and checked here, before any job runs (its errors name the file and line),
 # by the function railgrowth and rail.app.api call too (rail.setup.inputs.check_inputs). A track's

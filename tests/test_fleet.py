@@ -1,0 +1,361 @@
+"""Growth under a fleet (rail.fleet, rail.chain.fleet_wear / grow_fleet, rail.growth_spectrum.fleet_rate_spectrum):
+the fleet reduces to the single train, its wear is the traffic-weighted sum of the classes' wear, its
+spectrum the weighted sum of the classes' spectra and agrees with a growth run; bad fleets are refused
+at start-up."""
+
+import copy
+import dataclasses
+import io
+
+import numpy as np
+import pytest
+from model import scenario
+from test_growth import MATERIAL, contact_spring, track
+
+from rail import chain
+from rail import fleet as F
+from rail import growth_spectrum as GS
+from rail import interaction as I
+from rail.setup import build, config
+
+K = 24
+BOGIE = (0.0, 3.3)
+
+
+def base(positions=BOGIE, passages=20000, step=10000, bays=1):
+    scn = scenario(track(), MATERIAL, contact_spring(), positions=positions, K=K, nodes=41, passages=passages, step=step)
+    return dataclasses.replace(scn, roughness=dataclasses.replace(scn.roughness, bays=bays))
+
+
+def vehicle(name="loco", positions=BOGIE, load=1e5, mass=1350.0, creepage=None, share=1.0):
+    c = tuple([MATERIAL.creepage] * len(positions)) if creepage is None else tuple(creepage)
+    return F.Vehicle(name, tuple(positions), load, mass, c, share)
+
+
+def fleet(vehicles, speeds=(40.0,), weights=(1.0,)):
+    return F.Fleet(tuple(vehicles), F.SpeedClasses(tuple(speeds), tuple(weights)), 20000.0)
+
+
+def rough(bays=1, lines=(3, 7), amplitude=1e-7):
+    J = bays * K
+    Z = np.zeros(2 * J + 1, dtype=complex)
+    for j in lines:
+        Z[J + j] = Z[J - j] = amplitude / 2
+    return I.Roughness(Z, bays)
+
+
+# ---------------------------------------------------------------- reduction to the single train
+
+
+def test_fleet_of_one_vehicle_at_one_speed_reproduces_the_single_train_growth_bitwise():
+    scn = base()
+    classes = fleet([vehicle()]).classes(scn)
+    assert len(classes) == 1 and classes[0].weight == 1.0
+    tables = chain.fleet_tables(classes)
+    single = chain.grow(scn, chain.receptance_table(scn, 40.0), rough(), progress=io.StringIO())
+    fl = chain.grow_fleet(classes, tables, rough(), progress=io.StringIO())
+    np.testing.assert_array_equal(fl.passages, single.passages)
+    np.testing.assert_array_equal(fl.Z, single.Z)  # bitwise: the same table, wear, step and update
+    assert np.abs(fl.Z[-1] - fl.Z[0]).max() > 0  # the run did grow something
+
+
+def test_two_identical_classes_at_half_shares_equal_one_class():
+    scn = base()
+    one = fleet([vehicle()]).classes(scn)
+    two = fleet([vehicle("a", share=0.5), vehicle("b", share=0.5)]).classes(scn)
+    tables = chain.fleet_tables(two)
+    Z = rough().Z
+    d1, _ = chain.fleet_wear(one, tables, Z, 0.3)
+    d2, _ = chain.fleet_wear(two, tables, Z, 0.3)
+    np.testing.assert_array_equal(d2, d1)  # 0.5 d + 0.5 d is d exactly in floating point
+
+
+def test_two_classes_apply_the_share_weighted_wear_per_update():
+    # a driven locomotive at 40 m/s (share w) and a lighter braked coach at 44 m/s (1 - w): each
+    # class's wear computed on its own (its own table), summed with the shares by hand, equals
+    # fleet_wear, and one growth update removes h sum_c w_c dZ_c with h = wheel passages per update
+    # over the mean wheels per fleet passage
+    w = 0.3
+    scn = base(step=10000, passages=10000)
+    loco = vehicle("loco", BOGIE, 1e5, 1350.0, (-0.001, -0.001), w)
+    coach = vehicle("coach", (0.0, 2.5, 7.5), 6e4, 900.0, (0.0, 0.0008, 0.0008), 1 - w)
+    fl = F.Fleet((loco, coach), F.SpeedClasses((40.0,), (1.0,)), 20000.0)
+    classes = fl.classes(scn)
+    c_loco = dataclasses.replace(scn, wheels=I.Wheels(1350.0, 0.575, 1e5, BOGIE, (-0.001, -0.001)))
+    c_coach = dataclasses.replace(scn, wheels=I.Wheels(900.0, 0.575, 6e4, (0.0, 2.5, 7.5), (0.0, 0.0008, 0.0008)),
+                                  spring=F.vehicle_spring(scn.spring, 1e5, 6e4))
+    Z = rough().Z
+    dA, _ = chain.train_wear(c_loco, chain.receptance_table(c_loco, 40.0), Z, 0.0)
+    dB, _ = chain.train_wear(c_coach, chain.receptance_table(c_coach, 40.0), Z, 0.0)
+    tables = chain.fleet_tables(classes)
+    dF, _ = chain.fleet_wear(classes, tables, Z, 0.0)
+    expect = w * dA + (1 - w) * dB
+    # the shared table holds the offsets of both vehicles in one adaptive quadrature; at the offsets both
+    # hold it equals each vehicle's own table to 1.6e-15 (measured), and the weighted wear to 4e-15 of
+    # the largest harmonic (measured; the quadrature tolerance rtol 1e-4 would be the bound otherwise)
+    err = np.abs(dF - expect)[K + 1:] / np.abs(expect[K + 1:]).max()
+    assert err.max() < 1e-12, err.max()
+    assert np.abs(dA - dB).max() > 0.1 * np.abs(dA).max()  # the two classes do differ
+    # one update with the fleet's own wear
+    h = 10000 / (w * 2 + (1 - w) * 3)
+    assert chain.fleet_wheels(classes) == pytest.approx(w * 2 + (1 - w) * 3, rel=1e-15)
+    hist = chain.grow_fleet(classes, tables, rough(), progress=io.StringIO(), stop_after_updates=1)
+    np.testing.assert_allclose(hist.Z[1], Z - h * dF, rtol=0, atol=1e-15 * np.abs(Z).max())
+
+
+def test_each_axle_wears_at_its_own_creepage():
+    # a one-axle vehicle braked at +0.0008 wears as the scenario whose contact creepage is +0.0008
+    scn = base(positions=(0.0,))
+    braked = fleet([vehicle(positions=(0.0,), creepage=(0.0008,))]).classes(scn)[0].scenario
+    same = dataclasses.replace(scn, material=dataclasses.replace(scn.material, creepage=0.0008))
+    tab = chain.receptance_table(scn, 40.0)
+    Z = rough().Z
+    np.testing.assert_array_equal(chain.train_wear(braked, tab, Z)[0], chain.train_wear(same, tab, Z)[0])
+    driven = chain.train_wear(scn, tab, Z)[0]
+    assert np.abs(driven - chain.train_wear(braked, tab, Z)[0]).max() > 0
+
+
+def test_tables_are_computed_once_per_speed_and_shared_between_vehicles(monkeypatch):
+    calls = []
+    real = chain.track_table
+    monkeypatch.setattr(chain, "track_table", lambda *a, **k: calls.append(a[2]) or real(*a, **k))
+    fl = fleet([vehicle("a", share=0.5), vehicle("b", (0.0, 2.5), 6e4, 900.0, share=0.5)], (38.0, 42.0), (0.5, 0.5))
+    classes = fl.classes(base())
+    tables = chain.fleet_tables(classes)
+    assert len(classes) == 4 and sorted(calls) == [38.0, 42.0]
+    for c in classes:  # every wheel pair of both vehicles is in the shared table
+        assert set(chain.wheel_offsets(c.scenario)) <= {round(float(d), 9) for d in tables[c.speed].offsets}
+
+
+# ---------------------------------------------------------------- definitions
+
+
+def test_hertz_spring_scales_with_the_cube_root_of_the_load():
+    s = I.ContactSpring(1.4e9, 2e-6, 0.0)
+    eight = F.vehicle_spring(s, 1e5, 8e5)  # 8 x the load: twice the stiffness (Hertz k_H ~ P^(1/3))
+    assert eight.hertz_stiffness == pytest.approx(2.8e9, rel=1e-14)
+    assert eight.loss_slope == pytest.approx(4e-6, rel=1e-14)  # eta_H ~ k_H (the half-space's loss)
+    assert F.vehicle_spring(s, 1e5, 1e5) is s
+
+
+def test_normal_speed_classes_are_equal_probability_at_their_conditional_means():
+    c = F.normal_classes(40.0, 4.0, 2)
+    # two halves of N(40, 4): conditional means 40 -+ 4 sqrt(2 / pi)
+    np.testing.assert_allclose(c.speeds, [40 - 4 * np.sqrt(2 / np.pi), 40 + 4 * np.sqrt(2 / np.pi)], rtol=1e-14)
+    assert c.weights == (0.5, 0.5)
+    for n in (1, 3, 7, 40):  # the mean is kept exactly, the variance rises towards std^2 from below
+        c = F.normal_classes(40.0, 4.0, n)
+        assert c.mean == pytest.approx(40.0, rel=1e-13)
+    var = [np.dot(F.normal_classes(40.0, 4.0, n).weights, (np.array(F.normal_classes(40.0, 4.0, n).speeds) - 40) ** 2)
+           for n in (2, 5, 20, 50)]
+    assert all(a < b < 16.0 for a, b in zip(var, var[1:])) and var[-1] > 0.98 * 16
+    u = F.uniform_classes(36.0, 44.0, 4)
+    np.testing.assert_allclose(u.speeds, [37.0, 39.0, 41.0, 43.0], rtol=1e-15)
+
+
+def test_traffic_units_from_the_fleet_loads():
+    # 60 % four-axle locomotives of wheel load 1e5 N (axle 20.394 t), 40 % two-axle
+    # wagons of wheel load 5e4 N (axle 10.197 t): mean axles per train 0.6 * 4 + 0.4 * 2 = 3.2; mean
+    # axle load (0.6 * 4 * 20.394 + 0.4 * 2 * 10.197) / 3.2 = 17.845 t; at 20,000 axles a day
+    # 20000 * 365 * 17.845 / 1e6 = 130.27 MGT a year
+    fl = F.Fleet((vehicle("loco", (0.0, 2.5, 10.0, 12.5), 1e5, share=0.6), vehicle("wagon", (0.0, 6.0), 5e4, share=0.4)),
+                 F.SpeedClasses((40.0,), (1.0,)), 20000.0)
+    axle = 2e5 / 9.80665 / 1000
+    assert fl.axles_per_train == pytest.approx(3.2, rel=1e-15)
+    assert fl.mean_axle_load == pytest.approx((0.6 * 4 * axle + 0.4 * 2 * axle / 2) / 3.2, rel=1e-14)
+    assert fl.mgt_per_year == pytest.approx(20000 * 365 * 17.8448 / 1e6, rel=1e-4)
+    assert fl.trains_per_day == pytest.approx(20000 / 3.2, rel=1e-15)
+
+
+# ---------------------------------------------------------------- spectrum
+
+N = 4
+LINES = [37, 86]  # 64.9 mm (grows at 40 m/s) and 27.9 mm (decays), free lines of the 4-bay period
+
+
+@pytest.fixture(scope="module")
+def two_class_spectrum():
+    scn = base(bays=N, passages=100000, step=10000)
+    loco = vehicle("loco", (0.0,), 1e5, 1350.0, (-0.001,), 0.6)
+    coach = vehicle("coach", (0.0,), 6e4, 900.0, (0.0008,), 0.4)
+    fl = F.Fleet((loco, coach), F.SpeedClasses((40.0, 44.0), (0.5, 0.5)), 20000.0)
+    classes = fl.classes(scn)
+    tables = chain.fleet_tables(classes)
+    return scn, classes, tables, GS.fleet_rate_spectrum(classes, tables, LINES, eps=1e-9, grid_phases=2, check_lines=1)
+
+
+@pytest.mark.slow
+def test_fleet_spectrum_is_the_share_weighted_sum_of_the_single_class_spectra(two_class_spectrum):
+    # about 45 s CPU: four class spectra and four single-train spectra on a 4-bay period
+    scn, classes, tables, fs = two_class_spectrum
+    # each class alone, as a single-train spectrum on its own table (computed here, not shared)
+    own = [GS.rate_spectrum(c.scenario, chain.receptance_table(c.scenario, c.speed), LINES, eps=1e-9, grid_phases=2,
+                            check_lines=1) for c in classes]
+    expect = sum(c.weight * s.rate for c, s in zip(classes, own))
+    # one-wheel vehicles: the shared tables equal the own ones. The same spectrum computed again later in
+    # one process differs by up to 2.6e-9 of the rate (measured; back-to-back repeats agree bitwise), so
+    # 1e-8, against a spread of the classes' rates of tens of percent (below)
+    np.testing.assert_allclose(fs.total.rate, expect, rtol=1e-8)
+    assert np.allclose(fs.weights, [0.3, 0.3, 0.2, 0.2])
+    g = np.array([-s.rate.real for s in fs.classes])
+    assert np.ptp(g[:, 0]) > 0.1 * np.abs(g[:, 0]).max()  # the classes differ: the test would see a wrong weight
+
+
+@pytest.fixture(scope="module")
+def small_spectrum():
+    # two one-wheel vehicles at 40 m/s on a 3-bay period: lines 2 and 4 free, 3 on the one-bay comb (locked)
+    scn = base(bays=3)
+    fl = fleet([vehicle("a", (0.0,), creepage=(-0.001,), share=0.6), vehicle("b", (0.0,), 6e4, 900.0, (0.0008,), 0.4)])
+    classes = fl.classes(scn)
+    tables = chain.fleet_tables(classes)
+    return fl, classes, GS.fleet_rate_spectrum(classes, tables, [2, 3, 4], eps=1e-9, grid_phases=1, check_lines=1)
+
+
+def test_fleet_spectrum_is_the_weighted_sum_of_single_train_spectra_at_free_lines(small_spectrum):
+    fl, classes, fs = small_spectrum
+    own = [GS.rate_spectrum(c.scenario, chain.receptance_table(c.scenario, c.speed), [2, 3, 4], eps=1e-9, grid_phases=1,
+                            check_lines=1) for c in classes]
+    free = [0, 2]
+    expect = 0.6 * own[0].rate[free] + 0.4 * own[1].rate[free]
+    np.testing.assert_allclose(fs.total.rate[free], expect, rtol=1e-8)  # see the 4-bay test for the 1e-8
+    assert abs(own[0].rate[0] - own[1].rate[0]) > 0.1 * abs(own[0].rate[0])  # the classes differ
+
+
+def test_fleet_spectrum_at_a_locked_line_is_the_eigenvalue_of_the_weighted_operator(small_spectrum):
+    fl, classes, fs = small_spectrum
+    assert list(fs.total.locked) == [0, 1, 0]
+    M = 0.6 * fs.classes[0].operator[1] + 0.4 * fs.classes[1].operator[1]
+    ev = np.linalg.eigvals(M)
+    ev = ev[np.argsort(ev.real)]
+    np.testing.assert_allclose([fs.total.rate[1], fs.total.rate_other[1]], ev, rtol=1e-12)
+    # here it is close to the weighted sum of the classes' eigenvalues (the same to 6 digits, measured):
+    # one-wheel trains at one speed give nearly commuting operators; in general the two differ
+
+
+@pytest.mark.slow
+def test_fleet_spectrum_agrees_with_a_short_fleet_growth_run(two_class_spectrum):
+    # about 60 s CPU. 100,000 axle passages (10 updates) from 0.1 um sinusoids at the two lines under the fleet: each
+    # line's amplitude ends where the explicit update (1 - h R)^10 of the fleet's rate says, and within
+    # the update-step error of exp(-R n) (first order: about n h |R|^2 / 2)
+    scn, classes, tables, fs = two_class_spectrum
+    hist = chain.grow_fleet(classes, tables, rough(N, LINES), progress=io.StringIO())
+    J = N * K
+    nbar = chain.fleet_wheels(classes)
+    h = scn.growth.passages_per_update / nbar  # fleet passages per update
+    n = scn.growth.passages / nbar
+    for i, j in enumerate(LINES):
+        R = fs.total.rate[i]
+        got = abs(hist.Z[-1, J + j] / hist.Z[0, J + j])
+        explicit = abs((1 - h * R) ** 10)
+        exact = abs(np.exp(-R * n))
+        step_error = n * h * abs(R) ** 2 / 2
+        print(f"line {j}: growth over the run {got:.6f}, explicit {explicit:.6f} ({got / explicit - 1:+.2e}), "
+              f"exp(-R n) {exact:.6f} ({got / exact - 1:+.2e}), estimated step error {step_error:.2e}")
+        assert abs(got / explicit - 1) < 3e-3, (j, got, explicit)
+        assert abs(got / exact - 1) < 1.5 * step_error + 3e-3, (j, got, exact, step_error)
+        assert abs(np.log(got)) > 10 * abs(got / explicit - 1)  # the line did change, more than the error
+
+
+# ---------------------------------------------------------------- bad input at start-up
+
+FLEET = {"vehicles": [{"name": "loco", "positions": [0.0, 3.3], "static_load": 1.0e5, "unsprung_mass": 1350.0,
+                       "creepage": [-0.001, -0.001], "share": 0.3},
+                      {"name": "coach", "positions": [0.0, 2.5], "static_load": 6.0e4, "unsprung_mass": 900.0,
+                       "creepage": [0.0, 0.0005], "share": 0.7}],
+         "speeds": {"values": [36.0, 40.0, 44.0], "weights": [0.25, 0.5, 0.25]}}
+
+
+def _with(path, value):
+    f = copy.deepcopy(FLEET)
+    node = f
+    for k in path[:-1]:
+        node = node[k]
+    node[path[-1]] = value
+    return {"fleet": f}
+
+
+@pytest.mark.parametrize("change, message", [
+    ((("vehicles", 0, "share"), 0.5), r"fleet\.vehicles\[\*\]\.share = \[0\.5, 0\.7\] sums to 1\.2: it must sum to 1 "
+                                      r"\(each value in \[0, 1\]"),
+    ((("speeds", "weights"), [0.25, 0.5, 0.5]), r"fleet\.speeds\.weights = \[0\.25, 0\.5, 0\.5\] sums to 1\.25: it must sum to 1"),
+    ((("speeds", "weights"), [0.75, 0.5, -0.25]), r"fleet\.speeds\.weights\.2 = -0\.25 is not allowed: it must be >= 0 "
+                                                  r"\(valid range \[0, 1\]\)"),
+    ((("vehicles", 1, "share"), -0.3), r"fleet\.vehicles\.1\.share = -0\.3 is not allowed: it must be >= 0"),
+    ((("speeds", "weights"), [0.25, float("nan"), 0.25]), r"fleet\.speeds\.weights\[1\] = nan is not allowed: it must be a finite number"),
+    ((("vehicles", 0, "static_load"), float("nan")), r"fleet\.vehicles\[0\]\.static_load = nan is not allowed"),
+    ((("vehicles", 0, "creepage"), [-0.001]), r"fleet\.vehicles\[0\] \(loco\)\.creepage has 1 values: it needs one per axle"),
+    ((("speeds",), {"distribution": "normal", "mean": 10.0, "std": 10.0, "classes": 9}),
+     r"slowest class at -7\.05 m/s: every class must be > 0"),
+    ((("speeds",), {"distribution": "uniform", "low": 44.0, "high": 36.0, "classes": 4}),
+     r"fleet\.speeds\.low = 44\.0 m/s is not allowed: it must be <= fleet\.speeds\.high = 36\.0 m/s"),
+    ((("speeds",), {"values": [40.0], "weights": [1.0], "distribution": "normal"}), r"give either values and weights, or distribution"),
+])
+def test_bad_fleet_is_refused_at_start_up_naming_key_value_and_range(schema, defaults, change, message):
+    with pytest.raises(config.ConfigError, match=message):
+        config.resolve(defaults, schema, _with(*change), source="fleet.yaml")
+
+
+def test_a_configuration_without_fleet_has_no_classes_and_a_good_fleet_builds(schema, defaults):
+    cfg = config.resolve(defaults, schema, {}, source="config")
+    assert build.fleet(cfg) is None and build.fleet_classes(cfg, build.scenario(cfg)) == ()
+    cfg = config.resolve(defaults, schema, {"fleet": FLEET}, source="fleet.yaml")
+    classes = build.fleet_classes(cfg, build.scenario(cfg))
+    assert [c.label for c in classes][:2] == ["loco at 36 m/s", "loco at 40 m/s"]
+    np.testing.assert_allclose([c.weight for c in classes], [0.075, 0.15, 0.075, 0.175, 0.35, 0.175], rtol=1e-15)
+    assert sum(c.weight for c in classes) == pytest.approx(1.0, abs=1e-15)
+    assert classes[3].scenario.wheels.creepage == (0.0, 0.0005) and classes[3].scenario.wheels.static_load == 6e4
+
+
+def test_fleet_spectrum_dataset_keeps_each_class_and_states_rates_per_year(small_spectrum, defaults):
+    from rail.setup import io as rio
+    from rail.studies.fleet import fleet_spectrum_dataset
+
+    fl, classes, fs = small_spectrum
+    ds = rio.finalize(fleet_spectrum_dataset(fs, fl), defaults, title="fleet spectrum", source="test", scenario="test")
+    assert ds["class_contribution"].dims == ("class", "wavelength") and ds.sizes["class"] == 2
+    free = ds["locked"].values == 0
+    np.testing.assert_allclose(ds["class_contribution"].sum("class").values[free], ds["growth_rate"].values[free], rtol=1e-12)
+    # one-wheel trains: 20,000 axles a day are 20,000 trains a day, 7.3e6 a year
+    np.testing.assert_allclose(ds["growth_rate_per_year"], ds["growth_rate"] * 20000 * 365, rtol=1e-14)
+    axle = 2 / 9.80665 / 1000  # t per N of wheel load
+    assert ds.attrs["mgt_per_year"] == pytest.approx(20000 * 365 * (0.6 * 1e5 + 0.4 * 6e4) * axle / 1e6, rel=1e-14)
+
+
+@pytest.mark.slow
+def test_api_growth_runs_a_study_with_a_fleet_and_refuses_a_speed():
+    # about 60 s CPU: two speeds' tables at K = 48 and two updates of two classes
+    from rail.app import api
+
+    changes = {"fleet": {"vehicles": [{"name": "loco", "positions": [0.0], "static_load": 1.0e5, "unsprung_mass": 1350.0,
+                                       "creepage": [-0.001], "share": 1.0}],
+                         "speeds": {"distribution": "uniform", "low": 38.0, "high": 42.0, "classes": 2}},
+               "numerics": {"track": {"harmonics": 48}, "contact": {"nodes": 41}},
+               "growth": {"passages": 20000, "passages_per_update": 10000, "save_every": 10000}}
+    study = api.load("default", changes=changes)
+    with pytest.raises(config.ConfigError, match=r"speed = 40\.0 is not allowed for default: its fleet sets the speeds"):
+        api.growth(study, speed=40.0)
+    ds = api.growth(study, progress=io.StringIO())
+    np.testing.assert_allclose(ds["years"], np.array([0, 10000, 20000]) / 20000 / 365, rtol=1e-15)
+    assert ds.attrs["fleet_speeds"].startswith("[39.0, 41.0] m/s with weights [0.5, 0.5]")
+    assert np.isfinite(ds["level"].values[-1]).any()
+
+
+@pytest.mark.slow
+def test_api_fleet_spectrum_gives_the_weighted_rates_with_each_class():
+    # about 40 s CPU: two speeds' Bloch tables of a 4-bay period at K = 48, a few lines
+    from rail.app import api
+
+    changes = {"fleet": {"vehicles": [{"name": "loco", "positions": [0.0], "static_load": 1.0e5, "unsprung_mass": 1350.0,
+                                       "creepage": [-0.001], "share": 0.5},
+                                      {"name": "coach", "positions": [0.0], "static_load": 6.0e4, "unsprung_mass": 900.0,
+                                       "creepage": [0.0008], "share": 0.5}],
+                         "speeds": {"values": [40.0], "weights": [1.0]}},
+               "numerics": {"track": {"harmonics": 48}, "contact": {"nodes": 41}}}
+    study = api.load("default", changes=changes)
+    with pytest.raises(config.ConfigError, match="default has no fleet"):
+        api.fleet_spectrum(api.load("default"))
+    ds = api.fleet_spectrum(study, bays=4, shortest=0.06, longest=0.07, per_octave=1, grid_phases=1)
+    assert ds.sizes["class"] == 2 and list(ds["class_weight"].values) == [0.5, 0.5]
+    free = ds["locked"].values == 0
+    np.testing.assert_allclose(ds["class_contribution"].sum("class").values[free], ds["growth_rate"].values[free], rtol=1e-12)
+    assert ds["growth_dB_per_year"].attrs["level_unit"] == "dB"
