@@ -72,7 +72,7 @@ rule wear_figures:
         cases={nn: wear_case_file(nn) for nn in WEAR_FIGURES},
         cfg={nn: wear_figure_config(nn) for nn in WEAR_FIGURES},
     resources:
-        mem_mb=400,
+        mem_mb=500,
         runtime=5,
     log:
         "logs/figures/wear_figures.log",
