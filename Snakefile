@@ -45,8 +45,8 @@ localrules:
     growth_narrowband,
     scenario_overview,
     growth_bands,
-    growth_figure,
-    radiation_figure,
+    growth_figures,
+    radiation_figures,
     rate_spectrum_map,
     rate_spectrum_sweep,
     closure_aggregate,
@@ -54,7 +54,7 @@ localrules:
     convergence_aggregate,
     sweep_aggregate,
     sweep_bands,
-    wear_figure,
+    wear_figures,
 
 
 rule all:

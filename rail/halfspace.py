@@ -17,6 +17,7 @@ Conventions
 
 from __future__ import annotations
 
+import functools
 from dataclasses import dataclass
 
 import numpy as np
@@ -163,7 +164,13 @@ def rayleigh_speed_ratio(poisson_ratio: float) -> float:
         If poisson_ratio is outside (-1, 0.5), where the cubic has no unique root in (0, 1).
     """
     _check_range("poisson_ratio", poisson_ratio, -1.0, 0.5)
-    nu = poisson_ratio
+    return _rayleigh_root(float(poisson_ratio))
+
+
+@functools.lru_cache(maxsize=64)
+def _rayleigh_root(nu: float) -> float:
+    """c_R / c_2 for a checked Poisson's ratio (see rayleigh_speed_ratio), computed once per value:
+    the half-space quadratures ask for it at every integrand evaluation (43 000 times for Fig. 4)."""
     roots = np.roots([1.0, -8.0, 8.0 * (2 - nu) / (1 - nu), -8.0 / (1 - nu)])
     x = [r.real for r in roots if abs(r.imag) < 1e-12 and 0.0 < r.real < 1.0]
     if len(x) != 1:  # pragma: no cover - excluded by the range check on nu

@@ -11,7 +11,7 @@ rule closure_wear:
         "results/closure/wear/s{s}_f{freq}.nc",
     params:
         code=code("wear_case.py"),
-        frequency=wear_frequency,
+        frequencies=lambda wildcards: [wear_frequency(wildcards)],
         cfg=closure_wear_config,
     resources:
         mem_mb=1000,

@@ -197,12 +197,12 @@ def roughness_file(wildcards):
     return [r.file] if r.kind in ("file", "profile", "spectrum") else []
 
 
-def growth_figure_inputs(wildcards):
-    """The growth runs behind each of Figs 20, 21, 23-27, as {label: file}."""
+def growth_figure_inputs(nn):
+    """The growth runs behind one of Figs 20, 21, 23-27 (nn = '20', ...), as {label: file}."""
     g = config["figures"]["growth"]
     v = [speed_label(x) for x in g["speeds"]]
     run = lambda scen, V: f"results/growth/{scen}/V{V}.nc"  # noqa: E731
-    n = int(wildcards.nn)
+    n = int(nn)
     if n in (20, 21):
         return {f"{v[n - 20]} m/s": run("default", v[n - 20])}
     if n == 23:
@@ -215,6 +215,17 @@ def growth_figure_inputs(wildcards):
         }
     V = v[n - 26]
     return {"single wheel": run("default", V), f"{len(SCENARIOS[g['wheels_scenario']]['wheels']['positions'])} wheels": run(g["wheels_scenario"], V)}
+
+
+def growth_figures_labelled(wildcards=None):
+    """The growth runs behind every one of Figs 20, 21, 23-27, as {nn: {label: file}} (evaluated only
+    when the figures are planned: the scenarios they name may be absent otherwise)."""
+    return {nn: growth_figure_inputs(nn) for nn in GROWTH_FIGURES}
+
+
+def growth_figures_runs(wildcards=None):
+    """Every growth run Figs 20, 21, 23-27 are drawn from, each once."""
+    return sorted({path for runs in growth_figures_labelled().values() for path in runs.values()})
 
 
 def any_wavelength_targets():
@@ -259,18 +270,23 @@ def wear_frequency_label(f):
     return f"{float(f):.0f}"
 
 
-def wear_case_file(wildcards):
-    """The wear case behind a figure of Figs 9-19 (Figs 9-11 use the second frequency, 1000 Hz)."""
+def wear_case_file(nn):
+    """The wear case behind a figure of Figs 9-19 (nn = '09', ...; Figs 9-11 use the second frequency, 1000 Hz)."""
     s = config["figures"]["wear"]
-    n = int(wildcards.nn)
+    n = int(nn)
     index = 1 if n <= 11 else (n - 12) // 2
     return f"results/wear/default/V{speed_label(s['speed'])}_f{wear_frequency_label(s['frequencies'][index])}.nc"
 
 
-def wear_figure_config(wildcards):
-    """What a figure of Figs 9-19 reads: its wear case's keys, and for a wear spectrum (Figs 13,
-    15, 17, 19) its wavenumber range."""
-    n = int(wildcards.nn)
+def wear_figure_cases():
+    """Every wear case Figs 9-19 are drawn from, each once."""
+    return sorted({wear_case_file(nn) for nn in WEAR_FIGURES})
+
+
+def wear_figure_config(nn):
+    """What a figure of Figs 9-19 (nn = '09', ...) reads: its wear case's keys, and for a wear
+    spectrum (Figs 13, 15, 17, 19) its wavenumber range."""
+    n = int(nn)
     return config_part(WEAR_CASE_KEYS + (("figures.wear.spectrum_max_wavenumber",) if n >= 13 and n % 2 else ()))
 
 

@@ -130,24 +130,27 @@ rule any_wavelength:
         any_wavelength_targets(),
 
 
-rule growth_figure:
-    """Figs 20, 21, 23-27 from the growth runs."""
+rule growth_figures:
+    """Figs 20, 21, 23-27 from the growth runs, in one job (a job's start-up, 3 s CPU, is several
+    times the drawing of one figure)."""
     input:
-        unpack(growth_figure_inputs),
+        growth_figures_runs,
     output:
-        data="results/data/fig{nn}.nc",
-        figure=report("results/figures/fig{nn}.png", caption="../report/growth_figure.rst", category="Section 5: roughness growth"),
-    wildcard_constraints:
-        nn="2[013-7]",
+        data=expand("results/data/fig{nn}.nc", nn=GROWTH_FIGURES),
+        figure=[
+            report(f"results/figures/fig{nn}.png", caption=f"../report/fig{nn}.rst", category="Section 5: roughness growth")
+            for nn in GROWTH_FIGURES
+        ],
     params:
         code=code("growth_figure.py"),
+        runs=growth_figures_labelled,
         cfg=config_part(GROWTH_FIGURE_KEYS),
     resources:
         mem_mb=400,
         runtime=5,
     log:
-        "logs/fig{nn}.log",
+        "logs/figures/growth_figures.log",
     benchmark:
-        "benchmarks/figures/fig{nn}.tsv"
+        "benchmarks/figures/growth_figures.tsv"
     script:
         "../scripts/growth_figure.py"

@@ -1,27 +1,26 @@
 # Section 3: elastic half-space, radiated power and contact-spring damping (Figs 2-6).
 
 
-rule halfspace_figure:
-    """Figs 2-4: integrand of eq (14), beta G (eq 15), displacement against Boussinesq."""
+rule halfspace_figures:
+    """Figs 2-4: integrand of eq (14), beta G (eq 15), displacement against Boussinesq. One job for
+    the three: a job's start-up (imports, 3 s CPU) costs more than drawing Figs 2 and 3."""
     output:
-        data="results/data/fig{nn}.nc",
-        figure=report(
-            "results/figures/fig{nn}.png",
-            caption="../report/halfspace_figure.rst",
-            category="Section 3: half-space",
-        ),
-    wildcard_constraints:
-        nn="02|03|04",
+        data=expand("results/data/fig{nn}.nc", nn=HALFSPACE_FIGURES[:3]),
+        figure=[
+            report(f"results/figures/fig{nn}.png", caption=f"../report/fig{nn}.rst", category="Section 3: half-space")
+            for nn in HALFSPACE_FIGURES[:3]
+        ],
     params:
         code=code("halfspace_figure.py"),
+        figures=HALFSPACE_FIGURES[:3],
         cfg=config_part(HALFSPACE_KEYS),
     resources:
         mem_mb=900,
         runtime=5,
     log:
-        "logs/fig{nn}.log",
+        "logs/figures/halfspace_figures.log",
     benchmark:
-        "benchmarks/figures/fig{nn}.tsv"
+        "benchmarks/figures/halfspace_figures.tsv"
     script:
         "../scripts/halfspace_figure.py"
 
@@ -44,28 +43,26 @@ rule halfspace_radiation:
         "../scripts/halfspace_radiation.py"
 
 
-rule radiation_figure:
-    """Figs 5-6: radiated power and contact-spring loss factor against frequency."""
+rule radiation_figures:
+    """Figs 5-6: radiated power and contact-spring loss factor against frequency (one job for both)."""
     input:
         "results/halfspace/radiation.nc",
     output:
-        data="results/data/fig{nn}.nc",
-        figure=report(
-            "results/figures/fig{nn}.png",
-            caption="../report/radiation_figure.rst",
-            category="Section 3: half-space",
-        ),
-    wildcard_constraints:
-        nn="05|06",
+        data=expand("results/data/fig{nn}.nc", nn=HALFSPACE_FIGURES[3:]),
+        figure=[
+            report(f"results/figures/fig{nn}.png", caption=f"../report/fig{nn}.rst", category="Section 3: half-space")
+            for nn in HALFSPACE_FIGURES[3:]
+        ],
     params:
         code=code("radiation_figure.py"),
+        figures=HALFSPACE_FIGURES[3:],
         cfg=config_part(HALFSPACE_KEYS),
     resources:
         mem_mb=400,
         runtime=5,
     log:
-        "logs/fig{nn}.log",
+        "logs/figures/radiation_figures.log",
     benchmark:
-        "benchmarks/figures/fig{nn}.tsv"
+        "benchmarks/figures/radiation_figures.tsv"
     script:
         "../scripts/radiation_figure.py"

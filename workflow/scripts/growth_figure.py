@@ -1,6 +1,9 @@
-"""Figs 20, 21, 23-27 and the 3-D growth plot from growth datasets."""
+"""Figs 20, 21, 23-27 (one job for the seven), the 3-D growth plot, the narrow-band figure and a
+scenario's overview, from growth datasets."""
 
 import sys
+
+import matplotlib.pyplot as plt
 
 from rail.plotting import report
 from rail.setup import io
@@ -12,28 +15,44 @@ def _load(path):
         return ds.load()
 
 
-def main(rule, nn, config, inputs, outputs):
+def _save(fig, path, dpi):
+    fig.savefig(path, dpi=dpi)
+    plt.close(fig)
+
+
+def report_figures(runs, config, data_paths, figure_paths):
+    """Figs 20, 21, 23-27: runs is {nn: {label: growth run file}}; the output paths in its order.
+    Each run file is read once."""
+    loaded = {}
+    for nn, data_path, figure_path in zip(runs, data_paths, figure_paths, strict=True):
+        for path in runs[nn].values():
+            if path not in loaded:
+                loaded[path] = _load(path)
+        n = int(nn)
+        kind = {20: "profiles", 21: "profiles", 24: "final_profiles"}.get(n, "spectra")
+        ds = datasets.growth_figure({label: loaded[path] for label, path in runs[nn].items()}, kind,
+                                    float(config["figures"]["wear"]["spectrum_max_wavenumber"]))
+        ds = io.finalize(ds, config, title=f"Figure {n}", source="rail.studies.datasets.growth_figure")
+        io.write_netcdf(ds, data_path)
+        draw = {"profiles": report.growth_profiles, "final_profiles": report.growth_final_profiles}.get(kind, report.growth_spectra)
+        _save(draw(ds), figure_path, dpi=150)
+
+
+def main(rule, name, inputs, outputs):
     if rule == "growth_3d":
-        report.growth_3d(_load(inputs[0])).savefig(outputs[0], dpi=130)
-        return
-    if rule == "growth_narrowband":
-        report.growth_narrowband(_load(inputs[0])).savefig(outputs[0], dpi=150)
-        return
-    if rule == "scenario_overview":
+        _save(report.growth_3d(_load(inputs[0])), outputs[0], dpi=130)
+    elif rule == "growth_narrowband":
+        _save(report.growth_narrowband(_load(inputs[0])), outputs[0], dpi=150)
+    elif rule == "scenario_overview":
         default = _load(inputs.default) if "default" in inputs.keys() else None
-        report.scenario_overview(_load(inputs.run), default, nn).savefig(outputs[0], dpi=130)
-        return
-    runs = {label: _load(path) for label, path in inputs.items()}
-    n = int(nn)
-    kind = {20: "profiles", 21: "profiles", 24: "final_profiles"}.get(n, "spectra")
-    ds = datasets.growth_figure(runs, kind, float(config["figures"]["wear"]["spectrum_max_wavenumber"]))
-    ds = io.finalize(ds, config, title=f"Figure {n}", source="rail.studies.datasets.growth_figure")
-    io.write_netcdf(ds, outputs.data)
-    draw = {"profiles": report.growth_profiles, "final_profiles": report.growth_final_profiles}.get(kind, report.growth_spectra)
-    draw(ds).savefig(outputs.figure, dpi=150)
+        _save(report.scenario_overview(_load(inputs.run), default, name), outputs[0], dpi=130)
+    else:
+        raise ValueError(f"growth_figure.py: unknown rule {rule!r}")
 
 
 if __name__ == "__main__":
     sys.stderr = open(snakemake.log[0], "w")  # noqa: F821
-    w = snakemake.wildcards  # noqa: F821
-    main(snakemake.rule, w.get("nn", w.get("scenario", "")), getattr(snakemake.params, "cfg", None), snakemake.input, snakemake.output)  # noqa: F821
+    if snakemake.rule == "growth_figures":  # noqa: F821
+        report_figures(snakemake.params.runs, snakemake.params.cfg, snakemake.output.data, snakemake.output.figure)  # noqa: F821
+    else:
+        main(snakemake.rule, snakemake.wildcards.get("scenario", ""), snakemake.input, snakemake.output)  # noqa: F821

@@ -1,13 +1,15 @@
-"""Figs 2-4: compute the figure's dataset with rail, write it and draw it."""
+"""Figs 2-4: compute each figure's dataset with rail, write it and draw it (one job for the three)."""
 
 import sys
+
+import matplotlib.pyplot as plt
 
 from rail.plotting import report
 from rail.setup import build, io
 from rail.studies import datasets
 
 
-def main(nn, config, data_path, figure_path):
+def main(figures, config, data_paths, figure_paths):
     material = build.elastic(config)
     fig_settings = build.halfspace_figures(config)
     numerics = build.halfspace_numerics(config)
@@ -16,11 +18,14 @@ def main(nn, config, data_path, figure_path):
         "03": lambda: datasets.fig03(material, fig_settings),
         "04": lambda: datasets.fig04(material, fig_settings, numerics),
     }
-    ds = io.finalize(builders[nn](), config, title=f"Figure {int(nn)}", source=f"rail.studies.datasets.fig{nn}")
-    io.write_netcdf(ds, data_path)
-    getattr(report, f"fig{nn}")(ds).savefig(figure_path, dpi=150)
+    for nn, data_path, figure_path in zip(figures, data_paths, figure_paths, strict=True):
+        ds = io.finalize(builders[nn](), config, title=f"Figure {int(nn)}", source=f"rail.studies.datasets.fig{nn}")
+        io.write_netcdf(ds, data_path)
+        fig = getattr(report, f"fig{nn}")(ds)
+        fig.savefig(figure_path, dpi=150)
+        plt.close(fig)
 
 
 if __name__ == "__main__":
     sys.stderr = open(snakemake.log[0], "w")  # noqa: F821
-    main(snakemake.wildcards.nn, snakemake.params.cfg, snakemake.output.data, snakemake.output.figure)  # noqa: F821
+    main(snakemake.params.figures, snakemake.params.cfg, snakemake.output.data, snakemake.output.figure)  # noqa: F821
