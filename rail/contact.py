@@ -1212,10 +1212,17 @@ def _march(P, a, shape, xi, Mom, mu, ws, k, delta, M, speed, g, mu_d, mu_s, half
         # time): their mean slip velocity from the displacement at -a at that time, interpolated
         # between the steps (the mirror image of the entry).
         u_trail_new = np.dot(r_trail, qn)
+        u_new = C @ qn
         for n in range(nn - 1):
             s_exit[n] = 0.0
             if inside_prev[n + 1] and not inside[n]:
                 eta0, eta1 = xi[n + 1] / a_prev, xi[n] / ai
+                if eta1 > -1.0:
+                    # left a contact zone inside the patch into a gap (several zones, rail.normal.multizone_contact):
+                    # its mean slip velocity over the step along its path (first order in the step: where in
+                    # the step it left is not resolved)
+                    s_exit[n] = g * speed + (u_new[n] - u_old[n + 1]) / dt
+                    continue
                 phi = min(max((eta0 + 1.0) / (eta0 - eta1), 0.0), 1.0)
                 if phi < THETA_EDGE:  # left at the start of the step: no loaded time, no work
                     continue
@@ -1238,7 +1245,7 @@ def _march(P, a, shape, xi, Mom, mu, ws, k, delta, M, speed, g, mu_d, mu_s, half
         p_prev[:] = p
         inside_prev[:] = inside
         u_edge_old = np.dot(r_edge, qn)
-        u_old = C @ qn
+        u_old = u_new
         for n in range(nn):
             stick_prev[n] = stick[n]
             sign_prev[n] = np.sign(qn[n]) if stick[n] else sign[n]

@@ -211,6 +211,11 @@ def solve_tangential_numpy(P, a, m: ContactMaterial, speed: float, delta: float,
         u_exit = (1.0 - phi) * u_trail_old + phi * u_trail_new
         s_exit = np.zeros(nn)
         s_exit[left] = g * speed + (u_exit - u_old[1:][left]) / (phi * dt)
+        # a particle that left a contact zone inside the patch into a gap (several zones): its mean slip
+        # velocity over the step along its path
+        gap_exit = was & ~inside & (eta1 > -1.0)
+        u_new = C @ qn
+        s_exit[gap_exit] = g * speed + (u_new[:nn][gap_exit] - u_old[1:][gap_exit]) / dt
         # mean slip velocity and traction direction sigma (from the new traction, else the old one)
         s_bar = np.where(inside, s, s_exit)
         ref = np.where(inside & (qn != 0), qn, q_old)
