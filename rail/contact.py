@@ -1217,7 +1217,7 @@ def _march(P, a, shape, xi, Mom, mu, ws, k, delta, M, speed, g, mu_d, mu_s, half
             s_exit[n] = 0.0
             if inside_prev[n + 1] and not inside[n]:
                 eta0, eta1 = xi[n + 1] / a_prev, xi[n] / ai
-                if eta1 > -1.0:
+                if 1.0 - eta1 * eta1 > 0.0:  # the ellipse is loaded here but the pressure is 0: a gap
                     # left a contact zone inside the patch into a gap (several zones, rail.normal.multizone_contact):
                     # its mean slip velocity over the step along its path (first order in the step: where in
                     # the step it left is not resolved)
