@@ -310,6 +310,11 @@ def march_inputs(forces: ForceResult, wheel_index: int, roughness: Roughness, ma
     else:
         raise ContactError(f"the patch half-length {float(np.max(a)) * 1e3:.3g} mm of wheel {wheel_index} keeps outgrowing its "
                            "contact grid (the rail is nearly as concave as the wheel: multiple contact is near).")
+    if float(np.min(a)) < 2.5 * delta and nonhertzian:  # several zones: the hull spans crests far apart
+        raise ContactError(f"multiple contact: the contact of wheel {wheel_index} ranges from one zone of half-length "
+                           f"{float(np.min(a)) * 1e3:.3g} mm to zones over +-{float(np.max(a)) * 1e3:.3g} mm along the period (the "
+                           "wheel rides on separate roughness crests); one contact grid cannot resolve both (fewer than 2.5 "
+                           "spacings across the smallest).")
     if float(np.min(a)) < 2.5 * delta:  # the patch changes length by more than the grid can hold along the period
         raise ContactError(f"multiple contact is near: the patch half-length of wheel {wheel_index} ranges from "
                            f"{float(np.min(a)) * 1e3:.3g} to {float(np.max(a)) * 1e3:.3g} mm along the period (the rail nearly as "
