@@ -445,8 +445,9 @@ def _centred_contact(A, h0, s, load, hf, R, active, t, max_iter):
     the contact on s = 0 (to 5 % of an element, or as well as it can where the hull jumps with t).
 
     For a fixed active set the pressure is linear in t (one factorisation, two right-hand sides), so
-    t is iterated at that set (Newton with the parabola's dc/dt = R, then secant or bisection inside a
-    bracket) until the set no longer holds; then the set is updated as in _active_set.
+    t is iterated at that set (first with the parabola's dc/dt = R, then a secant clipped to R/20..2R,
+    secant or bisection once bracketed) until the set no longer holds; then the set is updated as in
+    _active_set.
     Returns p [Pa], t [-], the hull centre f [m], the active set, the hull edges lo, hi [m].
     """
     n = h0.size
@@ -508,7 +509,8 @@ def multizone_contact(P, x_wheel, slope, m: ContactMaterial, xi, tilt_start=None
     """Normal contact of the wheel on the rough rail with any number of contact zones, centred on the wheel.
 
     The gap h(s) = s^2 / (2 R_w) - r(x_w + s) - t s is solved by the brute force (solve_normal's active
-    set, piecewise-constant elements ``refine`` per contact-grid spacing over the whole grid) for the
+    set, piecewise-constant elements ``refine`` per contact-grid spacing over the grid and a quarter of
+    it again on each side; warm-started from the previous step's set) for the
     load P' = P / (2b), with the tilt t chosen so that the hull of the contact zones is centred on the
     wheel: this is the single-zone model's convention (patch_contact keeps the patch on the wheel,
     which is the exact solution for the gap less its Chebyshev mean slope c_0 s), continued to several
@@ -567,13 +569,13 @@ def multizone_contact(P, x_wheel, slope, m: ContactMaterial, xi, tilt_start=None
         dh = s / R - slope(xw[i] + s)  # gap slope at the centres; the gap by the trapezoidal rule (exact for the parabola)
         h0 = np.concatenate([[0.0], np.cumsum(0.5 * (dh[1:] + dh[:-1]) * hf)])
         load = P[i] / (2 * m.half_width)
-        if tilt_start is not None and np.isfinite(tilt_start[i]):
-            t = float(tilt_start[i])
         moved = int(round((xw[i] - xw[i - 1]) / hf)) if i else -1
-        if active is not None and 0 <= moved < s.size:  # warm start: the previous contact, `moved` elements behind
-            active = np.concatenate([active[moved:], np.zeros(moved, dtype=bool)])
+        if active is not None and 0 <= moved < s.size:  # warm start: the previous contact, `moved` elements behind,
+            active = np.concatenate([active[moved:], np.zeros(moved, dtype=bool)])  # and its tilt
         else:
             active = None
+            if tilt_start is not None and np.isfinite(tilt_start[i]):
+                t = float(tilt_start[i])
         p, t, f, active, lo, hi = _centred_contact(A, h0, s, load, hf, R, active, t, max_iter)
         if p[0] > 0 or p[-1] > 0:
             raise ContactError(f"multiple contact: at x = {xw[i]:.5g} m the contact zones reach {abs(s[0]) * 1e3:.3g} mm from "
