@@ -1296,7 +1296,8 @@ def solve_tangential(P, a, m: ContactMaterial, speed: float, delta: float, M: in
         Largest number of active-set iterations per step.
     shape : ndarray, shape (len(P), 2M + 1), optional
         Non-Hertzian pressure: p = P / (pi a b) sqrt(1 - xi^2/a^2) shape at the nodes (rail.normal
-        .patch_contact), smooth and > 0 in the patch [-]; default 1 (the Hertz ellipse, eq 22).
+        .patch_contact: smooth and > 0 in the patch; .multizone_contact: 0 in the gaps between contact
+        zones, where a particle carries no traction and does no work) [-]; default 1 (the Hertz ellipse, eq 22).
 
     Returns
     -------
