@@ -1221,10 +1221,17 @@ def _march(P, a, shape, xi, Mom, mu, ws, k, delta, M, speed, g, mu_d, mu_s, half
         # time): their mean slip velocity from the displacement at -a at that time, interpolated
         # between the steps (the mirror image of the entry).
         u_trail_new = np.dot(r_trail, qn)
+        u_new = C @ qn
         for n in range(nn - 1):
             s_exit[n] = 0.0
             if inside_prev[n + 1] and not inside[n]:
                 eta0, eta1 = xi[n + 1] / a_prev, xi[n] / ai
+                if 1.0 - eta1 * eta1 > 0.0:  # the ellipse is loaded here but the pressure is 0: a gap
+                    # left a contact zone inside the patch into a gap (several zones, rail.normal.multizone_contact):
+                    # its mean slip velocity over the step along its path (first order in the step: where in
+                    # the step it left is not resolved)
+                    s_exit[n] = g * speed + (u_new[n] - u_old[n + 1]) / dt
+                    continue
                 phi = min(max((eta0 + 1.0) / (eta0 - eta1), 0.0), 1.0)
                 if phi < THETA_EDGE:  # left at the start of the step: no loaded time, no work
                     continue
@@ -1247,7 +1254,7 @@ def _march(P, a, shape, xi, Mom, mu, ws, k, delta, M, speed, g, mu_d, mu_s, half
         p_prev[:] = p
         inside_prev[:] = inside
         u_edge_old = np.dot(r_edge, qn)
-        u_old = C @ qn
+        u_old = u_new
         for n in range(nn):
             stick_prev[n] = stick[n]
             sign_prev[n] = np.sign(qn[n]) if stick[n] else sign[n]
@@ -1298,7 +1305,8 @@ def solve_tangential(P, a, m: ContactMaterial, speed: float, delta: float, M: in
         Largest number of active-set iterations per step.
     shape : ndarray, shape (len(P), 2M + 1), optional
         Non-Hertzian pressure: p = P / (pi a b) sqrt(1 - xi^2/a^2) shape at the nodes (rail.normal
-        .patch_contact), smooth and > 0 in the patch [-]; default 1 (the Hertz ellipse, eq 22).
+        .patch_contact: smooth and > 0 in the patch; .multizone_contact: 0 in the gaps between contact
+        zones, where a particle carries no traction and does no work) [-]; default 1 (the Hertz ellipse, eq 22).
 
     Returns
     -------

@@ -34,6 +34,7 @@ Conventions
 
 from __future__ import annotations
 
+import dataclasses
 from dataclasses import dataclass
 
 import numpy as np
@@ -42,7 +43,8 @@ from scipy.special import j0, j1
 from .contact import ContactError, ContactMaterial, compliance
 
 __all__ = ["composite_modulus", "influence_matrix", "NormalSolution", "solve_normal", "approach_filter",
-           "half_length_filter", "PatchContact", "patch_contact", "CHEBYSHEV_NODES"]
+           "half_length_filter", "PatchContact", "patch_contact", "CHEBYSHEV_NODES", "MultizoneContact",
+           "multizone_contact", "passage_contact", "MULTIZONE_REFINE"]
 
 CHEBYSHEV_NODES = 32  # Chebyshev nodes across the patch in patch_contact (error: tests/test_normal.py)
 
@@ -168,9 +170,27 @@ def solve_normal(x, gap, load: float, m: ContactMaterial, period: float | None =
         raise ValueError("gap must be finite with one value per element.")
     h = float(x[1] - x[0])
     A = compliance(m) * influence_matrix(x, h, period)
-    n = x.size
-    active = np.zeros(n, dtype=bool)
-    active[np.argmin(gap)] = True
+    p, delta, active = _active_set(A, gap, load, h, max_iter=max_iter)
+    zones = int(np.sum(np.diff(np.concatenate([[0], active.astype(int), [0]])) == 1))
+    if period is not None and active[0] and active[-1] and zones > 1:
+        zones -= 1  # a zone across the period's ends is one zone
+    return NormalSolution(x, p, float(delta), zones)
+
+
+def _active_set(A, gap, load, h, active=None, max_iter: int = 500):
+    """Kalker's active set for gap + A p - delta >= 0, p >= 0, (gap + A p - delta) p = 0, h sum(p) = load.
+
+    A : (n, n) influence matrix times the compliance [m/Pa]; gap (n,) [m]; load [N/m]; h element
+    length [m]; active : (n,) bool, optional first guess (a warm start: the previous step's set).
+    Returns p (n,) [Pa], delta [m], the active set (n,) bool. Raises ContactError if it does not settle.
+    """
+    n = gap.size
+    if active is None or not active.any():
+        active = np.zeros(n, dtype=bool)
+        active[np.argmin(gap)] = True
+    else:
+        active = active.copy()
+    tol = 1e-12 * max(np.ptp(gap), 1e-30)
     for _ in range(max_iter):
         idx = np.flatnonzero(active)
         na = idx.size
@@ -189,12 +209,9 @@ def solve_normal(x, gap, load: float, m: ContactMaterial, period: float | None =
         p = np.zeros(n)
         p[idx] = p_a
         g = gap + A @ p - delta
-        pen = (~active) & (g < -1e-12 * max(np.ptp(gap), 1e-30))
+        pen = (~active) & (g < -tol)
         if not pen.any():
-            zones = int(np.sum(np.diff(np.concatenate([[0], active.astype(int), [0]])) == 1))
-            if period is not None and active[0] and active[-1] and zones > 1:
-                zones -= 1  # a zone across the period's ends is one zone
-            return NormalSolution(x, p, float(delta), zones)
+            return p, delta, active
         active |= pen
     raise ContactError(f"the normal contact's active set did not settle in {max_iter} changes.")
 
@@ -259,12 +276,14 @@ class PatchContact:
     shift   : (steps,) where the single-zone contact would centre relative to the wheel, c = R_w x
               (the Chebyshev mean of the gap slope), m; neglected (the patch stays centred on the
               wheel, as in the report)
+    zones   : (steps,) number of contact zones (passage_contact; None from patch_contact: one)
     """
 
     a: np.ndarray
     shape: np.ndarray
     min_shape: np.ndarray
     shift: np.ndarray
+    zones: np.ndarray | None = None
 
 
 def _cheb_coefficients(f):
@@ -289,7 +308,7 @@ def _u_series(c, sigma):
 
 
 def patch_contact(P, x_wheel, slope, m: ContactMaterial, xi, nodes: int = CHEBYSHEV_NODES, a_start=None, tol: float = 1e-13,
-                  max_iter: int = 60) -> PatchContact:
+                  max_iter: int = 60, strict: bool = True) -> PatchContact:
     """The exact single-zone 2D contact of the wheel on the rough rail at each step of a passage.
 
     With the gap slope h'(s) = s / R_w - r'(x_w + s) = sum_m c_m T_m(s / a) over the patch, the
@@ -318,6 +337,9 @@ def patch_contact(P, x_wheel, slope, m: ContactMaterial, xi, nodes: int = CHEBYS
         Residual of the load condition, relative to the load, at which the secant iteration stops [-].
     max_iter : int
         Largest number of iterations.
+    strict : bool
+        True: a step with no single-zone solution is an error. False: such a step gets a = shift = NaN,
+        shape = NaN and min_shape = -inf (passage_contact solves it with several zones).
 
     Returns
     -------
@@ -326,7 +348,7 @@ def patch_contact(P, x_wheel, slope, m: ContactMaterial, xi, nodes: int = CHEBYS
     Raises
     ------
     ContactError
-        Multiple contact: the load has no single-zone solution (the effective curvature
+        (strict) Multiple contact: the load has no single-zone solution (the effective curvature
         c_1 / a <= 0, the wheel bridges a trough) or the iteration does not converge.
     """
     P = np.asarray(P, dtype=float)
@@ -354,19 +376,250 @@ def patch_contact(P, x_wheel, slope, m: ContactMaterial, xi, nodes: int = CHEBYS
         a2 = np.where(f1 != f0, a1 - f1 * (a1 - a0) / den, a1)
         a0, f0, a1 = a1, f1, np.clip(a2, 0.5 * a1, 2.0 * a1)
     else:
-        i = int(np.argmax(np.abs(f1)))
-        raise ContactError(f"multiple contact: at x = {xw[i]:.5g} m the load has no single-zone contact (the roughness under "
-                           f"the patch, a = {a1[i] * 1e3:.3g} mm, is too large for one contact zone).")
-    if np.any(kappa <= 0):
+        if strict:
+            i = int(np.argmax(np.abs(f1)))
+            raise ContactError(f"multiple contact: at x = {xw[i]:.5g} m the load has no single-zone contact (the roughness "
+                               f"under the patch, a = {a1[i] * 1e3:.3g} mm, is too large for one contact zone).")
+    none = ~(np.abs(f1) <= tol * target) | ~(kappa > 0)  # no single-zone solution at these steps
+    if none.any() and not strict:
+        a1 = np.where(none, np.sqrt(target * m.wheel_radius), a1)  # placeholders, replaced by NaN below
+    elif np.any(kappa <= 0):
         i = int(np.argmin(kappa))
         raise ContactError(f"multiple contact: at x = {xw[i]:.5g} m the roughness under the patch (a = {a1[i] * 1e3:.3g} mm) "
                            "leaves no single contact zone (effective curvature <= 0).")
     a = a1
     c = _cheb_coefficients(a[:, None] * tau[None, :] / m.wheel_radius - slope(xw[:, None] + a[:, None] * tau[None, :]))
     sigma = np.clip(np.asarray(xi, dtype=float)[None, :] / a[:, None], -1.0, 1.0)
-    shape = _u_series(c, sigma) / c[:, 1:2]
     # smallest shape over the whole patch, edges included: on a fixed fine sigma grid, by one product
     check = np.linspace(-1, 1, 4 * nodes + 1)
     U = _u_series(np.eye(nodes), check[None, :].repeat(nodes, 0))  # row m: U_{m-1}(check), 0 for m = 0
-    min_shape = np.minimum(np.min(c @ U, axis=1) / c[:, 1], np.min(shape, axis=1))
-    return PatchContact(a=a, shape=shape, min_shape=min_shape, shift=-m.wheel_radius * c[:, 0])
+    with np.errstate(divide="ignore", invalid="ignore"):  # c_1 = 0 only at the steps without a single zone (NaN below)
+        shape = _u_series(c, sigma) / c[:, 1:2]
+        min_shape = np.minimum(np.min(c @ U, axis=1) / c[:, 1], np.min(shape, axis=1))
+    shift = -m.wheel_radius * c[:, 0]
+    if none.any():
+        a, shift = np.where(none, np.nan, a), np.where(none, np.nan, shift)
+        shape[none], min_shape[none] = np.nan, -np.inf
+    return PatchContact(a=a, shape=shape, min_shape=min_shape, shift=shift)
+
+
+MULTIZONE_REFINE = 5  # brute-force elements per contact-grid spacing in multizone_contact (odd: one centred on each node)
+
+
+@dataclass(frozen=True)
+class MultizoneContact:
+    """Normal contact with any number of zones at the steps of a passage (multizone_contact).
+
+    a     : (steps,) half-length of the hull of the contact zones (the outermost edges, centred on the
+            wheel; where the hull jumps with the tilt, the larger of its two ends), m
+    offset: (steps,) the hull's centre that remains, m (0 within 5 % of a brute-force element unless
+            the hull jumps)
+    shape : (steps, nodes) pressure / Hertz ellipse of the same P and a at the patch nodes, -; 0 in a gap
+    zones : (steps,) number of contact zones
+    tilt  : (steps,) gap slope removed to centre the hull on the wheel, -: the neglected move of the
+            contact centre is shift = -R_w tilt (as PatchContact.shift)
+    """
+
+    a: np.ndarray
+    shape: np.ndarray
+    zones: np.ndarray
+    tilt: np.ndarray
+    offset: np.ndarray
+
+
+def _hull(p, s, hf):
+    """Outermost edges (lo, hi) of the contact [m] from the element pressures p at centres s [m], each
+    from a square-root edge fitted to its last two elements (p^2 linear), within its edge element."""
+    idx = np.flatnonzero(p > 0)
+    out = []
+    for k, nb, sgn in ((idx[-1], idx[-1] - 1, 1.0), (idx[0], idx[0] + 1, -1.0)):
+        pk2 = p[k] ** 2
+        pn2 = p[nb] ** 2 if 0 <= nb < p.size else 0.0
+        frac = pk2 / (pn2 - pk2) if pn2 > pk2 else 0.5  # distance of the edge past the centre, in elements
+        out.append(s[k] + sgn * hf * min(max(frac, 0.0), 1.0))
+    return out[1], out[0]
+
+
+def _centred_contact(A, h0, s, load, hf, R, active, t, max_iter):
+    """The active set of gap h0 - t s (as _active_set) together with the tilt t that centres the hull of
+    the contact on s = 0 (to 5 % of an element, or as well as it can where the hull jumps with t).
+
+    For a fixed active set the pressure is linear in t (one factorisation, two right-hand sides), so
+    t is iterated at that set (first with the parabola's dc/dt = R, then a secant clipped to R/20..2R,
+    secant or bisection once bracketed) until the set no longer holds; then the set is updated as in
+    _active_set.
+    Returns p [Pa], t [-], the hull centre f [m], the active set, the hull edges lo, hi [m].
+    """
+    n = h0.size
+    if active is None or not active.any():
+        active = np.zeros(n, dtype=bool)
+        active[np.argmin(h0 - t * s)] = True
+    else:
+        active = active.copy()
+    tol = 1e-12 * max(np.ptp(h0), 1e-30)
+    lo_t = hi_t = f_lo = f_hi = last = None
+    for _ in range(max_iter):
+        idx = np.flatnonzero(active)
+        na = idx.size
+        K = np.zeros((na + 1, na + 1))
+        K[:na, :na] = A[np.ix_(idx, idx)]
+        K[:na, na] = -1.0
+        K[na, :na] = hf
+        rhs = np.zeros((na + 1, 2))
+        rhs[:na, 0], rhs[na, 0], rhs[:na, 1] = -h0[idx], load, s[idx]
+        X = np.linalg.solve(K, rhs)  # (p, delta) = X[:, 0] + t X[:, 1]
+        g0 = h0 - A[:, idx] @ (-X[:na, 0]) - X[na, 0]  # gap at t = 0 of this set's solution, and its slope in t
+        g1 = -s + A[:, idx] @ X[:na, 1] - X[na, 1]
+        for _ in range(max_iter):
+            p_a = X[:na, 0] + t * X[:na, 1]
+            if np.any(p_a < 0):  # release the tensile elements
+                active[idx[p_a < 0]] = False
+                if not active.any():
+                    active[idx[np.argmax(p_a)]] = True
+                break
+            pen = (~active) & (g0 + t * g1 < -tol)
+            if pen.any():
+                active |= pen
+                break
+            p = np.zeros(n)
+            p[idx] = p_a
+            lo, hi = _hull(p, s, hf)
+            f = 0.5 * (lo + hi)  # hull centre; rises with t (the tilt leans the gap down ahead)
+            if abs(f) <= 0.05 * hf or (lo_t is not None and hi_t is not None and abs(hi_t - lo_t) * R < 0.05 * hf):
+                return p, t, f, active, lo, hi  # centred, or the hull jumps here (a zone at its end appears or goes)
+            if f < 0:
+                lo_t, f_lo = t, f
+            else:
+                hi_t, f_hi = t, f
+            if lo_t is not None and hi_t is not None:  # secant inside the bracket, bisection as a guard
+                t_new = lo_t - f_lo * (hi_t - lo_t) / (f_hi - f_lo)
+                if not (min(lo_t, hi_t) < t_new < max(lo_t, hi_t)) or abs(t_new - t) < 1e-3 * abs(hi_t - lo_t):
+                    t_new = 0.5 * (lo_t + hi_t)
+            else:  # no bracket yet: secant through the last two points (dc/dt between R / 20 and 2 R: the
+                # hull of several zones, held by crests, moves less than the parabola's tangent point, R dt)
+                slope_t = R if last is None or last[0] == t else (f - last[1]) / (t - last[0])
+                t_new = t - f / min(max(slope_t, R / 20), 2 * R)
+            last = (t, f)
+            t = t_new
+    raise ContactError(f"the multi-zone normal contact did not settle in {max_iter} active-set changes.")
+
+
+def multizone_contact(P, x_wheel, slope, m: ContactMaterial, xi, tilt_start=None, refine: int = MULTIZONE_REFINE,
+                      max_iter: int = 200) -> MultizoneContact:
+    """Normal contact of the wheel on the rough rail with any number of contact zones, centred on the wheel.
+
+    The gap h(s) = s^2 / (2 R_w) - r(x_w + s) - t s is solved by the brute force (solve_normal's active
+    set, piecewise-constant elements ``refine`` per contact-grid spacing over the grid and a quarter of
+    it again on each side; warm-started from the previous step's set) for the
+    load P' = P / (2b), with the tilt t chosen so that the hull of the contact zones is centred on the
+    wheel: this is the single-zone model's convention (patch_contact keeps the patch on the wheel,
+    which is the exact solution for the gap less its Chebyshev mean slope c_0 s), continued to several
+    zones; a single zone gives t = c_0 and patch_contact's pressure (to the brute force's accuracy).
+    The pressure is handed to the tangential march as the Hertz ellipse of the hull's half-length a
+    times a shape factor that is 0 in the gaps.
+
+    Parameters
+    ----------
+    P : ndarray, shape (steps,)
+        Normal force [N], > 0.
+    x_wheel : ndarray, shape (steps,)
+        Wheel-centre position [m].
+    slope : callable
+        r'(x) [-] of the rail roughness (rail.wear.roughness_slope); the gap is its integral.
+    m : ContactMaterial
+    xi : ndarray, shape (nodes,)
+        The contact grid's nodes [m], uniformly spaced, symmetric about 0.
+    tilt_start : ndarray, shape (steps,), optional
+        First guess of t [-] (default: 0 at the first step, then the previous step's).
+    refine : int
+        Brute-force elements per grid spacing [-], odd, >= 1.
+    max_iter : int
+        Largest number of tilt iterations per step.
+
+    Returns
+    -------
+    MultizoneContact
+
+    Raises
+    ------
+    ContactError
+        If the contact reaches 1.5 times the grid's half-length (the brute force covers that much; a hull
+        beyond the grid's own end is returned, for the caller to widen the grid).
+    """
+    if not (isinstance(refine, (int, np.integer)) and refine >= 1 and refine % 2 == 1):
+        raise ValueError(f"refine = {refine!r} is not allowed: it must be an odd integer >= 1.")
+    P = np.atleast_1d(np.asarray(P, dtype=float))
+    xw = np.atleast_1d(np.asarray(x_wheel, dtype=float))
+    xi = np.asarray(xi, dtype=float)
+    nn = xi.size
+    delta = float(xi[1] - xi[0])
+    hf = delta / refine
+    extra = nn // 4  # nodes of margin on each side: a contact that outgrows the grid is measured, not cut
+    s = xi[0] - (extra + 0.5) * delta + (np.arange((nn + 2 * extra) * refine) + 0.5) * hf  # element centres
+    at_node = (np.arange(nn) + extra) * refine + refine // 2  # the element centred on node n
+    A = compliance(m) * influence_matrix(s, hf)
+    R = m.wheel_radius
+    a_out = np.empty(P.size)
+    shape = np.zeros((P.size, nn))
+    zones = np.zeros(P.size, dtype=int)
+    tilt = np.zeros(P.size)
+    offset = np.zeros(P.size)
+    active, t = None, 0.0
+    for i in range(P.size):
+        dh = s / R - slope(xw[i] + s)  # gap slope at the centres; the gap by the trapezoidal rule (exact for the parabola)
+        h0 = np.concatenate([[0.0], np.cumsum(0.5 * (dh[1:] + dh[:-1]) * hf)])
+        load = P[i] / (2 * m.half_width)
+        moved = int(round((xw[i] - xw[i - 1]) / hf)) if i else -1
+        if active is not None and 0 <= moved < s.size:  # warm start: the previous contact, `moved` elements behind,
+            active = np.concatenate([active[moved:], np.zeros(moved, dtype=bool)])  # and its tilt
+        else:
+            active = None
+            if tilt_start is not None and np.isfinite(tilt_start[i]):
+                t = float(tilt_start[i])
+        p, t, f, active, lo, hi = _centred_contact(A, h0, s, load, hf, R, active, t, max_iter)
+        if p[0] > 0 or p[-1] > 0:
+            raise ContactError(f"multiple contact: at x = {xw[i]:.5g} m the contact zones reach {abs(s[0]) * 1e3:.3g} mm from "
+                               "the wheel (1.5 times the contact grid): the roughness spreads the contact far beyond the patch.")
+        a_i = max(hi, -lo)  # (hi = -lo but where the hull jumps with the tilt: then one end lies inside the ellipse)
+        pn = p[at_node]
+        if pn.any():
+            a_i = max(a_i, float(np.max(np.abs(xi[pn > 0]))) + 1e-6 * delta)  # every loaded node inside the ellipse
+        ell = P[i] / (np.pi * a_i * m.half_width) * np.sqrt(np.clip(1 - (xi / a_i) ** 2, 0.0, None))
+        shape[i] = np.where(pn > 0, pn / np.where(ell > 0, ell, 1.0), 0.0)
+        a_out[i] = a_i
+        zones[i] = int(np.sum(np.diff(np.concatenate([[0], (p > 0).astype(int), [0]])) == 1))
+        tilt[i] = t
+        offset[i] = f
+    return MultizoneContact(a=a_out, shape=shape, zones=zones, tilt=tilt, offset=offset)
+
+
+def passage_contact(P, x_wheel, slope, m: ContactMaterial, xi, refine: int = MULTIZONE_REFINE) -> PatchContact:
+    """The normal contact at the steps of a wheel passage: patch_contact's exact single zone where it holds,
+    multizone_contact where it does not (its pressure would turn negative inside the patch, or the load
+    has no single-zone half-length).
+
+    Parameters
+    ----------
+    P, x_wheel, slope, m, xi
+        As patch_contact (P [N], x_wheel [m], slope r' [-], xi [m]: the contact grid's nodes).
+    refine : int
+        Brute-force elements per grid spacing in the multi-zone steps [-] (multizone_contact).
+
+    Returns
+    -------
+    PatchContact
+        With min_shape = 0 and ``zones`` > 1 (or a single zone that the brute force found) at the
+        multi-zone steps, shift = -R_w tilt there.
+    """
+    pc = patch_contact(P, x_wheel, slope, m, xi, strict=False)
+    zones = np.ones(np.size(P), dtype=int)
+    multi = ~(pc.min_shape > 0)
+    if not multi.any():
+        return dataclasses.replace(pc, zones=zones)
+    idx = np.flatnonzero(multi)
+    mz = multizone_contact(np.asarray(P, dtype=float)[idx], np.asarray(x_wheel, dtype=float)[idx], slope, m, xi,
+                           tilt_start=-pc.shift[idx] / m.wheel_radius, refine=refine)
+    a, shape, min_shape, shift = pc.a.copy(), pc.shape.copy(), pc.min_shape.copy(), pc.shift.copy()
+    a[idx], shape[idx], min_shape[idx], shift[idx] = mz.a, mz.shape, 0.0, -m.wheel_radius * mz.tilt
+    zones[idx] = mz.zones
+    return PatchContact(a=a, shape=shape, min_shape=min_shape, shift=shift, zones=zones)

@@ -263,7 +263,9 @@ def march_inputs(forces: ForceResult, wheel_index: int, roughness: Roughness, ma
     if nonhertzian:
         hertz_half_length(P_s, material.wheel_radius, material)  # refuses a negative (lost) contact force
         slope = roughness_slope(roughness, L)
-        a_s = normal.patch_contact(P_s, np.arange(P_s.size) * L / P_s.size, slope, material, np.zeros(1)).a
+        a_s = normal.patch_contact(P_s, np.arange(P_s.size) * L / P_s.size, slope, material, np.zeros(1), strict=False).a
+        # (NaN where one zone does not hold: the grid is rebuilt below if the zones' hull outgrows it)
+        a_s = np.where(np.isfinite(a_s), a_s, np.nanmax(np.append(a_s, hertz_half_length(np.max(P_s), material.wheel_radius, material))))
     else:
         kap_s = _curvature_on_grid(roughness, 512 * forces.bays, L)
         a_s = hertz_half_length(P_s, equivalent_radius(kap_s, material), material)
@@ -293,15 +295,11 @@ def march_inputs(forces: ForceResult, wheel_index: int, roughness: Roughness, ma
         shape, min_shape, shift = None, 1.0, 0.0
         if nonhertzian:
             xi = (np.arange(2 * M + 1) - M) * delta
-            pc = normal.patch_contact(P, x_wheel, slope, material, xi)
+            # one zone (exact), or several where the pressure would turn negative inside the patch (brute force)
+            pc = normal.passage_contact(P, x_wheel, slope, material, xi)
             a, shape = pc.a, pc.shape
             min_shape = float(pc.min_shape.min())
             shift = float(np.max(np.abs(pc.shift) / a))
-            if min_shape <= 0:
-                i_bad = int(np.argmin(pc.min_shape))
-                raise ContactError(f"contact lost inside the patch: wheel {wheel_index} at x = {x_wheel[i_bad] % L:.4g} m in the "
-                                   f"period, the roughness under the patch (a = {a[i_bad] * 1e3:.3g} mm) lifts the rail off the wheel "
-                                   "there (pressure shape factor < 0); the single-zone contact no longer holds.")
         else:
             kappa = _curvature_on_grid(roughness, Nx, L)[on_grid]
             R = equivalent_radius(kappa, material)
@@ -312,6 +310,11 @@ def march_inputs(forces: ForceResult, wheel_index: int, roughness: Roughness, ma
     else:
         raise ContactError(f"the patch half-length {float(np.max(a)) * 1e3:.3g} mm of wheel {wheel_index} keeps outgrowing its "
                            "contact grid (the rail is nearly as concave as the wheel: multiple contact is near).")
+    if float(np.min(a)) < 2.5 * delta and nonhertzian:  # several zones: the hull spans crests far apart
+        raise ContactError(f"multiple contact: the contact of wheel {wheel_index} ranges from one zone of half-length "
+                           f"{float(np.min(a)) * 1e3:.3g} mm to zones over +-{float(np.max(a)) * 1e3:.3g} mm along the period (the "
+                           "wheel rides on separate roughness crests); one contact grid cannot resolve both (fewer than 2.5 "
+                           "spacings across the smallest).")
     if float(np.min(a)) < 2.5 * delta:  # the patch changes length by more than the grid can hold along the period
         raise ContactError(f"multiple contact is near: the patch half-length of wheel {wheel_index} ranges from "
                            f"{float(np.min(a)) * 1e3:.3g} to {float(np.max(a)) * 1e3:.3g} mm along the period (the rail nearly as "

@@ -14,6 +14,10 @@ the perturbation test), brought up to the current scheme of the compiled loop (`
   over the Hertz ellipse, the deviation from it by the trapezoidal rule over the loaded time;
   particles that left the patch at -a during the step are counted in that step, with their mean
   slip velocity from the displacement at -a interpolated in time (the mirror image of the entry).
+* several contact zones (a pressure that is 0 at nodes inside the ellipse, rail.normal.multizone_contact):
+  a particle in a gap carries no traction and does no work; one that re-enters a zone is a regular
+  particle (its stick row continues its own displacement through the gap); one that leaves a zone into
+  a gap gets its mean slip velocity over the step along its path, (u_n(t) - u_{n+1}(t - dt)) / dt + V gamma;
 * the traction basis: q = W sum_n g_n phi_n with W = sqrt(1 - zeta^2 / a^2), g_n = q_n / W(xi_n) (the
   outermost phi constant 1 up to the edges). Its influence coefficients come from the compiled
   ``rail.contact._basis_matrix`` (the one routine of the scheme shared with the loop; it is checked
@@ -38,6 +42,11 @@ from rail.contact import (
     compliance,
     hertz_pressure,
 )
+
+
+# False: the particle that leaves a zone into an interior gap takes the trailing edge's displacement (the
+# scheme before several zones; tests/test_multizone.py shows the error it makes)
+GAP_EXIT_ALONG_PATH = True
 
 
 def solve_tangential_numpy(P, a, m: ContactMaterial, speed: float, delta: float, M: int, closure: str = "default",
@@ -211,6 +220,11 @@ def solve_tangential_numpy(P, a, m: ContactMaterial, speed: float, delta: float,
         u_exit = (1.0 - phi) * u_trail_old + phi * u_trail_new
         s_exit = np.zeros(nn)
         s_exit[left] = g * speed + (u_exit - u_old[1:][left]) / (phi * dt)
+        # a particle that left a contact zone inside the patch into a gap (several zones): its mean slip
+        # velocity over the step along its path
+        gap_exit = was & ~inside & (1.0 - eta1**2 > 0.0) & GAP_EXIT_ALONG_PATH  # ellipse loaded, pressure 0
+        u_new = C @ qn
+        s_exit[gap_exit] = g * speed + (u_new[:nn][gap_exit] - u_old[1:][gap_exit]) / dt
         # mean slip velocity and traction direction sigma (from the new traction, else the old one)
         s_bar = np.where(inside, s, s_exit)
         ref = np.where(inside & (qn != 0), qn, q_old)
