@@ -38,7 +38,7 @@ rule irregular_summary:
     """The pinned-pinned band and the loudest band after the run: uniform track, named cases and the
     random-track ensemble (median and range over seeds per spread)."""
     input:
-        cases=expand("results/irregular/{case}.nc", case=IRREGULAR_CASES),
+        cases=expand(f"results/growth/{{case}}/V{IRREGULAR_SPEED}.nc", case=IRREGULAR_CASES),
         uniform=f"results/growth/irregular_uniform/V{IRREGULAR_SPEED}.nc",
         random=lambda w: [f"results/growth/{p['name']}/V{IRREGULAR_SPEED}.nc" for p in SWEEPS.get("irregular_random", {"points": []})["points"]],
     output:
@@ -48,6 +48,7 @@ rule irregular_summary:
     params:
         code=code("irregular_summary.py"),
         cfg=lambda w: {p["name"]: config_part(("track",), SCENARIOS[p["name"]]) for p in SWEEPS.get("irregular_random", {"points": []})["points"]},
+        case_cfg=lambda w: {c: config_part(("track",), SCENARIOS[c]) for c in IRREGULAR_CASES},
         uniform_cfg=lambda w: config_part(("track", "numerics.track"), SCENARIOS["irregular_uniform"]),
         spreads=lambda w: {p["name"]: SCENARIOS[p["name"]]["track"]["cell"]["random"].get("spacing", 0.0) for p in SWEEPS.get("irregular_random", {"points": []})["points"]},
         speed=float(IRREGULAR_SPEED),

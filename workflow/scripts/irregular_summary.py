@@ -10,20 +10,17 @@ from rail.studies import irregular
 from rail.studies.datasets import _var
 
 
-def main(cfgs, spreads, uniform_cfg, speed, cases, uniform_path, random_paths, out, log):
+def main(cfgs, case_cfgs, spreads, uniform_cfg, speed, cases, uniform_path, random_paths, out, log):
     from rail.plotting.irregular import summary_figure
 
     rows = []
     uniform = build.track(uniform_cfg)[0]
     with io.open_intermediate(uniform_path) as g:
         rows.append(("irregular_uniform", "uniform", 0.0, irregular.band_summary(g.load(), speed, uniform)))
-    for path in cases:
-        with io.open_intermediate(path) as c:
-            a = c.attrs
-            name = path.split("/")[-1].removesuffix(".nc")
-            rows.append((name, "case", np.nan, {"pp_level_dB": a["pp_level_dB"], "pp_band_m": a["pp_band_m"],
-                                                 "loudest_band_m": a["loudest_band_m"], "loudest_level_dB": a["loudest_level_dB"],
-                                                 "pinned_pinned_wavelength_m": a["pinned_pinned_wavelength_m"]}))
+    for name, path in cases:
+        cell = build.track_cell(case_cfgs[name])
+        with io.open_intermediate(path) as g:
+            rows.append((name, "case", np.nan, irregular.band_summary(g.load(), speed, cell.track)))
     for name, path in random_paths:
         cell = build.track_cell(cfgs[name])
         spread = float(spreads[name])
@@ -43,7 +40,7 @@ def main(cfgs, spreads, uniform_cfg, speed, cases, uniform_path, random_paths, o
         attrs={"speed_m_per_s": speed, "pp_band_m": rows[0][3]["pp_band_m"], "passages": rows[0][3]["passages"],
                "pinned_pinned_wavelength_m": rows[0][3]["pinned_pinned_wavelength_m"]},
     )
-    io.write_netcdf(io.finalize(ds, {"cases": cfgs, "uniform": uniform_cfg}, title="Irregular-track study: pinned-pinned band",
+    io.write_netcdf(io.finalize(ds, {"cases": case_cfgs, "random": cfgs, "uniform": uniform_cfg}, title="Irregular-track study: pinned-pinned band",
                                 source="rail.studies.irregular.band_summary"), out["data"])
     summary_figure(ds).savefig(out["figure"], dpi=110)
     lines = [f"# Irregular track at {speed:g} m/s: the pinned-pinned band ({1e3 * ds.attrs['pp_band_m']:g} mm, "
@@ -71,5 +68,6 @@ if __name__ == "__main__":
     p = snakemake.params  # noqa: F821
     names = list(p.cfg)
     rnd = list(zip(names, snakemake.input.random))  # noqa: F821
-    main(p.cfg, p.spreads, p.uniform_cfg, p.speed, list(snakemake.input.cases), snakemake.input.uniform, rnd,  # noqa: F821
+    cases = list(zip(list(p.case_cfg), snakemake.input.cases))  # noqa: F821
+    main(p.cfg, p.case_cfg, p.spreads, p.uniform_cfg, p.speed, cases, snakemake.input.uniform, rnd,  # noqa: F821
          {k: snakemake.output[k] for k in ("data", "figure", "table")}, log)  # noqa: F821
