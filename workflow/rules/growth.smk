@@ -18,7 +18,7 @@ rule growth:
     benchmark:
         "benchmarks/growth/{scenario}/V{speed}.tsv"
     resources:
-        mem_mb=1000,
+        mem_mb=1600,
         runtime=growth_runtime,
     script:
         "../scripts/growth.py"

@@ -43,7 +43,7 @@ rule receptance_bloch:
     benchmark:
         "benchmarks/receptance/{track}/V{speed}_N{bays}.tsv"
     resources:
-        mem_mb=1200,
+        mem_mb=2200,
         runtime=30,
     script:
         "../scripts/receptance.py"
