@@ -6,6 +6,7 @@ import matplotlib
 
 matplotlib.use("Agg")
 import matplotlib.pyplot as plt  # noqa: E402
+import matplotlib.ticker  # noqa: E402
 import numpy as np  # noqa: E402
 import xarray as xr  # noqa: E402
 
@@ -42,6 +43,8 @@ def case_figure(ds: xr.Dataset, title: str):
     lam = ds["wavelength"].values * 1e3
     c.plot(lam, ds["level"].values, "o", ms=2.5, label="this track (lines of the cell)")
     c.plot(ds["wavelength_uniform"].values * 1e3, ds["uniform_level"].values, "k^", ms=4, mfc="none", label="uniform track (comb L/k)")
+    top = np.nanmax(np.concatenate([ds["level"].values, ds["uniform_level"].values]))
+    c.set_ylim(top - 100, top + 5)  # lines 100 dB below the loudest are round-off (e.g. the odd lines of a cell of identical bays)
     c.set_xscale("log")
     c.set_xlabel("wavelength (mm)")
     c.set_ylabel("roughness level (dB re 1 µm)")
@@ -55,6 +58,10 @@ def case_figure(ds: xr.Dataset, title: str):
     d.set_ylabel("growth (dB per 100,000 train passages)")
     d.set_title("linearised growth-rate spectrum from the smooth rail", fontsize=9)
     d.legend(fontsize=8)
+    for ax in (c, d):  # plain millimetre ticks on the log axes
+        ax.xaxis.set_major_formatter(matplotlib.ticker.FormatStrFormatter("%g"))
+        ax.xaxis.set_minor_formatter(matplotlib.ticker.NullFormatter())
+        ax.set_xticks([t for t in (20, 30, 50, 100, 200, 300, 500, 1000, 2000) if ax.get_xlim()[0] <= t <= ax.get_xlim()[1]])
     lpp = 1e3 * float(ds.attrs["pinned_pinned_wavelength_m"])
     for ax in (c, d):
         ax.axvline(lpp, color="tab:red", lw=0.8, ls=":")

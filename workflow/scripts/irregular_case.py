@@ -18,7 +18,7 @@ def main(case_config, uniform_config, speed, paths, out_data, out_figure, log):
           f"{ds.attrs['pp_level_dB']:.1f} dB (uniform {ds.attrs['uniform_pp_level_dB']:.1f} dB)", file=log, flush=True)
     io.write_netcdf(io.finalize(ds, {"case": case_config, "uniform": uniform_config}, title=f"Irregular track beside the uniform track at {speed:g} m/s",
                                 source="rail.studies.irregular.case_dataset"), out_data)
-    fig = case_figure(ds, f"{paths['name']}: {', '.join(ds['support_label'].values[:1])} ... beside the uniform track, {speed:g} m/s")
+    fig = case_figure(ds, f"{paths['name']}: a track cell of {cell.bays} bays beside the uniform track, {speed:g} m/s")
     fig.savefig(out_figure, dpi=110)
 
 
