@@ -14,9 +14,32 @@ from . import datasets
 from .datasets import _var
 from .rate_spectrum import PASSAGES_PER_DB
 
-__all__ = ["fleet_spectrum_dataset", "fleet_growth_dataset", "DB_PER_NEPER"]
+__all__ = ["fleet_spectrum_dataset", "fleet_growth_dataset", "tables_by_speed", "DB_PER_NEPER"]
 
 DB_PER_NEPER = 20 * np.log10(np.e)  # dB of amplitude per unit of ln(amplitude)
+
+
+def tables_by_speed(tables, speeds) -> dict:
+    """{speed: table} of a fleet's tables read from files, each checked to be at its class speed exactly
+    (a table at a rounded speed would silently serve a class at another).
+
+    Parameters
+    ----------
+    tables : sequence of MovingReceptance or of tuples of them (Bloch tables)
+    speeds : sequence of float
+        The class speeds [m/s], one per table.
+
+    Returns
+    -------
+    dict
+    """
+    tables, speeds = list(tables), [float(v) for v in speeds]
+    if len(tables) != len(speeds):
+        raise ValueError(f"{len(tables)} tables for {len(speeds)} class speeds: give one table per speed.")
+    for tab, v in zip(tables, speeds):
+        if chain.table_speed(tab) != v:
+            raise ValueError(f"a table at {chain.table_speed(tab)!r} m/s was given for the class speed {v!r} m/s.")
+    return dict(zip(speeds, tables))
 
 
 def fleet_spectrum_dataset(fs: FleetRateSpectrum, fleet: Fleet) -> xr.Dataset:
@@ -46,6 +69,9 @@ def fleet_spectrum_dataset(fs: FleetRateSpectrum, fleet: Fleet) -> xr.Dataset:
             "drift": _var("wavelength", -t.rate.imag, "rad", "phase drift of the roughness per fleet passage, -Im R"),
             "growth_dB": _var("wavelength", DB_PER_NEPER * g * PASSAGES_PER_DB, "dB",
                               f"level change per {PASSAGES_PER_DB} fleet passages of a small roughness at the wavelength"),
+            "growth_dB_per_axle": _var("wavelength", DB_PER_NEPER * g * PASSAGES_PER_DB / fleet.axles_per_train, "dB",
+                                       f"level change per {PASSAGES_PER_DB} axle passages of the traffic of a small roughness at "
+                                       "the wavelength (growth_dB / axles_per_train)"),
             "growth_rate_per_year": _var("wavelength", g * trains_per_year, "1/year",
                                          "relative growth rate of the roughness amplitude per year of the traffic"),
             "growth_dB_per_year": _var("wavelength", DB_PER_NEPER * g * trains_per_year, "1/year",

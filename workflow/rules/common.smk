@@ -9,6 +9,7 @@ from rail.chain import wheel_offsets as wheel_offsets_of
 from rail.provenance import code_hash
 from rail.setup.build import PASSAGE_KEYS
 from rail.setup.build import scenario as build_scenario
+from rail.setup.build import fleet_classes as build_fleet_classes
 from rail.setup.inputs import check_inputs, check_speed, measured_decay_file
 from rail.studies.convergence import check_study as check_convergence_study
 from rail.setup.config import ConfigError, check_scenario_names, expand_sweep, load_yaml, resolve_scenario_file, scenario_files, validate_config
@@ -50,13 +51,40 @@ check_scenario_names(
     {pt["name"]: str(SCENARIO_FILES[study]) for study, sw in SWEEPS.items() for pt in sw["points"]},
 )
 SCENARIO_OBJECTS = {_name: build_scenario(_cfg, _name, _SOURCES[_name]) for _name, _cfg in SCENARIOS.items()}
-# A fleet (rail.fleet, docs/traffic.md) is not yet run by the workflow: its per-speed growth rule would
-# run the one train of `wheels` and leave the fleet out, so a configuration with one is refused here.
-_FLEETS = [f"{_SOURCES.get(_n, 'config')}: fleet is not yet run by the workflow (its growth rules run one train at one "
-           f"speed and would leave the fleet out); run it with rail.app.api.growth(api.load('{_n}')) (docs/traffic.md)."
-           for _n, _c in SCENARIOS.items() if "fleet" in _c]
-if _FLEETS:
-    raise ConfigError("invalid configuration:\n  " + "\n  ".join(_FLEETS))
+# A fleet (rail.fleet, docs/traffic.md; workflow/rules/fleet.smk): its growth and growth-rate spectrum
+# are results/fleet/<scenario>/growth.nc and rate_spectrum.nc, from one receptance table per (track,
+# speed) shared by every vehicle and fleet scenario at that speed. Its (vehicle, speed) classes are
+# built here, so that a speed the harmonics cannot serve or a roughness tied to one speed stops here.
+FLEET_CLASSES = {}
+_FLEET_PROBLEMS = []
+for _name, _cfg in SCENARIOS.items():
+    if "fleet" not in _cfg:
+        continue
+    _src = _SOURCES[_name]
+    if _name in {p["name"] for sw in SWEEPS.values() for p in sw["points"]}:
+        _FLEET_PROBLEMS.append(f"{_src}: a sweep of a fleet scenario is not run by the workflow (its points' growth rules run "
+                               "one train at one speed); give each case its own scenario file.")
+        continue
+    if _cfg["track"].get("cell") is not None:
+        _FLEET_PROBLEMS.append(f"{_src}: fleet with track.cell is not run by the workflow (its tables are the cell's, "
+                               "not one per speed shared by the vehicles); run it with rail.app.api.")
+        continue
+    _r = _cfg["roughness"]
+    if _r.get("kind") == "harmonic" and _r.get("wavelength") is None:
+        _FLEET_PROBLEMS.append(f"{_src}: roughness.frequency = {_r.get('frequency')!r} Hz sets the wavelength at one speed: "
+                               "under a fleet at several speeds give roughness.wavelength (m) instead.")
+        continue
+    try:
+        _classes = build_fleet_classes(_cfg, SCENARIO_OBJECTS[_name])
+        for _c in _classes:
+            check_speed(_cfg, _c.speed, f"{_src}: fleet class {_c.label}")
+    except ConfigError as _e:
+        _FLEET_PROBLEMS.append(str(_e).replace("invalid configuration:\n  ", f"{_src}: "))
+        continue
+    FLEET_CLASSES[_name] = _classes
+if _FLEET_PROBLEMS:
+    raise ConfigError("invalid configuration:\n  " + "\n  ".join(_FLEET_PROBLEMS))
+
 
 # Every input file is read and checked here, before any job runs (its errors name the file and line),
 # by the function railgrowth and rail.app.api call too (rail.setup.inputs.check_inputs). A track's
@@ -185,6 +213,7 @@ GROWTH_FIGURES = ["20", "21", "23", "24", "25", "26", "27"]
 def growth_table(wildcards):
     """The receptance table a growth run needs: its scenario's track at its speed (the Bloch tables
     for a roughness periodic over N > 1 bays)."""
+    not_a_fleet(wildcards.scenario, "growth")
     checked_speed(wildcards.scenario, wildcards.speed)
     bays = SCENARIO_OBJECTS[wildcards.scenario].roughness.bays
     suffix = "" if bays == 1 else f"_N{bays}"
@@ -233,7 +262,7 @@ def any_wavelength_targets():
     and the aggregated datasets of the sweeps over such scenarios."""
     sweep_points = {p["name"] for sw in SWEEPS.values() for p in sw["points"]}
     out = [f"results/growth/{name}/V{speed_label(scn.speeds[0])}_narrowband.png" for name, scn in SCENARIO_OBJECTS.items()
-           if scn.roughness.bays > 1 and name not in sweep_points]
+           if scn.roughness.bays > 1 and name not in sweep_points and name not in FLEET_CLASSES]
     for study, sw in SWEEPS.items():
         if any(SCENARIO_OBJECTS[p["name"]].roughness.bays > 1 for p in sw["points"]):
             out += [f"results/sweeps/{study}.nc", f"results/sweeps/{study}.png"]
@@ -252,7 +281,7 @@ def band_targets():
     sweep_points = {p["name"] for sw in SWEEPS.values() for p in sw["points"]}
     out = [f"results/growth/default/V{speed_label(v)}_bands.csv" for v in config["speeds"]]
     out += [f"results/growth/{name}/V{speed_label(scn.speeds[0])}_bands.csv" for name, scn in SCENARIO_OBJECTS.items()
-            if scn.roughness.bays > 1 and name not in sweep_points]
+            if scn.roughness.bays > 1 and name not in sweep_points and name not in FLEET_CLASSES]
     # the band map over speed of every sweep study that varies the speed (not the closure study's,
     # which has its own target)
     out += [f"results/sweeps/{study}_bands.png" for study, sw in SWEEPS.items()
@@ -323,6 +352,8 @@ def wheel_offsets(wildcards):
     offsets = set()
     bays = int(wildcards.get("bays", 1))  # Bloch tables: only the scenarios with that roughness period
     for name, scn in SCENARIO_OBJECTS.items():
+        if name in FLEET_CLASSES:  # a fleet has its own tables (fleet_offsets)
+            continue
         if track_name(name) == wildcards.track and (bays == 1 or scn.roughness.bays == bays):
             offsets |= set(wheel_offsets_of(scn))
     return sorted(offsets, key=lambda d: (abs(d), d))
@@ -458,6 +489,7 @@ def built_studies():
 
 def rate_spectrum_table(wildcards):
     """The Bloch tables of the spectrum's N-bay period (figures.rate_spectrum.bays) at the speed."""
+    not_a_fleet(wildcards.scenario, "rate_spectrum")
     checked_speed(wildcards.scenario, wildcards.speed)
     bays = SCENARIOS[wildcards.scenario]["figures"]["rate_spectrum"]["bays"]
     if SCENARIOS[wildcards.scenario]["track"].get("cell") is not None:
@@ -571,6 +603,8 @@ def study_names():
 def study_targets(name):
     """What study_<name> builds: per speed of the scenario (or per point of the sweep), the growth
     run's overview, band view and 3-D plot; for a sweep also its dataset and maps."""
+    if name in FLEET_CLASSES:
+        return fleet_targets(name)
     if name in SWEEPS:
         runs = [(p["name"], p["speed"]) for p in SWEEPS[name]["points"]]
         extra = [f"results/sweeps/{name}.nc", f"results/sweeps/{name}.png"]
@@ -610,3 +644,85 @@ def kernels(which):
     growth and wear job) or 'tangent' (also rail.contact_tangent, the growth-rate spectrum)."""
     # ancient: the marker's age never reruns a job (each job's own code hash does)
     return ancient(f"results/cache/kernels_{which}.txt")
+
+
+# Traffic as a fleet (issue 35, docs/traffic.md, workflow/rules/fleet.smk).
+
+def not_a_fleet(name, what):
+    """Refuse a one-train target (growth per speed, spectrum per speed) of a scenario with a fleet: it
+    would run one train and leave the fleet out."""
+    if name in FLEET_CLASSES:
+        raise ConfigError(f"scenario '{name}' has a fleet: its {what} per speed would run one train and leave the fleet out; "
+                          f"build results/fleet/{name}/growth.nc or results/fleet/{name}/rate_spectrum.nc (study_{name}).")
+
+
+def fleet_speed_label(v):
+    """A fleet class's speed in a file name, exact: float(label) == v (40.0 -> '40', 33.6 -> '33.6').
+    The classes of a distribution need not be round numbers, and a table must be at the class's speed."""
+    text = repr(float(v))
+    return text[:-2] if text.endswith(".0") else text
+
+
+def fleet_table_file(name, speed, bays):
+    """The shared receptance table of a fleet scenario's track at one speed (a roughness period of N > 1
+    bays: its Bloch tables)."""
+    suffix = "" if bays == 1 else f"_N{bays}"
+    return f"results/receptance/{track_name(name)}/fleet_V{fleet_speed_label(speed)}{suffix}.nc"
+
+
+def fleet_speeds(name):
+    """The distinct class speeds of a fleet scenario [m/s], increasing."""
+    return sorted({c.speed for c in FLEET_CLASSES[name]})
+
+
+def fleet_growth_tables(wildcards):
+    """The tables a fleet growth run reads, one per class speed (in fleet_speeds order)."""
+    bays = SCENARIO_OBJECTS[wildcards.scenario].roughness.bays
+    return [fleet_table_file(wildcards.scenario, v, bays) for v in fleet_speeds(wildcards.scenario)]
+
+
+def fleet_spectrum_tables(wildcards):
+    """The Bloch tables of the spectrum's period (figures.rate_spectrum.bays) a fleet spectrum reads."""
+    bays = int(SCENARIOS[wildcards.scenario]["figures"]["rate_spectrum"]["bays"])
+    return [fleet_table_file(wildcards.scenario, v, bays) for v in fleet_speeds(wildcards.scenario)]
+
+
+def fleet_table_speeds(wildcards):
+    """The class speeds [m/s] of a fleet job's tables, in the order of its input files."""
+    return fleet_speeds(wildcards.scenario)
+
+
+def fleet_offsets(wildcards):
+    """Offsets d between every ordered pair of axles of every vehicle of every fleet scenario on the
+    track (0 first): one table per (track, speed) serves all of them (rail.chain.fleet_tables)."""
+    offsets = set()
+    for name, classes in FLEET_CLASSES.items():
+        if track_name(name) == wildcards.track:
+            offsets |= {d for c in classes for d in wheel_offsets_of(c.scenario)}
+    return sorted(offsets, key=lambda d: (abs(d), d))
+
+
+def fleet_track_config(wildcards):
+    """What a fleet table depends on: the track part of its track's configuration; the speed checked
+    as a class speed of some fleet on the track."""
+    speeds = {fleet_speed_label(v) for name in FLEET_CLASSES if track_name(name) == wildcards.track for v in fleet_speeds(name)}
+    if wildcards.speed not in speeds:
+        raise ConfigError(f"target names a fleet table of track '{wildcards.track}' at V{wildcards.speed}, which is no class "
+                          f"speed of a fleet on that track: the speeds are {', '.join(sorted(speeds, key=float)) or 'none'} m/s.")
+    return track_config(wildcards)
+
+
+def fleet_growth_runtime(wildcards):
+    """Cluster runtime of a fleet growth job (minutes), scaled as growth_runtime: every update rolls
+    every class, so the wheels per update are the sum of the classes' axles."""
+    scn = SCENARIO_OBJECTS[wildcards.scenario]
+    wheels = sum(len(c.scenario.wheels.positions) for c in FLEET_CLASSES[wildcards.scenario])
+    updates = scn.growth.passages / scn.growth.passages_per_update
+    seconds = 0.5 * updates * wheels * scn.roughness.bays * (scn.contact_numerics.nodes / 61) ** 2
+    return int(10 + 3 * seconds / 60)
+
+
+def fleet_targets(name):
+    """What study_<name> builds for a fleet scenario: its growth run and its growth-rate spectrum
+    (dataset and figure)."""
+    return [f"results/fleet/{name}/growth.nc", f"results/fleet/{name}/rate_spectrum.nc", f"results/fleet/{name}/rate_spectrum.png"]

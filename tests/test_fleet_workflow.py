@@ -1,0 +1,90 @@
+"""The workflow runs a scenario with a fleet (issue 35, docs/traffic.md): one receptance table per
+(track, speed) shared by every vehicle and fleet scenario, a fleet growth run and a fleet spectrum,
+study_<name> building them, and the default target untouched. Dry runs only."""
+
+import pytest
+
+from test_workflow import assert_stops_at_start_up, job_counts, snakemake, workdir  # noqa: F401 (fixture)
+
+MIX = """fleet:
+  vehicles:
+    - name: loco
+      positions: [0.0, 3.3]
+      static_load: 1.0e+5
+      unsprung_mass: 1350.0
+      creepage: [-0.001, -0.001]
+      share: 0.4
+    - name: coach
+      positions: [0.0, 2.6]
+      static_load: 5.0e+4
+      unsprung_mass: 800.0
+      creepage: [0.0005, 0.0005]
+      share: 0.6
+  speeds: {distribution: uniform, low: 36.0, high: 44.0, classes: 3}
+"""
+# another fleet on the same track: a three-axle vehicle at two of the speeds above and one more
+OTHER = """fleet:
+  vehicles:
+    - name: tram
+      positions: [0.0, 1.8, 5.0]
+      static_load: 4.0e+4
+      unsprung_mass: 500.0
+      creepage: [0.0, -0.001, 0.0]
+      share: 1.0
+  speeds: {values: [40.0, 44.0], weights: [0.5, 0.5]}
+"""
+
+
+def _fleets(workdir, **files):
+    for f in (workdir / "config/scenarios").glob("*.yaml"):
+        f.unlink()
+    for name, text in files.items():
+        (workdir / f"config/scenarios/{name}.yaml").write_text(text)
+
+
+@pytest.mark.slow
+def test_a_fleet_study_computes_one_table_per_speed_shared_by_its_vehicles_and_other_fleets(root, workdir):
+    _fleets(workdir, mix=MIX, other=OTHER)
+    out = snakemake(root, "-n", "study_mix", "study_other", cwd=workdir)
+    assert out.returncode == 0, out.stderr
+    # 3 + 1 distinct speeds (36, 40, 44 from classes at 37.33, 40, 42.67 and 40, 44): one table each per
+    # period (the growth's one bay, the spectrum's N = 48), never one per vehicle or per scenario
+    speeds = ["37.333333333333336", "40", "42.666666666666664", "44"]
+    assert job_counts(out.stdout) == {"fleet_receptance": 4, "fleet_receptance_bloch": 4, "fleet_growth": 2,
+                                      "fleet_rate_spectrum": 2, "compile_kernels": 2, "study_mix": 1, "study_other": 1}
+    for v in speeds:  # the union of every vehicle's axle offsets, in each table
+        assert (f"fleet receptance table: track default, V = {v} m/s, offsets 0.0 -1.8 1.8 -2.6 2.6 -3.2 3.2 -3.3 3.3 -5.0 5.0 m"
+                in out.stdout), v
+    assert "results/fleet/mix/growth.nc" in out.stdout and "results/fleet/other/rate_spectrum.png" in out.stdout
+    assert "rule growth:" not in out.stdout and "rule receptance:" not in out.stdout  # no one-train job
+
+
+@pytest.mark.slow
+def test_a_fleet_scenario_leaves_the_default_target_unchanged(root, workdir, tmp_path):
+    out = snakemake(root, "-n", cwd=workdir)
+    (workdir / "config/scenarios/mix.yaml").write_text(MIX)
+    with_fleet = snakemake(root, "-n", cwd=workdir)
+    assert out.returncode == 0 and with_fleet.returncode == 0, with_fleet.stderr
+    assert job_counts(with_fleet.stdout) == job_counts(out.stdout)
+    assert "results/fleet/" not in with_fleet.stdout and "fleet_V" not in with_fleet.stdout
+
+
+def test_a_one_train_target_of_a_fleet_scenario_is_refused_in_one_line(root, workdir):
+    _fleets(workdir, mix=MIX)
+    out = snakemake(root, "-n", "results/growth/mix/V40.nc", cwd=workdir)
+    assert_stops_at_start_up(out, r"scenario 'mix' has a fleet: its growth per speed would run one train and leave the fleet "
+                                  r"out; build results/fleet/mix/growth\.nc", workdir)
+
+
+def test_a_fleet_roughness_tied_to_one_speed_is_refused_at_start_up(root, workdir):
+    _fleets(workdir, mix=MIX + "roughness:\n  kind: harmonic\n  frequency: 1000.0\n")
+    out = snakemake(root, "-n", cwd=workdir)
+    assert_stops_at_start_up(out, r"config/scenarios/mix\.yaml: roughness\.frequency = 1000\.0 Hz sets the wavelength at one "
+                                  r"speed: under a fleet at several speeds give roughness\.wavelength", workdir)
+
+
+def test_a_fleet_table_at_a_speed_no_fleet_runs_at_is_refused(root, workdir):
+    _fleets(workdir, mix=MIX)
+    out = snakemake(root, "-n", "results/receptance/default/fleet_V41.nc", cwd=workdir)
+    assert_stops_at_start_up(out, r"fleet table of track 'default' at V41, which is no class speed of a fleet on that track: "
+                                  r"the speeds are 37\.333333333333336, 40, 42\.666666666666664 m/s", workdir)
