@@ -359,3 +359,21 @@ def test_api_fleet_spectrum_gives_the_weighted_rates_with_each_class():
     free = ds["locked"].values == 0
     np.testing.assert_allclose(ds["class_contribution"].sum("class").values[free], ds["growth_rate"].values[free], rtol=1e-12)
     assert ds["growth_dB_per_year"].attrs["level_unit"] == "dB"
+
+
+def test_a_train_over_an_n_bay_period_wears_a_bay_periodic_roughness_as_over_one_bay():
+    # found by the traffic study: the second wheel of a train over an N-bay period was handed a 1-bay
+    # roughness (rail.wear.apply_wear drops the period) and the run stopped. A bay-periodic roughness
+    # (lines j = k N only) on a 2-bay period must wear exactly as on one bay, wheel after wheel.
+    s1, s2 = base(), base(bays=2)
+    t1 = chain.receptance_table(s1, 40.0)
+    t2 = chain.receptance_table(s2, 40.0)
+    Z1 = rough(1, lines=(3, 7)).Z
+    Z2 = np.zeros(2 * 2 * K + 1, dtype=complex)
+    Z2[2 * K + 2 * np.arange(-K, K + 1)] = Z1
+    d1, _ = chain.train_wear(s1, t1, Z1)
+    d2, _ = chain.train_wear(s2, t2, Z2)
+    on_comb = 2 * K + 2 * np.arange(-K, K + 1)
+    np.testing.assert_allclose(d2[on_comb], d1, rtol=0, atol=1e-6 * np.abs(d1).max())
+    off = np.setdiff1d(np.arange(d2.size), on_comb)
+    assert np.abs(d2[off]).max() <= 1e-6 * np.abs(d1).max()
