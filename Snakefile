@@ -56,6 +56,7 @@ localrules:
     sweep_aggregate,
     sweep_bands,
     wear_figures,
+    traffic_study_summary,
 
 
 rule all:

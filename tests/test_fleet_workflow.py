@@ -2,6 +2,7 @@
 (track, speed) shared by every vehicle and fleet scenario, a fleet growth run and a fleet spectrum,
 study_<name> building them, and the default target untouched. Dry runs only."""
 
+import numpy as np
 import pytest
 
 from test_workflow import assert_stops_at_start_up, job_counts, snakemake, workdir  # noqa: F401 (fixture)
@@ -88,3 +89,55 @@ def test_a_fleet_table_at_a_speed_no_fleet_runs_at_is_refused(root, workdir):
     out = snakemake(root, "-n", "results/receptance/default/fleet_V41.nc", cwd=workdir)
     assert_stops_at_start_up(out, r"fleet table of track 'default' at V41, which is no class speed of a fleet on that track: "
                                   r"the speeds are 37\.333333333333336, 40, 42\.666666666666664 m/s", workdir)
+
+
+# ---------------------------------------------------------------- the traffic study (config/traffic_study.yaml)
+
+
+def _study(root):
+    import yaml
+
+    return yaml.safe_load((root / "config/traffic_study.yaml").read_text())
+
+
+def test_traffic_study_cases_are_fleets_at_the_stated_spreads_about_the_mean_speed(root):
+    from rail.fleet import speed_classes
+    from rail.studies.fleet import traffic_cases
+
+    study = _study(root)
+    cases = traffic_cases(study)
+    assert list(cases) == [f"traffic_study-{d}-s{p}" for d in ("driven", "braked") for p in ("0", "5", "10", "20")]
+    for name, scen in cases.items():
+        s = float(name.rsplit("-s", 1)[1]) / 100
+        sc = speed_classes(scen["fleet"]["speeds"])
+        v = np.array(sc.speeds)
+        assert sc.mean == pytest.approx(40.0, rel=1e-12)
+        # uniform on 40 (1 -+ s) in 5 equal classes: the centres lie s (1 - 1/5) from the mean at the ends
+        assert v.max() - 40.0 == pytest.approx(40.0 * s * (1 - 1 / 5) if s else 0.0, abs=1e-12)
+        drive = name.split("-")[1]
+        loco = scen["fleet"]["vehicles"][0]
+        assert np.sign(loco["creepage"]).tolist() == [-1.0 if drive == "driven" else 1.0] * 4
+
+
+@pytest.mark.parametrize("key, value, message", [
+    ("spreads", [0.0, 0.6], r"spreads\[1\] = 0\.6 is not allowed: it must be a number in \[0, 0\.5\)"),
+    ("distribution", "lognormal", r"distribution = 'lognormal' is not allowed: it must be 'uniform' or 'normal'"),
+    ("drives", {"driven": {"class87": -0.001}}, r"drives\.driven = .* is not allowed: give one creepage for each vehicle"),
+])
+def test_a_bad_traffic_study_is_refused_naming_key_and_range(root, key, value, message):
+    from rail.studies.fleet import traffic_cases
+
+    study = _study(root)
+    study[key] = value
+    with pytest.raises(ValueError, match=message):
+        traffic_cases(study)
+
+
+def test_band_rates_average_the_lines_of_each_band_and_leave_an_empty_band_empty():
+    from rail.studies.bands import third_octave_bands
+    from rail.studies.fleet import band_rates
+
+    bands = third_octave_bands(0.1, 0.08)  # 100 and 80 mm bands
+    lam = np.array([0.105, 0.095, 0.090])  # all in the 100 mm band (89.1-112.2 mm)
+    out = band_rates(lam, np.array([1.0, 2.0, 6.0]), bands)
+    assert out[0] == 3.0 and np.isnan(out[1])

@@ -222,3 +222,24 @@ def fleet_spectrum_figure(ds: xr.Dataset, title: str = ""):
     if ds.sizes["class"] <= 12:
         ax.legend(fontsize=6, ncol=2, loc="best", framealpha=0.9)
     return fig
+
+
+def traffic_study_figure(ds: xr.Dataset):
+    """The traffic study: growth-rate spectrum per case (one line per speed spread, a panel per drive),
+    dB per 100,000 axle passages over wavelength, the pinned-pinned wavelength marked."""
+    drives = list(ds["drive"].values)
+    fig, axes = plt.subplots(1, len(drives), figsize=(5.2 * len(drives), 4.5), layout="constrained", sharey=True, squeeze=False)
+    lam = ds["wavelength"].values * 1e3
+    pp = 1e3 * float(ds.attrs["pinned_pinned_wavelength_m"])
+    for ax, d in zip(axes[0], drives):
+        for s in ds["spread"].values:
+            ax.plot(lam, ds["growth_dB_per_axle"].sel(drive=d, spread=s).values, lw=1.2, label=f"speed spread ±{100 * s:g} %")
+        ax.axhline(0, color="0.3", lw=0.7)
+        ax.axvline(pp, color="k", ls=":", lw=1)
+        ax.text(pp, 0.98, f" pinned-pinned {pp:.1f} mm", transform=ax.get_xaxis_transform(), fontsize=7, va="top")
+        _wavelength_axis(ax, _wavelength_edges(lam))
+        ax.set_xlabel("wavelength (mm)")
+        ax.set_title(f"locomotive {d}, mean {float(ds.attrs['mean_speed_m_per_s']):g} m/s", fontsize=9)
+    axes[0][0].set_ylabel("growth (dB per 100,000 axle passages)")
+    axes[0][0].legend(fontsize=7, loc="best", framealpha=0.9)
+    return fig

@@ -12,6 +12,7 @@ from rail.setup.build import scenario as build_scenario
 from rail.setup.build import fleet_classes as build_fleet_classes
 from rail.setup.inputs import check_inputs, check_speed, measured_decay_file
 from rail.studies.convergence import check_study as check_convergence_study
+from rail.studies.fleet import traffic_cases
 from rail.setup.config import ConfigError, check_scenario_names, expand_sweep, load_yaml, resolve_scenario_file, scenario_files, validate_config
 
 # Clear, actionable messages first (key, value, unit, valid range), then snakemake's own
@@ -44,6 +45,22 @@ for _path in SCENARIO_FILES.values():
     else:
         SCENARIOS[_path.stem] = resolve_scenario_file(config, SCHEMA, _scen, source=str(_path))
         _SOURCES[_path.stem] = str(_path)
+# The traffic study (config/traffic_study.yaml, named target traffic_study): one fleet scenario per
+# (drive, spread), traffic_study-<drive>-s<percent>, resolved and validated as a scenario file.
+TRAFFIC_FILE = Path("config/traffic_study.yaml")
+TRAFFIC_CASES = {}
+if TRAFFIC_FILE.exists():
+    try:
+        _cases = traffic_cases(load_yaml(TRAFFIC_FILE))
+    except ValueError as _e:
+        raise ConfigError(f"invalid configuration:\n  {_e}") from None
+    for _name, _scen in _cases.items():
+        if _name in SCENARIOS:
+            raise ConfigError(f"invalid configuration:\n  config/scenarios/{_name}.yaml: the name is a case of the traffic study "
+                              "(config/traffic_study.yaml): rename the file.")
+        SCENARIOS[_name] = resolve_scenario_file(config, SCHEMA, _scen, source=f"{TRAFFIC_FILE} (case {_name})")
+        _SOURCES[_name] = f"{TRAFFIC_FILE} (case {_name})"
+        TRAFFIC_CASES[_name] = _scen
 # Every scenario is built once here (rail.setup.build.scenario): the constraints that need physics
 # (rail damping, harmonics reaching the pinned-pinned frequency) fail at start-up, naming the file.
 check_scenario_names(
@@ -597,7 +614,7 @@ def scenario_overview_inputs(wildcards):
 def study_names():
     """The scenario files and sweep studies of config/scenarios/ (each a target study_<name>)."""
     points = {p["name"] for sw in SWEEPS.values() for p in sw["points"]}
-    return [n for n in SCENARIOS if n not in points and n != "default"] + sorted(SWEEPS)
+    return [n for n in SCENARIOS if n not in points and n not in TRAFFIC_CASES and n != "default"] + sorted(SWEEPS)
 
 
 def study_targets(name):
@@ -726,3 +743,14 @@ def fleet_targets(name):
     """What study_<name> builds for a fleet scenario: its growth run and its growth-rate spectrum
     (dataset and figure)."""
     return [f"results/fleet/{name}/growth.nc", f"results/fleet/{name}/rate_spectrum.nc", f"results/fleet/{name}/rate_spectrum.png"]
+
+
+def traffic_study_inputs(wildcards=None):
+    """The fleet spectra of the traffic study's cases, in the file's order (drives outer, spreads inner)."""
+    return [f"results/fleet/{name}/rate_spectrum.nc" for name in TRAFFIC_CASES]
+
+
+def traffic_study_cases(wildcards=None):
+    """[drive, spread] of every case, in the order of traffic_study_inputs."""
+    study = load_yaml(TRAFFIC_FILE)
+    return [[d, float(s)] for d in study["drives"] for s in study["spreads"]]

@@ -91,3 +91,35 @@ rule fleet_rate_spectrum:
         runtime=60,
     script:
         "../scripts/fleet_rate_spectrum.py"
+
+
+rule traffic_study_summary:
+    """The traffic study's cases side by side: growth-rate spectrum per case, one-third-octave band rates,
+    what the pinned-pinned and the fastest-growing bands do across the spreads and drives."""
+    input:
+        traffic_study_inputs,
+    output:
+        data="results/traffic_study/traffic_study.nc",
+        figure=report("results/traffic_study/spectra.png", caption="../report/traffic_study.rst", category="Traffic (fleet)"),
+        summary="results/traffic_study/summary.md",
+    params:
+        code=code("traffic_study.py"),
+        cfg={},  # drawn from the spectra alone, each of which records its configuration
+        cases=traffic_study_cases,
+    log:
+        "logs/traffic_study/summary.log",
+    benchmark:
+        "benchmarks/traffic_study/summary.tsv"
+    resources:
+        mem_mb=500,
+        runtime=5,
+    script:
+        "../scripts/traffic_study.py"
+
+
+rule traffic_study:
+    """Named target (issue 35): the report's 40 m/s case under a locomotive and coach mix at speed spreads
+    of 0, 5, 10 and 20 %, locomotive driven or braked (config/traffic_study.yaml, README "Traffic")."""
+    input:
+        "results/traffic_study/spectra.png",
+        "results/traffic_study/summary.md",
