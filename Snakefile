@@ -57,6 +57,7 @@ localrules:
     sweep_bands,
     wear_figures,
     traffic_study_summary,
+    uncertainty_ensemble,
 
 
 rule all:

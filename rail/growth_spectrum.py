@@ -785,7 +785,26 @@ def fleet_rate_spectrum(classes, tables: dict, lines, **kwargs) -> FleetRateSpec
     -------
     FleetRateSpectrum
     """
-    spectra = tuple(rate_spectrum(c.scenario, tables[c.speed], lines, **kwargs) for c in classes)
+    return fleet_spectrum_of(classes, [rate_spectrum(c.scenario, tables[c.speed], lines, **kwargs) for c in classes])
+
+
+def fleet_spectrum_of(classes, spectra) -> FleetRateSpectrum:
+    """The fleet's spectrum from its classes' spectra computed apart (each a job of the workflow, shared
+    by the fleets that hold the class): combine_spectra with the classes' weights.
+
+    Parameters
+    ----------
+    classes : sequence of rail.fleet.FleetClass
+    spectra : sequence of RateSpectrum
+        rate_spectrum of each class on the same lines, in the order of classes.
+
+    Returns
+    -------
+    FleetRateSpectrum
+    """
+    spectra = tuple(spectra)
+    if len(spectra) != len(classes):
+        raise ValueError(f"{len(spectra)} spectra for {len(classes)} classes: give one spectrum per class.")
     w = np.array([c.weight for c in classes])
     return FleetRateSpectrum(combine_spectra(spectra, w), spectra, w, tuple(c.label for c in classes),
                              np.array([c.speed for c in classes]))

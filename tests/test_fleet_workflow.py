@@ -52,7 +52,8 @@ def test_a_fleet_study_computes_one_table_per_speed_shared_by_its_vehicles_and_o
     # period (the growth's one bay, the spectrum's N = 48), never one per vehicle or per scenario
     speeds = ["37.333333333333336", "40", "42.666666666666664", "44"]
     assert job_counts(out.stdout) == {"fleet_receptance": 4, "fleet_receptance_bloch": 4, "fleet_growth": 2,
-                                      "fleet_rate_spectrum": 2, "compile_kernels": 2, "study_mix": 1, "study_other": 1}
+                                      "fleet_class_spectrum": 8, "fleet_rate_spectrum": 2, "compile_kernels": 2,
+                                      "study_mix": 1, "study_other": 1}  # classes: 2 vehicles x 3 speeds, 1 x 2
     for v in speeds:  # the union of every vehicle's axle offsets, in each table
         assert (f"fleet receptance table: track default, V = {v} m/s, offsets 0.0 -1.8 1.8 -2.6 2.6 -3.2 3.2 -3.3 3.3 -5.0 5.0 m"
                 in out.stdout), v
@@ -68,6 +69,17 @@ def test_a_fleet_scenario_leaves_the_default_target_unchanged(root, workdir, tmp
     assert out.returncode == 0 and with_fleet.returncode == 0, with_fleet.stderr
     assert job_counts(with_fleet.stdout) == job_counts(out.stdout)
     assert "results/fleet/" not in with_fleet.stdout and "fleet_V" not in with_fleet.stdout
+
+
+@pytest.mark.slow
+def test_the_traffic_study_computes_each_class_spectrum_once_however_many_cases_hold_it(root, workdir):
+    # 8 cases (2 drives x spreads 0, 5, 10, 20 %) hold 2 + 3 x 6 = 20 classes each drive, 40 in all; the
+    # distinct ones are the locomotive driven and braked and the coach (the same in both drives), each at
+    # the 7 distinct speeds (40 and 40 (1 -+ 2 s / 3)): 21 jobs, 7 tables
+    out = snakemake(root, "-n", "traffic_study", cwd=workdir)
+    assert out.returncode == 0, out.stderr
+    assert job_counts(out.stdout) == {"fleet_receptance_bloch": 7, "fleet_class_spectrum": 21, "fleet_rate_spectrum": 8,
+                                      "traffic_study_summary": 1, "traffic_study": 1, "compile_kernels": 1}
 
 
 def test_a_one_train_target_of_a_fleet_scenario_is_refused_in_one_line(root, workdir):
@@ -141,3 +153,15 @@ def test_band_rates_average_the_lines_of_each_band_and_leave_an_empty_band_empty
     lam = np.array([0.105, 0.095, 0.090])  # all in the 100 mm band (89.1-112.2 mm)
     out = band_rates(lam, np.array([1.0, 2.0, 6.0]), bands)
     assert out[0] == 3.0 and np.isnan(out[1])
+
+
+@pytest.mark.slow
+def test_the_uncertainty_ensemble_runs_one_spectrum_per_member_and_a_bad_draw_stops_at_start_up(root, workdir):
+    out = snakemake(root, "-n", "uncertainty", cwd=workdir)
+    assert out.returncode == 0, out.stderr
+    assert job_counts(out.stdout) == {"uncertainty_member": 16, "uncertainty_ensemble": 1, "uncertainty": 1, "compile_kernels": 1}
+    f = workdir / "config/uncertainty.yaml"
+    f.write_text(f.read_text().replace("{distribution: uniform, low: 0.2, high: 0.4}", "{distribution: uniform, low: 0.4, high: 0.2}"))
+    bad = snakemake(root, "-n", "uncertainty", cwd=workdir)
+    assert_stops_at_start_up(bad, r"config/uncertainty\.yaml: uncertainty parameter contact\.friction: low = 0\.4, high = 0\.2 "
+                                  r"are not allowed: low <= high", workdir)

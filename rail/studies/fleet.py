@@ -4,6 +4,8 @@ gross tonnes per year and the rates per year as well as per passage."""
 
 from __future__ import annotations
 
+import dataclasses
+
 import numpy as np
 import xarray as xr
 
@@ -14,7 +16,8 @@ from . import datasets
 from .datasets import _var
 from .rate_spectrum import PASSAGES_PER_DB
 
-__all__ = ["fleet_spectrum_dataset", "fleet_growth_dataset", "tables_by_speed", "DB_PER_NEPER"]
+__all__ = ["fleet_spectrum_dataset", "fleet_growth_dataset", "tables_by_speed", "spectrum_arrays", "spectrum_from_arrays",
+           "class_key", "DB_PER_NEPER"]
 
 DB_PER_NEPER = 20 * np.log10(np.e)  # dB of amplitude per unit of ln(amplitude)
 
@@ -40,6 +43,70 @@ def tables_by_speed(tables, speeds) -> dict:
         if chain.table_speed(tab) != v:
             raise ValueError(f"a table at {chain.table_speed(tab)!r} m/s was given for the class speed {v!r} m/s.")
     return dict(zip(speeds, tables))
+
+
+def spectrum_arrays(sp) -> dict:
+    """A class's RateSpectrum as arrays (numpy.savez; spectrum_from_arrays reads it back exactly).
+
+    Parameters
+    ----------
+    sp : rail.growth_spectrum.RateSpectrum
+
+    Returns
+    -------
+    dict
+        Its fields by name (operator left out when None; method as a string array).
+    """
+    out = {f.name: np.asarray(getattr(sp, f.name)) for f in dataclasses.fields(sp) if getattr(sp, f.name) is not None}
+    out["method"] = np.array(str(sp.method))
+    return out
+
+
+def spectrum_from_arrays(arrays) -> "RateSpectrum":
+    """The RateSpectrum of spectrum_arrays (a mapping such as an opened .npz).
+
+    Parameters
+    ----------
+    arrays : mapping of name to ndarray
+
+    Returns
+    -------
+    rail.growth_spectrum.RateSpectrum
+    """
+    from ..growth_spectrum import RateSpectrum
+
+    kw = {}
+    for f in dataclasses.fields(RateSpectrum):
+        if f.name not in arrays:
+            kw[f.name] = None
+            continue
+        v = np.asarray(arrays[f.name])
+        kw[f.name] = (str(v) if f.name == "method" else int(v) if f.name in ("bays", "grid_phases")
+                      else float(v) if v.ndim == 0 else v)
+    return RateSpectrum(**kw)
+
+
+def class_key(fleet_class, settings: dict) -> str:
+    """A name for one class's spectrum that is the same in every fleet holding the class: a hash of its
+    scenario (vehicle, speed, track, contact, ...; not its name) and the spectrum's settings.
+
+    Parameters
+    ----------
+    fleet_class : rail.fleet.FleetClass
+    settings : dict
+        figures.rate_spectrum (shortest, longest, per_octave, eps, grid_phases, bays) [m, -].
+
+    Returns
+    -------
+    str
+        16 hexadecimal digits.
+    """
+    import hashlib
+    import json
+
+    scn = dataclasses.replace(fleet_class.scenario, name="")
+    text = repr(scn) + json.dumps({k: settings[k] for k in sorted(settings) if k != "speeds"}, sort_keys=True, default=str)
+    return hashlib.sha256(text.encode()).hexdigest()[:16]
 
 
 def fleet_spectrum_dataset(fs: FleetRateSpectrum, fleet: Fleet) -> xr.Dataset:

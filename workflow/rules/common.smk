@@ -3,6 +3,8 @@
 import sys
 from pathlib import Path
 
+import numpy as np
+
 from snakemake.utils import validate
 
 from rail.chain import wheel_offsets as wheel_offsets_of
@@ -12,7 +14,9 @@ from rail.setup.build import scenario as build_scenario
 from rail.setup.build import fleet_classes as build_fleet_classes
 from rail.setup.inputs import check_inputs, check_speed, measured_decay_file
 from rail.studies.convergence import check_study as check_convergence_study
+from rail.studies.fleet import class_key as fleet_class_key
 from rail.studies.fleet import traffic_cases
+from rail.setup.build import spectrum_scenario as build_spectrum_scenario
 from rail.setup.config import ConfigError, check_scenario_names, expand_sweep, load_yaml, resolve_scenario_file, scenario_files, validate_config
 
 # Clear, actionable messages first (key, value, unit, valid range), then snakemake's own
@@ -101,6 +105,19 @@ for _name, _cfg in SCENARIOS.items():
     FLEET_CLASSES[_name] = _classes
 if _FLEET_PROBLEMS:
     raise ConfigError("invalid configuration:\n  " + "\n  ".join(_FLEET_PROBLEMS))
+# The spectrum of each class is a job of its own, named by a hash of the class (vehicle, speed, track,
+# contact, ...) and the spectrum's settings, so that a class held by several fleets (the same vehicle
+# at the same speed in the traffic study's cases) is computed once: {scenario: [key per class]}, and
+# {key: (the first scenario holding it, its index there)}.
+FLEET_SPECTRUM_KEYS = {}
+FLEET_SPECTRUM_JOBS = {}
+for _name in FLEET_CLASSES:
+    _settings = SCENARIOS[_name]["figures"]["rate_spectrum"]
+    _keys = [fleet_class_key(_c, _settings)
+             for _c in build_fleet_classes(SCENARIOS[_name], build_spectrum_scenario(SCENARIOS[_name], _name, _SOURCES[_name]))]
+    FLEET_SPECTRUM_KEYS[_name] = _keys
+    for _i, _k in enumerate(_keys):
+        FLEET_SPECTRUM_JOBS.setdefault(_k, (_name, _i))
 
 
 # Every input file is read and checked here, before any job runs (its errors name the file and line),
@@ -698,10 +715,34 @@ def fleet_growth_tables(wildcards):
     return [fleet_table_file(wildcards.scenario, v, bays) for v in fleet_speeds(wildcards.scenario)]
 
 
-def fleet_spectrum_tables(wildcards):
-    """The Bloch tables of the spectrum's period (figures.rate_spectrum.bays) a fleet spectrum reads."""
-    bays = int(SCENARIOS[wildcards.scenario]["figures"]["rate_spectrum"]["bays"])
-    return [fleet_table_file(wildcards.scenario, v, bays) for v in fleet_speeds(wildcards.scenario)]
+def fleet_class_spectra(wildcards):
+    """The class spectra a fleet spectrum combines, in the order of its classes."""
+    return [f"results/fleet/classes/{k}.npz" for k in FLEET_SPECTRUM_KEYS[wildcards.scenario]]
+
+
+def fleet_class_owner(wildcards):
+    """(scenario, class index) of a class spectrum job."""
+    if wildcards.key not in FLEET_SPECTRUM_JOBS:
+        raise ConfigError(f"target names the fleet class spectrum {wildcards.key}, which no fleet scenario holds.")
+    return FLEET_SPECTRUM_JOBS[wildcards.key]
+
+
+def fleet_class_table(wildcards):
+    """The Bloch tables of the spectrum's period (figures.rate_spectrum.bays) at a class's speed."""
+    name, i = fleet_class_owner(wildcards)
+    bays = int(SCENARIOS[name]["figures"]["rate_spectrum"]["bays"])
+    return fleet_table_file(name, FLEET_CLASSES[name][i].speed, bays)
+
+
+def fleet_class_config(wildcards):
+    """The configuration of the scenario a class spectrum job builds its class from."""
+    return SCENARIOS[fleet_class_owner(wildcards)[0]]
+
+
+def fleet_class_params(wildcards):
+    """[scenario, class index, speed] of a class spectrum job."""
+    name, i = fleet_class_owner(wildcards)
+    return [name, i, FLEET_CLASSES[name][i].speed]
 
 
 def fleet_table_speeds(wildcards):
@@ -754,3 +795,48 @@ def traffic_study_cases(wildcards=None):
     """[drive, spread] of every case, in the order of traffic_study_inputs."""
     study = load_yaml(TRAFFIC_FILE)
     return [[d, float(s)] for d in study["drives"] for s in study["spreads"]]
+
+
+# Uncertainty of the inputs (config/uncertainty.yaml, rail.uncertainty, named target uncertainty): the
+# members' configurations, drawn with the seed and validated here (a draw outside a key's range stops
+# the workflow naming the member and the key).
+UNCERTAINTY_FILE = Path("config/uncertainty.yaml")
+UNCERTAINTY = {}
+if UNCERTAINTY_FILE.exists():
+    from rail import uncertainty as _unc
+
+    _u = load_yaml(UNCERTAINTY_FILE)
+    try:
+        _draws = _unc.sample(_u["parameters"], _u["members"], _u["seed"])
+        _unc.band_statistics(np.zeros((1, 1)), _u["interval"])  # the interval's quantiles checked
+    except (ValueError, KeyError) as _e:
+        raise ConfigError(f"invalid configuration:\n  {UNCERTAINTY_FILE}: {_e}") from None
+    _members = []
+    for _m in range(int(_u["members"])):
+        _vals = {k: float(v[_m]) for k, v in _draws.items()}
+        try:
+            _cfg = _unc.member_config(config, _vals)
+        except ValueError as _e:
+            raise ConfigError(f"invalid configuration:\n  {UNCERTAINTY_FILE}: {_e}") from None
+        _cfg["figures"]["rate_spectrum"].update(_u["spectrum"])
+        _src = f"{UNCERTAINTY_FILE} (member {_m}: {', '.join(f'{k} = {v:.6g}' for k, v in _vals.items())})"
+        _cfg = validate_config(_cfg, SCHEMA, source=_src)
+        build_spectrum_scenario(_cfg, f"uncertainty-m{_m}", _src)  # physics constraints, naming the member
+        _members.append({"cfg": _cfg, "values": _vals})
+    UNCERTAINTY = {"members": _members, "speed": float(_u["speed"]), "interval": list(_u["interval"]),
+                   "draws": {k: [float(x) for x in v] for k, v in _draws.items()}}
+
+
+def uncertainty_member_config(wildcards):
+    """The configuration of one ensemble member (its draws applied), physics part."""
+    m = int(wildcards.member)
+    if not 0 <= m < len(UNCERTAINTY.get("members", [])):
+        raise ConfigError(f"target names the ensemble member m{wildcards.member}, which config/uncertainty.yaml does not "
+                          f"hold: the members are m0 .. m{len(UNCERTAINTY.get('members', [])) - 1}.")
+    cfg = UNCERTAINTY["members"][m]["cfg"]
+    return {**_physics(cfg), "figures": {"rate_spectrum": cfg["figures"]["rate_spectrum"]}}
+
+
+def uncertainty_members(wildcards=None):
+    """Every member's spectrum, in member order."""
+    return [f"results/uncertainty/members/m{m}.nc" for m in range(len(UNCERTAINTY.get("members", [])))]

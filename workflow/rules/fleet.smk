@@ -69,26 +69,49 @@ rule fleet_growth:
         "../scripts/fleet_growth.py"
 
 
-rule fleet_rate_spectrum:
-    """Growth-rate spectrum under a scenario's fleet: the traffic-weighted rate per wavelength, each
-    class's contribution kept (rail.growth_spectrum.fleet_rate_spectrum), per fleet passage and per year."""
+rule fleet_class_spectrum:
+    """Growth-rate spectrum of one (vehicle, speed) class of a fleet, per passage of its train
+    (rail.growth_spectrum.rate_spectrum): a job of its own, shared by every fleet holding the class."""
     input:
         kernels=kernels("tangent"),
-        tables=fleet_spectrum_tables,
+        table=fleet_class_table,
+    output:
+        "results/fleet/classes/{key}.npz",
+    wildcard_constraints:
+        key="[0-9a-f]{16}",
+    params:
+        code=code("fleet_class_spectrum.py"),
+        cfg=fleet_class_config,
+        job=fleet_class_params,
+    log:
+        "logs/fleet/classes/{key}.log",
+    benchmark:
+        "benchmarks/fleet/classes/{key}.tsv"
+    resources:
+        mem_mb=1400,
+        runtime=30,
+    script:
+        "../scripts/fleet_class_spectrum.py"
+
+
+rule fleet_rate_spectrum:
+    """Growth-rate spectrum under a scenario's fleet: the traffic-weighted rate per wavelength, each
+    class's contribution kept (rail.growth_spectrum.fleet_spectrum_of), per fleet passage and per year."""
+    input:
+        fleet_class_spectra,
     output:
         data="results/fleet/{scenario}/rate_spectrum.nc",
         figure=report("results/fleet/{scenario}/rate_spectrum.png", caption="../report/fleet_rate_spectrum.rst", category="Traffic (fleet)"),
     params:
         code=code("fleet_rate_spectrum.py"),
         cfg=scenario_config,
-        speeds=fleet_table_speeds,
     log:
         "logs/fleet/{scenario}/rate_spectrum.log",
     benchmark:
         "benchmarks/fleet/{scenario}/rate_spectrum.tsv"
     resources:
-        mem_mb=1400,
-        runtime=60,
+        mem_mb=500,
+        runtime=5,
     script:
         "../scripts/fleet_rate_spectrum.py"
 
@@ -123,3 +146,57 @@ rule traffic_study:
     input:
         "results/traffic_study/spectra.png",
         "results/traffic_study/summary.md",
+
+
+rule uncertainty_member:
+    """Growth-rate spectrum of one member of the uncertainty ensemble (config/uncertainty.yaml): the default
+    configuration with the member's drawn friction, wear coefficient, creepage and pad stiffness; its own
+    receptance tables (the pad stiffness differs per member)."""
+    input:
+        kernels=kernels("tangent"),
+    output:
+        "results/uncertainty/members/m{member}.nc",
+    wildcard_constraints:
+        member="[0-9]+",
+    params:
+        code=code("uncertainty_member.py"),
+        cfg=uncertainty_member_config,
+        speed=lambda w: UNCERTAINTY["speed"],
+    log:
+        "logs/uncertainty/m{member}.log",
+    benchmark:
+        "benchmarks/uncertainty/m{member}.tsv"
+    resources:
+        mem_mb=1400,
+        runtime=30,
+    script:
+        "../scripts/uncertainty_member.py"
+
+
+rule uncertainty_ensemble:
+    """The ensemble's band spectrum: per one-third-octave band, the median over the members and the stated interval."""
+    input:
+        uncertainty_members,
+    output:
+        data="results/uncertainty/ensemble.nc",
+        figure=report("results/uncertainty/band_interval.png", caption="../report/uncertainty.rst", category="Traffic (fleet)"),
+    params:
+        code=code("uncertainty_ensemble.py"),
+        cfg={},  # drawn from the members alone, each of which records its configuration
+        draws=lambda w: UNCERTAINTY["draws"],
+        interval=lambda w: UNCERTAINTY["interval"],
+    log:
+        "logs/uncertainty/ensemble.log",
+    benchmark:
+        "benchmarks/uncertainty/ensemble.tsv"
+    resources:
+        mem_mb=500,
+        runtime=5,
+    script:
+        "../scripts/uncertainty_ensemble.py"
+
+
+rule uncertainty:
+    """Named target (issue 35): the growth-rate band spectrum with the uncertainty of the inputs (config/uncertainty.yaml)."""
+    input:
+        "results/uncertainty/band_interval.png",
