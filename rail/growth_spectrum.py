@@ -796,11 +796,13 @@ def fleet_spectrum_of(classes, spectra) -> FleetRateSpectrum:
     ----------
     classes : sequence of rail.fleet.FleetClass
     spectra : sequence of RateSpectrum
-        rate_spectrum of each class on the same lines, in the order of classes.
+        rate_spectrum of each class on the same lines, in the order of classes (rates per passage of
+        the class's train [-]).
 
     Returns
     -------
     FleetRateSpectrum
+        Rates per fleet passage [-].
     """
     spectra = tuple(spectra)
     if len(spectra) != len(classes):

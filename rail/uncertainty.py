@@ -42,11 +42,12 @@ def check_parameters(parameters: dict) -> dict:
     Parameters
     ----------
     parameters : dict
-        {dotted key: {distribution: ..., its parameters}} (config/uncertainty.yaml).
+        {dotted key: {distribution: ..., its parameters}} (config/uncertainty.yaml), in the key's unit [SI].
 
     Returns
     -------
     dict
+        The distributions' parameters [the key's SI unit; factor -].
 
     Raises
     ------
@@ -126,7 +127,7 @@ def member_config(cfg: dict, values: dict) -> dict:
     cfg : dict
         Resolved configuration.
     values : dict
-        {dotted key: value}.
+        {dotted key: value} [the key's SI unit].
 
     Returns
     -------
@@ -154,13 +155,14 @@ def band_statistics(values, interval=(0.1, 0.9)):
     Parameters
     ----------
     values : ndarray, (members, bands)
-        A band quantity of every member (e.g. growth in dB per 100,000 passages).
+        A band quantity of every member (e.g. growth [dB per 100,000 passages]).
     interval : (float, float)
-        Quantiles of the interval, 0 <= lower < upper <= 1.
+        Quantiles of the interval [-], 0 <= lower < upper <= 1.
 
     Returns
     -------
     median, lower, upper : ndarray, (bands,)
+        In the unit of values.
     """
     lo, hi = (float(q) for q in interval)
     if not 0 <= lo < hi <= 1:
