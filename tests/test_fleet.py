@@ -402,3 +402,41 @@ def test_linear_spectrum_of_a_train_whose_wheels_have_grids_of_different_size_ma
     assert fast.method == "linear"
     err = np.abs(fast.rate - ref.rate) / np.abs(ref.rate)
     assert err.max() < 2e-3, dict(zip(lines, err))
+
+
+def test_fleet_spectrum_per_axle_figure_and_the_traffic_study_summary_from_class_spectra(small_spectrum, defaults, tmp_path):
+    # the workflow's path: class spectra saved and read back (bitwise), combined by fleet_spectrum_of into
+    # the same spectrum as fleet_rate_spectrum; per axle = per fleet passage / axles per train; the
+    # study's band means and summary of two cases whose rates differ by a known factor
+    import xarray as xr
+
+    from rail.plotting import studies as plots
+    from rail.studies import fleet as FS
+    from rail.studies.bands import third_octave_bands
+
+    fl, classes, fs = small_spectrum
+    back = []
+    for k, sp in enumerate(fs.classes):
+        np.savez(tmp_path / f"c{k}.npz", **FS.spectrum_arrays(sp))
+        with np.load(tmp_path / f"c{k}.npz") as a:
+            back.append(FS.spectrum_from_arrays(a))
+    again = GS.fleet_spectrum_of(classes, back)
+    assert np.array_equal(again.total.rate, fs.total.rate) and np.array_equal(again.total.rate_other, fs.total.rate_other)
+    ds = FS.fleet_spectrum_dataset(again, fl)
+    np.testing.assert_allclose(ds["growth_dB_per_axle"].values, ds["growth_dB"].values / fl.axles_per_train, rtol=1e-15)
+    ds.attrs.update({"pinned_pinned_frequency_Hz": 1000.0, "mean_speed_m_per_s": 40.0,
+                     "pinned_pinned_wavelength_m": float(ds["wavelength"].values.mean())})
+    plots.fleet_spectrum_figure(ds).savefig(tmp_path / "f.png")
+    twice = ds.copy(deep=True)
+    twice["growth_dB_per_axle"] = 2 * ds["growth_dB_per_axle"]
+    st = FS.traffic_study_dataset([ds, twice], [("driven", 0.0), ("driven", 0.1)])
+    lam, g = ds["wavelength"].values, ds["growth_dB_per_axle"].values
+    bands = third_octave_bands(float(lam.max()), float(lam.min()))
+    for b, (lo, hi) in enumerate(zip(bands.lower, bands.upper)):
+        sel = (lam >= lo) & (lam < hi)
+        got = st["band_growth_dB_per_axle"].sel(drive="driven", spread=0.1, band=bands.nominal[b]).item()
+        assert (np.isnan(got) and not sel.any()) or got == pytest.approx(2 * g[sel].mean(), rel=1e-14)
+    text = FS.traffic_summary_markdown(st)
+    assert "| driven | ±0 % |" in text and "| driven | ±10 % |" in text
+    plots.traffic_study_figure(st).savefig(tmp_path / "t.png")
+    assert isinstance(st, xr.Dataset) and (tmp_path / "t.png").stat().st_size > 5000
