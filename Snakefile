@@ -35,6 +35,7 @@ include: "workflow/rules/characterisation.smk"
 include: "workflow/rules/closure.smk"
 include: "workflow/rules/studies.smk"
 include: "workflow/rules/irregular.smk"
+include: "workflow/rules/fleet.smk"
 
 
 # Light jobs (figures and aggregations of seconds) run on the submitting host, not as cluster jobs.
@@ -55,6 +56,8 @@ localrules:
     sweep_aggregate,
     sweep_bands,
     wear_figures,
+    traffic_study_summary,
+    uncertainty_ensemble,
 
 
 rule all:

@@ -207,10 +207,14 @@ def _linear_rates(scn, tabs, free, locked, eps, phase, max_columns=None):
                     if nonh:
                         dsh[w_i].append(part(F["shape"][r]) * scale)
     ncol = len(cols)
-    gw = np.zeros((mi1.Nx, ncol))
+    # each wheel's derivative on its own grid: the wheels' patches differ (their forces do), so their
+    # grids may hold a different number of points per bay (4131 and 4132 for two axles of one
+    # locomotive at 40 m/s); wheels on grids of one size are summed there, each size transformed apart
+    gws = {}
     kd = scn.wear_law.coefficient / scn.wear_law.density
     for w_i, l in enumerate(order):
         mi1 = ref[w_i]
+        gw = gws.setdefault(mi1.Nx, np.zeros((mi1.Nx, ncol)))
         nn = 2 * mi1.M + 1
         chunk = ncol if not nonh else max(1, int(2e8 // (8 * mi1.P.size * nn)))
         chunk = min(chunk, max_columns or chunk)
@@ -222,24 +226,25 @@ def _linear_rates(scn, tabs, free, locked, eps, phase, max_columns=None):
             _, dwork = work_tangent(mi1.P, mi1.a, chain.wheel_material(scn, l), tabs[0].speed, mi1.delta, mi1.M, dPc, dac, dshc, closure=nums.closure,
                                     closure_scale=nums.closure_scale, shape=mi1.shape)
             gw[:, sl] += kd * dwork[mi1.spin + mi1.M + np.arange(mi1.Nx)]
-    nx1 = gw.shape[0]
-    k = np.arange(nx1)
-
-    def coef(g, jj):  # W_jj per unit probe from the bay-0 derivative g
-        return np.sum(g * np.exp(-2j * np.pi * jj * k / (N * nx1))) / nx1
+    def coef(c, jj, imag=None):  # W_jj per unit probe from the bay-0 derivatives of columns c (+ i imag)
+        total = 0.0
+        for nx1, gw in gws.items():
+            k = np.arange(nx1)
+            g = gw[:, c] if imag is None else gw[:, c] + 1j * gw[:, imag]
+            total = total + np.sum(g * np.exp(-2j * np.pi * jj * k / (N * nx1))) / nx1
+        return total
 
     R, side, Ms = {}, {}, {}
     c = 0
     while c < ncol:
         j, kind, _ = cols[c]
         if kind == "free":
-            g = gw[:, c] + 1j * gw[:, c + 1]
-            R[j] = coef(g, j)
+            R[j] = coef(c, j, c + 1)
             near = [j + m for m in (-N, N) if abs(j + m) <= J]
-            side[j] = max(abs(coef(g, jj)) for jj in near) / max(abs(R[j]), 1e-300) if near else 0.0
+            side[j] = max(abs(coef(c, jj, c + 1)) for jj in near) / max(abs(R[j]), 1e-300) if near else 0.0
             c += 2
         else:
-            D = coef(gw[:, c], j)
+            D = coef(c, j)
             Ms.setdefault(j, {})[kind] = (2 * D.real, -2 * D.imag)
             c += 1
     Mout = {j: np.array([v["cos"], v["sin"]]).T for j, v in Ms.items()}
@@ -780,7 +785,28 @@ def fleet_rate_spectrum(classes, tables: dict, lines, **kwargs) -> FleetRateSpec
     -------
     FleetRateSpectrum
     """
-    spectra = tuple(rate_spectrum(c.scenario, tables[c.speed], lines, **kwargs) for c in classes)
+    return fleet_spectrum_of(classes, [rate_spectrum(c.scenario, tables[c.speed], lines, **kwargs) for c in classes])
+
+
+def fleet_spectrum_of(classes, spectra) -> FleetRateSpectrum:
+    """The fleet's spectrum from its classes' spectra computed apart (each a job of the workflow, shared
+    by the fleets that hold the class): combine_spectra with the classes' weights.
+
+    Parameters
+    ----------
+    classes : sequence of rail.fleet.FleetClass
+    spectra : sequence of RateSpectrum
+        rate_spectrum of each class on the same lines, in the order of classes (rates per passage of
+        the class's train [-]).
+
+    Returns
+    -------
+    FleetRateSpectrum
+        Rates per fleet passage [-].
+    """
+    spectra = tuple(spectra)
+    if len(spectra) != len(classes):
+        raise ValueError(f"{len(spectra)} spectra for {len(classes)} classes: give one spectrum per class.")
     w = np.array([c.weight for c in classes])
     return FleetRateSpectrum(combine_spectra(spectra, w), spectra, w, tuple(c.label for c in classes),
                              np.array([c.speed for c in classes]))

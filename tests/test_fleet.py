@@ -359,3 +359,84 @@ def test_api_fleet_spectrum_gives_the_weighted_rates_with_each_class():
     free = ds["locked"].values == 0
     np.testing.assert_allclose(ds["class_contribution"].sum("class").values[free], ds["growth_rate"].values[free], rtol=1e-12)
     assert ds["growth_dB_per_year"].attrs["level_unit"] == "dB"
+
+
+def test_a_train_over_an_n_bay_period_wears_a_bay_periodic_roughness_as_over_one_bay():
+    # found by the traffic study: the second wheel of a train over an N-bay period was handed a 1-bay
+    # roughness (rail.wear.apply_wear drops the period) and the run stopped. A bay-periodic roughness
+    # (lines j = k N only) on a 2-bay period must wear exactly as on one bay, wheel after wheel.
+    s1, s2 = base(), base(bays=2)
+    t1 = chain.receptance_table(s1, 40.0)
+    t2 = chain.receptance_table(s2, 40.0)
+    Z1 = rough(1, lines=(3, 7)).Z
+    Z2 = np.zeros(2 * 2 * K + 1, dtype=complex)
+    Z2[2 * K + 2 * np.arange(-K, K + 1)] = Z1
+    d1, _ = chain.train_wear(s1, t1, Z1)
+    d2, _ = chain.train_wear(s2, t2, Z2)
+    on_comb = 2 * K + 2 * np.arange(-K, K + 1)
+    np.testing.assert_allclose(d2[on_comb], d1, rtol=0, atol=1e-6 * np.abs(d1).max())
+    off = np.setdiff1d(np.arange(d2.size), on_comb)
+    assert np.abs(d2[off]).max() <= 1e-6 * np.abs(d1).max()
+
+
+def test_linear_spectrum_of_a_train_whose_wheels_have_grids_of_different_size_matches_the_probes():
+    # found by the traffic study: the wheels of a coach (axles at 0, 2.6, 16, 18.6 m) roll on contact
+    # grids of 1844 and 1845 points per bay (their forces differ), and the tangent method summed their
+    # derivatives on one array (a broadcast error). Against the independent probes of the nonlinear
+    # march, with the bound of tests/test_growth_spectrum.py (2e-3 of |R|; measured there 3e-4).
+    from rail import wear
+
+    pos = (0.0, 2.6, 16.0, 18.6)
+    s1 = base(positions=pos)
+    t1 = chain.receptance_table(s1, 40.0)
+    Z0 = I.Roughness(np.zeros(2 * K + 1, dtype=complex), 1)
+    f1 = chain.solve_forces(s1, t1, Z0)
+    nx = {wear.march_inputs(f1, l, Z0, chain.wheel_material(s1, l), s1.contact_numerics, 0.0).Nx for l in range(len(pos))}
+    assert len(nx) > 1, nx  # the case this test is about
+    scn = base(positions=pos, bays=4)
+    scn = dataclasses.replace(scn, roughness=dataclasses.replace(scn.roughness, kind="smooth"))
+    tabs = chain.receptance_table(scn, 40.0)
+    lines = [37, 86, 4, 30]  # two free lines, the comb (j = N) and a half-comb line (j = 30 = 7.5 N)
+    fast = GS.rate_spectrum(scn, tabs, lines, grid_phases=1, check_lines=1, method="linear")
+    ref = GS.rate_spectrum(scn, tabs, lines, grid_phases=1, check_lines=1, method="probe")
+    assert fast.method == "linear"
+    err = np.abs(fast.rate - ref.rate) / np.abs(ref.rate)
+    assert err.max() < 2e-3, dict(zip(lines, err))
+
+
+def test_fleet_spectrum_per_axle_figure_and_the_traffic_study_summary_from_class_spectra(small_spectrum, defaults, tmp_path):
+    # the workflow's path: class spectra saved and read back (bitwise), combined by fleet_spectrum_of into
+    # the same spectrum as fleet_rate_spectrum; per axle = per fleet passage / axles per train; the
+    # study's band means and summary of two cases whose rates differ by a known factor
+    import xarray as xr
+
+    from rail.plotting import studies as plots
+    from rail.studies import fleet as FS
+    from rail.studies.bands import third_octave_bands
+
+    fl, classes, fs = small_spectrum
+    back = []
+    for k, sp in enumerate(fs.classes):
+        np.savez(tmp_path / f"c{k}.npz", **FS.spectrum_arrays(sp))
+        with np.load(tmp_path / f"c{k}.npz") as a:
+            back.append(FS.spectrum_from_arrays(a))
+    again = GS.fleet_spectrum_of(classes, back)
+    assert np.array_equal(again.total.rate, fs.total.rate) and np.array_equal(again.total.rate_other, fs.total.rate_other)
+    ds = FS.fleet_spectrum_dataset(again, fl)
+    np.testing.assert_allclose(ds["growth_dB_per_axle"].values, ds["growth_dB"].values / fl.axles_per_train, rtol=1e-15)
+    ds.attrs.update({"pinned_pinned_frequency_Hz": 1000.0, "mean_speed_m_per_s": 40.0,
+                     "pinned_pinned_wavelength_m": float(ds["wavelength"].values.mean())})
+    plots.fleet_spectrum_figure(ds).savefig(tmp_path / "f.png")
+    twice = ds.copy(deep=True)
+    twice["growth_dB_per_axle"] = 2 * ds["growth_dB_per_axle"]
+    st = FS.traffic_study_dataset([ds, twice], [("driven", 0.0), ("driven", 0.1)])
+    lam, g = ds["wavelength"].values, ds["growth_dB_per_axle"].values
+    bands = third_octave_bands(float(lam.max()), float(lam.min()))
+    for b, (lo, hi) in enumerate(zip(bands.lower, bands.upper)):
+        sel = (lam >= lo) & (lam < hi)
+        got = st["band_growth_dB_per_axle"].sel(drive="driven", spread=0.1, band=bands.nominal[b]).item()
+        assert (np.isnan(got) and not sel.any()) or got == pytest.approx(2 * g[sel].mean(), rel=1e-14)
+    text = FS.traffic_summary_markdown(st)
+    assert "| driven | ±0 % |" in text and "| driven | ±10 % |" in text
+    plots.traffic_study_figure(st).savefig(tmp_path / "t.png")
+    assert isinstance(st, xr.Dataset) and (tmp_path / "t.png").stat().st_size > 5000

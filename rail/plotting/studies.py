@@ -192,3 +192,54 @@ def rate_spectrum_sweep_figure(ds: xr.Dataset):
             ax.set_title(f"{second} = {ds[second].values[p]:g} {ds[second].attrs.get('units', '')}", fontsize=9)
     fig.colorbar(m, ax=axes[0].tolist(), ticks=ticks, format="%.2g", label="growth (dB per 100000 passages)")
     return fig
+
+
+def fleet_spectrum_figure(ds: xr.Dataset, title: str = ""):
+    """Growth-rate spectrum under a fleet (rail.studies.fleet.fleet_spectrum_dataset): the level change
+    per 100,000 axle passages of the traffic over wavelength (thick), each class's contribution (thin;
+    they sum to the total at a free line), the pinned-pinned wavelength at the mean speed (dotted) and
+    the comb L/k (grey)."""
+    fig, ax = plt.subplots(figsize=(7.5, 4.5), layout="constrained")
+    lam = ds["wavelength"].values * 1e3
+    per_axle = 1.0 / float(ds.attrs["axles_per_train"])
+    to_dB = float(ds["growth_dB"].values[0] / ds["growth_rate"].values[0]) if ds["growth_rate"].values[0] else None
+    for x in lam[ds["locked"].values == 1]:
+        ax.axvline(x, color="0.88", lw=0.6, zorder=0)
+    if to_dB is not None:
+        for c in ds["class"].values:
+            ax.plot(lam, ds["class_contribution"].sel({"class": c}).values * to_dB * per_axle, lw=0.7,
+                    label=str(ds["class_label"].values[c]) + f" (w = {float(ds['class_weight'].values[c]):.3g})")
+    ax.plot(lam, ds["growth_dB_per_axle"].values, color="k", lw=2, label="fleet")
+    ax.axhline(0, color="0.3", lw=0.7)
+    if "pinned_pinned_wavelength_m" in ds.attrs:
+        x = 1e3 * float(ds.attrs["pinned_pinned_wavelength_m"])
+        ax.axvline(x, color="k", ls=":", lw=1)
+        ax.text(x, 0.98, f" pinned-pinned {x:.1f} mm", transform=ax.get_xaxis_transform(), fontsize=7, va="top")
+    _wavelength_axis(ax, _wavelength_edges(lam))
+    ax.set_xlabel("wavelength (mm)")
+    ax.set_ylabel("growth (dB per 100,000 axle passages)")
+    ax.set_title(title or f"growth-rate spectrum under the fleet ({ds.attrs.get('scenario', '')})", fontsize=9)
+    if ds.sizes["class"] <= 12:
+        ax.legend(fontsize=6, ncol=2, loc="best", framealpha=0.9)
+    return fig
+
+
+def traffic_study_figure(ds: xr.Dataset):
+    """The traffic study: growth-rate spectrum per case (one line per speed spread, a panel per drive),
+    dB per 100,000 axle passages over wavelength, the pinned-pinned wavelength marked."""
+    drives = list(ds["drive"].values)
+    fig, axes = plt.subplots(1, len(drives), figsize=(5.2 * len(drives), 4.5), layout="constrained", sharey=True, squeeze=False)
+    lam = ds["wavelength"].values * 1e3
+    pp = 1e3 * float(ds.attrs["pinned_pinned_wavelength_m"])
+    for ax, d in zip(axes[0], drives):
+        for s in ds["spread"].values:
+            ax.plot(lam, ds["growth_dB_per_axle"].sel(drive=d, spread=s).values, lw=1.2, label=f"speed spread ±{100 * s:g} %")
+        ax.axhline(0, color="0.3", lw=0.7)
+        ax.axvline(pp, color="k", ls=":", lw=1)
+        ax.text(pp, 0.98, f" pinned-pinned {pp:.1f} mm", transform=ax.get_xaxis_transform(), fontsize=7, va="top")
+        _wavelength_axis(ax, _wavelength_edges(lam))
+        ax.set_xlabel("wavelength (mm)")
+        ax.set_title(f"locomotive {d}, mean {float(ds.attrs['mean_speed_m_per_s']):g} m/s", fontsize=9)
+    axes[0][0].set_ylabel("growth (dB per 100,000 axle passages)")
+    axes[0][0].legend(fontsize=7, loc="best", framealpha=0.9)
+    return fig

@@ -4,6 +4,8 @@ gross tonnes per year and the rates per year as well as per passage."""
 
 from __future__ import annotations
 
+import dataclasses
+
 import numpy as np
 import xarray as xr
 
@@ -14,9 +16,97 @@ from . import datasets
 from .datasets import _var
 from .rate_spectrum import PASSAGES_PER_DB
 
-__all__ = ["fleet_spectrum_dataset", "fleet_growth_dataset", "DB_PER_NEPER"]
+__all__ = ["fleet_spectrum_dataset", "fleet_growth_dataset", "tables_by_speed", "spectrum_arrays", "spectrum_from_arrays",
+           "class_key", "DB_PER_NEPER"]
 
 DB_PER_NEPER = 20 * np.log10(np.e)  # dB of amplitude per unit of ln(amplitude)
+
+
+def tables_by_speed(tables, speeds) -> dict:
+    """{speed: table} of a fleet's tables read from files, each checked to be at its class speed exactly
+    (a table at a rounded speed would silently serve a class at another).
+
+    Parameters
+    ----------
+    tables : sequence of MovingReceptance or of tuples of them (Bloch tables)
+    speeds : sequence of float
+        The class speeds [m/s], one per table.
+
+    Returns
+    -------
+    dict
+    """
+    tables, speeds = list(tables), [float(v) for v in speeds]
+    if len(tables) != len(speeds):
+        raise ValueError(f"{len(tables)} tables for {len(speeds)} class speeds: give one table per speed.")
+    for tab, v in zip(tables, speeds):
+        if chain.table_speed(tab) != v:
+            raise ValueError(f"a table at {chain.table_speed(tab)!r} m/s was given for the class speed {v!r} m/s.")
+    return dict(zip(speeds, tables))
+
+
+def spectrum_arrays(sp) -> dict:
+    """A class's RateSpectrum as arrays (numpy.savez; spectrum_from_arrays reads it back exactly).
+
+    Parameters
+    ----------
+    sp : rail.growth_spectrum.RateSpectrum
+
+    Returns
+    -------
+    dict
+        Its fields by name (operator left out when None; method as a string array).
+    """
+    out = {f.name: np.asarray(getattr(sp, f.name)) for f in dataclasses.fields(sp) if getattr(sp, f.name) is not None}
+    out["method"] = np.array(str(sp.method))
+    return out
+
+
+def spectrum_from_arrays(arrays) -> "RateSpectrum":
+    """The RateSpectrum of spectrum_arrays (a mapping such as an opened .npz).
+
+    Parameters
+    ----------
+    arrays : mapping of name to ndarray
+
+    Returns
+    -------
+    rail.growth_spectrum.RateSpectrum
+    """
+    from ..growth_spectrum import RateSpectrum
+
+    kw = {}
+    for f in dataclasses.fields(RateSpectrum):
+        if f.name not in arrays:
+            kw[f.name] = None
+            continue
+        v = np.asarray(arrays[f.name])
+        kw[f.name] = (str(v) if f.name == "method" else int(v) if f.name in ("bays", "grid_phases")
+                      else float(v) if v.ndim == 0 else v)
+    return RateSpectrum(**kw)
+
+
+def class_key(fleet_class, settings: dict) -> str:
+    """A name for one class's spectrum that is the same in every fleet holding the class: a hash of its
+    scenario (vehicle, speed, track, contact, ...; not its name) and the spectrum's settings.
+
+    Parameters
+    ----------
+    fleet_class : rail.fleet.FleetClass
+    settings : dict
+        figures.rate_spectrum (shortest, longest, per_octave, eps, grid_phases, bays) [m, -].
+
+    Returns
+    -------
+    str
+        16 hexadecimal digits.
+    """
+    import hashlib
+    import json
+
+    scn = dataclasses.replace(fleet_class.scenario, name="")
+    text = repr(scn) + json.dumps({k: settings[k] for k in sorted(settings) if k != "speeds"}, sort_keys=True, default=str)
+    return hashlib.sha256(text.encode()).hexdigest()[:16]
 
 
 def fleet_spectrum_dataset(fs: FleetRateSpectrum, fleet: Fleet) -> xr.Dataset:
@@ -46,6 +136,9 @@ def fleet_spectrum_dataset(fs: FleetRateSpectrum, fleet: Fleet) -> xr.Dataset:
             "drift": _var("wavelength", -t.rate.imag, "rad", "phase drift of the roughness per fleet passage, -Im R"),
             "growth_dB": _var("wavelength", DB_PER_NEPER * g * PASSAGES_PER_DB, "dB",
                               f"level change per {PASSAGES_PER_DB} fleet passages of a small roughness at the wavelength"),
+            "growth_dB_per_axle": _var("wavelength", DB_PER_NEPER * g * PASSAGES_PER_DB / fleet.axles_per_train, "dB",
+                                       f"level change per {PASSAGES_PER_DB} axle passages of the traffic of a small roughness at "
+                                       "the wavelength (growth_dB / axles_per_train)"),
             "growth_rate_per_year": _var("wavelength", g * trains_per_year, "1/year",
                                          "relative growth rate of the roughness amplitude per year of the traffic"),
             "growth_dB_per_year": _var("wavelength", DB_PER_NEPER * g * trains_per_year, "1/year",
@@ -115,3 +208,205 @@ def fleet_growth_dataset(classes, tables: dict, history, fleet: Fleet) -> xr.Dat
     if history.stopped:
         ds.attrs["stopped"] = history.stopped
     return ds
+
+
+# The traffic study (config/traffic_study.yaml, README "Traffic"): cases of one fleet at a spread of
+# speeds with the locomotive driven or braked, compared by their growth-rate spectra.
+
+TRAFFIC_KEYS = ("speed", "spreads", "distribution", "classes", "vehicles", "drives", "spectrum")
+
+
+def _study_error(key, value, rule):
+    return ValueError(f"config/traffic_study.yaml: {key} = {value!r} is not allowed: {rule}.")
+
+
+def traffic_cases(study: dict) -> dict:
+    """The scenario mappings of the traffic study, one per (drive, spread): the keys a scenario file
+    would hold (``fleet`` and ``figures.rate_spectrum``), named ``traffic_study-<drive>-s<percent>``.
+
+    Parameters
+    ----------
+    study : dict
+        config/traffic_study.yaml: speed [m/s], spreads [-] (uniform on speed (1 -+ s)), distribution
+        ('uniform' or 'normal': a normal of standard deviation s speed / sqrt(3), the uniform's),
+        classes [-], vehicles (name, positions [m], static_load [N], unsprung_mass [kg], share [-]),
+        drives ({drive: {vehicle: creepage [-]}}), spectrum (figures.rate_spectrum keys).
+
+    Returns
+    -------
+    dict
+        {name: scenario mapping}, drives outer, spreads inner, in the file's order.
+
+    Raises
+    ------
+    ValueError
+        Naming the key, value and valid range (the fleet's own checks follow when each scenario is built).
+    """
+    missing = [k for k in TRAFFIC_KEYS if k not in study]
+    extra = [k for k in study if k not in TRAFFIC_KEYS]
+    if missing or extra:
+        raise ValueError(f"config/traffic_study.yaml: keys {missing} missing, {extra} unknown: it holds exactly {list(TRAFFIC_KEYS)}.")
+    V = study["speed"]
+    if isinstance(V, bool) or not isinstance(V, (int, float)) or not (np.isfinite(V) and V > 0):
+        raise _study_error("speed", V, "it must be a finite number > 0 m/s")
+    spreads = study["spreads"]
+    if not isinstance(spreads, list) or not spreads:
+        raise _study_error("spreads", spreads, "give a non-empty list of speed spreads in [0, 0.5)")
+    for i, s in enumerate(spreads):
+        if isinstance(s, bool) or not isinstance(s, (int, float)) or not (np.isfinite(s) and 0 <= s < 0.5):
+            raise _study_error(f"spreads[{i}]", s, "it must be a number in [0, 0.5)")
+    if len({round(100 * float(s), 6) for s in spreads}) != len(spreads):
+        raise _study_error("spreads", spreads, "each spread must be given once (to 1e-6 %)")
+    if study["distribution"] not in ("uniform", "normal"):
+        raise _study_error("distribution", study["distribution"], "it must be 'uniform' or 'normal'")
+    n = study["classes"]
+    if isinstance(n, bool) or not isinstance(n, int) or not 1 <= n <= 50:
+        raise _study_error("classes", n, "it must be an integer in [1, 50]")
+    vehicles = study["vehicles"]
+    names = [v.get("name") for v in vehicles] if isinstance(vehicles, list) else []
+    if not names:
+        raise _study_error("vehicles", vehicles, "give a list of vehicles (name, positions, static_load, unsprung_mass, share)")
+    drives = study["drives"]
+    if not isinstance(drives, dict) or not drives:
+        raise _study_error("drives", drives, "give {drive: {vehicle: creepage}}")
+    for d, creep in drives.items():
+        if not isinstance(creep, dict) or sorted(creep) != sorted(names):
+            raise _study_error(f"drives.{d}", creep, f"give one creepage for each vehicle, {names}")
+    out = {}
+    for d, creep in drives.items():
+        for s in spreads:
+            s = float(s)
+            if s == 0:
+                speeds = {"values": [float(V)], "weights": [1.0]}
+            elif study["distribution"] == "uniform":
+                speeds = {"distribution": "uniform", "low": V * (1 - s), "high": V * (1 + s), "classes": n}
+            else:
+                speeds = {"distribution": "normal", "mean": float(V), "std": V * s / np.sqrt(3), "classes": n}
+            fleet = {"vehicles": [{**v, "creepage": [float(creep[v["name"]])] * len(v["positions"])} for v in vehicles],
+                     "speeds": speeds}
+            out[f"traffic_study-{d}-s{100 * s:g}"] = {"fleet": fleet, "figures": {"rate_spectrum": dict(study["spectrum"])}}
+    return out
+
+
+def band_rates(wavelength, rate, bands) -> np.ndarray:
+    """Mean of the line rates in each one-third-octave band (NaN where a band holds no line: say so,
+    do not fill it).
+
+    Parameters
+    ----------
+    wavelength : ndarray
+        Line wavelengths [m].
+    rate : ndarray
+        A rate per line (any unit) on the last axis.
+    bands : rail.studies.bands.ThirdOctaveBands
+
+    Returns
+    -------
+    ndarray
+        (..., band).
+    """
+    lam = np.asarray(wavelength)
+    rate = np.asarray(rate, dtype=float)
+    out = np.full(rate.shape[:-1] + (bands.centre.size,), np.nan)
+    for b, (lo, hi) in enumerate(zip(bands.lower, bands.upper)):
+        sel = (lam >= lo) & (lam < hi)
+        if sel.any():
+            out[..., b] = rate[..., sel].mean(axis=-1)
+    return out
+
+
+def traffic_study_dataset(spectra, cases) -> xr.Dataset:
+    """The traffic study's fleet spectra on one grid (drive, spread, wavelength), with their
+    one-third-octave band means and the pinned-pinned band.
+
+    Parameters
+    ----------
+    spectra : sequence of xr.Dataset
+        fleet_spectrum_dataset of each case, all on the same lines, with the attribute
+        pinned_pinned_wavelength_m (at the mean speed).
+    cases : sequence of (drive, spread)
+        One per spectrum [-].
+
+    Returns
+    -------
+    xr.Dataset
+        growth_dB_per_axle (drive, spread, wavelength) and band_growth_dB_per_axle (drive, spread, band)
+        [dB per 100,000 axle passages]; attributes pinned_pinned_wavelength_m and pinned_pinned_band_m
+        (the nominal centre of the band holding it).
+    """
+    from .bands import third_octave_bands
+
+    drives = list(dict.fromkeys(d for d, _ in cases))
+    spreads = sorted({float(s) for _, s in cases})
+    lam = spectra[0]["wavelength"].values
+    for ds in spectra:
+        if not np.array_equal(ds["wavelength"].values, lam):
+            raise ValueError("the traffic study's spectra must share their lines (one figures.rate_spectrum for every case).")
+    g = np.full((len(drives), len(spreads), lam.size), np.nan)
+    for ds, (d, s) in zip(spectra, cases):
+        g[drives.index(d), spreads.index(float(s))] = ds["growth_dB_per_axle"].values
+    if np.isnan(g).any():
+        raise ValueError("the traffic study needs one spectrum for every (drive, spread).")
+    bands = third_octave_bands(float(lam.max()), float(lam.min()))
+    bands = type(bands)(*(x[(bands.upper > lam.min()) & (bands.lower < lam.max())] for x in
+                          (bands.centre, bands.nominal, bands.lower, bands.upper)))
+    gb = band_rates(lam, g, bands)
+    pp = float(spectra[0].attrs["pinned_pinned_wavelength_m"])
+    ib = int(np.flatnonzero((bands.lower <= pp) & (pp < bands.upper))[0])
+    first = spectra[0]
+    return xr.Dataset(
+        {
+            "growth_dB_per_axle": _var(("drive", "spread", "wavelength"), g, "dB",
+                                       "level change per 100,000 axle passages of the traffic of a small roughness"),
+            "band_growth_dB_per_axle": _var(("drive", "spread", "band"), gb, "dB",
+                                            "mean over the band's lines of the level change per 100,000 axle passages "
+                                            "(NaN: no line in the band)"),
+        },
+        coords={
+            "drive": _var("drive", np.array(drives), "", "drive of the locomotive's axles (config/traffic_study.yaml)"),
+            "spread": _var("spread", np.array(spreads), "1", "speed spread s: speeds uniform on V (1 -+ s)"),
+            "wavelength": _var("wavelength", lam, "m", "roughness wavelength"),
+            "band": _var("band", bands.nominal, "m", "nominal centre wavelength of the one-third-octave band (EN 15610)"),
+            "band_lower": _var("band", bands.lower, "m", "band edge, shorter wavelength"),
+            "band_upper": _var("band", bands.upper, "m", "band edge, longer wavelength"),
+        },
+        attrs={"pinned_pinned_wavelength_m": pp, "pinned_pinned_band_m": float(bands.nominal[ib]),
+               "pinned_pinned_frequency_Hz": float(first.attrs["pinned_pinned_frequency_Hz"]),
+               "mean_speed_m_per_s": float(first.attrs["mean_speed_m_per_s"]),
+               "axles_per_train": float(first.attrs["axles_per_train"]), "fleet_vehicles": first.attrs["fleet_vehicles"],
+               "lines": int(lam.size), "bays": int(first.attrs["bays"]), "grid_phases": int(first.attrs["grid_phases"])},
+    )
+
+
+def traffic_summary_markdown(ds: xr.Dataset) -> str:
+    """What the pinned-pinned band and the fastest-growing band do across the traffic study's cases
+    (traffic_study_dataset), as a markdown page of numbers.
+
+    Parameters
+    ----------
+    ds : xr.Dataset
+
+    Returns
+    -------
+    str
+    """
+    pp_band = float(ds.attrs["pinned_pinned_band_m"])
+    lam = ds["wavelength"].values
+    rows = []
+    for d in ds["drive"].values:
+        for s in ds["spread"].values:
+            b = ds["band_growth_dB_per_axle"].sel(drive=d, spread=s)
+            g = ds["growth_dB_per_axle"].sel(drive=d, spread=s).values
+            ifast = int(np.nanargmax(b.values))
+            iline = int(np.argmax(g))
+            rows.append(f"| {d} | ±{100 * s:g} % | {float(b.sel(band=pp_band)):+.3g} | {1e3 * float(b['band'][ifast]):g} | "
+                        f"{float(b.values[ifast]):+.3g} | {1e3 * lam[iline]:.1f} | {g[iline]:+.3g} |")
+    head = (f"# Traffic study: growth-rate spectrum under the fleet\n\n"
+            f"Mean speed {ds.attrs['mean_speed_m_per_s']:g} m/s; pinned-pinned frequency {ds.attrs['pinned_pinned_frequency_Hz']:.0f} Hz, "
+            f"wavelength {1e3 * ds.attrs['pinned_pinned_wavelength_m']:.1f} mm at the mean speed, in the one-third-octave band of "
+            f"nominal centre {1e3 * pp_band:g} mm. Rates in dB per 100,000 axle passages of the traffic (a fleet passage is "
+            f"{ds.attrs['axles_per_train']:g} axles); a band's rate is the mean of its lines' rates ({ds.attrs['lines']} lines of a "
+            f"{ds.attrs['bays']}-bay period, {ds.attrs['grid_phases']} contact grids). Vehicles: {ds.attrs['fleet_vehicles']}.\n\n"
+            "| drive | speed spread | pinned-pinned band | fastest band (mm) | its rate | fastest line (mm) | its rate |\n"
+            "|---|---|---|---|---|---|---|\n")
+    return head + "\n".join(rows) + "\n"

@@ -3,14 +3,20 @@
 import sys
 from pathlib import Path
 
+import numpy as np
+
 from snakemake.utils import validate
 
 from rail.chain import wheel_offsets as wheel_offsets_of
 from rail.provenance import code_hash
 from rail.setup.build import PASSAGE_KEYS
 from rail.setup.build import scenario as build_scenario
+from rail.setup.build import fleet_classes as build_fleet_classes
 from rail.setup.inputs import check_inputs, check_speed, measured_decay_file
 from rail.studies.convergence import check_study as check_convergence_study
+from rail.studies.fleet import class_key as fleet_class_key
+from rail.studies.fleet import traffic_cases
+from rail.setup.build import spectrum_scenario as build_spectrum_scenario
 from rail.setup.config import ConfigError, check_scenario_names, expand_sweep, load_yaml, resolve_scenario_file, scenario_files, validate_config
 
 # Clear, actionable messages first (key, value, unit, valid range), then snakemake's own
@@ -43,6 +49,22 @@ for _path in SCENARIO_FILES.values():
     else:
         SCENARIOS[_path.stem] = resolve_scenario_file(config, SCHEMA, _scen, source=str(_path))
         _SOURCES[_path.stem] = str(_path)
+# The traffic study (config/traffic_study.yaml, named target traffic_study): one fleet scenario per
+# (drive, spread), traffic_study-<drive>-s<percent>, resolved and validated as a scenario file.
+TRAFFIC_FILE = Path("config/traffic_study.yaml")
+TRAFFIC_CASES = {}
+if TRAFFIC_FILE.exists():
+    try:
+        _cases = traffic_cases(load_yaml(TRAFFIC_FILE))
+    except ValueError as _e:
+        raise ConfigError(f"invalid configuration:\n  {_e}") from None
+    for _name, _scen in _cases.items():
+        if _name in SCENARIOS:
+            raise ConfigError(f"invalid configuration:\n  config/scenarios/{_name}.yaml: the name is a case of the traffic study "
+                              "(config/traffic_study.yaml): rename the file.")
+        SCENARIOS[_name] = resolve_scenario_file(config, SCHEMA, _scen, source=f"{TRAFFIC_FILE} (case {_name})")
+        _SOURCES[_name] = f"{TRAFFIC_FILE} (case {_name})"
+        TRAFFIC_CASES[_name] = _scen
 # Every scenario is built once here (rail.setup.build.scenario): the constraints that need physics
 # (rail damping, harmonics reaching the pinned-pinned frequency) fail at start-up, naming the file.
 check_scenario_names(
@@ -50,13 +72,53 @@ check_scenario_names(
     {pt["name"]: str(SCENARIO_FILES[study]) for study, sw in SWEEPS.items() for pt in sw["points"]},
 )
 SCENARIO_OBJECTS = {_name: build_scenario(_cfg, _name, _SOURCES[_name]) for _name, _cfg in SCENARIOS.items()}
-# A fleet (rail.fleet, docs/traffic.md) is not yet run by the workflow: its per-speed growth rule would
-# run the one train of `wheels` and leave the fleet out, so a configuration with one is refused here.
-_FLEETS = [f"{_SOURCES.get(_n, 'config')}: fleet is not yet run by the workflow (its growth rules run one train at one "
-           f"speed and would leave the fleet out); run it with rail.app.api.growth(api.load('{_n}')) (docs/traffic.md)."
-           for _n, _c in SCENARIOS.items() if "fleet" in _c]
-if _FLEETS:
-    raise ConfigError("invalid configuration:\n  " + "\n  ".join(_FLEETS))
+# A fleet (rail.fleet, docs/traffic.md; workflow/rules/fleet.smk): its growth and growth-rate spectrum
+# are results/fleet/<scenario>/growth.nc and rate_spectrum.nc, from one receptance table per (track,
+# speed) shared by every vehicle and fleet scenario at that speed. Its (vehicle, speed) classes are
+# built here, so that a speed the harmonics cannot serve or a roughness tied to one speed stops here.
+FLEET_CLASSES = {}
+_FLEET_PROBLEMS = []
+for _name, _cfg in SCENARIOS.items():
+    if "fleet" not in _cfg:
+        continue
+    _src = _SOURCES[_name]
+    if _name in {p["name"] for sw in SWEEPS.values() for p in sw["points"]}:
+        _FLEET_PROBLEMS.append(f"{_src}: a sweep of a fleet scenario is not run by the workflow (its points' growth rules run "
+                               "one train at one speed); give each case its own scenario file.")
+        continue
+    if _cfg["track"].get("cell") is not None:
+        _FLEET_PROBLEMS.append(f"{_src}: fleet with track.cell is not run by the workflow (its tables are the cell's, "
+                               "not one per speed shared by the vehicles); run it with rail.app.api.")
+        continue
+    _r = _cfg["roughness"]
+    if _r.get("kind") == "harmonic" and _r.get("wavelength") is None:
+        _FLEET_PROBLEMS.append(f"{_src}: roughness.frequency = {_r.get('frequency')!r} Hz sets the wavelength at one speed: "
+                               "under a fleet at several speeds give roughness.wavelength (m) instead.")
+        continue
+    try:
+        _classes = build_fleet_classes(_cfg, SCENARIO_OBJECTS[_name])
+        for _c in _classes:
+            check_speed(_cfg, _c.speed, f"{_src}: fleet class {_c.label}")
+    except ConfigError as _e:
+        _FLEET_PROBLEMS.append(str(_e).replace("invalid configuration:\n  ", f"{_src}: "))
+        continue
+    FLEET_CLASSES[_name] = _classes
+if _FLEET_PROBLEMS:
+    raise ConfigError("invalid configuration:\n  " + "\n  ".join(_FLEET_PROBLEMS))
+# The spectrum of each class is a job of its own, named by a hash of the class (vehicle, speed, track,
+# contact, ...) and the spectrum's settings, so that a class held by several fleets (the same vehicle
+# at the same speed in the traffic study's cases) is computed once: {scenario: [key per class]}, and
+# {key: (the first scenario holding it, its index there)}.
+FLEET_SPECTRUM_KEYS = {}
+FLEET_SPECTRUM_JOBS = {}
+for _name in FLEET_CLASSES:
+    _settings = SCENARIOS[_name]["figures"]["rate_spectrum"]
+    _keys = [fleet_class_key(_c, _settings)
+             for _c in build_fleet_classes(SCENARIOS[_name], build_spectrum_scenario(SCENARIOS[_name], _name, _SOURCES[_name]))]
+    FLEET_SPECTRUM_KEYS[_name] = _keys
+    for _i, _k in enumerate(_keys):
+        FLEET_SPECTRUM_JOBS.setdefault(_k, (_name, _i))
+
 
 # Every input file is read and checked here, before any job runs (its errors name the file and line),
 # by the function railgrowth and rail.app.api call too (rail.setup.inputs.check_inputs). A track's
@@ -185,6 +247,7 @@ GROWTH_FIGURES = ["20", "21", "23", "24", "25", "26", "27"]
 def growth_table(wildcards):
     """The receptance table a growth run needs: its scenario's track at its speed (the Bloch tables
     for a roughness periodic over N > 1 bays)."""
+    not_a_fleet(wildcards.scenario, "growth")
     checked_speed(wildcards.scenario, wildcards.speed)
     bays = SCENARIO_OBJECTS[wildcards.scenario].roughness.bays
     suffix = "" if bays == 1 else f"_N{bays}"
@@ -233,7 +296,7 @@ def any_wavelength_targets():
     and the aggregated datasets of the sweeps over such scenarios."""
     sweep_points = {p["name"] for sw in SWEEPS.values() for p in sw["points"]}
     out = [f"results/growth/{name}/V{speed_label(scn.speeds[0])}_narrowband.png" for name, scn in SCENARIO_OBJECTS.items()
-           if scn.roughness.bays > 1 and name not in sweep_points]
+           if scn.roughness.bays > 1 and name not in sweep_points and name not in FLEET_CLASSES]
     for study, sw in SWEEPS.items():
         if any(SCENARIO_OBJECTS[p["name"]].roughness.bays > 1 for p in sw["points"]):
             out += [f"results/sweeps/{study}.nc", f"results/sweeps/{study}.png"]
@@ -252,7 +315,7 @@ def band_targets():
     sweep_points = {p["name"] for sw in SWEEPS.values() for p in sw["points"]}
     out = [f"results/growth/default/V{speed_label(v)}_bands.csv" for v in config["speeds"]]
     out += [f"results/growth/{name}/V{speed_label(scn.speeds[0])}_bands.csv" for name, scn in SCENARIO_OBJECTS.items()
-            if scn.roughness.bays > 1 and name not in sweep_points]
+            if scn.roughness.bays > 1 and name not in sweep_points and name not in FLEET_CLASSES]
     # the band map over speed of every sweep study that varies the speed (not the closure study's,
     # which has its own target)
     out += [f"results/sweeps/{study}_bands.png" for study, sw in SWEEPS.items()
@@ -323,6 +386,8 @@ def wheel_offsets(wildcards):
     offsets = set()
     bays = int(wildcards.get("bays", 1))  # Bloch tables: only the scenarios with that roughness period
     for name, scn in SCENARIO_OBJECTS.items():
+        if name in FLEET_CLASSES:  # a fleet has its own tables (fleet_offsets)
+            continue
         if track_name(name) == wildcards.track and (bays == 1 or scn.roughness.bays == bays):
             offsets |= set(wheel_offsets_of(scn))
     return sorted(offsets, key=lambda d: (abs(d), d))
@@ -458,6 +523,7 @@ def built_studies():
 
 def rate_spectrum_table(wildcards):
     """The Bloch tables of the spectrum's N-bay period (figures.rate_spectrum.bays) at the speed."""
+    not_a_fleet(wildcards.scenario, "rate_spectrum")
     checked_speed(wildcards.scenario, wildcards.speed)
     bays = SCENARIOS[wildcards.scenario]["figures"]["rate_spectrum"]["bays"]
     if SCENARIOS[wildcards.scenario]["track"].get("cell") is not None:
@@ -565,12 +631,14 @@ def scenario_overview_inputs(wildcards):
 def study_names():
     """The scenario files and sweep studies of config/scenarios/ (each a target study_<name>)."""
     points = {p["name"] for sw in SWEEPS.values() for p in sw["points"]}
-    return [n for n in SCENARIOS if n not in points and n != "default"] + sorted(SWEEPS)
+    return [n for n in SCENARIOS if n not in points and n not in TRAFFIC_CASES and n != "default"] + sorted(SWEEPS)
 
 
 def study_targets(name):
     """What study_<name> builds: per speed of the scenario (or per point of the sweep), the growth
     run's overview, band view and 3-D plot; for a sweep also its dataset and maps."""
+    if name in FLEET_CLASSES:
+        return fleet_targets(name)
     if name in SWEEPS:
         runs = [(p["name"], p["speed"]) for p in SWEEPS[name]["points"]]
         extra = [f"results/sweeps/{name}.nc", f"results/sweeps/{name}.png"]
@@ -610,3 +678,165 @@ def kernels(which):
     growth and wear job) or 'tangent' (also rail.contact_tangent, the growth-rate spectrum)."""
     # ancient: the marker's age never reruns a job (each job's own code hash does)
     return ancient(f"results/cache/kernels_{which}.txt")
+
+
+# Traffic as a fleet (issue 35, docs/traffic.md, workflow/rules/fleet.smk).
+
+def not_a_fleet(name, what):
+    """Refuse a one-train target (growth per speed, spectrum per speed) of a scenario with a fleet: it
+    would run one train and leave the fleet out."""
+    if name in FLEET_CLASSES:
+        raise ConfigError(f"scenario '{name}' has a fleet: its {what} per speed would run one train and leave the fleet out; "
+                          f"build results/fleet/{name}/growth.nc or results/fleet/{name}/rate_spectrum.nc (study_{name}).")
+
+
+def fleet_speed_label(v):
+    """A fleet class's speed in a file name, exact: float(label) == v (40.0 -> '40', 33.6 -> '33.6').
+    The classes of a distribution need not be round numbers, and a table must be at the class's speed."""
+    text = repr(float(v))
+    return text[:-2] if text.endswith(".0") else text
+
+
+def fleet_table_file(name, speed, bays):
+    """The shared receptance table of a fleet scenario's track at one speed (a roughness period of N > 1
+    bays: its Bloch tables)."""
+    suffix = "" if bays == 1 else f"_N{bays}"
+    return f"results/receptance/{track_name(name)}/fleet_V{fleet_speed_label(speed)}{suffix}.nc"
+
+
+def fleet_speeds(name):
+    """The distinct class speeds of a fleet scenario [m/s], increasing."""
+    return sorted({c.speed for c in FLEET_CLASSES[name]})
+
+
+def fleet_growth_tables(wildcards):
+    """The tables a fleet growth run reads, one per class speed (in fleet_speeds order)."""
+    bays = SCENARIO_OBJECTS[wildcards.scenario].roughness.bays
+    return [fleet_table_file(wildcards.scenario, v, bays) for v in fleet_speeds(wildcards.scenario)]
+
+
+def fleet_class_spectra(wildcards):
+    """The class spectra a fleet spectrum combines, in the order of its classes."""
+    return [f"results/fleet/classes/{k}.npz" for k in FLEET_SPECTRUM_KEYS[wildcards.scenario]]
+
+
+def fleet_class_owner(wildcards):
+    """(scenario, class index) of a class spectrum job."""
+    if wildcards.key not in FLEET_SPECTRUM_JOBS:
+        raise ConfigError(f"target names the fleet class spectrum {wildcards.key}, which no fleet scenario holds.")
+    return FLEET_SPECTRUM_JOBS[wildcards.key]
+
+
+def fleet_class_table(wildcards):
+    """The Bloch tables of the spectrum's period (figures.rate_spectrum.bays) at a class's speed."""
+    name, i = fleet_class_owner(wildcards)
+    bays = int(SCENARIOS[name]["figures"]["rate_spectrum"]["bays"])
+    return fleet_table_file(name, FLEET_CLASSES[name][i].speed, bays)
+
+
+def fleet_class_config(wildcards):
+    """The configuration of the scenario a class spectrum job builds its class from."""
+    return SCENARIOS[fleet_class_owner(wildcards)[0]]
+
+
+def fleet_class_params(wildcards):
+    """[scenario, class index, speed] of a class spectrum job."""
+    name, i = fleet_class_owner(wildcards)
+    return [name, i, FLEET_CLASSES[name][i].speed]
+
+
+def fleet_table_speeds(wildcards):
+    """The class speeds [m/s] of a fleet job's tables, in the order of its input files."""
+    return fleet_speeds(wildcards.scenario)
+
+
+def fleet_offsets(wildcards):
+    """Offsets d between every ordered pair of axles of every vehicle of every fleet scenario on the
+    track (0 first): one table per (track, speed) serves all of them (rail.chain.fleet_tables)."""
+    offsets = set()
+    for name, classes in FLEET_CLASSES.items():
+        if track_name(name) == wildcards.track:
+            offsets |= {d for c in classes for d in wheel_offsets_of(c.scenario)}
+    return sorted(offsets, key=lambda d: (abs(d), d))
+
+
+def fleet_track_config(wildcards):
+    """What a fleet table depends on: the track part of its track's configuration; the speed checked
+    as a class speed of some fleet on the track."""
+    speeds = {fleet_speed_label(v) for name in FLEET_CLASSES if track_name(name) == wildcards.track for v in fleet_speeds(name)}
+    if wildcards.speed not in speeds:
+        raise ConfigError(f"target names a fleet table of track '{wildcards.track}' at V{wildcards.speed}, which is no class "
+                          f"speed of a fleet on that track: the speeds are {', '.join(sorted(speeds, key=float)) or 'none'} m/s.")
+    return track_config(wildcards)
+
+
+def fleet_growth_runtime(wildcards):
+    """Cluster runtime of a fleet growth job (minutes), scaled as growth_runtime: every update rolls
+    every class, so the wheels per update are the sum of the classes' axles."""
+    scn = SCENARIO_OBJECTS[wildcards.scenario]
+    wheels = sum(len(c.scenario.wheels.positions) for c in FLEET_CLASSES[wildcards.scenario])
+    updates = scn.growth.passages / scn.growth.passages_per_update
+    seconds = 0.5 * updates * wheels * scn.roughness.bays * (scn.contact_numerics.nodes / 61) ** 2
+    return int(10 + 3 * seconds / 60)
+
+
+def fleet_targets(name):
+    """What study_<name> builds for a fleet scenario: its growth run and its growth-rate spectrum
+    (dataset and figure)."""
+    return [f"results/fleet/{name}/growth.nc", f"results/fleet/{name}/rate_spectrum.nc", f"results/fleet/{name}/rate_spectrum.png"]
+
+
+def traffic_study_inputs(wildcards=None):
+    """The fleet spectra of the traffic study's cases, in the file's order (drives outer, spreads inner)."""
+    return [f"results/fleet/{name}/rate_spectrum.nc" for name in TRAFFIC_CASES]
+
+
+def traffic_study_cases(wildcards=None):
+    """[drive, spread] of every case, in the order of traffic_study_inputs."""
+    study = load_yaml(TRAFFIC_FILE)
+    return [[d, float(s)] for d in study["drives"] for s in study["spreads"]]
+
+
+# Uncertainty of the inputs (config/uncertainty.yaml, rail.uncertainty, named target uncertainty): the
+# members' configurations, drawn with the seed and validated here (a draw outside a key's range stops
+# the workflow naming the member and the key).
+UNCERTAINTY_FILE = Path("config/uncertainty.yaml")
+UNCERTAINTY = {}
+if UNCERTAINTY_FILE.exists():
+    from rail import uncertainty as _unc
+
+    _u = load_yaml(UNCERTAINTY_FILE)
+    try:
+        _draws = _unc.sample(_u["parameters"], _u["members"], _u["seed"])
+        _unc.band_statistics(np.zeros((1, 1)), _u["interval"])  # the interval's quantiles checked
+    except (ValueError, KeyError) as _e:
+        raise ConfigError(f"invalid configuration:\n  {UNCERTAINTY_FILE}: {_e}") from None
+    _members = []
+    for _m in range(int(_u["members"])):
+        _vals = {k: float(v[_m]) for k, v in _draws.items()}
+        try:
+            _cfg = _unc.member_config(config, _vals)
+        except ValueError as _e:
+            raise ConfigError(f"invalid configuration:\n  {UNCERTAINTY_FILE}: {_e}") from None
+        _cfg["figures"]["rate_spectrum"].update(_u["spectrum"])
+        _src = f"{UNCERTAINTY_FILE} (member {_m}: {', '.join(f'{k} = {v:.6g}' for k, v in _vals.items())})"
+        _cfg = validate_config(_cfg, SCHEMA, source=_src)
+        build_spectrum_scenario(_cfg, f"uncertainty-m{_m}", _src)  # physics constraints, naming the member
+        _members.append({"cfg": _cfg, "values": _vals})
+    UNCERTAINTY = {"members": _members, "speed": float(_u["speed"]), "interval": list(_u["interval"]),
+                   "draws": {k: [float(x) for x in v] for k, v in _draws.items()}}
+
+
+def uncertainty_member_config(wildcards):
+    """The configuration of one ensemble member (its draws applied), physics part."""
+    m = int(wildcards.member)
+    if not 0 <= m < len(UNCERTAINTY.get("members", [])):
+        raise ConfigError(f"target names the ensemble member m{wildcards.member}, which config/uncertainty.yaml does not "
+                          f"hold: the members are m0 .. m{len(UNCERTAINTY.get('members', [])) - 1}.")
+    cfg = UNCERTAINTY["members"][m]["cfg"]
+    return {**_physics(cfg), "figures": {"rate_spectrum": cfg["figures"]["rate_spectrum"]}}
+
+
+def uncertainty_members(wildcards=None):
+    """Every member's spectrum, in member order."""
+    return [f"results/uncertainty/members/m{m}.nc" for m in range(len(UNCERTAINTY.get("members", [])))]

@@ -1,0 +1,170 @@
+"""The workflow runs a scenario with a fleet (issue 35, docs/traffic.md): one receptance table per
+(track, speed) shared by every vehicle and fleet scenario, a fleet growth run and a fleet spectrum,
+study_<name> building them, and the default target untouched. Dry runs only."""
+
+import numpy as np
+import pytest
+
+from test_workflow import assert_stops_at_start_up, job_counts, snakemake, workdir  # noqa: F401 (fixture)
+
+MIX = """fleet:
+  vehicles:
+    - name: loco
+      positions: [0.0, 3.3]
+      static_load: 1.0e+5
+      unsprung_mass: 1350.0
+      creepage: [-0.001, -0.001]
+      share: 0.4
+    - name: coach
+      positions: [0.0, 2.6]
+      static_load: 5.0e+4
+      unsprung_mass: 800.0
+      creepage: [0.0005, 0.0005]
+      share: 0.6
+  speeds: {distribution: uniform, low: 36.0, high: 44.0, classes: 3}
+"""
+# another fleet on the same track: a three-axle vehicle at two of the speeds above and one more
+OTHER = """fleet:
+  vehicles:
+    - name: tram
+      positions: [0.0, 1.8, 5.0]
+      static_load: 4.0e+4
+      unsprung_mass: 500.0
+      creepage: [0.0, -0.001, 0.0]
+      share: 1.0
+  speeds: {values: [40.0, 44.0], weights: [0.5, 0.5]}
+"""
+
+
+def _fleets(workdir, **files):
+    """Only the given scenario files (the traffic study's and the ensemble's files removed too: their
+    fleets share the default track's tables)."""
+    for f in [*(workdir / "config/scenarios").glob("*.yaml"), workdir / "config/traffic_study.yaml", workdir / "config/uncertainty.yaml"]:
+        f.unlink()
+    for name, text in files.items():
+        (workdir / f"config/scenarios/{name}.yaml").write_text(text)
+
+
+@pytest.mark.slow
+def test_a_fleet_study_computes_one_table_per_speed_shared_by_its_vehicles_and_other_fleets(root, workdir):
+    _fleets(workdir, mix=MIX, other=OTHER)
+    out = snakemake(root, "-n", "study_mix", "study_other", cwd=workdir)
+    assert out.returncode == 0, out.stderr
+    # 3 + 1 distinct speeds (36, 40, 44 from classes at 37.33, 40, 42.67 and 40, 44): one table each per
+    # period (the growth's one bay, the spectrum's N = 48), never one per vehicle or per scenario
+    speeds = ["37.333333333333336", "40", "42.666666666666664", "44"]
+    assert job_counts(out.stdout) == {"fleet_receptance": 4, "fleet_receptance_bloch": 4, "fleet_growth": 2,
+                                      "fleet_class_spectrum": 8, "fleet_rate_spectrum": 2, "compile_kernels": 2,
+                                      "study_mix": 1, "study_other": 1}  # classes: 2 vehicles x 3 speeds, 1 x 2
+    for v in speeds:  # the union of every vehicle's axle offsets, in each table
+        assert (f"fleet receptance table: track default, V = {v} m/s, offsets 0.0 -1.8 1.8 -2.6 2.6 -3.2 3.2 -3.3 3.3 -5.0 5.0 m"
+                in out.stdout), v
+    assert "results/fleet/mix/growth.nc" in out.stdout and "results/fleet/other/rate_spectrum.png" in out.stdout
+    assert "rule growth:" not in out.stdout and "rule receptance:" not in out.stdout  # no one-train job
+
+
+@pytest.mark.slow
+def test_a_fleet_scenario_leaves_the_default_target_unchanged(root, workdir, tmp_path):
+    out = snakemake(root, "-n", cwd=workdir)
+    (workdir / "config/scenarios/mix.yaml").write_text(MIX)
+    with_fleet = snakemake(root, "-n", cwd=workdir)
+    assert out.returncode == 0 and with_fleet.returncode == 0, with_fleet.stderr
+    assert job_counts(with_fleet.stdout) == job_counts(out.stdout)
+    assert "results/fleet/" not in with_fleet.stdout and "fleet_V" not in with_fleet.stdout
+
+
+@pytest.mark.slow
+def test_the_traffic_study_computes_each_class_spectrum_once_however_many_cases_hold_it(root, workdir):
+    # 8 cases (2 drives x spreads 0, 5, 10, 20 %) hold 2 + 3 x 6 = 20 classes each drive, 40 in all; the
+    # distinct ones are the locomotive driven and braked and the coach (the same in both drives), each at
+    # the 7 distinct speeds (40 and 40 (1 -+ 2 s / 3)): 21 jobs, 7 tables
+    out = snakemake(root, "-n", "traffic_study", cwd=workdir)
+    assert out.returncode == 0, out.stderr
+    assert job_counts(out.stdout) == {"fleet_receptance_bloch": 7, "fleet_class_spectrum": 21, "fleet_rate_spectrum": 8,
+                                      "traffic_study_summary": 1, "traffic_study": 1, "compile_kernels": 1}
+
+
+def test_a_one_train_target_of_a_fleet_scenario_is_refused_in_one_line(root, workdir):
+    _fleets(workdir, mix=MIX)
+    out = snakemake(root, "-n", "results/growth/mix/V40.nc", cwd=workdir)
+    assert_stops_at_start_up(out, r"scenario 'mix' has a fleet: its growth per speed would run one train and leave the fleet "
+                                  r"out; build results/fleet/mix/growth\.nc", workdir)
+
+
+def test_a_fleet_roughness_tied_to_one_speed_is_refused_at_start_up(root, workdir):
+    _fleets(workdir, mix=MIX + "roughness:\n  kind: harmonic\n  frequency: 1000.0\n")
+    out = snakemake(root, "-n", cwd=workdir)
+    assert_stops_at_start_up(out, r"config/scenarios/mix\.yaml: roughness\.frequency = 1000\.0 Hz sets the wavelength at one "
+                                  r"speed: under a fleet at several speeds give roughness\.wavelength", workdir)
+
+
+def test_a_fleet_table_at_a_speed_no_fleet_runs_at_is_refused(root, workdir):
+    _fleets(workdir, mix=MIX)
+    out = snakemake(root, "-n", "results/receptance/default/fleet_V41.nc", cwd=workdir)
+    assert_stops_at_start_up(out, r"fleet table of track 'default' at V41, which is no class speed of a fleet on that track: "
+                                  r"the speeds are 37\.333333333333336, 40, 42\.666666666666664 m/s", workdir)
+
+
+# ---------------------------------------------------------------- the traffic study (config/traffic_study.yaml)
+
+
+def _study(root):
+    import yaml
+
+    return yaml.safe_load((root / "config/traffic_study.yaml").read_text())
+
+
+def test_traffic_study_cases_are_fleets_at_the_stated_spreads_about_the_mean_speed(root):
+    from rail.fleet import speed_classes
+    from rail.studies.fleet import traffic_cases
+
+    study = _study(root)
+    cases = traffic_cases(study)
+    assert list(cases) == [f"traffic_study-{d}-s{p}" for d in ("driven", "braked") for p in ("0", "5", "10", "20")]
+    for name, scen in cases.items():
+        s = float(name.rsplit("-s", 1)[1]) / 100
+        sc = speed_classes(scen["fleet"]["speeds"])
+        v = np.array(sc.speeds)
+        assert sc.mean == pytest.approx(40.0, rel=1e-12)
+        # uniform on 40 (1 -+ s) in n equal classes: the end classes' centres lie 40 s (1 - 1/n) from the mean
+        n = study["classes"] if s else 1
+        assert len(v) == n and v.max() - 40.0 == pytest.approx(40.0 * s * (1 - 1 / n), abs=1e-12)
+        drive = name.split("-")[1]
+        loco = scen["fleet"]["vehicles"][0]
+        assert np.sign(loco["creepage"]).tolist() == [-1.0 if drive == "driven" else 1.0] * 4
+
+
+@pytest.mark.parametrize("key, value, message", [
+    ("spreads", [0.0, 0.6], r"spreads\[1\] = 0\.6 is not allowed: it must be a number in \[0, 0\.5\)"),
+    ("distribution", "lognormal", r"distribution = 'lognormal' is not allowed: it must be 'uniform' or 'normal'"),
+    ("drives", {"driven": {"class87": -0.001}}, r"drives\.driven = .* is not allowed: give one creepage for each vehicle"),
+])
+def test_a_bad_traffic_study_is_refused_naming_key_and_range(root, key, value, message):
+    from rail.studies.fleet import traffic_cases
+
+    study = _study(root)
+    study[key] = value
+    with pytest.raises(ValueError, match=message):
+        traffic_cases(study)
+
+
+def test_band_rates_average_the_lines_of_each_band_and_leave_an_empty_band_empty():
+    from rail.studies.bands import third_octave_bands
+    from rail.studies.fleet import band_rates
+
+    bands = third_octave_bands(0.1, 0.08)  # 100 and 80 mm bands
+    lam = np.array([0.105, 0.095, 0.090])  # all in the 100 mm band (89.1-112.2 mm)
+    out = band_rates(lam, np.array([1.0, 2.0, 6.0]), bands)
+    assert out[0] == 3.0 and np.isnan(out[1])
+
+
+@pytest.mark.slow
+def test_the_uncertainty_ensemble_runs_one_spectrum_per_member_and_a_bad_draw_stops_at_start_up(root, workdir):
+    out = snakemake(root, "-n", "uncertainty", cwd=workdir)
+    assert out.returncode == 0, out.stderr
+    assert job_counts(out.stdout) == {"uncertainty_member": 16, "uncertainty_ensemble": 1, "uncertainty": 1, "compile_kernels": 1}
+    f = workdir / "config/uncertainty.yaml"
+    f.write_text(f.read_text().replace("{distribution: uniform, low: 0.2, high: 0.4}", "{distribution: uniform, low: 0.4, high: 0.2}"))
+    bad = snakemake(root, "-n", "uncertainty", cwd=workdir)
+    assert_stops_at_start_up(bad, r"config/uncertainty\.yaml: uncertainty parameter contact\.friction: low = 0\.4, high = 0\.2 "
+                                  r"are not allowed: low <= high", workdir)

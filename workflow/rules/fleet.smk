@@ -1,0 +1,202 @@
+# Traffic as a fleet (issue 35, docs/traffic.md): growth and the growth-rate spectrum of a scenario with
+# `fleet:`. One receptance table per (track, speed), with the offsets of every vehicle of every fleet
+# on the track, serves every vehicle and every fleet scenario at that speed (computed once).
+
+
+rule fleet_receptance:
+    """Receptance table a_{p-k}(k Omega_0, d) of a track at one fleet class speed, with the offsets of
+    every axle pair of every fleet vehicle on the track (rail.chain.fleet_tables)."""
+    output:
+        "results/receptance/{track}/fleet_V{speed}.nc",
+    wildcard_constraints:
+        speed="[^_/]+",
+    params:
+        code=code("receptance.py"),
+        cfg=fleet_track_config,
+        offsets=fleet_offsets,
+    message:
+        "fleet receptance table: track {wildcards.track}, V = {wildcards.speed} m/s, offsets {params.offsets} m"
+    log:
+        "logs/receptance/{track}/fleet_V{speed}.log",
+    benchmark:
+        "benchmarks/receptance/{track}/fleet_V{speed}.tsv"
+    resources:
+        mem_mb=1200,
+        runtime=10,
+    script:
+        "../scripts/receptance.py"
+
+
+use rule fleet_receptance as fleet_receptance_bloch with:
+    output:
+        "results/receptance/{track}/fleet_V{speed}_N{bays}.nc",
+    wildcard_constraints:
+        speed="[^_/]+",
+        bays="[0-9]+",
+    message:
+        "fleet receptance tables: track {wildcards.track}, V = {wildcards.speed} m/s, N = {wildcards.bays} bays, offsets {params.offsets} m"
+    log:
+        "logs/receptance/{track}/fleet_V{speed}_N{bays}.log",
+    benchmark:
+        "benchmarks/receptance/{track}/fleet_V{speed}_N{bays}.tsv"
+    resources:
+        mem_mb=1200,
+        runtime=30,
+
+
+rule fleet_growth:
+    """Roughness growth under a scenario's fleet: each update applies the traffic-weighted wear of every
+    (vehicle, speed) class (rail.chain.grow_fleet), resumable from its checkpoint."""
+    input:
+        kernels=kernels("march"),
+        tables=fleet_growth_tables,
+        roughness=roughness_file,
+    output:
+        "results/fleet/{scenario}/growth.nc",
+    params:
+        code=code("fleet_growth.py"),
+        cfg=physics_config,
+        speeds=fleet_table_speeds,
+        checkpoint="results/checkpoints/{scenario}_fleet.npz",
+    log:
+        "logs/fleet/{scenario}/growth.log",
+    benchmark:
+        "benchmarks/fleet/{scenario}/growth.tsv"
+    resources:
+        mem_mb=1000,
+        runtime=fleet_growth_runtime,
+    script:
+        "../scripts/fleet_growth.py"
+
+
+rule fleet_class_spectrum:
+    """Growth-rate spectrum of one (vehicle, speed) class of a fleet, per passage of its train
+    (rail.growth_spectrum.rate_spectrum): a job of its own, shared by every fleet holding the class."""
+    input:
+        kernels=kernels("tangent"),
+        table=fleet_class_table,
+    output:
+        "results/fleet/classes/{key}.npz",
+    wildcard_constraints:
+        key="[0-9a-f]{16}",
+    params:
+        code=code("fleet_class_spectrum.py"),
+        cfg=fleet_class_config,
+        job=fleet_class_params,
+    log:
+        "logs/fleet/classes/{key}.log",
+    benchmark:
+        "benchmarks/fleet/classes/{key}.tsv"
+    resources:
+        mem_mb=3400,  # measured: max_rss 1893 MB (four-axle locomotive, 61 lines of a 10-bay period), x 1.5 + 500
+        runtime=30,
+    script:
+        "../scripts/fleet_class_spectrum.py"
+
+
+rule fleet_rate_spectrum:
+    """Growth-rate spectrum under a scenario's fleet: the traffic-weighted rate per wavelength, each
+    class's contribution kept (rail.growth_spectrum.fleet_spectrum_of), per fleet passage and per year."""
+    input:
+        fleet_class_spectra,
+    output:
+        data="results/fleet/{scenario}/rate_spectrum.nc",
+        figure=report("results/fleet/{scenario}/rate_spectrum.png", caption="../report/fleet_rate_spectrum.rst", category="Traffic (fleet)"),
+    params:
+        code=code("fleet_rate_spectrum.py"),
+        cfg=scenario_config,
+    log:
+        "logs/fleet/{scenario}/rate_spectrum.log",
+    benchmark:
+        "benchmarks/fleet/{scenario}/rate_spectrum.tsv"
+    resources:
+        mem_mb=500,
+        runtime=5,
+    script:
+        "../scripts/fleet_rate_spectrum.py"
+
+
+rule traffic_study_summary:
+    """The traffic study's cases side by side: growth-rate spectrum per case, one-third-octave band rates,
+    what the pinned-pinned and the fastest-growing bands do across the spreads and drives."""
+    input:
+        traffic_study_inputs,
+    output:
+        data="results/traffic_study/traffic_study.nc",
+        figure=report("results/traffic_study/spectra.png", caption="../report/traffic_study.rst", category="Traffic (fleet)"),
+        summary="results/traffic_study/summary.md",
+    params:
+        code=code("traffic_study.py"),
+        cfg={},  # drawn from the spectra alone, each of which records its configuration
+        cases=traffic_study_cases,
+    log:
+        "logs/traffic_study/summary.log",
+    benchmark:
+        "benchmarks/traffic_study/summary.tsv"
+    resources:
+        mem_mb=500,
+        runtime=5,
+    script:
+        "../scripts/traffic_study.py"
+
+
+rule traffic_study:
+    """Named target (issue 35): the report's 40 m/s case under a locomotive and coach mix at speed spreads
+    of 0, 5, 10 and 20 %, locomotive driven or braked (config/traffic_study.yaml, README "Traffic")."""
+    input:
+        "results/traffic_study/spectra.png",
+        "results/traffic_study/summary.md",
+
+
+rule uncertainty_member:
+    """Growth-rate spectrum of one member of the uncertainty ensemble (config/uncertainty.yaml): the default
+    configuration with the member's drawn friction, wear coefficient, creepage and pad stiffness; its own
+    receptance tables (the pad stiffness differs per member)."""
+    input:
+        kernels=kernels("tangent"),
+    output:
+        "results/uncertainty/members/m{member}.nc",
+    wildcard_constraints:
+        member="[0-9]+",
+    params:
+        code=code("uncertainty_member.py"),
+        cfg=uncertainty_member_config,
+        speed=lambda w: UNCERTAINTY["speed"],
+    log:
+        "logs/uncertainty/m{member}.log",
+    benchmark:
+        "benchmarks/uncertainty/m{member}.tsv"
+    resources:
+        mem_mb=3400,  # not measured: fleet_class_spectrum's (the same spectrum, one wheel here, plus its tables)
+        runtime=30,
+    script:
+        "../scripts/uncertainty_member.py"
+
+
+rule uncertainty_ensemble:
+    """The ensemble's band spectrum: per one-third-octave band, the median over the members and the stated interval."""
+    input:
+        uncertainty_members,
+    output:
+        data="results/uncertainty/ensemble.nc",
+        figure=report("results/uncertainty/band_interval.png", caption="../report/uncertainty.rst", category="Traffic (fleet)"),
+    params:
+        code=code("uncertainty_ensemble.py"),
+        cfg={},  # drawn from the members alone, each of which records its configuration
+        draws=lambda w: UNCERTAINTY["draws"],
+        interval=lambda w: UNCERTAINTY["interval"],
+    log:
+        "logs/uncertainty/ensemble.log",
+    benchmark:
+        "benchmarks/uncertainty/ensemble.tsv"
+    resources:
+        mem_mb=500,
+        runtime=5,
+    script:
+        "../scripts/uncertainty_ensemble.py"
+
+
+rule uncertainty:
+    """Named target (issue 35): the growth-rate band spectrum with the uncertainty of the inputs (config/uncertainty.yaml)."""
+    input:
+        "results/uncertainty/band_interval.png",

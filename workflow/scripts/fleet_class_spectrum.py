@@ -1,0 +1,31 @@
+"""Growth-rate spectrum of one (vehicle, speed) class of a fleet (rail.growth_spectrum.rate_spectrum)."""
+
+import sys
+
+import numpy as np
+
+from rail import chain
+from rail.setup import build, io
+from rail.studies import datasets, rate_spectrum
+from rail.studies import fleet as fleet_study
+
+
+def main(config, name, index, speed, table_path, out_path, log):
+    scn = build.spectrum_scenario(config, name)  # smooth rail, the spectrum's N-bay period
+    c = build.fleet_classes(config, scn)[index]
+    with io.open_intermediate(table_path) as t:
+        tab = datasets.read_receptance_table(t.load())
+    if c.speed != speed or chain.table_speed(tab) != speed:
+        raise ValueError(f"class {c.label}: table at {chain.table_speed(tab)!r} m/s, class speed {c.speed!r}, job speed {speed!r} m/s.")
+    sp = rate_spectrum.spectrum_with_settings(c.scenario, tab, config["figures"]["rate_spectrum"])
+    print(f"{name}, class {index} ({c.label}): {len(sp.line)} lines, linearity {sp.linearity:.2e}, method {sp.method}",
+          file=log, flush=True)
+    with open(out_path, "wb") as fh:
+        np.savez(fh, **fleet_study.spectrum_arrays(sp))
+
+
+if __name__ == "__main__":
+    log = open(snakemake.log[0], "w")  # noqa: F821
+    sys.stderr = log
+    name, index, speed = snakemake.params.job  # noqa: F821
+    main(snakemake.params.cfg, name, int(index), float(speed), snakemake.input.table, snakemake.output[0], log)  # noqa: F821
