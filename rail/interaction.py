@@ -393,12 +393,7 @@ def solve_forces(
                          f"r = 0..{N // 2}; got fractions {[t.fraction for t in tabs]}.")
     K = tabs[0].harmonics
     J = N * K
-    Z = np.zeros(2 * J + 1, dtype=complex)
-    Jr = roughness.harmonics
-    c = min(J, Jr)
-    Z[J - c : J + c + 1] = roughness.Z[Jr - c : Jr + c + 1]
-    if Jr > J and np.any(roughness.Z[: Jr - J] != 0):
-        raise ValueError(f"the roughness has harmonics above K = {K}; raise numerics.track.harmonics.")
+    Z = _roughness_to(roughness, J, K)
     n = len(wheels.positions)
     P = np.zeros((n, 2 * J + 1), dtype=complex)
     for r, t in enumerate(tabs):
@@ -412,6 +407,18 @@ def solve_forces(
     return result
 
 
+def _roughness_to(roughness: Roughness, J: int, K: int):
+    """The roughness coefficients truncated or zero-padded to |j| <= J (a table's harmonics); an
+    error naming K if a dropped harmonic is not zero."""
+    Z = np.zeros(2 * J + 1, dtype=complex)
+    Jr = roughness.harmonics
+    c = min(J, Jr)
+    Z[J - c : J + c + 1] = roughness.Z[Jr - c : Jr + c + 1]
+    if Jr > J and np.any(roughness.Z[: Jr - J] != 0):
+        raise ValueError(f"the roughness has harmonics above K = {K}; raise numerics.track.harmonics.")
+    return Z
+
+
 def _solve_cell(tab: MovingReceptance, wheels: Wheels, contact: ContactSpring, roughness: Roughness, L: float) -> ForceResult:
     """solve_forces with the table of a track periodic over a cell of N bays (rail.moving.cell_receptance_table):
     one system over every harmonic j Omega_0 / N of the cell, |j| <= N K (the irregular supports
@@ -421,12 +428,7 @@ def _solve_cell(tab: MovingReceptance, wheels: Wheels, contact: ContactSpring, r
         raise ValueError(f"the receptance table is of a track cell of {tab.bays} bays, the roughness is periodic over "
                          f"{N}: roughness.bays must equal the cell's bays ({tab.bays}).")
     J = tab.harmonics
-    Z = np.zeros(2 * J + 1, dtype=complex)
-    Jr = roughness.harmonics
-    c = min(J, Jr)
-    Z[J - c : J + c + 1] = roughness.Z[Jr - c : Jr + c + 1]
-    if Jr > J and np.any(roughness.Z[: Jr - J] != 0):
-        raise ValueError(f"the roughness has harmonics above K = {J // N}; raise numerics.track.harmonics.")
+    Z = _roughness_to(roughness, J, J // N)
     P = _solve_class(tab, wheels, contact, Z, N * L, 1)
     sup = None if tab.supports is None else np.asarray(tab.supports, dtype=float)
     result = ForceResult(P, tab.speed, L, np.asarray(wheels.positions, dtype=float), N, sup)
