@@ -5,6 +5,7 @@ import pytest
 from scipy import special
 
 from rail import moving
+from rail.cell import TrackCell
 from rail import track as T
 
 
@@ -249,7 +250,7 @@ def test_filon_weights_remove_the_aliasing_of_far_offsets_on_the_d0_rule(track):
     column = np.abs(np.diag(moving.receptance_table(track, V, K).A[0]))
     errs = {}
     for filon in (False, True):
-        A, _, _ = moving._integrate(track, V, 0.0, js, [d], 0, 1e-4, cut, filon=filon)
+        A, _, _ = moving._integrate(TrackCell.uniform(track), V, 0.0, js, [d], 0, 1e-4, cut, filon=filon)
         errs[filon] = np.max(np.abs(np.diag(A[0]) - diag) / column)
     assert errs[False] > 1e-2
     assert errs[True] < 2e-5
