@@ -278,9 +278,9 @@ def train_wear(scn: Scenario, table: MovingReceptance, Z, grid_phase: float = 0.
         w = passage_wear(scn, forces, current, int(l), grid_phase)
         dZ += w.Z
         slip = max(slip, w.full_slip)
-        # the worn profile keeps the roughness's period (rail.wear.apply_wear returns a 1-bay roughness,
-        # which made the second wheel of a train over an N-bay period fail); Z - 1.0 dZ == Z - dZ bitwise
-        current = Roughness(current.Z - w.Z, current.bays)
+        # the worn profile keeps the roughness's period (a 1-bay roughness here made the second wheel of
+        # a train over an N-bay period fail; tests/test_fleet.py)
+        current = wear.apply_wear(current, w.Z)
     return dZ, slip
 
 

@@ -131,8 +131,9 @@ def apply_wear(roughness: Roughness, dZ, passages: float = 1.0) -> Roughness:
     Returns
     -------
     Roughness
+        Over the same period of N bays as ``roughness``.
     """
-    return Roughness(roughness.Z - passages * np.asarray(dZ))
+    return Roughness(roughness.Z - passages * np.asarray(dZ), roughness.bays)
 
 
 def bay_wear(forces: ForceResult, wheel_index: int, roughness: Roughness, material: ContactMaterial, wear_law: WearLaw,
