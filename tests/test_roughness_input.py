@@ -305,13 +305,13 @@ def test_a_record_twice_the_period_gives_band_levels_from_the_whole_record(tmp_p
     path = _write(tmp_path / "long.csv", _profile_text("position [mm],height [µm]", x * 1e3, z * 1e6))
     rough = InitialRoughness("profile", 0.0, 1000.0, None, str(path), bays=N)
     Z = rough.realise(40.0, L, K).Z
-    power = np.zeros(J)
+    power = np.zeros(J)  # |F_j|^2 summed over the two halves, j = 1..J
     for s in range(2):
         seg = z[s * n: (s + 1) * n + 1]
         seg = seg - (seg[0] + (seg[-1] - seg[0]) * np.linspace(0.0, 1.0, n + 1))
-        power += 2 * np.abs(np.fft.rfft(seg[:n])[1: J + 1] / n) ** 2 / 2
+        power += np.abs(np.fft.rfft(seg[:n])[1: J + 1] / n) ** 2
     direct = np.zeros(2 * J + 1, dtype=complex)
-    direct[J + 1:] = np.sqrt(power / 2)
+    direct[J + 1:] = np.sqrt(power / 2)  # the mean over the halves
     got, want = _band_levels(Z, J, P), _band_levels(direct, J, P)
     assert got.keys() == want.keys() and len(got) >= 15
     for k in want:
@@ -415,5 +415,17 @@ def test_the_longest_resolved_band_of_a_known_record_length():
     assert R.longest_resolved_band(10.0) == pytest.approx(10 ** 0.4)
     assert R.longest_resolved_band(3 * 2 ** (1 / 6) * 0.1) == pytest.approx(0.1)  # exactly at the edge: resolved
     np.testing.assert_array_equal(R.resolved_bands([1.0, 0.8, 0.63, 0.1], 3.0), [False, True, True, True])
-    said = InitialRoughness("profile", 0.0, 1000.0, None, None or "config/roughness/synthetic_profile.csv", bays=4)
-    assert said.record == "average"
+
+
+
+def test_the_shipped_profile_states_its_record_segments_and_longest_band(root):
+    # config/roughness/synthetic_profile.csv: 3 m at 1 mm; over 4 bays (2.4 m) one segment, 0.6 m
+    # not used; the 2.4 m segment resolves down to 0.63 m, the 3 m record to 0.8 m
+    said = InitialRoughness("profile", 0.0, 1000.0, None, str(root / "config/roughness/synthetic_profile.csv"), bays=4).statement(L, 64)
+    assert said["roughness_segments"] == 1 and said["roughness_remainder_m"] == pytest.approx(0.6)
+    assert said["roughness_record_length_m"] == pytest.approx(3.0)
+    assert said["roughness_longest_resolved_band_m"] == pytest.approx(10 ** -0.2)
+    assert said["roughness_record_longest_band_m"] == pytest.approx(10 ** -0.1)
+    assert "position in m, height in m, 3001 rows" in said["roughness_input"]
+    assert "0.6 m at the end of the 3 m record not used" in said["roughness_processing"]
+    assert "longest resolved one-third-octave band 0.631 m" in said["roughness_processing"]
