@@ -429,3 +429,33 @@ def test_the_shipped_profile_states_its_record_segments_and_longest_band(root):
     assert "position in m, height in m, 3001 rows" in said["roughness_input"]
     assert "0.6 m at the end of the 3 m record not used" in said["roughness_processing"]
     assert "longest resolved one-third-octave band 0.631 m" in said["roughness_processing"]
+
+
+def test_the_growth_result_and_its_log_state_the_measured_profile(root):
+    # one update of 10,000 passages from the shipped profile (1 bay): the result's attributes and the
+    # log lines say what was read and how it was processed
+    import dataclasses
+    import io
+
+    from test_contact_shift import K as K_CS
+    from test_contact_shift import _scn, _track
+
+    from rail import chain, moving
+    from rail.studies import runs
+
+    table = moving.receptance_table(_track(), 40.0, K_CS, offsets=[0.0])
+    scn = _scn("report", passages=10000, step=10000)
+    prof = InitialRoughness("profile", 0.0, 1000.0, None, str(root / "config/roughness/synthetic_profile.csv"), bays=1,
+                            spike_removal=True)
+    scn = dataclasses.replace(scn, roughness=prof)
+    h = chain.grow(scn, table, progress=io.StringIO())
+    log = io.StringIO()
+    ds = runs.growth_dataset(scn, table, h, 40.0, warn=log)
+    assert ds.attrs["roughness_kind"] == "profile"
+    assert ds.attrs["roughness_segments"] == 5 and ds.attrs["roughness_remainder_m"] == pytest.approx(0.0, abs=1e-9)
+    assert ds.attrs["roughness_spikes_removed"] == 0
+    # a 0.6 m segment: 0.6 / (3 x 1.1225) = 0.178 m, so the 0.16 m band (exact 10^(-0.8) = 0.158 m)
+    assert ds.attrs["roughness_longest_resolved_band_m"] == pytest.approx(10 ** -0.8)
+    lines = [a for a in log.getvalue().splitlines() if a.startswith("initial roughness: ")]
+    assert len(lines) == 2 and "synthetic_profile.csv: measured profile, position in m" in lines[0]
+    assert "5 segment(s) of N L = 0.6 m" in lines[1] and "spike removal on" in lines[1]
