@@ -16,7 +16,7 @@ def growth_dataset(scn: Scenario, table, history, speed: float, warn=None) -> xr
     """The growth dataset of a run (rail.studies.datasets.growth) with every wheel's contact force
     and the neglected move of the contact centre (rail.chain.contact_shift) at each saved roughness.
 
-    Where the move's sweep error |dc/dx| exceeds rail.chain.SWEEP_ERROR_LIMIT at a saved state, the
+    Where the move's sweep error abs(dc/dx) exceeds rail.chain.SWEEP_ERROR_LIMIT at a saved state, the
     attribute ``contact_shift_warning`` holds one line saying so (docs/contact.md), also written to
     ``warn``.
 
