@@ -736,7 +736,7 @@ def spectrum_coefficients(wavelength, level_dB, period: float, J: int, seed: int
     Returns
     -------
     ndarray, shape (2J + 1,)
-        Z_j [m], Z_0 = 0, Z_-j = conj(Z_j); sum over the band's j of 2 |Z_j|^2 is its mean square.
+        Z_j [m], Z_0 = 0, Z_{-j} = conj(Z_j); sum over the band's j of 2 abs(Z_j)^2 is its mean square.
     """
     _check_period(period, J)
     rng = np.random.default_rng(int(seed))

@@ -47,20 +47,22 @@ class TrackNumerics:
 class InitialRoughness:
     """The rail-head roughness a growth run starts from (config key ``roughness``, eqs 18-19).
 
-    kind       : 'smooth', 'harmonic' (z = amplitude cos(2 pi x / wavelength), x = 0 at a support),
+    Attributes
+    ----------
+    kind : 'smooth', 'harmonic' (z = amplitude cos(2 pi x / wavelength), x = 0 at a support),
                  'file' (eq 18 coefficients per bay harmonic, CSV k,A_m,B_m), 'profile' (a measured
                  profile, CSV position_m,height_m) or 'spectrum' (a one-third-octave wavelength
                  spectrum, CSV wavelength_m,level_dB, realised with random phases; rail.roughness)
-    amplitude  : [m], kind 'harmonic'
-    frequency  : excitation frequency V / wavelength [Hz], kind 'harmonic' without a wavelength
+    amplitude : [m], kind 'harmonic'
+    frequency : excitation frequency V / wavelength [Hz], kind 'harmonic' without a wavelength
     wavelength : [m] or None, kind 'harmonic' (must divide the period N L)
-    file       : path or None, kinds 'file', 'profile', 'spectrum'
-    bays       : N, the roughness period in sleeper bays [-], >= 1 (with record 'period': the bays
-                 the record holds, rail.setup.build takes them from the record)
-    seed       : seed of the random phases [-], kind 'spectrum'
-    record     : kind 'profile': 'average' (the whole record, its N L segments averaged) or 'period'
-                 (N L from the record's length) [-]; rail.roughness.process_profile
-    spike_removal   : kind 'profile': remove spikes and pits first (rail.roughness.remove_spikes) [-]
+    file : path or None, kinds 'file', 'profile', 'spectrum'
+    bays : N, the roughness period in sleeper bays [-], >= 1 (with record 'period': the bays
+        the record holds, rail.setup.build takes them from the record)
+    seed : seed of the random phases [-], kind 'spectrum'
+    record : kind 'profile': 'average' (the whole record, its N L segments averaged) or 'period'
+        (N L from the record's length) [-]; rail.roughness.process_profile
+    spike_removal : kind 'profile': remove spikes and pits first (rail.roughness.remove_spikes) [-]
     spike_threshold : their curvature criterion, robust standard deviations [-], > 0
     """
 
@@ -107,7 +109,7 @@ class InitialRoughness:
         L : float
             Sleeper spacing [m]; the period is N L.
         K : int
-            Harmonics of the sleeper-passing frequency [-]: Z_j for |j| <= N K.
+            Harmonics of the sleeper-passing frequency [-]: Z_j for abs(j) <= N K.
 
         Returns
         -------
@@ -165,20 +167,22 @@ class InitialRoughness:
 class Scenario:
     """Everything the model chain computes from (rail.chain), for one scenario.
 
-    name             : scenario name (config/scenarios/<name>.yaml; 'default' for config.yaml)
-    track            : Table 1 track (sec. 4.1)
-    track_numerics   : harmonics and quadrature tolerance of the receptance table
-    wheels           : the train's wheels
-    spring           : linearised Hertz contact spring with its damping
-    material         : contact parameters (secs 4.2-4.3)
-    elastic          : rail steel as an elastic half-space (sec. 3)
-    wear_law         : rho and K of eq 49
+    Attributes
+    ----------
+    name : scenario name (config/scenarios/<name>.yaml; 'default' for config.yaml)
+    track : Table 1 track (sec. 4.1)
+    track_numerics : harmonics and quadrature tolerance of the receptance table
+    wheels : the train's wheels
+    spring : linearised Hertz contact spring with its damping
+    material : contact parameters (secs 4.2-4.3)
+    elastic : rail steel as an elastic half-space (sec. 3)
+    wear_law : rho and K of eq 49
     contact_numerics : tangential-contact grid and closure
-    growth           : growth-loop settings (sec. 5)
-    roughness        : the initial roughness
-    speeds           : train speeds of the scenario's studies [m/s]
-    axles_per_day    : traffic over the rail, wheel passages per day on one rail [1/day]
-    cell             : the track's cell of N bays whose supports differ (rail.cell.TrackCell), or None
+    growth : growth-loop settings (sec. 5)
+    roughness : the initial roughness
+    speeds : train speeds of the scenario's studies [m/s]
+    axles_per_day : traffic over the rail, wheel passages per day on one rail [1/day]
+    cell : the track's cell of N bays whose supports differ (rail.cell.TrackCell), or None
                        for identical supports at equal spacing; ``track`` is then its nominal track
                        with the mean spacing P / N
     """

@@ -20,7 +20,7 @@ def growth_dataset(scn: Scenario, table, history, speed: float, warn=None) -> xr
     for a measured profile the file, units, rows, segments averaged, remainder, spike removal and
     the longest resolved band) and in two lines to ``warn``.
 
-    Where the move's sweep error |dc/dx| exceeds rail.chain.SWEEP_ERROR_LIMIT at a saved state, the
+    Where the move's sweep error abs(dc/dx) exceeds rail.chain.SWEEP_ERROR_LIMIT at a saved state, the
     attribute ``contact_shift_warning`` holds one line saying so (docs/contact.md), also written to
     ``warn``.
 
