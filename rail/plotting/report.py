@@ -11,6 +11,7 @@ import matplotlib
 
 matplotlib.use("Agg")
 import matplotlib.colors  # noqa: E402
+import matplotlib.ticker  # noqa: E402
 import matplotlib.pyplot as plt  # noqa: E402
 import numpy as np  # noqa: E402
 import xarray as xr  # noqa: E402
@@ -413,6 +414,17 @@ def _passage_key(fig, n, colours, drawn):
     bar.set_ticks(ticks, labels=[text.count(n[i]) for i in ticks])
 
 
+def _mm_axis(ax, lam_mm):
+    """A log wavelength axis in mm over the lines lam_mm, ticked at round values written plainly
+    (20, 50, 100, not 2×10¹)."""
+    lo, hi = float(np.min(lam_mm)), float(np.max(lam_mm))
+    ax.set_xscale("log")
+    ax.set_xlim(lo / 1.05, hi * 1.05)
+    ax.set_xticks([t for t in (1, 2, 5, 10, 20, 50, 100, 200, 500, 1000, 2000, 5000, 10000) if lo / 1.05 <= t <= hi * 1.05])
+    ax.xaxis.set_major_formatter(matplotlib.ticker.FormatStrFormatter("%g"))
+    ax.xaxis.set_minor_formatter(matplotlib.ticker.NullFormatter())
+
+
 def level_change(ds: xr.Dataset):
     """Change in level of every line since a reference state [dB]: the initial state where it has a
     level, else (a smooth rail) the first saved state with a level. Returns (change, ref): change of
@@ -457,6 +469,7 @@ def scenario_overview(ds: xr.Dataset, default: xr.Dataset | None = None, name: s
                 va="top", ha="left", color="firebrick", bbox={"facecolor": "w", "edgecolor": "firebrick", "lw": 0.6})
     a1.set_xlabel("wavelength (mm)")
     a1.set_ylabel("roughness level (dB re 1 µm)")
+    _mm_axis(a1, lam)
     top = float(np.nanmax(level)) if drawn.any() else 0.0
     a1.set_ylim(top - 80, top + 5)
     a1.set_title("(a) roughness level of each line", fontsize=9)
@@ -474,6 +487,7 @@ def scenario_overview(ds: xr.Dataset, default: xr.Dataset | None = None, name: s
         since = "the start (no state has a level)"
     a4.axhline(0.0, color="0.3", lw=0.6)
     a4.set_xlabel("wavelength (mm)")
+    _mm_axis(a4, lam)
     a4.set_ylabel("change in level (dB)")
     a4.set_title(f"(b) change in level of each line since {since}", fontsize=9)
 
