@@ -11,6 +11,7 @@ from pathlib import Path
 from types import SimpleNamespace
 
 import matplotlib.collections
+import matplotlib.pyplot as plt
 import numpy as np
 import pytest
 
@@ -38,6 +39,14 @@ def growth_run(saved=6, smooth=True, K=12, bays=1, step=10_000):
     ds = datasets.growth(GrowthHistory(n, Z), TRACK, 40.0, 1, points=41, bays=bays,
                          force=lambda z, x: np.full((1, x.size), 1e5) + 1e12 * z[J + 1].real * np.cos(2 * np.pi * x / L))
     return ds.assign_attrs(normal_contact="report")
+
+
+@pytest.fixture(autouse=True)
+def _close_figures():
+    """Each test's figures are closed after it (more than 20 open figures warn, and a warning from
+    rail is an error in this suite)."""
+    yield
+    plt.close("all")
 
 
 def _texts(fig):
