@@ -242,8 +242,8 @@ def remove_spikes(x, z, threshold: float = SPIKE_THRESHOLD):
 
     The curvature of the record at every inner sample is the three-point second derivative
     c_i = 2 [(z_{i+1} - z_i) / (x_{i+1} - x_i) - (z_i - z_{i-1}) / (x_i - x_{i-1})] / (x_{i+1} - x_{i-1}).
-    A sample is a spike (upwards) or a pit (downwards) where |c_i - median(c)| exceeds ``threshold``
-    robust standard deviations s = 1.4826 median(|c - median(c)|) of the whole record (s is taken
+    A sample is a spike (upwards) or a pit (downwards) where abs(c_i - median(c)) exceeds ``threshold``
+    robust standard deviations s = 1.4826 median(abs(c - median(c))) of the whole record (s is taken
     once, from the record as measured). Each run of neighbouring flagged samples is replaced by the
     straight line between the unflagged samples on either side; the curvature is then taken again
     and the test repeated (against the same s) until no sample is flagged (at most 10 passes). The
@@ -385,16 +385,18 @@ def resolved_bands(wavelength, length: float, cycles: float = RECORD_CYCLES):
 class ProfileProcessing:
     """A measured profile made into coefficients over the period (process_profile), and what was done.
 
-    Z                 : coefficients Z_j [m], j = -J..J
-    period            : P = N L [m]
-    record            : record length [m]
-    mode              : 'average' or 'period' (roughness.record)
-    segments          : whole periods of the record averaged [-] (1 for a record of one period or
-                        shorter, then repeated)
-    remainder         : record length after the last whole period, not used [m]
-    spikes_removed    : samples replaced by remove_spikes [-], or None when spike removal is off
-    analysed          : length of one analysed segment, min(record, P) [m]
-    longest_band      : longest_resolved_band(analysed) [m]
+    Attributes
+    ----------
+    Z : coefficients Z_j [m], j = -J..J
+    period : P = N L [m]
+    record : record length [m]
+    mode : 'average' or 'period' (roughness.record)
+    segments : whole periods of the record averaged [-] (1 for a record of one period or
+        shorter, then repeated)
+    remainder : record length after the last whole period, not used [m]
+    spikes_removed : samples replaced by remove_spikes [-], or None when spike removal is off
+    analysed : length of one analysed segment, min(record, P) [m]
+    longest_band : longest_resolved_band(analysed) [m]
     record_longest_band : longest_resolved_band(record) [m]
     """
 
@@ -418,7 +420,7 @@ def process_profile(x, z, period: float, J: int, *, mode: str = "average", spike
     into S segments [s P, (s + 1) P] from its start (the remainder after the last is not used and is
     stated); each is made periodic (the line through its end points removed), resampled linearly
     onto 8 J points and transformed, F_s,j. The coefficients have the mean power of the segments and
-    the phases of the first: Z_j = sqrt(mean_s |F_s,j|^2) exp(i arg F_1,j), so that every band
+    the phases of the first: Z_j = sqrt(mean_s abs(F_s,j)^2) exp(i arg F_1,j), so that every band
     level is the record's mean (the one-third-octave spectrum EN 15610 averages over a record) and a
     record of one period gives its own coefficients. A record shorter than P is made periodic over
     its own length and repeated, with a warning.

@@ -236,10 +236,16 @@ def growth_final_profiles(ds: xr.Dataset):
 def growth_3d(ds: xr.Dataset, axis: str = "wavenumber", name: str = ""):
     """The three-dimensional plot of section 5: level over wavenumber (or wavelength) and passages.
 
-    axis : "wavenumber" (rad/m, linear; as the report describes the plot, used for the default
+    Parameters
+    ----------
+    ds : xarray.Dataset
+        A growth dataset (rail.studies.datasets.growth).
+    axis : str
+        "wavenumber" (rad/m, linear; as the report describes the plot, used for the default
         scenario's section-5 plot) or "wavelength" (mm, log scale; a scenario's plot, as its other
         figures).
-    name : the scenario, named in the title when given.
+    name : str
+        The scenario, named in the title when given.
     """
     if axis not in ("wavenumber", "wavelength"):
         raise ValueError(f"growth_3d: axis = {axis!r} is not allowed: it must be 'wavenumber' or 'wavelength'")
