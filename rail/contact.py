@@ -43,7 +43,7 @@ import math
 from dataclasses import dataclass
 
 import numpy as np
-from numba import njit
+from ._lazyjit import njit
 
 __all__ = [
     "ContactMaterial",

@@ -19,7 +19,7 @@ from __future__ import annotations
 import math
 
 import numpy as np
-from numba import njit
+from ._lazyjit import njit
 
 from .contact import (CHECKERBOARD_LIMIT, THETA_EDGE, ContactError, ContactMaterial, _basis_workspace, _closure_matrix,
                       _ellipse_area, _march, chebyshev_hat_moments, compliance)

@@ -1,0 +1,112 @@
+"""numba's ``njit``, imported when a compiled function is first used rather than when its module is.
+
+Importing numba costs about 0.7 s CPU (more on a loaded machine). Every workflow job and the
+Snakemake process itself import rail.contact for its dataclasses and constants, but only the jobs
+that roll the contact call its compiled loops. ``njit(cache=True)`` here records the Python function;
+the first call (or attribute access, e.g. ``.signatures``) of any recorded function of a module
+imports numba, makes every recorded function of that module a numba dispatcher with the same
+options, and rebinds the module's globals to them, so that compiled functions calling each other see
+dispatchers when numba types them. Names imported from another module (``from .contact import
+_march``) are rebound the same way in the importing module when its own functions are first used.
+
+numba's cache is unchanged: it is keyed by the function's file, name and line, as with
+``numba.njit``.
+"""
+
+from __future__ import annotations
+
+import sys
+
+_PENDING: dict[str, list["LazyJit"]] = {}
+
+
+class LazyJit:
+    """A function to be compiled by ``numba.njit(**options)`` when first used.
+
+    Attributes
+    ----------
+    py_func : the Python function
+    options : keyword arguments of numba.njit
+    """
+
+    def __init__(self, func, options):
+        self.py_func = func
+        self.options = options
+        self.__name__ = func.__name__
+        self.__qualname__ = func.__qualname__
+        self.__module__ = func.__module__
+        self.__doc__ = func.__doc__
+        self._dispatcher = None
+        _PENDING.setdefault(func.__module__, []).append(self)
+
+    def dispatcher(self):
+        """The numba dispatcher of this function (every recorded function of its module made one)."""
+        if self._dispatcher is None:
+            compile_module(self.__module__)
+        return self._dispatcher
+
+    def __call__(self, *args, **kwargs):
+        return self.dispatcher()(*args, **kwargs)
+
+    def __getattr__(self, name):
+        if name.startswith("__"):
+            raise AttributeError(name)
+        return getattr(self.dispatcher(), name)
+
+
+def compile_module(module: str) -> None:
+    """Make every recorded function of ``module`` a numba dispatcher and rebind the module's globals
+    (its own functions and the recorded functions it imported from other modules).
+
+    Parameters
+    ----------
+    module : str
+        The module's name, e.g. 'rail.contact' [-].
+
+    Returns
+    -------
+    None
+        The module's namespace is changed in place [-].
+    """
+    from numba import njit as numba_njit
+
+    for lazy in _PENDING.pop(module, []):
+        lazy._dispatcher = numba_njit(**lazy.options)(lazy.py_func)
+    namespace = sys.modules[module].__dict__
+    for name, value in list(namespace.items()):
+        if isinstance(value, LazyJit):
+            if value._dispatcher is None:
+                compile_module(value.__module__)
+            namespace[name] = value._dispatcher
+    # modules that imported this module's functions before they were compiled
+    for other in list(sys.modules.values()):
+        d = getattr(other, "__dict__", None)
+        if not d or not str(getattr(other, "__name__", "")).startswith("rail."):
+            continue
+        for name, value in list(d.items()):
+            if isinstance(value, LazyJit) and value._dispatcher is not None:
+                d[name] = value._dispatcher
+
+
+def njit(*args, **options):
+    """Drop-in for ``numba.njit`` used as ``@njit`` or ``@njit(cache=True)`` (keyword options only).
+
+    Parameters
+    ----------
+    *args : the function, when used as ``@njit`` [-]
+    **options : keyword options of numba.njit [-]
+
+    Returns
+    -------
+    LazyJit or callable
+        The recorded function, or a decorator that records one [-].
+    """
+    if args and callable(args[0]) and len(args) == 1 and not options:
+        return LazyJit(args[0], {})
+    if args:
+        raise TypeError("rail._lazyjit.njit takes keyword options only (signatures are not supported)")
+
+    def wrap(func):
+        return LazyJit(func, options)
+
+    return wrap
