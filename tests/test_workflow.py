@@ -563,6 +563,27 @@ def test_growth_bar_shows_on_a_terminal_of_no_size_and_when_stderr_is_redirected
     assert "40000/40000" not in err  # nothing of the bar in a redirected stderr
 
 
+def test_table_progress_lines_count_to_the_end_and_leave_the_tables_unchanged():
+    # the progress callback of the table computation reports every step and changes no number
+    import numpy as np
+    from test_growth import track
+
+    from rail import moving
+
+    lines = []
+    quiet = moving.bloch_tables(track(), 40.0, 8, 4, (0.0, 3.3), 1e-4)
+    told = moving.bloch_tables(track(), 40.0, 8, 4, (0.0, 3.3), 1e-4, progress=lines.append)
+    assert all(np.array_equal(a.A, b.A) for a, b in zip(quiet, told))
+    assert [re.match(r"(\d) of 3 tables \(Bloch fraction (\d)/4, \d+ nodes\)$", x).groups() for x in lines] == [
+        ("1", "0"), ("2", "1"), ("3", "2")]
+    blocks = []
+    one = moving.receptance_table(track(), 40.0, 8, (0.0,), 1e-4, progress=blocks.append)
+    assert np.array_equal(one.A, moving.receptance_table(track(), 40.0, 8, (0.0,), 1e-4).A)
+    done = [re.match(r"(\d+) of (\d+) node blocks", x).groups() for x in blocks if "node blocks" in x]
+    assert done[0][0] == "0" and done[-1][0] == done[-1][1] and len(done) == int(done[-1][1]) + 1
+    assert any(x.startswith("wavenumber rule: refinement pass 1,") for x in blocks)
+
+
 def test_table_names_follow_the_content_only():
     from rail.setup.tables import table_key
 
