@@ -89,7 +89,7 @@ def receptance_table(scn: Scenario, speed: float, offsets=None):
                        scn.roughness.bays, scn.cell)
 
 
-def track_table(track: Track, numerics: TrackNumerics, speed: float, offsets, bays: int = 1, cell=None):
+def track_table(track: Track, numerics: TrackNumerics, speed: float, offsets, bays: int = 1, cell=None, progress=None):
     """Moving-load receptance table of a track alone (what receptance_table computes for a scenario;
     the workflow shares one table between the scenarios on one track).
 
@@ -107,6 +107,10 @@ def track_table(track: Track, numerics: TrackNumerics, speed: float, offsets, ba
     cell : rail.cell.TrackCell, optional
         The track's cell of N bays whose supports differ (then one table over the cell's harmonics,
         rail.moving.cell_receptance_table; ``track`` is ignored).
+    progress : callable, optional
+        Called with one line of text as the computation proceeds: per table of the N > 1 fractions
+        ("<i> of <n> tables"), else per block of quadrature nodes ("<i> of <n> node blocks"); default
+        None, silent.
 
     Returns
     -------
@@ -116,10 +120,10 @@ def track_table(track: Track, numerics: TrackNumerics, speed: float, offsets, ba
     if cell is not None:
         if cell.bays != bays:
             raise ValueError(f"roughness.bays = {bays} is not allowed with track.cell.bays = {cell.bays}: the roughness must be periodic over the cell.")
-        return moving.cell_receptance_table(cell, speed, numerics.harmonics, offsets, numerics.rtol)
+        return moving.cell_receptance_table(cell, speed, numerics.harmonics, offsets, numerics.rtol, progress=progress)
     if bays == 1:
-        return moving.receptance_table(track, speed, numerics.harmonics, offsets, numerics.rtol)
-    return moving.bloch_tables(track, speed, numerics.harmonics, bays, offsets, numerics.rtol)
+        return moving.receptance_table(track, speed, numerics.harmonics, offsets, numerics.rtol, progress=progress)
+    return moving.bloch_tables(track, speed, numerics.harmonics, bays, offsets, numerics.rtol, progress=progress)
 
 
 def table_speed(table) -> float:

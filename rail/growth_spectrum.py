@@ -126,7 +126,7 @@ def _tangent_batches(free, locked_probes, N: int):
     return out
 
 
-def _linear_rates(scn, tabs, free, locked, eps, phase, max_columns=None):
+def _linear_rates(scn, tabs, free, locked, eps, phase, max_columns=None, progress=None):
     """R_j at the free lines (and their sideband ratios) and the 2 x 2 operators M at the locked lines
     (line, kind), by the tangent of the contact march about the smooth rail (method 'linear').
 
@@ -138,7 +138,8 @@ def _linear_rates(scn, tabs, free, locked, eps, phase, max_columns=None):
     and without a probe of amplitude eps over the N bays (one evaluation per batch of lines, as the
     probes of method 'probe' but without the march), split into the classes by a DFT over the bays.
     With several wheels, the wear of the wheels before a wheel is taken at the smooth rail's (its
-    derivative, of relative size the wear per passage, ~1e-6, is left out)."""
+    derivative, of relative size the wear per passage, ~1e-6, is left out). ``progress(i, n)``, if
+    given, is called after each of the n batches of probes."""
     N = scn.roughness.bays
     K = scn.harmonics
     J = N * K
@@ -171,7 +172,9 @@ def _linear_rates(scn, tabs, free, locked, eps, phase, max_columns=None):
         g1 = ref[w_i]
         base.append(wear.march_inputs(fN0, l, Roughness(on_period(wear_before[w_i]), N), chain.wheel_material(scn, l), nums, phase,
                                       grid=(g1.delta, g1.Nx, g1.M, g1.spin)))
-    for batch in probes:
+    for i_batch, batch in enumerate(probes):
+        if progress is not None and i_batch:
+            progress(i_batch, len(probes))
         Z = Z0N.copy()
         for j, kind in batch:
             c = -1j if kind == "sin" else 1.0
@@ -206,6 +209,8 @@ def _linear_rates(scn, tabs, free, locked, eps, phase, max_columns=None):
                     da[w_i].append(part(F["a"][r]) * scale)
                     if nonh:
                         dsh[w_i].append(part(F["shape"][r]) * scale)
+    if progress is not None:
+        progress(len(probes), len(probes))
     ncol = len(cols)
     # each wheel's derivative on its own grid: the wheels' patches differ (their forces do), so their
     # grids may hold a different number of points per bay (4131 and 4132 for two axles of one
@@ -459,7 +464,7 @@ def _sorted_eigenvalues(M):
 
 
 def rate_spectrum(scn: Scenario, table, lines, eps: float = 1e-9, grid_phases: int = 2,
-                  check_lines: int = 4, method: str = "linear") -> RateSpectrum:
+                  check_lines: int = 4, method: str = "linear", progress=None) -> RateSpectrum:
     """Growth-rate spectrum about the smooth rail at the given lines.
 
     Free lines by wear_rates (one probing cosine per pair of classes per wear evaluation over the N
@@ -498,6 +503,9 @@ def rate_spectrum(scn: Scenario, table, lines, eps: float = 1e-9, grid_phases: i
         'probe': the previous path, each line from the difference of two nonlinear marches over the
         N bays (one line per pair of classes per march, _batches), the reference of the tests;
         about seven times the cost at the default resolution.
+    progress : callable, optional
+        Called with one line of text as the work proceeds ("<i> of <n> probe batches, grid phase
+        <p> of <P>"; method 'linear'); default None, silent.
 
     Returns
     -------
@@ -536,8 +544,15 @@ def rate_spectrum(scn: Scenario, table, lines, eps: float = 1e-9, grid_phases: i
             W01 = chain.train_wear(s_1, tabs[0], Z01, phase)[0]
             kinds = {int(lines[idx]): int(locked[idx]) for idx in held}
             probes = [(j, kind) for j in kinds for kind in ("cos", "sin")]
+            step = None
+            if progress is not None:
+                def step(i, n, p=p):
+                    progress(f"{p * n + i} of {grid_phases * n} probe batches (grid phase {p + 1} of {grid_phases}, "
+                             f"{lines.size} lines)")
+                    if i == n:
+                        progress(f"grid phase {p + 1} of {grid_phases}: the tangent of the contact march over one bay, every probe at once")
             try:
-                R_l, side_l, M_l = _linear_rates(scn, tabs, [int(j) for j in lines[free]], probes, eps, phase)
+                R_l, side_l, M_l = _linear_rates(scn, tabs, [int(j) for j in lines[free]], probes, eps, phase, progress=step)
             except GridMismatch as err:  # the probes of the nonlinear march for this grid phase
                 fallbacks.append(f"grid phase {phase:g}: {err}")
                 linear = False
@@ -549,6 +564,8 @@ def rate_spectrum(scn: Scenario, table, lines, eps: float = 1e-9, grid_phases: i
                 if locked[idx] == 1:
                     source[idx] += 2 * abs(W01[len(W01) // 2 + int(lines[idx]) // N]) / grid_phases
             if p == 0:  # the linear range: probes of 2 eps against the derivative
+                if progress is not None:
+                    progress(f"linearity check: probes of 2 eps at {min(check_lines, free.size)} lines by the nonlinear march")
                 if free.size:
                     Z0 = _smooth(scn)
                     W0 = np.zeros(Z0.size, dtype=complex)  # the smooth rail's wear is bay-periodic: on the lines k N

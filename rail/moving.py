@@ -195,7 +195,8 @@ def _filon_segments(q, to_beta, order, limit):
     return idx[inside], ba[inside], bb[inside]
 
 
-def _integrate(cell: TrackCell, V, Omega, js, offsets, static_j, rtol, cut, order=16, max_panels=40000, block=None, filon=True):
+def _integrate(cell: TrackCell, V, Omega, js, offsets, static_j, rtol, cut, order=16, max_panels=40000, block=None, filon=True,
+               progress=None):
     """Adaptive wavenumber quadrature of the receptance matrices (shared by the table and the
     single-frequency coefficients).  Returns (A, error, nodes).
 
@@ -208,7 +209,8 @@ def _integrate(cell: TrackCell, V, Omega, js, offsets, static_j, rtol, cut, orde
     "Quadrature"). ``filon=False`` multiplies the Gauss weights by exp(-i beta d) instead (for tests:
     on the nodes of the d = 0 rule that aliases the oscillation of a far offset).  The node tables
     are evaluated in blocks of ``block`` nodes (default: about 2**21 / (attachments x columns)), so
-    memory does not grow with the node count."""
+    memory does not grow with the node count. ``progress``, if given, is called with one line of text
+    per refinement pass of the rule and per block of the Gram products ("<i> of <n> node blocks, ...")."""
     b0, P = cell.beta_p, cell.period
     offsets = np.asarray(offsets, dtype=float)
     J = len(js)
@@ -223,7 +225,12 @@ def _integrate(cell: TrackCell, V, Omega, js, offsets, static_j, rtol, cut, orde
     def to_beta(th):
         return Bmap * np.tan(th), Bmap / np.cos(th) ** 2
 
+    passes = [0]
+
     def proxy(th):
+        if progress is not None:
+            passes[0] += 1
+            progress(f"wavenumber rule: refinement pass {passes[0]}, {len(th)} new nodes")
         # diagonal integrands (free-wave peaks of every column) and the reactions to the central
         # column (Floquet-wave peaks) carry every feature of the off-diagonal integrands
         out = []
@@ -251,7 +258,11 @@ def _integrate(cell: TrackCell, V, Omega, js, offsets, static_j, rtol, cut, orde
     # the Gram products in blocks of nodes: memory bounded by the block, not by the node count
     M = np.zeros((len(offsets), J, J), dtype=complex)
     D = np.zeros((len(offsets), J), dtype=complex)
+    n_blocks = -(-len(th) // block)
     for lo in range(0, len(th), block):
+        if progress is not None:
+            progress(f"{lo // block} of {n_blocks} node blocks (Gram products over {len(th)} nodes, {J} columns, "
+                     f"{len(offsets)} offsets)")
         sl = slice(lo, lo + block)
         G, diag, U, Y, row, near = _node_tables(beta[sl], Omega, V, js, cell, static_j)
         D += W[:, sl] @ diag
@@ -263,6 +274,8 @@ def _integrate(cell: TrackCell, V, Omega, js, offsets, static_j, rtol, cut, orde
             M[i] += (U * W[i, sl][:, None, None]).reshape(n * Q, J).T @ Yf  # M[p, k] = int sum_q u_p^q Y_k^q e^d_p
             if row is not None and near.any():
                 M[i, int(np.where(js == static_j)[0][0])] += W[i, sl] @ row
+    if progress is not None:
+        progress(f"{n_blocks} of {n_blocks} node blocks (Gram products over {len(th)} nodes, {J} columns, {len(offsets)} offsets)")
     A = -M / (2 * np.pi * P)  # A[p, k]
     A[:, np.arange(J), np.arange(J)] = D / (2 * np.pi)
     A *= np.exp(1j * js[None, :] * b0 * offsets[:, None])[:, :, None]  # row factor exp(i p beta_P d)
@@ -281,7 +294,7 @@ def _integrate(cell: TrackCell, V, Omega, js, offsets, static_j, rtol, cut, orde
 
 def receptance_table(
     track: Track, speed: float, harmonics: int, offsets=(0.0,), rtol: float = 1e-4, transfer_cut: float | None = None,
-    fraction: float = 0.0,
+    fraction: float = 0.0, progress=None,
 ) -> MovingReceptance:
     """Receptance matrices A_d[p, k] = a_{p-k}((k + nu) Omega_0, d) at one speed.
 
@@ -312,6 +325,9 @@ def receptance_table(
         Start of the cos^2 window of the d != 0 integrands [rad/m]; default (K + 12) beta0.
     fraction : float, optional
         Bloch fraction nu [-] in [0, 1); default 0.
+    progress : callable, optional
+        Called with one line of text per refinement pass of the quadrature and per block of nodes of
+        the Gram products ("<i> of <n> node blocks ..."); default None, silent.
 
     Returns
     -------
@@ -340,11 +356,12 @@ def receptance_table(
     offsets = np.atleast_1d(np.asarray(offsets, dtype=float))
     cut = (K + 12) * track.beta0 if transfer_cut is None else float(transfer_cut)
     Omega = fraction * track.beta0 * speed
-    A, err, n = _integrate(TrackCell.uniform(track), speed, Omega, js, offsets, 0 if fraction == 0 else None, rtol, cut)
+    A, err, n = _integrate(TrackCell.uniform(track), speed, Omega, js, offsets, 0 if fraction == 0 else None, rtol, cut,
+                           progress=progress)
     return MovingReceptance(float(speed), K, offsets, A, err, n, float(fraction))
 
 
-def bloch_tables(track: Track, speed: float, harmonics: int, bays: int, offsets=(0.0,), rtol: float = 1e-4):
+def bloch_tables(track: Track, speed: float, harmonics: int, bays: int, offsets=(0.0,), rtol: float = 1e-4, progress=None):
     """The receptance tables a roughness periodic over N bays needs: fractions nu = r / N for
     r = 0..floor(N/2) (the classes r > N/2 are the complex conjugates of N - r for a real load).
 
@@ -361,6 +378,8 @@ def bloch_tables(track: Track, speed: float, harmonics: int, bays: int, offsets=
         Offsets d [m] between the wheels.
     rtol : float
         Relative tolerance of the wavenumber quadrature [-].
+    progress : callable, optional
+        Called with one line of text after each table ("<i> of <n> tables, ..."); default None, silent.
 
     Returns
     -------
@@ -369,11 +388,17 @@ def bloch_tables(track: Track, speed: float, harmonics: int, bays: int, offsets=
     """
     if int(bays) != bays or bays < 1:
         raise ValueError(f"roughness.bays = {bays!r} is not allowed: it must be an integer >= 1.")
-    return tuple(receptance_table(track, speed, harmonics, offsets, rtol, fraction=r / bays) for r in range(int(bays) // 2 + 1))
+    n = int(bays) // 2 + 1
+    out = []
+    for r in range(n):
+        out.append(receptance_table(track, speed, harmonics, offsets, rtol, fraction=r / bays))
+        if progress is not None:
+            progress(f"{r + 1} of {n} tables (Bloch fraction {r}/{int(bays)}, {out[-1].nodes} nodes)")
+    return tuple(out)
 
 
 def cell_receptance_table(cell: TrackCell, speed: float, harmonics: int, offsets=(0.0,), rtol: float = 1e-4,
-                          transfer_cut: float | None = None) -> MovingReceptance:
+                          transfer_cut: float | None = None, progress=None) -> MovingReceptance:
     """Receptance matrices of a track periodic over a cell of N bays (docs/track.md, "A cell of N bays").
 
     The loads and responses are periodic over the cell: frequencies q Omega_P, Omega_P = 2 pi V / P,
@@ -396,6 +421,8 @@ def cell_receptance_table(cell: TrackCell, speed: float, harmonics: int, offsets
         Relative tolerance of the adaptive wavenumber quadrature [-].
     transfer_cut : float, optional
         Start of the cos^2 window of the d != 0 integrands [rad/m]; default (K + 12) beta0.
+    progress : callable, optional
+        As for receptance_table; default None, silent.
 
     Returns
     -------
@@ -417,7 +444,7 @@ def cell_receptance_table(cell: TrackCell, speed: float, harmonics: int, offsets
     js = np.arange(-J, J + 1)
     offsets = np.atleast_1d(np.asarray(offsets, dtype=float))
     cut = (int(harmonics) + 12) * 2 * np.pi / cell.mean_spacing if transfer_cut is None else float(transfer_cut)
-    A, err, n = _integrate(cell, speed, 0.0, js, offsets, 0, rtol, cut)
+    A, err, n = _integrate(cell, speed, 0.0, js, offsets, 0, rtol, cut, progress=progress)
     return MovingReceptance(float(speed), J, offsets, A, err, n, 0.0, N, tuple(float(x) for x in cell.positions))
 
 

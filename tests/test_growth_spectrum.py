@@ -385,3 +385,18 @@ def test_linear_method_falls_back_to_the_probes_where_a_probe_changes_the_contac
     assert fell.method.startswith("linear, probes at grid phase 0:")
     np.testing.assert_array_equal(fell.rate, ref.rate)
     assert ref.method == "probe"
+
+
+def test_spectrum_progress_counts_every_probe_batch_and_changes_no_rate(setup):
+    # issue 36: the spectrum job was silent for minutes; its progress lines count the probe batches
+    # of every grid phase to the end, and reporting them changes no number
+    scn, tabs = setup
+    lines, told = [5, 7, 13], []
+    quiet = GS.rate_spectrum(scn, tabs, lines, grid_phases=2, check_lines=1)
+    loud = GS.rate_spectrum(scn, tabs, lines, grid_phases=2, check_lines=1, progress=told.append)
+    assert np.array_equal(quiet.rate, loud.rate) and np.array_equal(quiet.grid_spread, loud.grid_spread)
+    counts = [tuple(int(x) for x in re.match(r"(\d+) of (\d+) probe batches \(grid phase \d of 2, 3 lines\)$", t).groups())
+              for t in told if "probe batches" in t]
+    total = counts[-1][1]
+    assert [d for d, _ in counts] == list(range(1, total + 1)) and {n for _, n in counts} == {total} and total % 2 == 0
+    assert sum(t.startswith("linearity check:") for t in told) == 1

@@ -16,6 +16,21 @@ def snakemake(root, *args, cwd=None):
     return subprocess.run(cmd, cwd=cwd or root, capture_output=True, text=True, timeout=300)
 
 
+def job_outputs(output: str) -> dict[str, list[str]]:
+    """Parse a dry run's job blocks into {rule: [output files of each job, comma-joined]}."""
+    jobs = {}
+    for m in re.finditer(r"^(?:local)?rule (\w+):\n(.*?)(?:\n\n|\Z)", output, re.M | re.S):
+        out = re.search(r"^\s+output: (.*)$", m.group(2), re.M)
+        jobs.setdefault(m.group(1), []).append(out.group(1) if out else "")
+    return jobs
+
+
+def table_paths(output: str) -> list[str]:
+    """The receptance tables a dry run plans to build (content-named: results/receptance/<key>/V...nc), from
+    the jobs' messages."""
+    return sorted(set(re.findall(r"receptance tables? (results/receptance/[0-9a-f]{10}/V[^\s,:]+\.nc)", output)))
+
+
 def job_counts(output: str) -> dict[str, int]:
     """Parse the 'Job stats' table of a dry run into {rule: count}."""
     table = output.split("Job stats:")[1].split("total")[0]
@@ -51,7 +66,9 @@ def test_default_target_builds_every_figure_and_only_the_receptances_they_need(r
         "halfspace_figures": 1,  # Figs 2-4 in one job (issue 33: a job's start-up costs more than a figure)
         "halfspace_radiation": 1,
         "radiation_figures": 1,  # Figs 5-6
-        "receptance": 5,  # default track at 20, 40, 60, 80 m/s; soft_pad track at 40 m/s only
+        # content-named tables (issue 36): the default track with one wheel at 20, 40, 60, 80 m/s; soft_pad's
+        # track at 40 m/s only; class87's four wheels (its own offsets) at 20 and 40 m/s
+        "receptance": 7,
         "fig08": 1,
         "fig22": 1,
         "wear_cases": 1,  # 533, 1000, 1200, 1600 Hz at 40 m/s, in one job
@@ -110,18 +127,21 @@ def test_bad_scenario_file_is_named_and_stops_before_any_job(root, workdir):
 
 
 @pytest.mark.slow
-def test_receptance_rule_holds_only_the_offsets_of_scenarios_sharing_the_track(root, workdir):
-    # a two-wheel scenario on the default track adds its wheel spacing to the default table;
-    # a scenario with a different track gets its own table (the report's scenarios are removed)
+def test_each_receptance_table_holds_the_offsets_of_the_wheels_it_serves(root, workdir):
+    # issue 36: a table is named by its content (track, track numerics, wheel offsets), so a two-wheel
+    # scenario on the default track gets a table of its own (it no longer adds its spacing to the
+    # default table, which reran every default job); a scenario with a different track gets its own
     for f in (workdir / "config/scenarios").glob("*.yaml"):
         f.unlink()
     (workdir / "config/scenarios/bogie.yaml").write_text("wheels:\n  positions: [0.0, 3.3]\n")
     (workdir / "config/scenarios/soft.yaml").write_text("track:\n  pad:\n    stiffness: 7.0e+7\n")
-    out = snakemake(root, "-n", "-p", "results/receptance/default/V40.nc", "results/receptance/soft/V40.nc", cwd=workdir)
+    (workdir / "config/scenarios/same.yaml").write_text("contact:\n  creepage: -0.002\n")  # the default's track and wheel
+    runs = [f"results/growth/{s}/V40.nc" for s in ("default", "bogie", "soft", "same")]
+    out = snakemake(root, "-n", *runs, cwd=workdir)
     assert out.returncode == 0, out.stderr
-    assert job_counts(out.stdout) == {"receptance": 2}
-    assert "receptance table: track default, V = 40 m/s, offsets 0.0 -3.3 3.3 m" in out.stdout
-    assert "receptance table: track soft, V = 40 m/s, offsets 0.0 m" in out.stdout
+    assert job_counts(out.stdout)["receptance"] == 3
+    offsets = sorted(re.findall(r"receptance table results/receptance/[0-9a-f]{10}/V40\.nc: V = 40 m/s, offsets (.*) m", out.stdout))
+    assert offsets == ["0.0", "0.0", "0.0 -3.3 3.3"]
 
 
 @pytest.mark.slow
@@ -156,10 +176,10 @@ def test_scenario_and_sweep_files_ending_in_yml_are_part_of_the_workflow(root, w
         f.unlink()
     (workdir / "config/scenarios/soft.yml").write_text("track:\n  pad:\n    stiffness: 7.0e+7\n")
     (workdir / "config/scenarios/grid.yml").write_text("sweep:\n  speed: [20.0, 40.0]\n")
-    out = snakemake(root, "-n", "results/receptance/soft/V40.nc", "sweeps", cwd=workdir)
+    out = snakemake(root, "-n", "results/growth/soft/V40.nc", "sweeps", cwd=workdir)
     assert out.returncode == 0, out.stderr
     counts = job_counts(out.stdout)
-    assert counts["growth"] == 2 and counts["sweep_aggregate"] == 1
+    assert counts["growth"] == 3 and counts["sweep_aggregate"] == 1
     assert counts["receptance"] == 3  # soft's table at 40 m/s; the sweep's (default track) at 20 and 40 m/s
 
 
@@ -191,15 +211,19 @@ def test_changing_a_scenario_reruns_only_its_jobs(root, workdir):
     small = "numerics:\n  track:\n    harmonics: 33\n"  # the least K that reaches pinned-pinned at 20 m/s
     (workdir / "config/scenarios/a.yaml").write_text("track:\n  pad:\n    stiffness: 2.0e+8\n" + small)
     (workdir / "config/scenarios/b.yaml").write_text("track:\n  pad:\n    stiffness: 1.0e+8\n" + small)
-    targets = ["results/receptance/a/V40.nc", "results/receptance/b/V40.nc"]
-    built = snakemake(root, "-j1", *targets, cwd=workdir)
+    runs = ["results/growth/a/V40.nc", "results/growth/b/V40.nc"]
+    plan = snakemake(root, "-n", *runs, cwd=workdir)
+    tables = table_paths(plan.stdout)
+    assert len(tables) == 2  # a's and b's (their tracks differ)
+    built = snakemake(root, "-j1", *tables, cwd=workdir)
     assert built.returncode == 0, built.stderr
-    again = snakemake(root, "-n", *targets, cwd=workdir)
-    assert "Nothing to be done" in again.stdout + again.stderr
+    again = snakemake(root, "-n", *runs, cwd=workdir)
+    assert "receptance" not in job_counts(again.stdout)
     (workdir / "config/scenarios/b.yaml").write_text("track:\n  pad:\n    stiffness: 0.7e+8\n" + small)
-    out = snakemake(root, "-n", *targets, cwd=workdir)
-    assert job_counts(out.stdout) == {"receptance": 1}
-    assert "track b, V = 40 m/s" in out.stdout and "track a," not in out.stdout
+    out = snakemake(root, "-n", *runs, cwd=workdir)
+    assert job_counts(out.stdout)["receptance"] == 1 and job_counts(out.stdout)["growth"] == 2
+    new = table_paths(out.stdout)  # b's new track has a table of its own name; a's is untouched
+    assert len(new) == 1 and new[0] not in tables
 
 
 @pytest.mark.slow
@@ -217,7 +241,7 @@ def test_studies_are_named_targets_that_reuse_the_default_tables(root, workdir):
     assert c["growth"] == 24 and c["closure_wear"] == 24 and c["closure_wellposedness"] == 1 and c["closure_aggregate"] == 1
     assert c["stability_case"] == len(stab["cases"]) and c["stability_table"] == 1
     assert n_conv == 26 and c["convergence_point"] == n_conv and c["convergence_aggregate"] == 1
-    assert c["receptance"] == 3  # default at 20 and 40 m/s, soft_pad at 40 m/s
+    assert c["receptance"] == 4  # default at 20 and 40 m/s, soft_pad at 40 m/s, the four wheels of closure_class87 at 40 m/s
 
 
 @pytest.mark.slow
@@ -333,6 +357,11 @@ def built(root, tmp_path_factory):
         # issue 33: a figure key reruns the figure jobs that read it (Figs 9-19 and 20-27 are one job
         # each), not the wear cases or growth runs
         ("figures.wear.spectrum_max_wavenumber", 400.0, {"wear_figures": 1, "growth_figures": 1}),
+        # issue 36: a track parameter names other (content-named) tables, so every job reading the default
+        # track reruns: its tables (one wheel at 4 speeds, class87's four wheels at 2) and all after them
+        # (soft_pad's own railpad keeps its table and growth run; Figs 24-25 are redrawn with the others)
+        ("track.pad.stiffness", 4.0e8, {"receptance": 6, "fig08": 1, "fig22": 1, "wear_cases": 1, "wear_figures": 1, "growth": 6,
+                                        "growth_figures": 1, "growth_3d": 1}),
     ],
 )
 @pytest.mark.slow
@@ -358,6 +387,9 @@ def test_a_config_edit_reruns_exactly_the_jobs_that_read_it(root, built, tmp_pat
 # with one line, not a KeyError, a cast error or a job the schema would refuse
 @pytest.mark.parametrize("target, message", [
     ("results/receptance/default/V40_N100000.nc", r"target period N100000 is not allowed: it must lie in \[2, 256\] bays"),
+    # issue 36: tables are named by their content; a scenario's name in their place says which path it is
+    ("results/receptance/soft_pad/V40.nc", r"receptance tables are named by their content, not by a scenario: the table of "
+                                          r"scenario 'soft_pad' at V40 is results/receptance/[0-9a-f]{10}/V40\.nc"),
     ("results/wear/default/V40_f1234.nc", r"target names the wear frequency f1234, which is not configured: the labels are"),
 ])
 @pytest.mark.slow
@@ -388,3 +420,190 @@ def test_a_scenario_file_that_is_not_yaml_is_named_with_its_line(root, workdir, 
     (workdir / "config/scenarios/bad.yaml").write_bytes(content)
     out = snakemake(root, "-n", "results/figures/fig06.png", cwd=workdir)
     assert_stops_at_start_up(out, message)
+
+
+# ---------------------------------------------------------------- issue 36: report, table names, progress
+
+
+def _mark_built(root, work, *targets):
+    """Mark the outputs of ``targets`` as built without computing them, as the ``built`` fixture does:
+    every output of their jobs exists (empty) and `snakemake --touch` records each job's metadata."""
+    summary = snakemake(root, "--summary", *targets, cwd=work)
+    assert summary.returncode == 0, summary.stderr[-2000:]
+    outputs = [line.split("\t")[0] for line in summary.stdout.splitlines()[1:] if "\t" in line]
+    for path in outputs:
+        (work / path).parent.mkdir(parents=True, exist_ok=True)
+        (work / path).touch()
+    touched = snakemake(root, "-j1", "-F", "--touch", *targets, cwd=work)
+    assert touched.returncode == 0, touched.stderr[-2000:]
+    return outputs
+
+
+@pytest.mark.slow
+def test_the_report_builds_from_one_user_study_alone_and_lists_all_its_outputs(root, workdir):
+    # issue 36: `snakemake --report` failed until every report figure was built (7 min for a user who
+    # wanted only their study), and left out a study's growth-rate spectrum, CSVs and 3-D plots
+    (workdir / "config/scenarios/my_pad.yaml").write_text("track:\n  pad:\n    stiffness: 2.0e+8\nspeeds: [40.0]\n")
+    outputs = _mark_built(root, workdir, "study_my_pad", "results/spectrum/my_pad/rate_spectrum.png")
+    assert not any(p.startswith("results/figures/") for p in outputs)  # no report figure is built
+    rep = snakemake(root, "--report", "report.html", cwd=workdir)  # no target: whatever is built
+    assert rep.returncode == 0, rep.stderr[-2000:]
+    html = (workdir / "report.html").read_text(errors="replace")
+    for name in ("V40_overview.png", "V40_bands.png", "V40_bands.csv", "V40_3d.png", "rate_spectrum.png", "summary.md"):
+        assert name in html, name
+    assert "my_pad" in html and "fig20.png" not in html
+    # the named target gives the same report
+    rep2 = snakemake(root, "--report", "report2.html", "report_all", cwd=workdir)
+    assert rep2.returncode == 0, rep2.stderr[-2000:]
+    assert "V40_3d.png" in (workdir / "report2.html").read_text(errors="replace")
+
+
+@pytest.mark.slow
+def test_adding_scenarios_reruns_no_job_of_another_scenario(root, built, tmp_path):
+    # issue 36: adding a scenario renamed the shared receptance tables (named after the first scenario
+    # holding a track) and changed the default tables' wheel offsets, so other studies reran. Here, in
+    # a folder where the figure set is built: one scenario on soft_pad's track whose name comes first
+    # (it took over the name of soft_pad's table), one with two wheels on the default track (it added
+    # its spacing to the default tables), and one on the default track and wheels.
+    work = tmp_path / "work"
+    shutil.copytree(built, work, symlinks=True)
+    scen = work / "config/scenarios"
+    (scen / "a_soft.yaml").write_text((scen / "soft_pad.yaml").read_text() + "speeds: [40.0]\n")
+    (scen / "a_bogie.yaml").write_text("wheels:\n  positions: [0.0, 3.3]\nspeeds: [40.0]\n")
+    (scen / "a_creep.yaml").write_text("contact:\n  creepage: -0.002\nspeeds: [40.0]\n")
+    same = snakemake(root, "-n", cwd=work)
+    assert same.returncode == 0, same.stderr[-2000:]
+    assert "Nothing to be done" in same.stdout + same.stderr, same.stdout[-3000:]
+    out = snakemake(root, "-n", "all", "study_a_soft", "study_a_bogie", "study_a_creep", cwd=work)
+    assert out.returncode == 0, out.stderr[-2000:]
+    new = ("a_soft", "a_bogie", "a_creep")
+    assert job_counts(out.stdout) == {"growth": 3, "scenario_overview": 3, "growth_bands": 3, "growth_3d": 3,
+                                      "receptance": 1, "study_a_soft": 1, "study_a_bogie": 1, "study_a_creep": 1}
+    for rule, outs in job_outputs(out.stdout).items():
+        if rule not in ("receptance",) and not rule.startswith("study_"):
+            assert all(any(f"/{n}/" in o for n in new) for o in outs), (rule, outs)
+    # the one new table is a_bogie's (two wheels); a_soft and a_creep read the tables already built
+    assert re.search(r"receptance table results/receptance/[0-9a-f]{10}/V40\.nc: V = 40 m/s, offsets 0\.0 -3\.3 3\.3 m", out.stdout)
+    assert "Params have changed" not in out.stdout and "Input files updated by another job: results/growth/default" not in out.stdout
+
+
+@pytest.mark.slow
+def test_a_table_job_writes_progress_lines_to_its_log(root, workdir):
+    # issue 36: the table and spectrum jobs were silent for minutes; a tiny problem (K = 33, N = 4)
+    for f in (workdir / "config/scenarios").glob("*.yaml"):
+        f.unlink()
+    (workdir / "config/scenarios/tiny.yaml").write_text(
+        "numerics:\n  track:\n    harmonics: 33\nroughness:\n  bays: 4\nspeeds: [40.0]\n")
+    plan = snakemake(root, "-n", "results/growth/tiny/V40.nc", cwd=workdir)
+    tables = table_paths(plan.stdout)
+    assert len(tables) == 1 and tables[0].endswith("V40_N4.nc"), plan.stdout[-2000:]
+    run = snakemake(root, "-j1", tables[0], cwd=workdir)
+    assert run.returncode == 0, run.stderr[-2000:]
+    log = (workdir / tables[0].replace("results/", "logs/").replace(".nc", ".log")).read_text()
+    lines = re.findall(r"^(\d) of 3 tables \(Bloch fraction (\d)/4, \d+ nodes\), \d+ s$", log, re.M)
+    assert lines == [("1", "0"), ("2", "1"), ("3", "2")], log
+
+
+_TEE_CHILD = """
+import sys
+from rail.setup.progress import Tee
+log = open(sys.argv[1], "w")
+sys.stderr = log
+t = Tee(log, "growth default V40")
+print("resuming from x.npz: 10000 of 40000 passages done", file=t, flush=True)
+for done in (20000, 30000, 40000):
+    print(f"{done} of 40000 passages, 825 passages/s, 1 s left", file=t, flush=True)
+t.close()
+"""
+
+
+def _under_a_terminal(root, tmp_path, stderr_to_file):
+    """Run _TEE_CHILD with a pseudo-terminal as its controlling terminal (of no window size, as
+    under `script` or an agent's console); its stderr on that terminal or in a file, as Snakemake's
+    when run as `snakemake ... 2> run.txt`. Returns (what the terminal showed, the log, the stderr file)."""
+    import os
+    import pty
+
+    log, err = tmp_path / "job.log", tmp_path / "stderr.txt"
+    pid, fd = pty.fork()
+    if pid == 0:  # the child: a new session whose controlling terminal is the pty
+        try:
+            if stderr_to_file:
+                os.dup2(os.open(err, os.O_WRONLY | os.O_CREAT | os.O_TRUNC, 0o644), 2)
+            env = {**os.environ, "PYTHONPATH": str(root)}
+            os.execve(sys.executable, [sys.executable, "-c", _TEE_CHILD, str(log)], env)
+        finally:
+            os._exit(1)
+    shown = b""
+    while True:
+        try:
+            chunk = os.read(fd, 4096)
+        except OSError:  # EIO: the child closed the terminal
+            break
+        if not chunk:
+            break
+        shown += chunk
+    _, status = os.waitpid(pid, 0)
+    assert os.waitstatus_to_exitcode(status) == 0, shown.decode(errors="replace")
+    return shown.decode(errors="replace"), log.read_text(), err.read_text() if err.exists() else ""
+
+
+@pytest.mark.parametrize("stderr_to_file", [False, True], ids=["stderr-on-terminal", "stderr-in-a-file"])
+def test_growth_bar_shows_on_a_terminal_of_no_size_and_when_stderr_is_redirected(root, tmp_path, stderr_to_file):
+    # issue 36: "under a terminal the growth bar did not show". Two causes: a terminal reporting no
+    # window size (0 columns: tqdm drew an empty bar), and Snakemake's stderr not being the terminal
+    # (the bar was then switched off although the user watches the terminal, /dev/tty)
+    shown, log, err = _under_a_terminal(root, tmp_path, stderr_to_file)
+    assert "40000/40000" in shown and "100%" in shown, shown  # the bar, drawn and completed
+    assert "[growth default V40] resuming from x.npz" in shown
+    assert log.splitlines() == ["resuming from x.npz: 10000 of 40000 passages done",
+                                "20000 of 40000 passages, 825 passages/s, 1 s left",
+                                "30000 of 40000 passages, 825 passages/s, 1 s left",
+                                "40000 of 40000 passages, 825 passages/s, 1 s left"]  # the log keeps every line
+    assert "40000/40000" not in err  # nothing of the bar in a redirected stderr
+
+
+def test_table_progress_lines_count_to_the_end_and_leave_the_tables_unchanged():
+    # the progress callback of the table computation reports every step and changes no number
+    import numpy as np
+    from test_growth import track
+
+    from rail import moving
+
+    lines = []
+    quiet = moving.bloch_tables(track(), 40.0, 8, 4, (0.0, 3.3), 1e-4)
+    told = moving.bloch_tables(track(), 40.0, 8, 4, (0.0, 3.3), 1e-4, progress=lines.append)
+    assert all(np.array_equal(a.A, b.A) for a, b in zip(quiet, told))
+    assert [re.match(r"(\d) of 3 tables \(Bloch fraction (\d)/4, \d+ nodes\)$", x).groups() for x in lines] == [
+        ("1", "0"), ("2", "1"), ("3", "2")]
+    blocks = []
+    one = moving.receptance_table(track(), 40.0, 8, (0.0,), 1e-4, progress=blocks.append)
+    assert np.array_equal(one.A, moving.receptance_table(track(), 40.0, 8, (0.0,), 1e-4).A)
+    done = [re.match(r"(\d+) of (\d+) node blocks", x).groups() for x in blocks if "node blocks" in x]
+    assert done[0][0] == "0" and done[-1][0] == done[-1][1] and len(done) == int(done[-1][1]) + 1
+    assert any(x.startswith("wavenumber rule: refinement pass 1,") for x in blocks)
+
+
+def test_table_names_follow_the_content_only():
+    from rail.setup.tables import table_key
+
+    part = {"track": {"pad": {"stiffness": 3.5e8}, "sleeper": {"spacing": 0.6}}, "numerics": {"track": {"harmonics": 64}}}
+    key = table_key(part, [0.0, 3.3, -3.3])
+    assert re.fullmatch(r"[0-9a-f]{10}", key)
+    assert table_key({"numerics": part["numerics"], "track": part["track"]}, [-3.3, 3.3, -0.0, 0.0]) == key  # order, -0
+    assert table_key(part, [0.0]) != key  # other wheels
+    other = {"track": {"pad": {"stiffness": 3.6e8}, "sleeper": {"spacing": 0.6}}, "numerics": part["numerics"]}
+    assert table_key(other, [0.0, 3.3, -3.3]) != key  # a track parameter
+    with pytest.raises(ValueError, match=r"offsets = 'x' is not allowed: it must be a sequence of numbers in m"):
+        table_key(part, "x")
+
+
+def test_no_terminal_no_bar(root, tmp_path):
+    # a cluster job or a run without a controlling terminal: the log only, nothing else opened
+    log = tmp_path / "job.log"
+    child = _TEE_CHILD.replace('t = Tee(log, "growth default V40")\n', 't = Tee(log, "growth default V40")\nassert t.terminal is None\n')
+    assert child != _TEE_CHILD
+    out = subprocess.run([sys.executable, "-c", child, str(log)], capture_output=True,
+                         text=True, start_new_session=True, env={"PYTHONPATH": str(root), "PATH": ""}, timeout=60)
+    assert out.returncode == 0, out.stderr
+    assert "40000/40000" not in out.stderr + out.stdout and len(log.read_text().splitlines()) == 4

@@ -1,20 +1,64 @@
-"""Progress of a long job on the terminal as well as in its log (issue 23).
+"""Progress of a long job on the terminal as well as in its log (issues 23 and 36).
 
 A Snakemake script job writes to its log file; its terminal is the Snakemake process's. ``Tee``
-writes every line to the log unchanged and, when the terminal is a TTY, keeps a live progress bar
-there (tqdm) that follows the "<done> of <total> passages" lines of rail.growth.run_growth; other
-lines (warnings, resuming) are printed above the bar. Nothing is lost from the log."""
+writes every line to the log unchanged and, when there is a terminal, keeps a live progress bar
+there (tqdm) that follows the "<done> of <total> <unit>" lines of the long jobs (growth: "passages",
+receptance tables: "tables" or "node blocks", growth-rate spectrum: "probe batches"); other lines
+(warnings, resuming) are printed above the bar. Nothing is lost from the log.
+
+The terminal is the process's stderr if that is a TTY, else the controlling terminal /dev/tty if
+the process has one (Snakemake run as ``snakemake ... 2>&1 | tee run.txt`` or with its stderr in a
+file: the bar still shows where the user sees it). A cluster job has none and writes the log only.
+A terminal that reports no size (0 columns or 0 lines: a pseudo-terminal without a window size, as
+under ``script``, ``ssh -t`` from a script or some IDE and agent consoles) gets a bar of 80 columns:
+tqdm's own size there is 0 columns or -1 lines, with which it drew an empty line (issue 36: "under
+a terminal the growth bar did not show").
+"""
 
 from __future__ import annotations
 
+import os
 import re
 import sys
+import time
 
 from tqdm import tqdm
 
-__all__ = ["Tee"]
+__all__ = ["Tee", "controlling_terminal", "progress_lines"]
 
-_DONE = re.compile(r"^(\d+) of (\d+) passages")
+_DONE = re.compile(r"^(\d+) of (\d+) ([^,(\n]+)")
+_FALLBACK_COLUMNS = 80
+_FALLBACK_LINES = 24
+
+
+def controlling_terminal():
+    """The terminal a job's progress bar is drawn on, or None.
+
+    Returns
+    -------
+    file or None
+        ``sys.__stderr__`` if it is a TTY; else /dev/tty opened for writing if the process has a
+        controlling terminal; else None (a cluster job, a daemon, a test without a terminal).
+    """
+    err = sys.__stderr__
+    try:
+        if err is not None and err.isatty():
+            return err
+    except ValueError:  # closed
+        pass
+    try:
+        return open("/dev/tty", "w", encoding="utf-8", errors="replace")  # noqa: SIM115 - closed by Tee.close
+    except OSError:  # ENXIO: no controlling terminal
+        return None
+
+
+def _size(stream) -> tuple[int, int]:
+    """(columns, lines) of a terminal stream; each 0 where it reports none."""
+    try:
+        size = os.get_terminal_size(stream.fileno())
+        return size.columns, size.lines
+    except (OSError, ValueError, AttributeError):
+        return 0, 0
 
 
 class Tee:
@@ -27,16 +71,18 @@ class Tee:
     label : str
         Name of the job on the terminal, e.g. "growth default V40".
     terminal : file, optional
-        Default: the process's original stderr, used only if it is a TTY (no duplication into a
-        cluster job's output file, where the log already holds it).
+        Default: ``controlling_terminal()`` (stderr if a TTY, else /dev/tty, else none: then only
+        the log is written, with no duplication into a cluster job's output file).
     """
 
     def __init__(self, log, label: str, terminal=None):
         self.log = log
         self.label = label
-        term = sys.__stderr__ if terminal is None else terminal
-        self.terminal = term if terminal is not None or (term is not None and term.isatty()) else None
+        self._own = terminal is None
+        self.terminal = controlling_terminal() if terminal is None else terminal
+        self._own = self._own and self.terminal is not None and self.terminal is not sys.__stderr__
         self.bar = None
+        self._unit = None
         self._pending = ""
 
     def write(self, text: str) -> int:
@@ -48,13 +94,21 @@ class Tee:
                 self._show(line)
         return len(text)
 
+    def _new_bar(self, total: int, unit: str):
+        # the size is given, not left to tqdm: where the terminal reports 0 columns or 0 lines tqdm's
+        # own size is 0 columns or -1 lines, and it draws nothing
+        columns, lines = _size(self.terminal)
+        return tqdm(total=total, desc=self.label, unit=f" {unit}", file=self.terminal, mininterval=0.5,
+                    ncols=columns if columns > 0 else _FALLBACK_COLUMNS, nrows=lines if lines > 0 else _FALLBACK_LINES)
+
     def _show(self, line: str) -> None:
         m = _DONE.match(line)
         if m:
-            done, total = int(m.group(1)), int(m.group(2))
-            if self.bar is None:
-                self.bar = tqdm(total=total, desc=self.label, unit=" passages", file=self.terminal, dynamic_ncols=True,
-                                mininterval=0.5)
+            done, total, unit = int(m.group(1)), int(m.group(2)), m.group(3).strip()
+            if self.bar is None or unit != self._unit or done < self.bar.n or total != self.bar.total:
+                if self.bar is not None:
+                    self.bar.close()
+                self.bar, self._unit = self._new_bar(total, unit), unit
             self.bar.update(done - self.bar.n)
             if done >= total:
                 self.bar.close()
@@ -69,3 +123,41 @@ class Tee:
         self.log.flush()
         if self.terminal is not None:
             self.terminal.flush()
+
+    def close(self) -> None:
+        """Close the bar, and the terminal if this Tee opened it (/dev/tty); the log stays open."""
+        if self.bar is not None:
+            self.bar.close()
+        if self._own:
+            self.terminal.close()
+            self.terminal = None
+
+
+def progress_lines(stream, prefix: str = ""):
+    """A progress callback for rail's long computations (``progress=`` of rail.chain.track_table,
+    rail.growth_spectrum.rate_spectrum): each line it is given is written to ``stream`` (a log or a
+    Tee) with the seconds since the callback was made, and flushed.
+
+    Parameters
+    ----------
+    stream : file
+    prefix : str
+        Put before each line (e.g. "receptance V40: "); a "<done> of <total>" line keeps its start
+        so that a Tee draws it as a bar, the prefix is then appended in brackets.
+
+    Returns
+    -------
+    callable
+        ``callback(text)``.
+    """
+    t0 = time.perf_counter()
+
+    def callback(text: str) -> None:
+        elapsed = time.perf_counter() - t0
+        if _DONE.match(text):
+            line = f"{text}, {elapsed:.0f} s" + (f" [{prefix.rstrip(': ')}]" if prefix else "")
+        else:
+            line = f"{prefix}{text}, {elapsed:.0f} s"
+        print(line, file=stream, flush=True)
+
+    return callback

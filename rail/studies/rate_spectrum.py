@@ -18,14 +18,15 @@ PASSAGES_PER_DB = 100000  # the dB growth is stated per this many train passages
 REPORT_VALID_PATCH_LENGTHS = 10
 
 
-def spectrum_with_settings(scn, tables, settings: dict) -> RateSpectrum:
+def spectrum_with_settings(scn, tables, settings: dict, progress=None) -> RateSpectrum:
     """The growth-rate spectrum of a spectrum scenario (rail.setup.build.spectrum_scenario) at the
     tables' speed, on the lines and with the probe and grids of ``settings`` (the keys of
-    figures.rate_spectrum: shortest, longest, per_octave, eps, grid_phases)."""
+    figures.rate_spectrum: shortest, longest, per_octave, eps, grid_phases); ``progress`` as for
+    rail.growth_spectrum.rate_spectrum."""
     s = settings
     lines = spectrum_lines(scn.L, scn.roughness.bays, scn.harmonics, float(s["shortest"]), float(s["longest"]),
                            int(s["per_octave"]))
-    return rate_spectrum(scn, tables, lines, eps=float(s["eps"]), grid_phases=int(s["grid_phases"]))
+    return rate_spectrum(scn, tables, lines, eps=float(s["eps"]), grid_phases=int(s["grid_phases"]), progress=progress)
 
 
 def rate_spectrum_dataset(spectra: dict[float, RateSpectrum], L: float, wheels: int, contact_length: float | None = None,

@@ -6,7 +6,7 @@
 rule closure_wear:
     """One passage over a harmonic roughness (Figs 12-19) with closure value s."""
     input:
-        table=f"results/receptance/default/V{speed_label(config['figures']['wear']['speed'])}.nc",
+        table=table_file("default", config["figures"]["wear"]["speed"]),
     output:
         "results/closure/wear/s{s}_f{freq}.nc",
     params:

@@ -13,6 +13,7 @@ from rail.setup.build import PASSAGE_KEYS
 from rail.setup.build import scenario as build_scenario
 from rail.setup.build import fleet_classes as build_fleet_classes
 from rail.setup.inputs import check_inputs, check_speed, measured_decay_file
+from rail.setup.tables import table_key
 from rail.studies.convergence import check_study as check_convergence_study
 from rail.studies.fleet import class_key as fleet_class_key
 from rail.studies.fleet import traffic_cases
@@ -168,7 +169,7 @@ def track_name(name):
 
 
 def track_config(wildcards):
-    """The part of the configuration a receptance table depends on (its track and numerics), so
+    """The part of the configuration a fleet's receptance table depends on (its track and numerics), so
     that changing anything else does not recompute it. The target's speed (and period) is checked first."""
     checked_speed(wildcards.track, wildcards.speed)
     if hasattr(wildcards, "bays"):
@@ -180,6 +181,68 @@ def _track_part(name):
     """The track and track numerics of a scenario's configuration."""
     cfg = SCENARIOS[name]
     return {"track": cfg["track"], "numerics": {"track": cfg["numerics"]["track"]}}
+
+
+# Shared receptance tables, named by their content (issue 36, docs/workflow.md): a table depends on the
+# track, the track numerics and the wheel offsets of the scenarios it serves, so its folder is
+# results/receptance/<table_key of exactly that>/ (rail.setup.tables). Scenarios with the same track,
+# numerics and wheels share it; adding a scenario renames no table and reruns no other job, and a
+# change of a track parameter names another table (so whatever reads it reruns).
+# {key: {"scenario": the first scenario holding it, "offsets": [m], "scenarios": [names]}}.
+def _own_offsets(name):
+    """Offsets d between every ordered pair of a scenario's wheels (0 first) [m]."""
+    return sorted(set(wheel_offsets_of(SCENARIO_OBJECTS[name])), key=lambda d: (abs(d), d))
+
+
+TABLES = {}
+SCENARIO_TABLE = {}
+for _name in SCENARIOS:
+    if _name in FLEET_CLASSES:  # a fleet's tables hold every vehicle's offsets (fleet_table_file)
+        continue
+    _key = table_key(_track_part(_name), _own_offsets(_name))
+    SCENARIO_TABLE[_name] = _key
+    TABLES.setdefault(_key, {"scenario": _name, "offsets": _own_offsets(_name), "scenarios": []})["scenarios"].append(_name)
+
+
+def table_file(name, speed, bays=1):
+    """The receptance table of scenario ``name`` at a speed (a label such as '40', or m/s), and for a
+    roughness (or spectrum) period of N > 1 bays its Bloch tables (a track cell: the cell's table)."""
+    label = speed if isinstance(speed, str) else speed_label(speed)
+    suffix = "" if int(bays) == 1 else f"_N{int(bays)}"
+    return f"results/receptance/{SCENARIO_TABLE[name]}/V{label}{suffix}.nc"
+
+
+def _table(wildcards):
+    """The entry of TABLES a receptance target names; a scenario's name in its place is refused with
+    the content-named path of that scenario's table."""
+    key = wildcards.track
+    if key in TABLES:
+        return TABLES[key]
+    if key in SCENARIOS:
+        checked_speed(key, wildcards.speed)
+        if hasattr(wildcards, "bays"):
+            checked_bays(wildcards.bays)
+        if key in SCENARIO_TABLE:
+            raise ConfigError(f"receptance tables are named by their content, not by a scenario: the table of scenario "
+                              f"'{key}' at V{wildcards.speed} is {table_file(key, wildcards.speed, wildcards.get('bays', 1))} "
+                              "(docs/workflow.md).")
+    known = "; ".join(f"{k} ({', '.join(v['scenarios'][:3])})" for k, v in TABLES.items())
+    raise ConfigError(f"target names the receptance table '{key}', which no scenario uses: the tables are {known}.")
+
+
+def table_config(wildcards):
+    """What a content-named table depends on: its track and track numerics. The target's speed (and
+    period) are checked first, as a speed of the scenarios it serves."""
+    t = _table(wildcards)
+    checked_speed(t["scenario"], wildcards.speed)
+    if hasattr(wildcards, "bays"):
+        checked_bays(wildcards.bays)
+    return _track_part(t["scenario"])
+
+
+def table_offsets(wildcards):
+    """The wheel offsets [m] a content-named table holds (those of the scenarios it serves, all equal)."""
+    return _table(wildcards)["offsets"]
 
 
 def physics_config(wildcards):
@@ -249,9 +312,7 @@ def growth_table(wildcards):
     for a roughness periodic over N > 1 bays)."""
     not_a_fleet(wildcards.scenario, "growth")
     checked_speed(wildcards.scenario, wildcards.speed)
-    bays = SCENARIO_OBJECTS[wildcards.scenario].roughness.bays
-    suffix = "" if bays == 1 else f"_N{bays}"
-    return f"results/receptance/{track_name(wildcards.scenario)}/V{wildcards.speed}{suffix}.nc"
+    return table_file(wildcards.scenario, wildcards.speed, SCENARIO_OBJECTS[wildcards.scenario].roughness.bays)
 
 
 def roughness_file(wildcards):
@@ -353,6 +414,11 @@ def wear_figure_config(nn):
     return config_part(WEAR_CASE_KEYS + (("figures.wear.spectrum_max_wavenumber",) if n >= 13 and n % 2 else ()))
 
 
+def wear_table(wildcards):
+    """The receptance table of a wear case's scenario ('track' is a scenario here: default) at its speed."""
+    return table_file(wildcards.track, wildcards.speed)
+
+
 def wear_frequency(wildcards):
     """The configured frequency (Hz) whose label is the wildcard 'freq'."""
     known = {wear_frequency_label(f): float(f) for f in config["figures"]["wear"]["frequencies"]}
@@ -380,25 +446,9 @@ def speed_label(v):
     return f"{float(v):g}"
 
 
-def wheel_offsets(wildcards):
-    """Offsets d between every ordered pair of wheels (0 first) over all scenarios that share
-    the track: only the transfer receptances some scenario needs are computed."""
-    offsets = set()
-    bays = int(wildcards.get("bays", 1))  # Bloch tables: only the scenarios with that roughness period
-    for name, scn in SCENARIO_OBJECTS.items():
-        if name in FLEET_CLASSES:  # a fleet has its own tables (fleet_offsets)
-            continue
-        if track_name(name) == wildcards.track and (bays == 1 or scn.roughness.bays == bays):
-            offsets |= set(wheel_offsets_of(scn))
-    return sorted(offsets, key=lambda d: (abs(d), d))
-
-
 def receptance_tables():
     """Receptance tables of the default track at every configured speed."""
-    return expand(
-        "results/receptance/default/V{speed}.nc",
-        speed=[speed_label(v) for v in config["speeds"]],
-    )
+    return [table_file("default", v) for v in config["speeds"]]
 
 
 def sweep_runs(wildcards):
@@ -506,17 +556,37 @@ def convergence_table(wildcards):
     """The receptance table a contact or growth point uses (the default track at the study's speed)."""
     if CONVERGENCE["settings"][wildcards.setting]["quantity"] == "force":
         return {}
-    return {"table": f"results/receptance/default/V{speed_label(CONVERGENCE['speed'])}.nc"}
+    return {"table": table_file("default", CONVERGENCE["speed"])}
+
+
+# Suffixes of the outputs a report shows (figures, CSV exports, markdown and HTML tables).
+REPORT_SUFFIXES = (".png", ".csv", ".md", ".html")
 
 
 def built_studies():
-    """Outputs of the named studies that exist on disk (for the HTML report: report_all)."""
-    overviews = [str(p) for p in sorted(Path("results/growth").glob("*/V*_overview.png"))]
-    candidates = closure_targets() + sweep_targets() + any_wavelength_targets() + [t.replace(".csv", ".png") for t in band_targets()] + overviews + [
+    """Every output of the named studies and of every scenario's study that exists on disk (for the
+    HTML report of report_all), whatever is built, of a scenario still defined, and nothing else,
+    so that the report of one user study needs only that study built (docs/workflow.md)."""
+    found = [t for name in study_names() for t in study_targets(name)]
+    found += closure_targets() + sweep_targets() + rate_spectrum_sweep_targets() + any_wavelength_targets() + [
         "results/stability/outcomes.html", "results/convergence/error_vs_time.png", "results/convergence/summary.html",
-        "results/spectrum/default/rate_spectrum.png",
-    ]
-    return [f for f in candidates if Path(f).exists()]
+        "results/traffic_study/spectra.png", "results/uncertainty/band_interval.png",
+    ] + [str(f) for f in sorted(Path("results/irregular").glob("*.png"))]
+    # per scenario: its growth runs' views and exports, its growth-rate spectrum, a fleet's results
+    for folder in ("results/growth", "results/spectrum", "results/fleet"):
+        for f in sorted(Path(folder).glob("*/*")):
+            if f.parent.name in SCENARIOS and f.suffix in REPORT_SUFFIXES:
+                found.append(str(f))
+    for folder, names in (("results/sweeps", SWEEPS), ("results/spectrum_sweeps", SWEEPS)):
+        for f in sorted(Path(folder).glob("*")):
+            if f.suffix in REPORT_SUFFIXES and any(f.stem == s or f.stem.startswith(f"{s}_") for s in names):
+                found.append(str(f))
+    return [f for f in dict.fromkeys(found) if Path(f).exists()]
+
+
+def built_paper_figures():
+    """The report figures (paper_figures) that exist on disk."""
+    return [f for f in paper_figures() if Path(f).exists()]
 
 
 # Growth-rate spectrum (workflow/rules/spectrum.smk)
@@ -525,32 +595,9 @@ def rate_spectrum_table(wildcards):
     """The Bloch tables of the spectrum's N-bay period (figures.rate_spectrum.bays) at the speed."""
     not_a_fleet(wildcards.scenario, "rate_spectrum")
     checked_speed(wildcards.scenario, wildcards.speed)
-    bays = SCENARIOS[wildcards.scenario]["figures"]["rate_spectrum"]["bays"]
-    if SCENARIOS[wildcards.scenario]["track"].get("cell") is not None:
-        # a track cell: the spectrum's period is the cell, so its one table is the growth runs' (track.smk)
-        return f"results/receptance/{track_name(wildcards.scenario)}/V{wildcards.speed}_N{bays}.nc"
-    return f"results/spectrum/{spectrum_table_owner(wildcards.scenario)}/tables_V{wildcards.speed}_N{bays}.nc"
-
-
-def spectrum_table_owner(name):
-    """The first scenario (default first) with the same track, track numerics, wheel offsets and
-    spectrum period as ``name``: its spectrum tables serve both."""
-    key = (track_name(name), tuple(wheel_offsets_of(SCENARIO_OBJECTS[name])), SCENARIOS[name]["figures"]["rate_spectrum"]["bays"])
-    for other in SCENARIOS:
-        if (track_name(other), tuple(wheel_offsets_of(SCENARIO_OBJECTS[other])), SCENARIOS[other]["figures"]["rate_spectrum"]["bays"]) == key:
-            return other
-    return name
-
-
-def scenario_track_config(wildcards):
-    """The part of a scenario's configuration its receptance tables depend on (track and numerics)."""
-    checked_speed(wildcards.scenario, wildcards.speed)
-    return _track_part(wildcards.scenario)
-
-
-def scenario_wheel_offsets(wildcards):
-    """Offsets between the wheels of one scenario (0 first)."""
-    return sorted(set(wheel_offsets_of(SCENARIO_OBJECTS[wildcards.scenario])), key=lambda d: (abs(d), d))
+    # the Bloch tables of the scenario's own track and wheels (a track cell: the cell's one table, the
+    # growth runs'); content-named, so every scenario with that track and those wheels shares them
+    return table_file(wildcards.scenario, wildcards.speed, SCENARIOS[wildcards.scenario]["figures"]["rate_spectrum"]["bays"])
 
 
 def rate_spectrum_speeds(wildcards):

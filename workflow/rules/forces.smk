@@ -4,7 +4,7 @@
 rule fig08:
     """Fig. 8: one wheel at 40 m/s over a 10 um roughness at 1000 Hz."""
     input:
-        table=f"results/receptance/default/V{speed_label(config['figures']['fig08']['speed'])}.nc",
+        table=table_file("default", config["figures"]["fig08"]["speed"]),
     output:
         data="results/data/fig08.nc",
         figure=report("results/figures/fig08.png", caption="../report/fig08.rst", category="Section 4.2: wheel/rail forces"),
@@ -25,7 +25,7 @@ rule fig08:
 rule fig22:
     """Fig. 22: one wheel over a smooth rail at 20 and 40 m/s (parametric excitation)."""
     input:
-        tables=expand("results/receptance/default/V{speed}.nc", speed=[speed_label(v) for v in config["figures"]["fig22"]["speeds"]]),
+        tables=[table_file("default", v) for v in config["figures"]["fig22"]["speeds"]],
     output:
         data="results/data/fig22.nc",
         figure=report("results/figures/fig22.png", caption="../report/fig22.rst", category="Section 4.2: wheel/rail forces"),

@@ -30,7 +30,8 @@ rule growth_3d:
     input:
         "results/growth/{scenario}/V{speed}.nc",
     output:
-        report("results/growth/{scenario}/V{speed}_3d.png", caption="../report/growth_3d.rst", category="Section 5: roughness growth"),
+        report("results/growth/{scenario}/V{speed}_3d.png", caption="../report/growth_3d.rst", category="Section 5: roughness growth",
+               subcategory="{scenario}"),
     params:
         code=code("growth_figure.py"),
         axis=growth_3d_axis,
@@ -104,8 +105,10 @@ rule growth_bands:
         band_limit_file,
     output:
         data="results/growth/{scenario}/V{speed}_bands.nc",
-        csv="results/growth/{scenario}/V{speed}_bands.csv",
-        figure=report("results/growth/{scenario}/V{speed}_bands.png", caption="../report/growth_bands.rst", category="Roughness bands (EN 15610 form)"),
+        csv=report("results/growth/{scenario}/V{speed}_bands.csv", caption="../report/growth_bands.rst", category="Roughness bands (EN 15610 form)",
+                   subcategory="{scenario}"),
+        figure=report("results/growth/{scenario}/V{speed}_bands.png", caption="../report/growth_bands.rst", category="Roughness bands (EN 15610 form)",
+                      subcategory="{scenario}"),
     params:
         code=code("growth_bands.py"),
         cfg=scenario_config,

@@ -1,29 +1,7 @@
 # The linearised growth-rate spectrum (rail/growth_spectrum.py, docs/growth-spectrum.md): which
 # wavelengths grow and how fast, per speed, from the smooth rail. Named target rate_spectrum (README).
-
-
-rule rate_spectrum_tables:
-    """Receptance tables of the Bloch fractions r / N of the spectrum's period for one scenario's
-    wheels only (the shared track tables hold the offsets of every scenario on the track, which
-    the spectrum's 25 fractions would multiply)."""
-    output:
-        "results/spectrum/{scenario}/tables_V{speed}_N{bays}.nc",
-    wildcard_constraints:
-        speed="[^_/]+",
-        bays="[0-9]+",
-    params:
-        code=code("receptance.py"),
-        cfg=scenario_track_config,
-        offsets=scenario_wheel_offsets,
-    log:
-        "logs/spectrum/{scenario}/tables_V{speed}_N{bays}.log",
-    benchmark:
-        "benchmarks/spectrum/{scenario}/tables_V{speed}_N{bays}.tsv"
-    resources:
-        mem_mb=1200,
-        runtime=30,
-    script:
-        "../scripts/receptance.py"
+# Its Bloch tables (the spectrum's N-bay period, the scenario's own wheels) are the content-named
+# receptance tables of workflow/rules/track.smk (common.smk rate_spectrum_table).
 
 
 rule rate_spectrum_speed:
@@ -56,8 +34,10 @@ rule rate_spectrum_map:
         rate_spectrum_speeds,
     output:
         data="results/spectrum/{scenario}/rate_spectrum.nc",
-        figure=report("results/spectrum/{scenario}/rate_spectrum.png", caption="../report/rate_spectrum.rst", category="Growth-rate spectrum"),
-        summary="results/spectrum/{scenario}/summary.md",
+        figure=report("results/spectrum/{scenario}/rate_spectrum.png", caption="../report/rate_spectrum.rst", category="Growth-rate spectrum",
+                      subcategory="{scenario}"),
+        summary=report("results/spectrum/{scenario}/summary.md", caption="../report/rate_spectrum.rst", category="Growth-rate spectrum",
+                       subcategory="{scenario}"),
     params:
         code=code("rate_spectrum_map.py"),
     resources:

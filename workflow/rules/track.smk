@@ -1,18 +1,20 @@
 # Section 4.2 / ref. [18]: moving-load receptances of the periodically supported rail, per speed.
+# Each table's folder is named by its content (track, track numerics, wheel offsets: common.smk TABLES,
+# docs/workflow.md), so {track} is that key, not a scenario's name.
 
 
 rule receptance:
-    """Receptance matrices a_{p-k}(k Omega_0, d) for one track and speed (rail.moving)."""
+    """Receptance matrices a_{p-k}(k Omega_0, d) for one track, wheel set and speed (rail.moving)."""
     output:
         "results/receptance/{track}/V{speed}.nc",
     wildcard_constraints:
         speed="[^_/]+",
     params:
         code=code("receptance.py"),
-        cfg=track_config,
-        offsets=wheel_offsets,
+        cfg=table_config,
+        offsets=table_offsets,
     message:
-        "receptance table: track {wildcards.track}, V = {wildcards.speed} m/s, offsets {params.offsets} m"
+        "receptance table {output}: V = {wildcards.speed} m/s, offsets {params.offsets} m"
     log:
         "logs/receptance/{track}/V{speed}.log",
     benchmark:
@@ -34,10 +36,10 @@ rule receptance_bloch:
         bays="[0-9]+",
     params:
         code=code("receptance.py"),
-        cfg=track_config,
-        offsets=wheel_offsets,
+        cfg=table_config,
+        offsets=table_offsets,
     message:
-        "receptance tables: track {wildcards.track}, V = {wildcards.speed} m/s, N = {wildcards.bays} bays, offsets {params.offsets} m"
+        "receptance tables {output}: V = {wildcards.speed} m/s, N = {wildcards.bays} bays, offsets {params.offsets} m"
     log:
         "logs/receptance/{track}/V{speed}_N{bays}.log",
     benchmark:
@@ -50,6 +52,6 @@ rule receptance_bloch:
 
 
 rule receptances:
-    """Named target: the receptance tables of the default track at every configured speed."""
+    """Named target: the receptance tables of the default scenario at every configured speed."""
     input:
         receptance_tables(),

@@ -7,7 +7,7 @@ rule wear_cases:
     takes about 1 s CPU, a job's start-up (imports, loading the compiled march) about 4 s."""
     input:
         kernels=kernels("march"),
-        table="results/receptance/{track}/V{speed}.nc",
+        table=wear_table,
     output:
         expand("results/wear/{{track}}/V{{speed}}_f{freq}.nc", freq=[wear_frequency_label(f) for f in config["figures"]["wear"]["frequencies"]]),
     wildcard_constraints:
@@ -33,7 +33,7 @@ rule wear_case:
     (wear_frequency) and stops, at planning."""
     input:
         kernels=kernels("march"),
-        table="results/receptance/{track}/V{speed}.nc",
+        table=wear_table,
     output:
         "results/wear/{track}/V{speed}_f{freq}.nc",
     wildcard_constraints:

@@ -6,6 +6,7 @@ import numpy as np
 
 from rail import chain
 from rail.setup import build, io
+from rail.setup.progress import Tee, progress_lines
 from rail.studies import datasets, rate_spectrum
 from rail.studies import fleet as fleet_study
 
@@ -17,7 +18,8 @@ def main(config, name, index, speed, table_path, out_path, log):
         tab = datasets.read_receptance_table(t.load())
     if c.speed != speed or chain.table_speed(tab) != speed:
         raise ValueError(f"class {c.label}: table at {chain.table_speed(tab)!r} m/s, class speed {c.speed!r}, job speed {speed!r} m/s.")
-    sp = rate_spectrum.spectrum_with_settings(c.scenario, tab, config["figures"]["rate_spectrum"])
+    sp = rate_spectrum.spectrum_with_settings(c.scenario, tab, config["figures"]["rate_spectrum"],
+                                                  progress=progress_lines(log))
     print(f"{name}, class {index} ({c.label}): {len(sp.line)} lines, linearity {sp.linearity:.2e}, method {sp.method}",
           file=log, flush=True)
     with open(out_path, "wb") as fh:
@@ -28,4 +30,6 @@ if __name__ == "__main__":
     log = open(snakemake.log[0], "w")  # noqa: F821
     sys.stderr = log
     name, index, speed = snakemake.params.job  # noqa: F821
-    main(snakemake.params.cfg, name, int(index), float(speed), snakemake.input.table, snakemake.output[0], log)  # noqa: F821
+    tee = Tee(log, f"fleet class spectrum {name} {index}")  # the log, and the terminal if there is one
+    main(snakemake.params.cfg, name, int(index), float(speed), snakemake.input.table, snakemake.output[0], tee)  # noqa: F821
+    tee.close()

@@ -3,15 +3,17 @@
 import sys
 
 from rail.setup import build, io
+from rail.setup.progress import Tee, progress_lines
 from rail.studies import datasets, rate_spectrum
 
 
 def main(config, name, table_path, speed, out_path, log):
+    """``log``: the job's log (a Tee: also a progress bar on the terminal)."""
     s = config["figures"]["rate_spectrum"]
     scn = build.spectrum_scenario(config, name)  # smooth rail, the spectrum's N-bay period
     with io.open_intermediate(table_path) as t:
         tabs = datasets.read_receptance_table(t.load())
-    sp = rate_spectrum.spectrum_with_settings(scn, tabs, s)
+    sp = rate_spectrum.spectrum_with_settings(scn, tabs, s, progress=progress_lines(log))
     print(f"{len(sp.line)} lines of a {scn.roughness.bays}-bay period, {sp.wavelength.min():.4g}-{sp.wavelength.max():.4g} m, "
           f"V = {speed:g} m/s, normal contact {scn.contact_numerics.normal}",
           file=log, flush=True)
@@ -26,4 +28,6 @@ if __name__ == "__main__":
     log = open(snakemake.log[0], "w")  # noqa: F821
     sys.stderr = log
     w = snakemake.wildcards  # noqa: F821
-    main(snakemake.params.cfg, w.scenario, snakemake.input.table, float(w.speed), snakemake.output[0], log)  # noqa: F821
+    tee = Tee(log, f"spectrum {w.scenario} V{w.speed}")  # the log, and the terminal if there is one
+    main(snakemake.params.cfg, w.scenario, snakemake.input.table, float(w.speed), snakemake.output[0], tee)  # noqa: F821
+    tee.close()
