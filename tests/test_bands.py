@@ -108,16 +108,17 @@ def test_band_dataset_and_csv_of_a_growth_run(tmp_path):
     limit = (tob.nominal, np.full(len(tob.nominal), 10.0))
     ds = B.bands_dataset(g, L, tob, 1, limit, per_day=10000.0)
     b50 = int(np.nonzero(tob.nominal == 0.05)[0][0])
-    assert ds["growth_law"].values[b50] == "exponential" and ds["efolding_rate"].values[b50] == pytest.approx(2.0, rel=1e-9)
+    assert ds["growth_law"].values[b50] == "exponential" and ds["efolding_rate_per_1e5_axles"].values[b50] == pytest.approx(2.0, rel=1e-9)
     t = 1e5 * np.log(1e-6 * 10 ** 0.5 * np.sqrt(2) / 1e-6) / 2.0  # band rms a / sqrt(2) reaches 10 dB (74,893)
     assert ds.attrs["grinding_interval_band_m"] == 0.05
     assert ds.attrs["grinding_interval_passages"] == pytest.approx(t, rel=1e-9)
     assert ds.attrs["grinding_interval_days"] == pytest.approx(t / 10000.0)
     B.write_band_csv(ds, tmp_path / "b.csv")
-    lines = (tmp_path / "b.csv").read_text().splitlines()
-    assert lines[0].startswith("nominal_wavelength_m,centre_wavelength_m,resolved,level_dB_re_1um_at_0_passages")
+    lines = [x for x in (tmp_path / "b.csv").read_text().splitlines() if not x.startswith("#")]
+    assert lines[0].startswith("nominal_wavelength_m,centre_wavelength_m,frequency_Hz,resolved,level_dB_re_1um_at_0_axle_passages")
     assert len(lines) == 1 + len(tob.nominal)
-    assert lines[1].split(",")[2] == "0" and lines[1].split(",")[3] == "nan"  # 1 m: longer than 4 bays
+    first = lines[1].split(",")
+    assert first[3] == "0" and first[4] == "" and "not resolved" in first[-1]  # 1 m: no line 4 L / j in the band
 
 
 def test_sweep_band_map_puts_each_runs_band_growth_on_the_grid():

@@ -273,15 +273,18 @@ def growth_narrowband(ds: xr.Dataset):
 
 def band_spectra(ds: xr.Dataset):
     """One-third-octave bands of a growth run: (left) band levels at the first, middle and last saved
-    passage counts against the limit; (right) the growth rate per band with its error (the law the
-    data prefer marked: o linear, ^ exponential)."""
+    passage counts against the limit; (right) the level growth rate per band in dB per 100,000 axle
+    passages with its error, as in the band export (the law the data prefer marked: o linear,
+    ^ exponential)."""
+    from ..traffic import readable_count
+
     fig, (a1, a2) = plt.subplots(1, 2, figsize=(11.0, 4.2), layout="constrained")
     lam = ds["nominal_wavelength"].values * 1e3
     n = ds["passage"].values
     res = ds["resolved"].values.astype(bool)
     for style, i in zip(_STYLES, sorted({0, len(n) // 2, len(n) - 1})):
         days = ds["days"].values[i]
-        label = f"{int(n[i])} passages" + (f" ({days:.0f} days)" if np.isfinite(days) else "")
+        label = f"{readable_count(n[i])} axle passages" + (f" ({days:,.0f} days)" if np.isfinite(days) else "")
         a1.semilogx(lam[res], ds["level"].values[i][res], linestyle=style, marker="o", ms=3, color="k", lw=0.8, label=label)
     if np.isfinite(ds["limit"].values).any():
         a1.semilogx(lam, ds["limit"].values, color="0.5", lw=2, label="limit")
@@ -291,22 +294,26 @@ def band_spectra(ds: xr.Dataset):
     gi = ds.attrs["grinding_interval_passages"]
     nb = int(ds.attrs['bays'])
     title = f"V = {ds.attrs['speed_m_per_s']:g} m/s, roughness period {nb} bay{'s' if nb > 1 else ''}"
-    if np.isfinite(gi):
-        days = ds.attrs["grinding_interval_days"]
-        title += (f"\nlimit reached after {gi:.3g} passages" + (f" ({days:.0f} days)" if np.isfinite(days) else "")
-                  + f" in the {ds.attrs['grinding_interval_band_m'] * 1e3:g} mm band")
+    band_mm = ds.attrs["grinding_interval_band_m"] * 1e3
+    if ds.attrs.get("limit_exceeded_at_start") and np.isfinite(gi) and gi <= n[0]:
+        title += f"\nlimit already exceeded by the initial roughness (the {band_mm:g} mm band)"
+    elif np.isfinite(gi):
+        days, years = ds.attrs["grinding_interval_days"], ds.attrs.get("grinding_interval_years", np.nan)
+        when = f" ({years:.3g} years)" if np.isfinite(years) else (f" ({days:,.0f} days)" if np.isfinite(days) else "")
+        title += f"\nlimit reached after {readable_count(gi)} axle passages{when} in the {band_mm:g} mm band"
     a1.set_title(title, fontsize=9)
     a1.legend(fontsize=7)
-    rate, err = ds["amplitude_growth_rate"].values, ds["amplitude_growth_rate_error"].values
+    rate, err = ds["growth_dB_per_1e5_axles"].values, ds["growth_dB_per_1e5_axles_error"].values
     law = ds["growth_law"].values
-    a2.errorbar(lam[res], rate[res], yerr=err[res], fmt="none", ecolor="k", lw=0.6)
+    ok = res & np.isfinite(rate)
+    a2.errorbar(lam[ok], rate[ok], yerr=err[ok], fmt="none", ecolor="k", lw=0.6)
     for mark, name in (("o", "linear"), ("^", "exponential")):
-        sel = res & (law == name)
+        sel = ok & (law == name)
         a2.semilogx(lam[sel], rate[sel], mark, color="k", mfc="none", label=f"{name} growth fits better")
     a2.axhline(0.0, color="0.6", lw=0.6)
     a2.invert_xaxis()
     a2.set_xlabel("one-third-octave band, centre wavelength (mm)")
-    a2.set_ylabel("rms amplitude growth rate (µm per 100,000 passages)")
+    a2.set_ylabel("level growth (dB per 100,000 axle passages)")
     a2.legend(fontsize=7)
     return fig
 
@@ -350,11 +357,11 @@ def sweep_map(ds: xr.Dataset):
     """Growth rate of the fastest-growing wavelength over a sweep's grid (map for two swept keys,
     lines for one or more than two)."""
     fig, ax = _new()
-    dims = [d for d in ds["max_growth_rate"].dims]
-    z = ds["max_growth_rate"]
+    dims = [d for d in ds["max_amplitude_growth_um_per_1e5_axles"].dims]
+    z = ds["max_amplitude_growth_um_per_1e5_axles"]
     if len(dims) == 2:
         m = ax.pcolormesh(ds[dims[1]], ds[dims[0]], z.values, shading="nearest", cmap="viridis")
-        fig.colorbar(m, ax=ax, label="fastest growth (µm rms per 10,000 passages)")
+        fig.colorbar(m, ax=ax, label="fastest growth (µm rms per 100,000 axle passages)")
         for i, y in enumerate(ds[dims[0]].values):
             for j, x in enumerate(ds[dims[1]].values):
                 ax.annotate(f"{1e3 * float(ds['fastest_wavelength'].values[i, j]):.0f} mm", (x, y), ha="center", va="center", fontsize=7, color="w")
@@ -366,7 +373,7 @@ def sweep_map(ds: xr.Dataset):
         for i in range(other.sizes["points"]):
             ax.plot(ds[x], other.isel(points=i), "-o", color="k", ms=3)
         ax.set_xlabel(f"{x} ({ds[x].attrs['units']})")
-        ax.set_ylabel("fastest growth (µm rms per 10,000 passages)")
+        ax.set_ylabel("fastest growth (µm rms per 100,000 axle passages)")
     ax.set_title("labels: fastest-growing wavelength", fontsize=9)
     return fig
 

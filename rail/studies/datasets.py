@@ -14,6 +14,7 @@ import xarray as xr
 from .. import halfspace
 from ..halfspace import ElasticMaterial, HalfSpaceNumerics
 from ..growth import levels_dB
+from ..traffic import AXLES_PER_RATE, DB_PER_NEPER
 from ..interaction import Roughness, force_history
 from ..moving import MovingReceptance
 from ..setup.build import HalfSpaceFigureSettings
@@ -319,7 +320,7 @@ def growth(history, track, speed: float, n_wheels: int, points: int = 601, bays:
     n = history.passages
     half = n >= n[-1] / 2
     if half.sum() >= 2:
-        amp_slope = np.polyfit(n[half], rms[half], 1)[0] * 1e4
+        amp_slope = np.polyfit(n[half], rms[half], 1)[0] * AXLES_PER_RATE * 1e6  # um per 1e5 axle passages
         # the e-folding rate d ln(amplitude) / dn where the amplitude stays positive (growth about a
         # roughness that is there; from a smooth rail the amplitude grows linearly and this rate is
         # not a property of the track)
@@ -336,14 +337,18 @@ def growth(history, track, speed: float, n_wheels: int, points: int = 601, bays:
             "Z_imag": _var(("passage", "harmonic_all"), Z.imag, "m", "imaginary part of the roughness coefficients Z_k"),
             "exponential_rate": _var("harmonic", exp_rate, "1", "e-folding rate of the rms amplitude per wheel passage over the second half "
                                      "of the run (d ln A / dn; from a smooth rail the growth is linear in the amplitude, see amplitude_growth_rate)"),
-            "amplitude_growth_rate": _var("harmonic", amp_slope, "m per 10000 passages", "growth rate of the rms amplitude over the second half of the run"),
+            "amplitude_growth_um_per_1e5_axles": _var("harmonic", amp_slope, f"um per {AXLES_PER_RATE} axle passages",
+                                                      "growth rate of the rms amplitude over the second half of the run"),
+            "growth_dB_per_1e5_axles": _var("harmonic", DB_PER_NEPER * exp_rate * AXLES_PER_RATE, f"dB per {AXLES_PER_RATE} axle passages",
+                                            "level growth rate over the second half of the run (20 log10(e) x exponential_rate x 1e5; "
+                                            "NaN where the amplitude is not positive throughout)"),
             "step_error": _var("update", history.step_error, "1", "estimated local error of each update relative to the roughness (rail.growth.step_error)"),
             "full_slip": _var("update", history.full_slip, "1", "largest fraction of the bay with no stick zone in the contact, per update"),
             **({} if force is None else {"force": _var(("passage", "wheel", "position"), np.array([force(z, x) for z in Z]), "N",
                                                         "contact force of each wheel with the wheel at the position (eq 21)")}),
         },
         coords={
-            "passage": _var("passage", n, "1", "wheel passages (a train of n wheels counts n)"),
+            "passage": _var("passage", n, "1", "axle passages: wheel passages on the rail (a train of n wheels counts n)"),
             "harmonic": _var("harmonic", k, "1", "harmonic k of the sleeper bay" if bays == 1 else f"index j of the wavenumber 2 pi j / ({bays} L)"),
             "wavenumber": _var("harmonic", k / bays * track.beta0, "rad/m", "wavenumber k beta0" if bays == 1 else f"wavenumber j beta0 / {bays}"),
             "harmonic_all": _var("harmonic_all", np.arange(-K, K + 1), "1", "harmonic index k of Z_k"),
@@ -424,7 +429,7 @@ def sweep(runs, keys, values, indices) -> xr.Dataset:
     rate = np.full(shape + (K,), np.nan)
     for run, idx in zip(runs, indices):
         level[tuple(idx)] = run["level"].values[-1]
-        rate[tuple(idx)] = run["amplitude_growth_rate"].values
+        rate[tuple(idx)] = run["amplitude_growth_um_per_1e5_axles"].values
     overall = 10 * np.log10(np.sum(10 ** (level / 10), axis=-1))
     fastest = np.nanargmax(rate, axis=-1)
     wavelength = 2 * np.pi / first["wavenumber"].values[fastest]
@@ -435,7 +440,8 @@ def sweep(runs, keys, values, indices) -> xr.Dataset:
         {
             "level": _var(dims + ("harmonic",), level, "dB re 1 um", "rms roughness level of each harmonic at the end of the run"),
             "overall_level": _var(dims, overall, "dB re 1 um", "overall rms roughness level at the end of the run"),
-            "max_growth_rate": _var(dims, np.nanmax(rate, axis=-1) * 1e6, "um per 10000 passages", "rms amplitude growth rate of the fastest-growing wavelength"),
+            "max_amplitude_growth_um_per_1e5_axles": _var(dims, np.nanmax(rate, axis=-1), f"um per {AXLES_PER_RATE} axle passages",
+                                                          "rms amplitude growth rate of the fastest-growing wavelength"),
             "fastest_wavelength": _var(dims, wavelength, "m", "wavelength that grows fastest"),
         },
         coords=coords,

@@ -58,6 +58,7 @@ rule rate_spectrum_map:
         data="results/spectrum/{scenario}/rate_spectrum.nc",
         figure=report("results/spectrum/{scenario}/rate_spectrum.png", caption="../report/rate_spectrum.rst", category="Growth-rate spectrum"),
         summary="results/spectrum/{scenario}/summary.md",
+        csv="results/spectrum/{scenario}/rate_spectrum.csv",
     params:
         code=code("rate_spectrum_map.py"),
     resources:

@@ -1,0 +1,227 @@
+"""Exports in the form practice reads (docs/exports.md): one rate convention (dB per 100,000 axle
+passages, per year and per MGT from the traffic), no -inf, a frequency axis V / lambda, and the
+one-third-octave roughness for rolling-noise tools."""
+
+import csv
+import io
+
+import numpy as np
+import pytest
+import xarray as xr
+
+from rail.studies import bands as B
+from rail.studies import exports as E
+from rail.traffic import Traffic, readable_count
+
+L = 0.6
+
+
+def _growth(n, lines, N=1, K=64, V=40.0):
+    """A synthetic growth dataset: amplitude a_j(n) of a cosine at each line j (lines: {j: a(n)})."""
+    J = N * K
+    Z = np.zeros((len(n), 2 * J + 1), dtype=complex)
+    for j, a in lines.items():
+        Z[:, J + j] = Z[:, J - j] = np.asarray(a) / 2
+    return xr.Dataset({"Z_real": (("passage", "h"), Z.real), "Z_imag": (("passage", "h"), Z.imag)},
+                      coords={"passage": np.asarray(n, dtype=float)}, attrs={"bays": N, "speed_m_per_s": V})
+
+
+def _rows(text):
+    body = "\n".join(x for x in text.splitlines() if not x.startswith("#"))
+    return list(csv.DictReader(io.StringIO(body)))
+
+
+def test_band_csv_has_no_minus_infinity_and_states_why_a_band_is_empty():
+    # growth from a smooth rail: every band is empty at 0 passages (the old export wrote -inf
+    # there), the 1 m band is longer than the one-bay period, the 3.15 mm band shorter than L / K
+    n = np.arange(0, 50001, 10000)
+    j = 12  # 50 mm
+    g = _growth(n, {j: 1e-7 * n / 1e4})
+    tob = B.third_octave_bands()
+    ds = B.bands_dataset(g, L, tob, 1)
+    assert not np.isinf(ds["level"].values).any()
+    text = B.band_csv_text(ds)
+    assert "inf" not in text.replace("information", "")
+    rows = _rows(text)
+    assert len(rows) == len(tob.nominal)
+    level_cols = [c for c in rows[0] if c.startswith("level_dB_re_1um_at_")]
+    assert level_cols[0] == "level_dB_re_1um_at_0_axle_passages"
+    for r in rows:
+        empty = [c for c in level_cols if r[c] == ""]
+        assert bool(empty) == bool(r["empty_reason"]), r  # an empty cell always has its reason, and only then
+    by = {float(r["nominal_wavelength_m"]): r for r in rows}
+    assert "longer than the roughness period" in by[1.0]["empty_reason"]
+    assert "shorter than the shortest wavelength" in by[0.00315]["empty_reason"]
+    assert "no roughness" in by[0.05]["empty_reason"] and by[0.05]["level_dB_re_1um_at_0_axle_passages"] == ""
+    assert float(by[0.05][level_cols[-1]]) == pytest.approx(20 * np.log10(5e-7 / np.sqrt(2) / 1e-6), abs=1e-3)
+
+
+def test_a_known_exponential_growth_is_recovered_in_dB_per_1e5_axle_passages():
+    # the 50 mm band's level grows at exactly 3.7 dB per 100,000 axle passages, the 0.2 m band
+    # decays at 1.2 dB per 100,000; the amplitude-linear fit would give no dB rate at all
+    n = np.arange(0, 200001, 20000)
+    g = _growth(n, {12: 2e-6 * 10 ** (3.7 * n / 1e5 / 20), 3: 5e-6 * 10 ** (-1.2 * n / 1e5 / 20)})
+    tob = B.third_octave_bands()
+    ds = B.bands_dataset(g, L, tob, 1)
+    b50 = int(np.nonzero(tob.nominal == 0.05)[0][0])
+    b200 = int(np.nonzero(tob.nominal == 0.2)[0][0])
+    assert ds["growth_dB_per_1e5_axles"].values[b50] == pytest.approx(3.7, rel=1e-9)
+    assert ds["growth_dB_per_1e5_axles"].values[b200] == pytest.approx(-1.2, rel=1e-9)
+    assert ds["growth_dB_per_1e5_axles_error"].values[b50] < 1e-9
+    assert ds["growth_dB_per_1e5_axles"].attrs["units"] == "dB per 100000 axle passages"
+    rows = {float(r["nominal_wavelength_m"]): r for r in _rows(B.band_csv_text(ds))}
+    assert float(rows[0.05]["growth_dB_per_1e5_axles"]) == pytest.approx(3.7, rel=1e-3)
+
+
+def test_rates_per_year_and_per_MGT_are_the_per_axle_rate_times_the_configured_traffic(defaults, schema):
+    # the traffic read from the configuration's numbers here, independently of rail.traffic: axles
+    # per day x 365 per year; 1e6 t / (2 x static wheel load / g) axles per MGT
+    from rail.setup import build
+    from rail.setup import config as rconfig
+    from rail.traffic import traffic_of
+
+    cfg = rconfig.validate_config(defaults, schema, "config.yaml")
+    scn = build.scenario(cfg)
+    per_day = float(defaults["traffic"]["axles_per_day"])
+    axle_t = 2 * float(defaults["wheels"]["static_load"]) / 9.80665 / 1000
+    n = np.arange(0, 200001, 20000)
+    g = _growth(n, {12: 2e-6 * 10 ** (3.7 * n / 1e5 / 20)})
+    tob = B.third_octave_bands()
+    limit = (tob.nominal, np.full(len(tob.nominal), 20.0))
+    ds = B.bands_dataset(g, L, tob, 1, limit, traffic=traffic_of(scn))
+    rate = ds["growth_dB_per_1e5_axles"].values
+    ok = np.isfinite(rate)
+    np.testing.assert_allclose(ds["growth_dB_per_year"].values[ok], rate[ok] / 1e5 * per_day * 365, rtol=1e-12)
+    np.testing.assert_allclose(ds["growth_dB_per_MGT"].values[ok], rate[ok] / 1e5 * 1e6 / axle_t, rtol=1e-12)
+    # grinding interval: 2 um amplitude (3.0 dB re 1 um rms) to 20 dB at 3.7 dB per 1e5, in years and MGT
+    t = 1e5 * (20 - 20 * np.log10(2 / np.sqrt(2))) / 3.7
+    assert ds.attrs["grinding_interval_passages"] == pytest.approx(t, rel=1e-9)
+    assert ds.attrs["grinding_interval_years"] == pytest.approx(t / per_day / 365, rel=1e-9)
+    assert ds.attrs["grinding_interval_MGT"] == pytest.approx(t * axle_t / 1e6, rel=1e-9)
+    assert ds.attrs["grinding_interval_band_m"] == 0.05
+    head = [x for x in B.band_csv_text(ds).splitlines() if x.startswith("#")]
+    assert any(f"grinding interval: {readable_count(t)} axle passages" in x and "set by the 50 mm band" in x for x in head)
+    rows = {float(r["nominal_wavelength_m"]): r for r in _rows(B.band_csv_text(ds))}
+    assert float(rows[0.05]["growth_dB_per_year"]) == pytest.approx(3.7 / 1e5 * per_day * 365, rel=1e-3)
+    # the spectrum's rates: per train passage of a 4-axle train, to per axle, per year and per MGT
+    tr = traffic_of(scn)
+    r = E.spectrum_rates(np.array([1e-5]), 4, tr)
+    d = 20 * np.log10(np.e) * 1e-5 * 1e5 / 4
+    assert r["growth_dB_per_1e5_axles"][0] == pytest.approx(d, rel=1e-12)
+    assert r["growth_dB_per_year"][0] == pytest.approx(d / 1e5 * per_day * 365, rel=1e-12)
+    assert r["growth_dB_per_MGT"][0] == pytest.approx(d / 1e5 * 1e6 / axle_t, rel=1e-12)
+
+
+def test_traffic_refuses_a_bad_value_naming_it():
+    with pytest.raises(ValueError, match=r"traffic\.axles_per_day = -1 is not allowed"):
+        Traffic(-1, 10.0)
+
+
+@pytest.mark.parametrize("wavelength, nominal", [(0.05, 0.05), (0.2, 0.2), (0.012, 0.0125)])
+def test_rolling_noise_export_puts_a_sinusoid_at_its_level_in_its_band(wavelength, nominal):
+    # 10 um amplitude: rms 7.07 um, 20 log10(7.07) = 17.0 dB re 1 um, in the band of its wavelength;
+    # every other band is empty with its reason
+    N, K = 1, 64
+    j = int(round(N * L / wavelength))
+    g = _growth([0.0], {j: [10e-6]}, N, K)
+    Z = g["Z_real"].values[0] + 1j * g["Z_imag"].values[0]
+    level, reasons = E.rolling_noise_levels(Z, N * L)
+    bands = E.rolling_noise_bands()
+    b = int(np.nonzero(np.isclose(bands.nominal, nominal))[0][0])
+    assert level[b] == pytest.approx(16.99, abs=0.005)
+    assert np.isnan(np.delete(level, b)).all() and reasons[b] == ""
+    assert all(reasons[k] for k in range(len(level)) if k != b)
+    text = E.rolling_noise_csv_text(level, reasons, N * L, N * L / (N * K), 40.0, "test")
+    rows = _rows(text)
+    assert [float(r["wavelength_mm"]) for r in rows][:4] == [2000, 1600, 1250, 1000]
+    assert float(rows[-1]["wavelength_mm"]) == 0.8 and len(rows) == 35
+    assert float(rows[b]["rail_roughness_dB_re_1um"]) == pytest.approx(16.99, abs=0.005)
+    assert "rail-only" in text and "inf" not in text
+    # with a wheel roughness of the same level the combined roughness is 3.01 dB higher
+    both = _rows(E.rolling_noise_csv_text(level, reasons, N * L, N * L / (N * K), 40.0, "test", wheel_dB=level, wheel_source="test"))
+    assert float(both[b]["combined_roughness_dB_re_1um"]) == pytest.approx(16.99 + 10 * np.log10(2), abs=0.01)
+
+
+def test_the_rolling_noise_bands_are_the_standard_third_octaves_from_2000_to_0_8_mm():
+    bands = E.rolling_noise_bands()
+    assert len(bands.centre) == 35
+    np.testing.assert_allclose(bands.nominal, bands.centre, rtol=0.025)  # labels within 2.5 % of 10^(-n/10)
+    np.testing.assert_allclose(bands.upper[1:], bands.lower[:-1], rtol=1e-12)  # the bands meet
+
+
+def test_frequency_axis_is_the_speed_over_the_wavelength():
+    V = 37.5
+    n = np.arange(0, 30001, 10000)
+    N, K = 4, 32
+    g = _growth(n, {48: 1e-6 * (1 + n / 1e5)}, N, K, V)
+    tob = B.third_octave_bands()
+    ds = B.bands_dataset(g, L, tob, 1)
+    np.testing.assert_allclose(ds["frequency"].values, V / (10.0 ** (-np.arange(26) / 10)), rtol=1e-12)
+    rows = _rows(B.band_csv_text(ds))
+    np.testing.assert_allclose([float(r["frequency_Hz"]) for r in rows], V / tob.centre, rtol=1e-4)
+    # narrow band: line j of the 4-bay period is at wavelength 4 L / j
+    from rail.studies import datasets
+
+    J = N * K
+    growth = g.assign(level=(("passage", "harmonic"), np.full((len(n), J), 10.0)),
+                      growth_dB_per_1e5_axles=("harmonic", np.full(J, 1.0)),
+                      amplitude_growth_um_per_1e5_axles=("harmonic", np.full(J, 1.0)))
+    growth = growth.assign_coords(harmonic=np.arange(1, J + 1))
+    rows = _rows(E.narrow_band_csv_text(growth, L, Traffic(1000.0, 10.0)))
+    np.testing.assert_allclose([float(r["wavelength_m"]) for r in rows], N * L / np.arange(1, J + 1), rtol=1e-6)
+    np.testing.assert_allclose([float(r["frequency_Hz"]) for r in rows], V * np.arange(1, J + 1) / (N * L), rtol=1e-4)
+    assert float(rows[0]["growth_dB_per_year"]) == pytest.approx(1000.0 * 365 / 1e5, rel=1e-3)
+    assert datasets  # the narrow-band export reads the variables of rail.studies.datasets.growth
+    # spectrum: frequency = speed / wavelength on (speed, wavelength)
+    lam = np.array([0.1, 0.05])
+    sp = xr.Dataset({"growth_rate": (("speed", "wavelength"), np.ones((2, 2)) * 1e-6),
+                     "growth_dB_per_1e5_axles": (("speed", "wavelength"), np.ones((2, 2)))},
+                    coords={"speed": [20.0, 40.0], "wavelength": lam, "locked": ("wavelength", [0, 0]),
+                            "frequency": (("speed", "wavelength"), np.array([20.0, 40.0])[:, None] / lam[None, :])},
+                    attrs={"wheels": 4})
+    rows = _rows(E.spectrum_csv_text(sp))
+    np.testing.assert_allclose([float(r["frequency_Hz"]) for r in rows], [200, 400, 400, 800], rtol=1e-12)
+
+
+def test_growth_dataset_states_its_rates_in_the_one_convention():
+    # rail.studies.datasets.growth: amplitude growth in um per 100,000 axle passages and level growth
+    # in dB per 100,000 (was: m per 10,000 passages); a line growing at 2 dB per 1e5 gives 2
+    from types import SimpleNamespace
+
+    from rail.growth import GrowthHistory
+    from rail.studies import datasets
+
+    K = 8
+    n = np.arange(0, 100001, 10000).astype(float)
+    Z = np.zeros((len(n), 2 * K + 1), dtype=complex)
+    a = 1e-6 * 10 ** (2.0 * n / 1e5 / 20)
+    Z[:, K + 3] = Z[:, K - 3] = a / 2
+    track = SimpleNamespace(L=L, beta0=2 * np.pi / L, damping="hysteretic", pad=SimpleNamespace(stiffness=1e8))
+    ds = datasets.growth(GrowthHistory(n, Z), track, 40.0, 1, points=11)
+    assert ds["growth_dB_per_1e5_axles"].values[2] == pytest.approx(2.0, rel=1e-9)
+    assert ds["amplitude_growth_um_per_1e5_axles"].attrs["units"] == "um per 100000 axle passages"
+    half = n >= n[-1] / 2
+    slope = np.polyfit(n[half], a[half] / np.sqrt(2), 1)[0]
+    assert ds["amplitude_growth_um_per_1e5_axles"].values[2] == pytest.approx(slope * 1e5 * 1e6, rel=1e-9)
+
+
+def test_readable_counts_in_titles_and_headers():
+    assert readable_count(82345.6) == "82,300"
+    assert readable_count(1234567) == "1,230,000"
+    assert readable_count(0) == "0" and readable_count(np.inf) == "never"
+
+
+def test_band_figure_titles_say_already_exceeded_and_use_readable_numbers():
+    from rail.plotting import report
+
+    n = np.arange(0, 200001, 20000)
+    tob = B.third_octave_bands()
+    g = _growth(n, {12: 2e-6 * 10 ** (3.7 * n / 1e5 / 20)})
+    above = B.bands_dataset(g, L, tob, 1, (tob.nominal, np.full(len(tob.nominal), 2.0)))  # 3.0 dB > 2 dB at the start
+    title = report.band_spectra(above).axes[0].get_title()
+    assert "already exceeded by the initial roughness" in title and "after 0" not in title
+    later = B.bands_dataset(g, L, tob, 1, (tob.nominal, np.full(len(tob.nominal), 20.0)))
+    fig = report.band_spectra(later)
+    t = 1e5 * (20 - 20 * np.log10(2 / np.sqrt(2))) / 3.7
+    assert f"after {readable_count(t)} axle passages" in fig.axes[0].get_title() and "e+" not in fig.axes[0].get_title()
+    assert "dB per 100,000 axle passages" in fig.axes[1].get_ylabel()
