@@ -21,7 +21,7 @@ import numpy as np
 
 from .fleet import GRAVITY
 
-__all__ = ["AXLES_PER_RATE", "DB_PER_NEPER", "DAYS_PER_YEAR", "Traffic", "traffic_of_wheel_load", "traffic_of", "readable_count"]
+__all__ = ["AXLES_PER_RATE", "DB_PER_NEPER", "DAYS_PER_YEAR", "Traffic", "traffic_of_wheel_load", "traffic_of"]
 
 AXLES_PER_RATE = 100000  # every growth rate is stated per this many axle (wheel) passages on the rail
 DB_PER_NEPER = 20 * np.log10(np.e)  # dB of amplitude per unit of ln(amplitude)
@@ -104,8 +104,8 @@ def traffic_of_wheel_load(axles_per_day: float, static_wheel_load: float) -> Tra
 
 
 def traffic_of(scn) -> Traffic:
-    """The traffic of a scenario (rail.scenario.Scenario): its ``axles_per_day`` (config
-    ``traffic.axles_per_day``) and the axle load of its train, 2 x ``wheels.static_load`` / g.
+    """The traffic of a scenario (rail.scenario.Scenario): its ``axles_per_day`` [1/day] (config
+    ``traffic.axles_per_day``) and the axle load of its train [t], 2 x ``wheels.static_load`` [N] / g.
 
     Parameters
     ----------
@@ -118,26 +118,3 @@ def traffic_of(scn) -> Traffic:
     if scn.axles_per_day is None:
         raise ValueError(f"scenario {scn.name!r} has no traffic (traffic.axles_per_day): no rates per year or MGT.")
     return traffic_of_wheel_load(scn.axles_per_day, scn.wheels.static_load)
-
-
-def readable_count(x: float, digits: int = 3) -> str:
-    """A count for a title or a header: ``digits`` significant figures with thousands separators
-    (82,300 rather than 8.23e+04); 'never' for inf.
-
-    Parameters
-    ----------
-    x : float
-    digits : int
-
-    Returns
-    -------
-    str
-    """
-    if not np.isfinite(x):
-        return "never" if x > 0 else "nan"
-    if x == 0:
-        return "0"
-    r = float(f"{x:.{digits}g}")
-    if abs(r) >= 10 ** (digits - 1):
-        return f"{int(round(r)):,}"
-    return f"{r:,.{max(digits - 1 - int(np.floor(np.log10(abs(r)))), 0)}f}"

@@ -11,7 +11,8 @@ import xarray as xr
 
 from rail.studies import bands as B
 from rail.studies import exports as E
-from rail.traffic import Traffic, readable_count
+from rail.studies.bands import readable_count
+from rail.traffic import Traffic
 
 L = 0.6
 
@@ -100,7 +101,8 @@ def test_rates_per_year_and_per_MGT_are_the_per_axle_rate_times_the_configured_t
     assert ds.attrs["grinding_interval_MGT"] == pytest.approx(t * axle_t / 1e6, rel=1e-9)
     assert ds.attrs["grinding_interval_band_m"] == 0.05
     head = [x for x in B.band_csv_text(ds).splitlines() if x.startswith("#")]
-    assert any(f"grinding interval: {readable_count(t)} axle passages" in x and "set by the 50 mm band" in x for x in head)
+    assert any(f"grinding interval: limit reached after {readable_count(t)} axle passages" in x and "set by the 50 mm band" in x
+               for x in head)
     rows = {float(r["nominal_wavelength_m"]): r for r in _rows(B.band_csv_text(ds))}
     assert float(rows[0.05]["growth_dB_per_year"]) == pytest.approx(3.7 / 1e5 * per_day * 365, rel=1e-3)
     # the spectrum's rates: per train passage of a 4-axle train, to per axle, per year and per MGT

@@ -33,10 +33,33 @@ import numpy as np
 from ..roughness import NOMINAL_WAVELENGTHS_M, nominal_band
 
 __all__ = ["NOMINAL_WAVELENGTHS_M", "ThirdOctaveBands", "third_octave_bands", "band_mean_square", "band_levels",
-           "BandGrowth", "band_growth", "grinding_interval", "empty_band_reasons", "bands_dataset", "band_csv_text", "write_band_csv", "sweep_band_map"]
+           "BandGrowth", "band_growth", "grinding_interval", "empty_band_reasons", "bands_dataset", "grinding_interval_text", "band_csv_text", "write_band_csv", "sweep_band_map", "readable_count"]
 
 # NOMINAL_WAVELENGTHS_M: EN 15610 nominal centre wavelengths (m) of the exact series 10^(-n/10) m,
 # n = 0..25 (rail.roughness, where the limit spectrum is read and checked against them)
+
+
+def readable_count(x: float, digits: int = 3) -> str:
+    """A count for a title or a header: ``digits`` significant figures with thousands separators
+    (82,300 rather than 8.23e+04); 'never' for inf.
+
+    Parameters
+    ----------
+    x : float
+    digits : int
+
+    Returns
+    -------
+    str
+    """
+    if not np.isfinite(x):
+        return "never" if x > 0 else "nan"
+    if x == 0:
+        return "0"
+    r = float(f"{x:.{digits}g}")
+    if abs(r) >= 10 ** (digits - 1):
+        return f"{int(round(r)):,}"
+    return f"{r:,.{max(digits - 1 - int(np.floor(np.log10(abs(r)))), 0)}f}"
 
 
 @dataclass(frozen=True)
@@ -353,18 +376,18 @@ def bands_dataset(growth, L: float, bands: ThirdOctaveBands, min_lines: int, lim
     dims = ("passage", "band")
     per_1e5 = f"per {AXLES_PER_RATE} axle passages"
     rates = {
-        "growth_dB_per_1e5_axles": _var("band", g.dB_rate, f"dB {per_1e5}",
+        "growth_dB_per_1e5_axles": _var("band", g.dB_rate, "dB per 100000 axle passages",
                                         "level growth rate of the band: slope of the least-squares line of the band level against "
                                         "axle (wheel) passages over the saves where the band has roughness"),
-        "growth_dB_per_1e5_axles_error": _var("band", g.dB_error, f"dB {per_1e5}", "standard error of growth_dB_per_1e5_axles"),
+        "growth_dB_per_1e5_axles_error": _var("band", g.dB_error, "dB per 100000 axle passages", "standard error of growth_dB_per_1e5_axles"),
     }
     if traffic is not None:
-        rates["growth_dB_per_year"] = _var("band", traffic.per_year(g.dB_rate), "dB/year",
+        rates["growth_dB_per_year"] = _var("band", traffic.per_year(g.dB_rate), "1/year",
                                            "level growth rate of the band per year of the traffic (growth_dB_per_1e5_axles x "
-                                           "axles_per_day x 365 / 1e5)")
-        rates["growth_dB_per_MGT"] = _var("band", traffic.per_mgt(g.dB_rate), "dB/Mt",
+                                           "axles_per_day x 365 / 1e5)", level_unit="dB", units_text="dB/year")
+        rates["growth_dB_per_MGT"] = _var("band", traffic.per_mgt(g.dB_rate), "1/Mt",
                                           "level growth rate of the band per million gross tonnes (growth_dB_per_1e5_axles x "
-                                          "1e6 / axle_load_t / 1e5)")
+                                          "1e6 / axle_load_t / 1e5)", level_unit="dB", units_text="dB/Mt")
     gi_attrs = {
         "grinding_interval_passages": float(gi["passages"]),
         "grinding_interval_days": float(gi["days"]),
@@ -377,6 +400,7 @@ def bands_dataset(growth, L: float, bands: ThirdOctaveBands, min_lines: int, lim
                                          "the initial roughness already exceeds the limit; inf when no band reaches it"),
         "limit_exceeded_at_start": int(gi["already"]),
     }
+    gi_attrs["grinding_interval_text"] = grinding_interval_text(gi_attrs, n[0], bool(np.isfinite(lim).any()))
     return xr.Dataset(
         {
             "level": _var(dims, level, "dB re 1 um",
@@ -384,13 +408,13 @@ def bands_dataset(growth, L: float, bands: ThirdOctaveBands, min_lines: int, lim
             "resolved": _var("band", resolved.astype(int), "1", "1 where the roughness period resolves the band (at least min_lines lines)"),
             "empty_reason": _var("band", reasons, "", "why the band has no level at some or all saves ('' where it has one at every save)"),
             **rates,
-            "amplitude_growth_um_per_1e5_axles": _var("band", g.linear_rate * 1e6, f"um {per_1e5}",
+            "amplitude_growth_um_per_1e5_axles": _var("band", g.linear_rate * 1e6, "um per 100000 axle passages",
                                                       "rms amplitude growth rate of the band (straight-line fit)"),
-            "amplitude_growth_um_per_1e5_axles_error": _var("band", g.linear_error * 1e6, f"um {per_1e5}",
+            "amplitude_growth_um_per_1e5_axles_error": _var("band", g.linear_error * 1e6, "um per 100000 axle passages",
                                                             "standard error of the amplitude growth rate"),
-            "efolding_rate_per_1e5_axles": _var("band", g.exp_rate, f"1 {per_1e5}",
+            "efolding_rate_per_1e5_axles": _var("band", g.exp_rate, "1 per 100000 axle passages",
                                                 f"e-folding rate of the band's rms amplitude (exponential fit; x {DB_PER_NEPER:.4f} = dB)"),
-            "efolding_rate_per_1e5_axles_error": _var("band", g.exp_error, f"1 {per_1e5}", "standard error of the e-folding rate"),
+            "efolding_rate_per_1e5_axles_error": _var("band", g.exp_error, "1 per 100000 axle passages", "standard error of the e-folding rate"),
             "growth_law": _var("band", g.law, "1", "the fit with the smaller misfit: linear or exponential"),
             "linear_misfit": _var("band", g.linear_misfit, "1", "rms residual of the straight-line fit over the band's mean amplitude"),
             "exponential_misfit": _var("band", g.exp_misfit, "1", "rms residual of the exponential fit over the band's mean amplitude"),
@@ -421,6 +445,35 @@ def bands_dataset(growth, L: float, bands: ThirdOctaveBands, min_lines: int, lim
     )
 
 
+def grinding_interval_text(attrs: dict, first: float, has_limit: bool) -> str:
+    """The grinding interval in words for a title or a header, readable numbers (82,300, not 8.23e+04).
+
+    Parameters
+    ----------
+    attrs : dict
+        The grinding_interval_* attributes of bands_dataset.
+    first : float
+        The first saved passage count [-].
+    has_limit : bool
+        Whether a limit spectrum was given.
+
+    Returns
+    -------
+    str
+    """
+    gi, band = attrs["grinding_interval_passages"], attrs["grinding_interval_band_m"]
+    if not has_limit:
+        return "no limit spectrum given"
+    if attrs["limit_exceeded_at_start"] and gi <= first:
+        return f"limit already exceeded by the initial roughness (the {1e3 * band:g} mm band)"
+    if not np.isfinite(gi):
+        return "no band reaches the limit with its growth"
+    years, mgt, days = attrs["grinding_interval_years"], attrs["grinding_interval_MGT"], attrs["grinding_interval_days"]
+    when = (f" ({years:.3g} years, {mgt:.3g} MGT)" if np.isfinite(years) and np.isfinite(mgt)
+            else f" ({days:,.0f} days)" if np.isfinite(days) else "")
+    return f"limit reached after {readable_count(gi)} axle passages{when}, set by the {1e3 * band:g} mm band"
+
+
 def band_csv_text(ds) -> str:
     """The band export (docs/exports.md): '#' header lines with the conventions, the traffic and the
     grinding interval with its band; one row per band with its wavelength, frequency V / lambda at the
@@ -436,11 +489,8 @@ def band_csv_text(ds) -> str:
     -------
     str
     """
-    from ..traffic import readable_count
-
     n = ds["passage"].values
     a = ds.attrs
-    gi = a["grinding_interval_passages"]
     head = ["# one-third-octave band levels of the rail roughness and their growth (rail.studies.bands; docs/exports.md)",
             f"# speed {a['speed_m_per_s']:g} m/s; frequency_Hz = speed / centre wavelength; roughness period {a['period_m']:.4g} m "
             f"({a['bays']} bays), shortest wavelength {1e3 * a['shortest_wavelength_m']:.3g} mm",
@@ -449,17 +499,7 @@ def band_csv_text(ds) -> str:
             f"# traffic: {a['axles_per_day']:g} axles/day" + (f", axle load {a['axle_load_t']:.4g} t, {a['mgt_per_year']:.4g} MGT/year"
                                                              if "axle_load_t" in a else ""),
             "# empty cell: the band has no level there (reason in the column empty_reason)"]
-    if a["limit_exceeded_at_start"] and gi == n[0]:
-        head.append("# grinding interval: the limit is already exceeded by the initial roughness"
-                    + (f" in the {1e3 * a['grinding_interval_band_m']:g} mm band" if np.isfinite(a['grinding_interval_band_m']) else ""))
-    elif np.isfinite(gi):
-        head.append(f"# grinding interval: {readable_count(gi)} axle passages"
-                    + (f" = {a['grinding_interval_years']:.3g} years = {a['grinding_interval_MGT']:.3g} MGT" if np.isfinite(a["grinding_interval_years"]) else "")
-                    + f", set by the {1e3 * a['grinding_interval_band_m']:g} mm band")
-    elif np.isfinite(ds["limit"].values).any():
-        head.append("# grinding interval: no band reaches the limit with its growth (never)")
-    else:
-        head.append("# grinding interval: no limit spectrum given")
+    head.append("# grinding interval: " + a["grinding_interval_text"])
     head.append("# " + "; ".join(f"{k}={a[k]:.6g}" if np.isfinite(a[k]) else f"{k}=" for k in
                                  ("grinding_interval_passages", "grinding_interval_years", "grinding_interval_MGT", "grinding_interval_band_m"))
                 + " (axle passages, years, MGT, band in m; empty: no finite interval, see above)")

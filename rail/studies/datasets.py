@@ -337,9 +337,9 @@ def growth(history, track, speed: float, n_wheels: int, points: int = 601, bays:
             "Z_imag": _var(("passage", "harmonic_all"), Z.imag, "m", "imaginary part of the roughness coefficients Z_k"),
             "exponential_rate": _var("harmonic", exp_rate, "1", "e-folding rate of the rms amplitude per wheel passage over the second half "
                                      "of the run (d ln A / dn; from a smooth rail the growth is linear in the amplitude, see amplitude_growth_rate)"),
-            "amplitude_growth_um_per_1e5_axles": _var("harmonic", amp_slope, f"um per {AXLES_PER_RATE} axle passages",
+            "amplitude_growth_um_per_1e5_axles": _var("harmonic", amp_slope, "um per 100000 axle passages",
                                                       "growth rate of the rms amplitude over the second half of the run"),
-            "growth_dB_per_1e5_axles": _var("harmonic", DB_PER_NEPER * exp_rate * AXLES_PER_RATE, f"dB per {AXLES_PER_RATE} axle passages",
+            "growth_dB_per_1e5_axles": _var("harmonic", DB_PER_NEPER * exp_rate * AXLES_PER_RATE, "dB per 100000 axle passages",
                                             "level growth rate over the second half of the run (20 log10(e) x exponential_rate x 1e5; "
                                             "NaN where the amplitude is not positive throughout)"),
             "step_error": _var("update", history.step_error, "1", "estimated local error of each update relative to the roughness (rail.growth.step_error)"),
@@ -440,7 +440,7 @@ def sweep(runs, keys, values, indices) -> xr.Dataset:
         {
             "level": _var(dims + ("harmonic",), level, "dB re 1 um", "rms roughness level of each harmonic at the end of the run"),
             "overall_level": _var(dims, overall, "dB re 1 um", "overall rms roughness level at the end of the run"),
-            "max_amplitude_growth_um_per_1e5_axles": _var(dims, np.nanmax(rate, axis=-1), f"um per {AXLES_PER_RATE} axle passages",
+            "max_amplitude_growth_um_per_1e5_axles": _var(dims, np.nanmax(rate, axis=-1), "um per 100000 axle passages",
                                                           "rms amplitude growth rate of the fastest-growing wavelength"),
             "fastest_wavelength": _var(dims, wavelength, "m", "wavelength that grows fastest"),
         },

@@ -68,12 +68,14 @@ def rate_spectrum_dataset(spectra: dict[float, RateSpectrum], L: float, wheels: 
     lam = first.wavelength
     rates = spectrum_rates(g, wheels, traffic)
     units = {"growth_dB_per_1e5_axles": ("dB per 100000 axle passages", "level change per 100,000 axle (wheel) passages of a small "
-                                         "roughness at the wavelength (growth_dB / wheels of the train)"),
-             "growth_dB_per_year": ("dB/year", "level change per year of the traffic (growth_dB_per_1e5_axles x axles_per_day x 365 / 1e5)"),
-             "growth_dB_per_MGT": ("dB/Mt", "level change per million gross tonnes (growth_dB_per_1e5_axles x 1e6 / axle_load_t / 1e5)")}
+                                         "roughness at the wavelength (growth_dB / wheels of the train)", {}),
+             "growth_dB_per_year": ("1/year", "level change per year of the traffic (growth_dB_per_1e5_axles x axles_per_day x 365 / 1e5)",
+                                    {"level_unit": "dB", "units_text": "dB/year"}),
+             "growth_dB_per_MGT": ("1/Mt", "level change per million gross tonnes (growth_dB_per_1e5_axles x 1e6 / axle_load_t / 1e5)",
+                                   {"level_unit": "dB", "units_text": "dB/Mt"})}
     return xr.Dataset(
         {
-            **{k: _var(("speed", "wavelength"), v, *units[k]) for k, v in rates.items()},
+            **{k: _var(("speed", "wavelength"), v, units[k][0], units[k][1], **units[k][2]) for k, v in rates.items()},
             "growth_rate": _var(("speed", "wavelength"), g, "1",
                                 "relative growth rate of the roughness amplitude per train passage, -Re R (> 0: grows)"),
             "growth_rate_other": _var(("speed", "wavelength"), np.array([-spectra[v].rate_other.real for v in V]), "1",

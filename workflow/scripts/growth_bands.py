@@ -6,7 +6,7 @@ from rail.plotting import report
 from rail.roughness import read_limit_spectrum
 from rail.setup import build, io
 from rail.studies import bands, exports
-from rail.traffic import readable_count, traffic_of
+from rail.traffic import traffic_of
 
 
 def main(config, name, growth_path, out):
@@ -27,7 +27,7 @@ def main(config, name, growth_path, out):
     level, reasons = exports.rolling_noise_levels(Z, period, int(s["min_lines"]))
     with open(out["rolling_noise_csv"], "w") as f:
         f.write(exports.rolling_noise_csv_text(level, reasons, period, period / ((Z.size - 1) // 2), float(ds.attrs["speed_m_per_s"]),
-                                               f"scenario {name} after {readable_count(growth['passage'].values[-1])} axle passages "
+                                               f"scenario {name} after {bands.readable_count(growth['passage'].values[-1])} axle passages "
                                                "(the last save of the growth run)"))
     report.band_spectra(ds).savefig(out["figure"], dpi=150)
 
