@@ -59,9 +59,10 @@ def test_band_csv_has_no_minus_infinity_and_states_why_a_band_is_empty():
 
 def test_a_known_exponential_growth_is_recovered_in_dB_per_1e5_axle_passages():
     # the 50 mm band's level grows at exactly 3.7 dB per 100,000 axle passages, the 0.2 m band
-    # decays at 1.2 dB per 100,000; the amplitude-linear fit would give no dB rate at all
+    # decays at 1.2 dB per 100,000; the 0.1 m band grows linearly, 1 um + 2 um per 100,000: its
+    # level rate at the last save (2e5) is 20 log10(e) x 2 / 5 dB per 100,000
     n = np.arange(0, 200001, 20000)
-    g = _growth(n, {12: 2e-6 * 10 ** (3.7 * n / 1e5 / 20), 3: 5e-6 * 10 ** (-1.2 * n / 1e5 / 20)})
+    g = _growth(n, {12: 2e-6 * 10 ** (3.7 * n / 1e5 / 20), 3: 5e-6 * 10 ** (-1.2 * n / 1e5 / 20), 6: np.sqrt(2) * (1e-6 + 2e-6 * n / 1e5)})
     tob = B.third_octave_bands()
     ds = B.bands_dataset(g, L, tob, 1)
     b50 = int(np.nonzero(tob.nominal == 0.05)[0][0])
@@ -69,6 +70,10 @@ def test_a_known_exponential_growth_is_recovered_in_dB_per_1e5_axle_passages():
     assert ds["growth_dB_per_1e5_axles"].values[b50] == pytest.approx(3.7, rel=1e-9)
     assert ds["growth_dB_per_1e5_axles"].values[b200] == pytest.approx(-1.2, rel=1e-9)
     assert ds["growth_dB_per_1e5_axles_error"].values[b50] < 1e-9
+    b100 = int(np.nonzero(tob.nominal == 0.1)[0][0])
+    assert ds["growth_law"].values[b100] == "linear"
+    assert ds["growth_dB_per_1e5_axles"].values[b100] == pytest.approx(20 / np.log(10) * 2 / 5, rel=1e-9)
+    assert ds["amplitude_growth_um_per_1e5_axles"].values[b100] == pytest.approx(2.0, rel=1e-9)
     assert ds["growth_dB_per_1e5_axles"].attrs["units"] == "dB per 100000 axle passages"
     rows = {float(r["nominal_wavelength_m"]): r for r in _rows(B.band_csv_text(ds))}
     assert float(rows[0.05]["growth_dB_per_1e5_axles"]) == pytest.approx(3.7, rel=1e-3)
@@ -220,10 +225,10 @@ def test_band_figure_titles_say_already_exceeded_and_use_readable_numbers():
     tob = B.third_octave_bands()
     g = _growth(n, {12: 2e-6 * 10 ** (3.7 * n / 1e5 / 20)})
     above = B.bands_dataset(g, L, tob, 1, (tob.nominal, np.full(len(tob.nominal), 2.0)))  # 3.0 dB > 2 dB at the start
-    title = report.band_spectra(above).axes[0].get_title()
+    title = report.band_spectra(above).get_suptitle()
     assert "already exceeded by the initial roughness" in title and "after 0" not in title
     later = B.bands_dataset(g, L, tob, 1, (tob.nominal, np.full(len(tob.nominal), 20.0)))
     fig = report.band_spectra(later)
     t = 1e5 * (20 - 20 * np.log10(2 / np.sqrt(2))) / 3.7
-    assert f"after {readable_count(t)} axle passages" in fig.axes[0].get_title() and "e+" not in fig.axes[0].get_title()
+    assert f"after {readable_count(t)} axle passages" in fig.get_suptitle() and "e+" not in fig.get_suptitle()
     assert "dB per 100,000 axle passages" in fig.axes[1].get_ylabel()

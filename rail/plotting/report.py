@@ -280,9 +280,11 @@ def band_spectra(ds: xr.Dataset):
     lam = ds["nominal_wavelength"].values * 1e3
     n = ds["passage"].values
     res = ds["resolved"].values.astype(bool)
-    for style, i in zip(_STYLES, sorted({0, len(n) // 2, len(n) - 1})):
+    has = np.nonzero(np.isfinite(ds["level"].values[:, res]).any(axis=1))[0] if res.any() else np.arange(len(n))
+    has = has if has.size else np.arange(len(n))  # the saves with a level (not the smooth rail at the start)
+    for style, i in zip(_STYLES, sorted({int(has[0]), int(has[len(has) // 2]), int(has[-1])})):
         days = ds["days"].values[i]
-        label = f"{int(n[i]):,} axle passages" + (f" ({days:,.0f} days)" if np.isfinite(days) else "")
+        label = f"{int(n[i]):,} axle passages" + (f" ({days:.3g} days)" if np.isfinite(days) else "")
         a1.semilogx(lam[res], ds["level"].values[i][res], linestyle=style, marker="o", ms=3, color="k", lw=0.8, label=label)
     if np.isfinite(ds["limit"].values).any():
         a1.semilogx(lam, ds["limit"].values, color="0.5", lw=2, label="limit")
@@ -293,7 +295,7 @@ def band_spectra(ds: xr.Dataset):
     title = f"V = {ds.attrs['speed_m_per_s']:g} m/s, roughness period {nb} bay{'s' if nb > 1 else ''}"
     if ds.attrs.get("grinding_interval_text"):
         title += "\n" + ds.attrs["grinding_interval_text"]
-    a1.set_title(title, fontsize=9)
+    fig.suptitle(title, fontsize=9)
     a1.legend(fontsize=7)
     rate, err = ds["growth_dB_per_1e5_axles"].values, ds["growth_dB_per_1e5_axles_error"].values
     law = ds["growth_law"].values
@@ -303,9 +305,12 @@ def band_spectra(ds: xr.Dataset):
         sel = ok & (law == name)
         a2.semilogx(lam[sel], rate[sel], mark, color="k", mfc="none", label=f"{name} growth fits better")
     a2.axhline(0.0, color="0.6", lw=0.6)
-    a2.invert_xaxis()
+    a2.set_xscale("log")
+    a2.set_xlim(a1.get_xlim())  # already inverted: the same bands under each other
     a2.set_xlabel("one-third-octave band, centre wavelength (mm)")
     a2.set_ylabel("level growth (dB per 100,000 axle passages)")
+    a2.set_title("growth rate at the last save" + ("; of a linear growth it falls as the amplitude grows"
+                                                    if (ok & (law == "linear")).any() else ""), fontsize=8)
     a2.legend(fontsize=7)
     return fig
 
@@ -380,7 +385,9 @@ def scenario_overview(ds: xr.Dataset, default: xr.Dataset | None = None, name: s
     N = int(ds.attrs.get("bays", 1))
     lam = 2 * np.pi / ds["wavenumber"].values * 1e3
     n = ds["passage"].values
-    for style, i in zip(_STYLES, sorted({0, len(n) // 2, len(n) - 1})):
+    has = np.nonzero(np.isfinite(ds["level"].values[:, res]).any(axis=1))[0] if res.any() else np.arange(len(n))
+    has = has if has.size else np.arange(len(n))  # the saves with a level (not the smooth rail at the start)
+    for style, i in zip(_STYLES, sorted({int(has[0]), int(has[len(has) // 2]), int(has[-1])})):
         if np.isfinite(ds["level"].values[i]).any():
             a1.semilogx(lam, ds["level"].values[i], linestyle=style, color="k", lw=0.8, label=f"{int(n[i])} passages")
     if default is not None:

@@ -31,6 +31,7 @@ from dataclasses import dataclass
 import numpy as np
 
 from ..roughness import NOMINAL_WAVELENGTHS_M, nominal_band
+from ..traffic import DB_PER_NEPER
 
 __all__ = ["NOMINAL_WAVELENGTHS_M", "ThirdOctaveBands", "third_octave_bands", "band_mean_square", "band_levels",
            "BandGrowth", "band_growth", "grinding_interval", "empty_band_reasons", "bands_dataset", "grinding_interval_text", "band_csv_text", "write_band_csv", "sweep_band_map", "readable_count"]
@@ -159,10 +160,10 @@ class BandGrowth:
     exp_rate, exp_error         : e-folding rate and its standard error [1 per 1e5 passages]
     law                         : 'linear' or 'exponential', the better fit; '' where not resolved
     linear_misfit, exp_misfit   : rms residual of each fit relative to the band's mean amplitude [-]
-    dB_rate, dB_error           : level growth rate and its standard error [dB per 1e5 passages]: the
-                                  slope of the least-squares line of the band level against passages
-                                  over the saves where the band has roughness (20 log10(e) exp_rate
-                                  where the band has roughness at every save)
+    dB_rate, dB_error           : level growth rate at the last save and its standard error [dB per 1e5
+                                  passages], from the law that fits: 20 log10(e) exp_rate for an
+                                  exponential; 20 log10(e) linear_rate / a(n_last) for a straight line
+                                  (the rate of a linear growth falls as its amplitude grows)
     """
 
     linear_rate: np.ndarray
@@ -220,11 +221,13 @@ def band_growth(passages, ms) -> BandGrowth:
             fit = np.exp(c2 + g * n)
             out["er"][b], out["ee"][b] = g, ge
             out["em"][b] = float(np.sqrt(np.mean((a - fit) ** 2))) / scale
-        pos = a > 0
-        if pos.sum() >= 3:  # a slope with a standard error needs three saves with a level
-            (_, d), de, _ = _line_fit(n[pos], 20 * np.log10(a[pos]))
-            out["dr"][b], out["de"][b] = d, de
         law[b] = "exponential" if np.isfinite(out["em"][b]) and out["em"][b] < out["lm"][b] else "linear"
+        # the level growth rate at the last save from the law that fits: constant for an exponential,
+        # 20 log10(e) s / a(n_last) for a straight line (falls as the amplitude grows)
+        if law[b] == "exponential":
+            out["dr"][b], out["de"][b] = DB_PER_NEPER * out["er"][b], DB_PER_NEPER * out["ee"][b]
+        elif c + s * n[-1] > 0:
+            out["dr"][b], out["de"][b] = DB_PER_NEPER * s / (c + s * n[-1]), DB_PER_NEPER * se / (c + s * n[-1])
     return BandGrowth(out["lr"], out["le"], out["er"], out["ee"], law.astype(str), out["lm"], out["em"], out["dr"], out["de"])
 
 
@@ -349,7 +352,7 @@ def bands_dataset(growth, L: float, bands: ThirdOctaveBands, min_lines: int, lim
     """
     import xarray as xr
 
-    from ..traffic import AXLES_PER_RATE, DB_PER_NEPER
+    from ..traffic import AXLES_PER_RATE
     from .datasets import _var
 
     if traffic is not None:
@@ -377,8 +380,9 @@ def bands_dataset(growth, L: float, bands: ThirdOctaveBands, min_lines: int, lim
     per_1e5 = f"per {AXLES_PER_RATE} axle passages"
     rates = {
         "growth_dB_per_1e5_axles": _var("band", g.dB_rate, "dB per 100000 axle passages",
-                                        "level growth rate of the band: slope of the least-squares line of the band level against "
-                                        "axle (wheel) passages over the saves where the band has roughness"),
+                                        "level growth rate of the band at the last save from its growth law: 20 log10(e) x "
+                                        "efolding_rate for an exponential, 20 log10(e) x amplitude rate / fitted amplitude for a "
+                                        "straight line (falls as the amplitude grows)"),
         "growth_dB_per_1e5_axles_error": _var("band", g.dB_error, "dB per 100000 axle passages", "standard error of growth_dB_per_1e5_axles"),
     }
     if traffic is not None:

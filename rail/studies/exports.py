@@ -178,7 +178,11 @@ def narrow_band_csv_text(growth, L: float, traffic: Traffic | None = None) -> st
     lam = N * L / j
     n = growth["passage"].values
     lev = growth["level"].values
-    rate = growth["growth_dB_per_1e5_axles"].values
+    if "growth_dB_per_1e5_axles" in growth:
+        rate, amp = growth["growth_dB_per_1e5_axles"].values, growth["amplitude_growth_um_per_1e5_axles"].values
+    else:  # a growth file written before the one convention: exponential_rate per passage, m per 10,000 passages
+        rate = DB_PER_NEPER * growth["exponential_rate"].values * AXLES_PER_RATE
+        amp = growth["amplitude_growth_rate"].values * 1e6 * AXLES_PER_RATE / 1e4
     head = ["# narrow-band roughness levels of a growth run (rail.studies.datasets.growth; docs/exports.md)",
             f"# lines 2 pi j / (N L) of the roughness period N L = {N * L:.4g} m; frequency_Hz = V / wavelength at V = {V:g} m/s",
             "# levels: rms of each line, dB re 1 um; empty cell: no roughness at that line and count",
@@ -190,7 +194,6 @@ def narrow_band_csv_text(growth, L: float, traffic: Traffic | None = None) -> st
     cols = ["line_j", "wavelength_m", "frequency_Hz"] + [f"level_dB_re_1um_at_{int(p)}_axle_passages" for p in n]
     cols += ["growth_dB_per_1e5_axles"] + (["growth_dB_per_year", "growth_dB_per_MGT"] if traffic is not None else [])
     cols += ["amplitude_growth_um_per_1e5_axles"]
-    amp = growth["amplitude_growth_um_per_1e5_axles"].values
     rows = [",".join(cols)]
     for i in range(len(j)):
         cells = [str(int(j[i])), f"{lam[i]:.8g}", _cell(V / lam[i], ".8g")] + [_cell(v, ".3f") for v in lev[:, i]]
