@@ -174,7 +174,9 @@ def test_frequency_axis_is_the_speed_over_the_wavelength():
                       growth_dB_per_1e5_axles=("harmonic", np.full(J, 1.0)),
                       amplitude_growth_um_per_1e5_axles=("harmonic", np.full(J, 1.0)))
     growth = growth.assign_coords(harmonic=np.arange(1, J + 1))
-    rows = _rows(E.narrow_band_csv_text(growth, L, Traffic(1000.0, 10.0)))
+    text = E.narrow_band_csv_text(growth, L, Traffic(1000.0, 10.0), ds.attrs["grinding_interval_text"])
+    assert "# grinding interval (one-third-octave bands against the limit): no limit spectrum given" in text
+    rows = _rows(text)
     np.testing.assert_allclose([float(r["wavelength_m"]) for r in rows], N * L / np.arange(1, J + 1), rtol=1e-6)
     np.testing.assert_allclose([float(r["frequency_Hz"]) for r in rows], V * np.arange(1, J + 1) / (N * L), rtol=1e-4)
     assert float(rows[0]["growth_dB_per_year"]) == pytest.approx(1000.0 * 365 / 1e5, rel=1e-3)
@@ -232,3 +234,28 @@ def test_band_figure_titles_say_already_exceeded_and_use_readable_numbers():
     t = 1e5 * (20 - 20 * np.log10(2 / np.sqrt(2))) / 3.7
     assert f"after {readable_count(t)} axle passages" in fig.get_suptitle() and "e+" not in fig.get_suptitle()
     assert "dB per 100,000 axle passages" in fig.axes[1].get_ylabel()
+
+
+def test_rate_spectrum_dataset_gives_the_axle_year_and_MGT_rates_and_its_csv(tmp_path):
+    # a 4-axle train: the rate per train passage g gives 20 log10(e) g 1e5 / 4 dB per 100,000 axle
+    # passages; the CSV holds them with frequency = V / lambda and no -inf
+    from rail.growth_spectrum import RateSpectrum
+    from rail.studies.rate_spectrum import rate_spectrum_dataset
+
+    lines = np.arange(24, 61, 12)
+    rate = (-np.linspace(-1, 1, lines.size) * 1e-6).astype(complex)
+    sp = RateSpectrum(4 * L / lines, lines, np.zeros(lines.size, int), rate, rate, np.zeros(lines.size), np.zeros(lines.size),
+                      np.zeros(lines.size), 1e-4, 1e-9, 4, 1)
+    tr = Traffic(20000.0, 20.0)
+    ds = rate_spectrum_dataset({40.0: sp}, L, 4, traffic=tr)
+    d = 20 * np.log10(np.e) * np.linspace(-1, 1, lines.size) * 1e-6 * 1e5 / 4
+    np.testing.assert_allclose(ds["growth_dB_per_1e5_axles"].values[0], d, rtol=1e-12, atol=1e-15)
+    np.testing.assert_allclose(ds["growth_dB_per_1e5_axles"].values[0], ds["growth_dB"].values[0] / 4, rtol=1e-12, atol=1e-15)
+    np.testing.assert_allclose(ds["growth_dB_per_year"].values[0], d / 1e5 * 20000 * 365, rtol=1e-12, atol=1e-12)
+    np.testing.assert_allclose(ds["growth_dB_per_MGT"].values[0], d / 1e5 * 1e6 / 20.0, rtol=1e-12, atol=1e-12)
+    assert ds.attrs["mgt_per_year"] == pytest.approx(20000 * 365 * 20 / 1e6)
+    text = E.spectrum_csv_text(ds)
+    rows = _rows(text)
+    assert "inf" not in text and len(rows) == lines.size
+    np.testing.assert_allclose([float(r["frequency_Hz"]) for r in rows], 40.0 * lines / (4 * L), rtol=1e-7)
+    np.testing.assert_allclose([float(r["growth_dB_per_year"]) for r in rows], d / 1e5 * 20000 * 365, rtol=1e-3, atol=1e-9)

@@ -94,7 +94,7 @@ def _quoted(text: str) -> str:
 
 
 def rolling_noise_csv_text(level, reasons, period: float, shortest: float, speed: float, state: str,
-                           wheel_dB=None, wheel_source: str = "") -> str:
+                           wheel_dB=None, wheel_source: str = "", grinding: str = "") -> str:
     """The roughness export for rolling-noise tools: one row per one-third-octave wavelength band
     from 2000 mm to 0.8 mm, the first two columns (wavelength in mm, L_r in dB re 1 µm) the form
     CNOSSOS-EU (Table G-1) and TWINS (roughness level per third-octave wavelength band) take.
@@ -116,6 +116,8 @@ def rolling_noise_csv_text(level, reasons, period: float, shortest: float, speed
         export is rail-only and says so.
     wheel_source : str
         Where the wheel roughness comes from (stated in the header).
+    grinding : str
+        The grinding interval with its band (rail.studies.bands.grinding_interval_text), for the header.
 
     Returns
     -------
@@ -134,6 +136,7 @@ def rolling_noise_csv_text(level, reasons, period: float, shortest: float, speed
            if np.isfinite(level).any() else "none")
         + "; other bands empty (reason in empty_reason)",
         f"# frequency_Hz = V / centre wavelength at V = {speed:g} m/s",
+        f"# grinding interval: {grinding or 'not computed for this roughness'}",
     ]
     cols = ["wavelength_mm", "rail_roughness_dB_re_1um"]
     if wheel_dB is not None:
@@ -155,7 +158,7 @@ def rolling_noise_csv_text(level, reasons, period: float, shortest: float, speed
     return "\n".join(head + rows) + "\n"
 
 
-def narrow_band_csv_text(growth, L: float, traffic: Traffic | None = None) -> str:
+def narrow_band_csv_text(growth, L: float, traffic: Traffic | None = None, grinding: str = "") -> str:
     """The narrow-band levels of a growth run (rail.studies.datasets.growth): one row per line of the
     period (wavelength N L / j), its frequency V / lambda, its level at every saved count and its
     growth rates. Empty cells where a line has no roughness (e.g. the smooth rail at the start).
@@ -167,6 +170,8 @@ def narrow_band_csv_text(growth, L: float, traffic: Traffic | None = None) -> st
         Sleeper spacing [m].
     traffic : rail.traffic.Traffic, optional
         For the rates per year and per MGT.
+    grinding : str
+        The grinding interval with its band (rail.studies.bands.grinding_interval_text), for the header.
 
     Returns
     -------
@@ -190,7 +195,8 @@ def narrow_band_csv_text(growth, L: float, traffic: Traffic | None = None) -> st
             + (f"; per year and per MGT with {traffic.axles_per_day:g} axles/day and axle load {traffic.axle_load_t:.4g} t"
                if traffic is not None else "; no traffic given"),
             "# empty growth rate: the line's amplitude is not positive throughout the second half (growth from a smooth rail "
-            "is linear in amplitude: see amplitude_growth_um_per_1e5_axles)"]
+            "is linear in amplitude: see amplitude_growth_um_per_1e5_axles)",
+            f"# grinding interval (one-third-octave bands against the limit): {grinding or 'not computed'}"]
     cols = ["line_j", "wavelength_m", "frequency_Hz"] + [f"level_dB_re_1um_at_{int(p)}_axle_passages" for p in n]
     cols += ["growth_dB_per_1e5_axles"] + (["growth_dB_per_year", "growth_dB_per_MGT"] if traffic is not None else [])
     cols += ["amplitude_growth_um_per_1e5_axles"]
@@ -253,7 +259,9 @@ def spectrum_csv_text(ds) -> str:
             f"{a.get('wheels', '?')} axles)" + (f", per year and per MGT with {a['axles_per_day']:g} axles/day and axle load "
                                                 f"{a['axle_load_t']:.4g} t" if "growth_dB_per_year" in ds else "; no traffic given"),
             "# frequency_Hz = speed / wavelength; growth_rate_per_train = -Re R, relative amplitude growth per train passage",
-            "# locked: 0 free line, 1 on the one-bay comb L/k, 2 on the half-comb 2L/(2k+1)"]
+            "# locked: 0 free line, 1 on the one-bay comb L/k, 2 on the half-comb 2L/(2k+1)",
+            "# grinding interval: none here (the spectrum is the growth rate of a small roughness, not a roughness against a "
+            "limit); see the band export of a growth run, V<speed>_bands.csv"]
     cols = ["speed_m_per_s", "wavelength_m", "frequency_Hz"] + rate_cols + ["growth_rate_per_train", "locked"]
     rows = [",".join(cols)]
     lam = ds["wavelength"].values

@@ -21,14 +21,14 @@ def main(config, name, growth_path, out):
     io.write_netcdf(io.finalize(ds, config, title=f"One-third-octave roughness bands, scenario {name}", source="rail.studies.bands", scenario=name), out["data"])
     bands.write_band_csv(ds, out["csv"])
     with open(out["narrow_csv"], "w") as f:
-        f.write(exports.narrow_band_csv_text(growth, scn.L, traffic))
+        f.write(exports.narrow_band_csv_text(growth, scn.L, traffic, ds.attrs["grinding_interval_text"]))
     period = int(growth.attrs.get("bays", 1)) * scn.L
     Z = growth["Z_real"].values[-1] + 1j * growth["Z_imag"].values[-1]
     level, reasons = exports.rolling_noise_levels(Z, period, int(s["min_lines"]))
     with open(out["rolling_noise_csv"], "w") as f:
         f.write(exports.rolling_noise_csv_text(level, reasons, period, period / ((Z.size - 1) // 2), float(ds.attrs["speed_m_per_s"]),
                                                f"scenario {name} after {bands.readable_count(growth['passage'].values[-1])} axle passages "
-                                               "(the last save of the growth run)"))
+                                               "(the last save of the growth run)", grinding=ds.attrs["grinding_interval_text"]))
     report.band_spectra(ds).savefig(out["figure"], dpi=150)
 
 
