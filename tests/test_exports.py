@@ -259,3 +259,17 @@ def test_rate_spectrum_dataset_gives_the_axle_year_and_MGT_rates_and_its_csv(tmp
     assert "inf" not in text and len(rows) == lines.size
     np.testing.assert_allclose([float(r["frequency_Hz"]) for r in rows], 40.0 * lines / (4 * L), rtol=1e-7)
     np.testing.assert_allclose([float(r["growth_dB_per_year"]) for r in rows], d / 1e5 * 20000 * 365, rtol=1e-3, atol=1e-9)
+
+
+def test_rates_per_axle_passage_keep_their_meaning_in_netcdf():
+    # CF units: "dB per 100000 axle passages" is the number 1e-05 per axle passage in dB, udunits parses it
+    import cf_units
+
+    from rail.setup import io as rio
+
+    u, extra = rio.cf_units("dB per 100000 axle passages")
+    assert u == "1e-05" and extra == {"per": "axle passage", "units_text": "dB per 100000 axle passages", "level_unit": "dB"}
+    cf_units.Unit(u)
+    u, extra = rio.cf_units("um per 100000 axle passages")
+    assert u == "1e-05 um" and extra["per"] == "axle passage"
+    assert cf_units.Unit(u).convert(1.0, "m") == pytest.approx(1e-11)

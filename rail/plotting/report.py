@@ -331,9 +331,10 @@ def sweep_panels(ds: xr.Dataset, name: str, across: str, extra_width: float = 0.
 
 
 def sweep_band_map(ds: xr.Dataset):
-    """Growth rate per one-third-octave band over a sweep: band wavelength across, the first swept
-    key up; one panel per value of a second swept key (the first value of any further key)."""
-    z, keys, second, panels, fig, axes = sweep_panels(ds, "amplitude_growth_rate", "band")
+    """Level growth rate per one-third-octave band over a sweep (dB per 100,000 axle passages, as the
+    band export): band wavelength across, the first swept key up; one panel per value of a second
+    swept key (the first value of any further key)."""
+    z, keys, second, panels, fig, axes = sweep_panels(ds, "growth_dB_per_1e5_axles", "band")
     lam = ds["nominal_wavelength"].values * 1e3
     lim = float(np.nanmax(np.abs(z.values))) if np.isfinite(z.values).any() else 1.0
     y = ds[keys[0]].values
@@ -346,7 +347,7 @@ def sweep_band_map(ds: xr.Dataset):
         ax.set_ylabel(f"{keys[0]} ({ds[keys[0]].attrs.get('units', '')})")
         if second:
             ax.set_title(f"{second} = {ds[second].values[p]:g} {ds[second].attrs.get('units', '')}", fontsize=9)
-    fig.colorbar(m, ax=axes[0].tolist(), label="rms amplitude growth rate (µm per 100,000 passages)")
+    fig.colorbar(m, ax=axes[0].tolist(), label="level growth at the last save (dB per 100,000 axle passages)")
     return fig
 
 

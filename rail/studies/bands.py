@@ -552,8 +552,9 @@ def sweep_band_map(runs, keys, values, indices, L: float, bands: ThirdOctaveBand
     Returns
     -------
     xarray.Dataset
-        amplitude_growth_rate [µm per 1e5 passages], its error, the preferred law and the final band
-        level [dB re 1 µm] per grid point and band.
+        growth_dB_per_1e5_axles [dB per 1e5 axle passages, at the last save from the band's law],
+        amplitude_growth_um_per_1e5_axles [µm per 1e5 axle passages] and its error, the preferred law
+        and the final band level [dB re 1 µm, NaN where empty] per grid point and band.
     """
     import xarray as xr
 
@@ -561,7 +562,7 @@ def sweep_band_map(runs, keys, values, indices, L: float, bands: ThirdOctaveBand
 
     dims = tuple(k.replace(".", "_") for k in keys)
     shape = tuple(len(v) for v in values) + (len(bands.centre),)
-    rate, err, final = np.full(shape, np.nan), np.full(shape, np.nan), np.full(shape, np.nan)
+    rate, err, final, dB = np.full(shape, np.nan), np.full(shape, np.nan), np.full(shape, np.nan), np.full(shape, np.nan)
     law = np.full(shape, "", dtype=object)
     for run, idx in zip(runs, indices):
         N = int(run.attrs.get("bays", 1))
@@ -569,17 +570,20 @@ def sweep_band_map(runs, keys, values, indices, L: float, bands: ThirdOctaveBand
         ms, _ = band_mean_square(Z, N * L, bands, min_lines)
         g = band_growth(run["passage"].values, ms)
         rate[tuple(idx)], err[tuple(idx)], law[tuple(idx)] = g.linear_rate * 1e6, g.linear_error * 1e6, g.law
-        with np.errstate(divide="ignore"):
-            final[tuple(idx)] = 10 * np.log10(ms[-1] / 1e-12)
+        dB[tuple(idx)] = g.dB_rate
+        final[tuple(idx)] = np.where(ms[-1] > 0, 10 * np.log10(np.where(ms[-1] > 0, ms[-1], 1.0) / 1e-12), np.nan)
     coords = {d: (d, np.asarray(v), {"units": _unit_of(k), "long_name": f"swept parameter {k}"}) for d, k, v in zip(dims, keys, values)}
     coords["nominal_wavelength"] = _var("band", bands.nominal, "m", "EN 15610 nominal centre wavelength of the band")
     full = dims + ("band",)
     return xr.Dataset(
         {
-            "amplitude_growth_rate": _var(full, rate, "um per 100000 passages", "rms amplitude growth rate of the band (straight-line fit)"),
-            "amplitude_growth_rate_error": _var(full, err, "um per 100000 passages", "standard error of the growth rate"),
+            "growth_dB_per_1e5_axles": _var(full, dB, "dB per 100000 axle passages",
+                                            "level growth rate of the band at the last save from its growth law (bands_dataset)"),
+            "amplitude_growth_um_per_1e5_axles": _var(full, rate, "um per 100000 axle passages",
+                                                      "rms amplitude growth rate of the band (straight-line fit)"),
+            "amplitude_growth_um_per_1e5_axles_error": _var(full, err, "um per 100000 axle passages", "standard error of the growth rate"),
             "growth_law": _var(full, law.astype(str), "1", "the fit with the smaller misfit: linear or exponential"),
-            "level": _var(full, final, "dB re 1 um", "band level at the end of the run"),
+            "level": _var(full, final, "dB re 1 um", "band level at the end of the run (NaN: the band has no level)"),
         },
         coords=coords,
         attrs={"swept_keys": list(keys)},
