@@ -273,3 +273,35 @@ def test_rates_per_axle_passage_keep_their_meaning_in_netcdf():
     u, extra = rio.cf_units("um per 100000 axle passages")
     assert u == "1e-05 um" and extra["per"] == "axle passage"
     assert cf_units.Unit(u).convert(1.0, "m") == pytest.approx(1e-11)
+
+
+def test_a_wheel_roughness_file_gives_the_combined_roughness_and_an_off_band_wavelength_is_refused(tmp_path, defaults, schema):
+    # wheel levels read from a CSV land in their bands; combined = energy sum (equal levels: +3.01 dB;
+    # a wheel 10 dB below the rail: +0.41 dB); a band without a wheel level has no combined level
+    from rail.roughness import read_third_octave_spectrum
+    from rail.setup import config as rconfig
+    from rail.setup.config import ConfigError
+    from rail.setup.inputs import check_inputs
+
+    f = tmp_path / "wheel.csv"
+    f.write_text("wavelength_m,level_dB\n0.05,16.99\n0.2,6.99\n")
+    wheel = E.wheel_levels_on_bands(*read_third_octave_spectrum(f), source=str(f))
+    bands = E.rolling_noise_bands()
+    assert np.isfinite(wheel).sum() == 2 and wheel[np.isclose(bands.nominal, 0.05)][0] == 16.99
+    g = _growth([0.0], {12: [10e-6], 3: [10e-6]})
+    Z = g["Z_real"].values[0] + 1j * g["Z_imag"].values[0]
+    level, reasons = E.rolling_noise_levels(Z, L)
+    rows = {float(r["wavelength_mm"]): r for r in _rows(E.rolling_noise_csv_text(level, reasons, L, L / 64, 40.0, "t", wheel, str(f)))}
+    assert float(rows[50]["combined_roughness_dB_re_1um"]) == pytest.approx(16.99 + 10 * np.log10(2), abs=0.01)
+    assert float(rows[200]["combined_roughness_dB_re_1um"]) == pytest.approx(16.99 + 10 * np.log10(1.1), abs=0.01)
+    assert rows[100]["combined_roughness_dB_re_1um"] == ""
+    with pytest.raises(ValueError, match=r"wavelength 0\.3 m is not a one-third-octave band centre: the nearest band is 0\.315 m"):
+        E.wheel_levels_on_bands([0.3], [1.0], "w.csv")
+    # a wheel file in millimetres is refused at start-up, naming the key
+    bad = tmp_path / "mm.csv"
+    bad.write_text("wavelength_m,level_dB\n50,1.0\n40,2.0\n")
+    from rail.setup import build
+
+    cfg = rconfig.validate_config(rconfig.deep_merge(defaults, {"figures": {"bands": {"wheel_roughness": str(bad)}}}), schema, "s.yaml")
+    with pytest.raises(ConfigError, match=r"figures\.bands\.wheel_roughness: .*looks like millimetres"):
+        check_inputs(cfg, build.scenario(cfg, "s", "s.yaml"), "s", "s.yaml", ".")

@@ -16,7 +16,7 @@ from ..traffic import AXLES_PER_RATE, DB_PER_NEPER, Traffic
 from .bands import ThirdOctaveBands, band_mean_square, empty_band_reasons
 
 __all__ = ["ROLLING_NOISE_WAVELENGTHS_M", "rolling_noise_bands", "rolling_noise_levels", "combined_roughness",
-           "rolling_noise_csv_text", "narrow_band_csv_text", "spectrum_csv_text", "spectrum_rates"]
+           "wheel_levels_on_bands", "rolling_noise_csv_text", "narrow_band_csv_text", "spectrum_csv_text", "spectrum_rates"]
 
 # Nominal centre wavelengths [m] of the one-third-octave bands CNOSSOS-EU tabulates rail and wheel
 # roughness in (Directive (EU) 2015/996, Annex II sec. 2.3 and Appendix G, Table G-1: 2000 mm down
@@ -65,6 +65,47 @@ def rolling_noise_levels(Z, period: float, min_lines: int = 1):
     J = (Z.shape[-1] - 1) // 2
     level = np.where(ms > 0, 10 * np.log10(np.where(ms > 0, ms, 1.0) / 1e-12), np.nan)
     return level, empty_band_reasons(bands, period, period / J, resolved, ms[None, :], min_lines)
+
+
+def wheel_levels_on_bands(wavelength, level, source: str = "wheel roughness") -> np.ndarray:
+    """A wheel roughness spectrum (rail.roughness.read_third_octave_spectrum) on the rolling-noise
+    bands: each wavelength must name one of them (within 1.5 % of its nominal label or exact centre,
+    rail.roughness.NOMINAL_TOLERANCE); bands it does not give are NaN.
+
+    Parameters
+    ----------
+    wavelength : array-like
+        Band centre wavelengths [m].
+    level : array-like
+        Wheel roughness levels [dB re 1 µm].
+    source : str
+        Named in an error (the file).
+
+    Returns
+    -------
+    ndarray, shape (35,)
+        [dB re 1 µm] per band of rolling_noise_bands.
+
+    Raises
+    ------
+    ValueError
+        Naming the wavelength and the nearest band when it names none, or a band given twice.
+    """
+    from ..roughness import NOMINAL_TOLERANCE
+
+    bands = rolling_noise_bands()
+    out = np.full(len(bands.centre), np.nan)
+    for v, lv in zip(np.asarray(wavelength, dtype=float), np.asarray(level, dtype=float)):
+        off = np.minimum(np.abs(v / bands.nominal - 1), np.abs(v / bands.centre - 1))
+        k = int(np.argmin(off))
+        if off[k] > NOMINAL_TOLERANCE:
+            raise ValueError(f"{source}: wavelength {v:g} m is not a one-third-octave band centre: the nearest band is "
+                             f"{bands.nominal[k]:g} m ({100 * (v / bands.nominal[k] - 1):+.1f} %); give the nominal centres "
+                             f"2 m .. 0.8 mm or the exact 10^(-n/10) m, within {100 * NOMINAL_TOLERANCE:g} %.")
+        if np.isfinite(out[k]):
+            raise ValueError(f"{source}: wavelength {v:g} m names the band {bands.nominal[k]:g} m again.")
+        out[k] = lv
+    return out
 
 
 def combined_roughness(rail_dB, wheel_dB):
@@ -143,7 +184,7 @@ def rolling_noise_csv_text(level, reasons, period: float, shortest: float, speed
         wheel_dB = np.asarray(wheel_dB, dtype=float)
         comb = combined_roughness(level, wheel_dB)
         head.append(f"# wheel roughness: {wheel_source or 'given'}; combined = 10 log10(10^(L_rail/10) + 10^(L_wheel/10)), "
-                    "no contact filter applied")
+                    "no contact filter applied; empty where the rail or the wheel has no level in the band")
         cols += ["wheel_roughness_dB_re_1um", "combined_roughness_dB_re_1um"]
     else:
         head.append("# rail-only export: the configuration gives no wheel roughness, so no combined wheel + rail roughness")

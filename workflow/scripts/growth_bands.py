@@ -3,7 +3,7 @@
 import sys
 
 from rail.plotting import report
-from rail.roughness import read_limit_spectrum
+from rail.roughness import read_limit_spectrum, read_third_octave_spectrum
 from rail.setup import build, io
 from rail.studies import bands, exports
 from rail.traffic import traffic_of
@@ -25,10 +25,13 @@ def main(config, name, growth_path, out):
     period = int(growth.attrs.get("bays", 1)) * scn.L
     Z = growth["Z_real"].values[-1] + 1j * growth["Z_imag"].values[-1]
     level, reasons = exports.rolling_noise_levels(Z, period, int(s["min_lines"]))
+    wheel = s.get("wheel_roughness")
+    wheel_dB = exports.wheel_levels_on_bands(*read_third_octave_spectrum(wheel), source=wheel) if wheel else None
     with open(out["rolling_noise_csv"], "w") as f:
         f.write(exports.rolling_noise_csv_text(level, reasons, period, period / ((Z.size - 1) // 2), float(ds.attrs["speed_m_per_s"]),
                                                f"scenario {name} after {bands.readable_count(growth['passage'].values[-1])} axle passages "
-                                               "(the last save of the growth run)", grinding=ds.attrs["grinding_interval_text"]))
+                                               "(the last save of the growth run)", wheel_dB=wheel_dB, wheel_source=wheel or "",
+                                               grinding=ds.attrs["grinding_interval_text"]))
     report.band_spectra(ds).savefig(out["figure"], dpi=150)
 
 
