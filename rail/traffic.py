@@ -20,11 +20,11 @@ from dataclasses import dataclass
 import numpy as np
 
 from .fleet import GRAVITY
+from .growth import DB_PER_NEPER
 
 __all__ = ["AXLES_PER_RATE", "DB_PER_NEPER", "DAYS_PER_YEAR", "Traffic", "traffic_of_wheel_load", "traffic_of"]
 
 AXLES_PER_RATE = 100000  # every growth rate is stated per this many axle (wheel) passages on the rail
-DB_PER_NEPER = 20 * np.log10(np.e)  # dB of amplitude per unit of ln(amplitude)
 DAYS_PER_YEAR = 365.0
 
 

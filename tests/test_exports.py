@@ -305,3 +305,33 @@ def test_a_wheel_roughness_file_gives_the_combined_roughness_and_an_off_band_wav
     cfg = rconfig.validate_config(rconfig.deep_merge(defaults, {"figures": {"bands": {"wheel_roughness": str(bad)}}}), schema, "s.yaml")
     with pytest.raises(ConfigError, match=r"figures\.bands\.wheel_roughness: .*looks like millimetres"):
         check_inputs(cfg, build.scenario(cfg, "s", "s.yaml"), "s", "s.yaml", ".")
+
+
+def test_a_line_and_its_band_report_one_growth_rate_fitted_over_the_second_half_of_the_run():
+    # one line in the 0.1 m band: before half the run a tiny roughness, then 1 um + 3 um per 1e5
+    # passages. Fitted over the second half (rail.growth.late_saves) the law is the straight line,
+    # and the level rate at the last save (1e5) is 20 log10(e) x 3 / 4 dB per 1e5 in both the growth
+    # file's line and the band export; a fit over the whole run would see the jump instead
+    from types import SimpleNamespace
+
+    from rail.growth import GrowthHistory, band_growth
+    from rail.studies import datasets
+
+    K = 8
+    n = np.arange(0, 100001, 10000).astype(float)
+    a = np.where(n >= 5e4, 1e-6 * (1 + 3 * n / 1e5), 1e-9)
+    Z = np.zeros((len(n), 2 * K + 1), dtype=complex)
+    Z[:, K + 6] = Z[:, K - 6] = a / np.sqrt(2)  # rms a: amplitude sqrt(2) a
+    track = SimpleNamespace(L=L, beta0=2 * np.pi / L, damping="hysteretic", pad=SimpleNamespace(stiffness=1e8))
+    line = datasets.growth(GrowthHistory(n, Z), track, 40.0, 1, points=11)
+    g = xr.Dataset({"Z_real": (("passage", "h"), Z.real), "Z_imag": (("passage", "h"), Z.imag)}, coords={"passage": n},
+                   attrs={"bays": 1, "speed_m_per_s": 40.0})
+    tob = B.third_octave_bands()
+    band = B.bands_dataset(g, L, tob, 1)
+    b100 = int(np.nonzero(tob.nominal == 0.1)[0][0])
+    expected = 20 / np.log(10) * 3 / 4
+    assert line["growth_dB_per_1e5_axles"].values[5] == pytest.approx(expected, rel=1e-9)
+    assert band["growth_dB_per_1e5_axles"].values[b100] == pytest.approx(expected, rel=1e-9)
+    assert band["amplitude_growth_um_per_1e5_axles"].values[b100] == pytest.approx(3.0, rel=1e-9)
+    whole = band_growth(n, (a ** 2)[:, None])
+    assert abs(whole.dB_rate[0] - expected) > 1.0  # the whole run's fit is another number

@@ -16,12 +16,15 @@ coefficients Z_j of its Fourier series (rail.interaction.Roughness):
   are marked (NaN level and resolved = 0), never filled.
 * Levels in dB re 1 um rms: L = 10 log10(mean square / (1e-6 m)^2).
 
-Growth per band: from the rms amplitude a(n) of each band at the saved passage counts n, a straight
-line a = a0 + r n (amplitude growth, um per 1e5 passages) and an exponential a = a0 exp(g n)
-(e-folding rate g per 1e5 passages) are both fitted by least squares with their standard errors;
-the one with the smaller residual relative to the band's amplitude is reported as the band's
-growth law. The grinding interval is the number of passages (and, with the traffic, days) until
-the first band's level, extrapolated with its own growth law, reaches the limit spectrum.
+Growth per band (rail.growth.band_growth): from the rms amplitude a(n) of each band at the saved
+passage counts n of the second half of the run (rail.growth.late_saves; all saves when that holds
+fewer than 3), a straight line a = a0 + r n (amplitude growth, um per 1e5 axle passages) and an
+exponential a = a0 exp(g n) (e-folding rate g per 1e5 axle passages) are both fitted by least
+squares with their standard errors; the one with the smaller residual relative to the band's
+amplitude is reported as the band's growth law, and the level growth rate in dB per 1e5 axle
+passages is that law's rate at the last save (docs/exports.md). The grinding interval is the number
+of axle passages (and, with the traffic, days, years and MGT) until the first band's level,
+extrapolated with its own growth law, reaches the limit spectrum.
 """
 
 from __future__ import annotations
@@ -30,11 +33,11 @@ from dataclasses import dataclass
 
 import numpy as np
 
+from ..growth import DB_PER_NEPER, BandGrowth, band_growth, late_saves
 from ..roughness import NOMINAL_WAVELENGTHS_M, nominal_band
-from ..traffic import DB_PER_NEPER
 
 __all__ = ["NOMINAL_WAVELENGTHS_M", "ThirdOctaveBands", "third_octave_bands", "band_mean_square", "band_levels",
-           "BandGrowth", "band_growth", "grinding_interval", "empty_band_reasons", "bands_dataset", "grinding_interval_text", "band_csv_text", "write_band_csv", "sweep_band_map", "readable_count"]
+           "BandGrowth", "band_growth", "late_saves", "grinding_interval", "empty_band_reasons", "bands_dataset", "grinding_interval_text", "band_csv_text", "write_band_csv", "sweep_band_map", "readable_count"]
 
 # NOMINAL_WAVELENGTHS_M: EN 15610 nominal centre wavelengths (m) of the exact series 10^(-n/10) m,
 # n = 0..25 (rail.roughness, where the limit spectrum is read and checked against them)
@@ -150,85 +153,6 @@ def band_levels(Z, period: float, bands: ThirdOctaveBands, min_lines: int = 1):
     ms, resolved = band_mean_square(Z, period, bands, min_lines)
     with np.errstate(divide="ignore"):
         return 10 * np.log10(ms / 1e-12), resolved
-
-
-@dataclass(frozen=True)
-class BandGrowth:
-    """Growth of each band over a run (module docstring).
-
-    linear_rate, linear_error   : amplitude growth rate and its standard error [m per 1e5 passages]
-    exp_rate, exp_error         : e-folding rate and its standard error [1 per 1e5 passages]
-    law                         : 'linear' or 'exponential', the better fit; '' where not resolved
-    linear_misfit, exp_misfit   : rms residual of each fit relative to the band's mean amplitude [-]
-    dB_rate, dB_error           : level growth rate at the last save and its standard error [dB per 1e5
-                                  passages], from the law that fits: 20 log10(e) exp_rate for an
-                                  exponential; 20 log10(e) linear_rate / a(n_last) for a straight line
-                                  (the rate of a linear growth falls as its amplitude grows)
-    """
-
-    linear_rate: np.ndarray
-    linear_error: np.ndarray
-    exp_rate: np.ndarray
-    exp_error: np.ndarray
-    law: np.ndarray
-    linear_misfit: np.ndarray
-    exp_misfit: np.ndarray
-    dB_rate: np.ndarray
-    dB_error: np.ndarray
-
-
-def _line_fit(x, y):
-    """Least-squares slope, its standard error and the rms residual of y = c + s x."""
-    A = np.vstack([np.ones_like(x), x]).T
-    coef, *_ = np.linalg.lstsq(A, y, rcond=None)
-    res = y - A @ coef
-    dof = max(len(x) - 2, 1)
-    s2 = float(res @ res) / dof
-    cov = s2 * np.linalg.inv(A.T @ A)
-    return coef, float(np.sqrt(cov[1, 1])), float(np.sqrt(np.mean(res**2)))
-
-
-def band_growth(passages, ms) -> BandGrowth:
-    """Fit the growth of every band (module docstring).
-
-    Parameters
-    ----------
-    passages : ndarray, shape (n,)
-        Wheel passages at the saves [-]; at least 3.
-    ms : ndarray, shape (n, bands)
-        Band mean squares [m^2] (band_mean_square); NaN columns are unresolved bands.
-
-    Returns
-    -------
-    BandGrowth
-    """
-    n = np.asarray(passages, dtype=float) / 1e5
-    if n.size < 3:
-        raise ValueError(f"band growth needs at least 3 saved passage counts, got {n.size}.")
-    amp = np.sqrt(np.asarray(ms, dtype=float))
-    B = amp.shape[1]
-    out = {k: np.full(B, np.nan) for k in ("lr", "le", "er", "ee", "lm", "em", "dr", "de")}
-    law = np.full(B, "", dtype=object)
-    for b in range(B):
-        a = amp[:, b]
-        if not np.all(np.isfinite(a)):
-            continue
-        scale = max(float(np.mean(a)), 1e-300)
-        (c, s), se, rms = _line_fit(n, a)
-        out["lr"][b], out["le"][b], out["lm"][b] = s, se, rms / scale
-        if np.all(a > 0):
-            (c2, g), ge, _ = _line_fit(n, np.log(a))
-            fit = np.exp(c2 + g * n)
-            out["er"][b], out["ee"][b] = g, ge
-            out["em"][b] = float(np.sqrt(np.mean((a - fit) ** 2))) / scale
-        law[b] = "exponential" if np.isfinite(out["em"][b]) and out["em"][b] < out["lm"][b] else "linear"
-        # the level growth rate at the last save from the law that fits: constant for an exponential,
-        # 20 log10(e) s / a(n_last) for a straight line (falls as the amplitude grows)
-        if law[b] == "exponential":
-            out["dr"][b], out["de"][b] = DB_PER_NEPER * out["er"][b], DB_PER_NEPER * out["ee"][b]
-        elif c + s * n[-1] > 0:
-            out["dr"][b], out["de"][b] = DB_PER_NEPER * s / (c + s * n[-1]), DB_PER_NEPER * se / (c + s * n[-1])
-    return BandGrowth(out["lr"], out["le"], out["er"], out["ee"], law.astype(str), out["lm"], out["em"], out["dr"], out["de"])
 
 
 def grinding_interval(passages, ms, growth: BandGrowth, limit_dB, per_day: float | None = None):
@@ -365,7 +289,8 @@ def bands_dataset(growth, L: float, bands: ThirdOctaveBands, min_lines: int, lim
     with np.errstate(divide="ignore"):
         level = np.where(ms > 0, 10 * np.log10(np.where(ms > 0, ms, 1.0) / 1e-12), np.nan)
     reasons = empty_band_reasons(bands, N * L, N * L / J, resolved, ms, min_lines)
-    g = band_growth(n, ms)
+    late = late_saves(n)  # the rates are fitted over the second half of the run (rail.growth.late_saves)
+    g = band_growth(n[late], ms[late])
     lim = np.full(len(bands.centre), np.nan)
     if limit is not None:
         for lw, lv in zip(*limit):  # the limit's bands as rail.roughness.read_limit_spectrum names them
@@ -568,7 +493,8 @@ def sweep_band_map(runs, keys, values, indices, L: float, bands: ThirdOctaveBand
         N = int(run.attrs.get("bays", 1))
         Z = run["Z_real"].values + 1j * run["Z_imag"].values
         ms, _ = band_mean_square(Z, N * L, bands, min_lines)
-        g = band_growth(run["passage"].values, ms)
+        late = late_saves(run["passage"].values)
+        g = band_growth(run["passage"].values[late], ms[late])
         rate[tuple(idx)], err[tuple(idx)], law[tuple(idx)] = g.linear_rate * 1e6, g.linear_error * 1e6, g.law
         dB[tuple(idx)] = g.dB_rate
         final[tuple(idx)] = np.where(ms[-1] > 0, 10 * np.log10(np.where(ms[-1] > 0, ms[-1], 1.0) / 1e-12), np.nan)

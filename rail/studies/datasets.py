@@ -13,8 +13,8 @@ import xarray as xr
 
 from .. import halfspace
 from ..halfspace import ElasticMaterial, HalfSpaceNumerics
-from ..growth import levels_dB
-from ..traffic import AXLES_PER_RATE, DB_PER_NEPER
+from ..growth import band_growth, late_saves, levels_dB
+from ..traffic import AXLES_PER_RATE
 from ..interaction import Roughness, force_history
 from ..moving import MovingReceptance
 from ..setup.build import HalfSpaceFigureSettings
@@ -329,6 +329,10 @@ def growth(history, track, speed: float, n_wheels: int, points: int = 601, bays:
         exp_rate = np.where(positive, np.polyfit(n[half], log_rms, 1)[0], np.nan)
     else:
         amp_slope = exp_rate = np.full(K, np.nan)
+    # the level growth rate at the last save from the law that fits each line, as for a band
+    # (rail.growth.band_growth over rail.growth.late_saves: the second half of the run)
+    late = late_saves(n)
+    dB_rate = band_growth(n[late], rms[late] ** 2).dB_rate if late.sum() >= 3 else np.full(K, np.nan)
     return xr.Dataset(
         {
             "level": _var(("passage", "harmonic"), levels, "dB re 1 um", "rms roughness level of each harmonic of the bay (NaN where the harmonic is exactly 0)"),
@@ -339,9 +343,9 @@ def growth(history, track, speed: float, n_wheels: int, points: int = 601, bays:
                                      "of the run (d ln A / dn; from a smooth rail the growth is linear in the amplitude, see amplitude_growth_rate)"),
             "amplitude_growth_um_per_1e5_axles": _var("harmonic", amp_slope, "um per 100000 axle passages",
                                                       "growth rate of the rms amplitude over the second half of the run"),
-            "growth_dB_per_1e5_axles": _var("harmonic", DB_PER_NEPER * exp_rate * AXLES_PER_RATE, "dB per 100000 axle passages",
-                                            "level growth rate over the second half of the run (20 log10(e) x exponential_rate x 1e5; "
-                                            "NaN where the amplitude is not positive throughout)"),
+            "growth_dB_per_1e5_axles": _var("harmonic", dB_rate, "dB per 100000 axle passages",
+                                            "level growth rate at the last save from the law (straight line or exponential in amplitude) "
+                                            "that fits the line over the second half of the run, as for a band (rail.growth.band_growth)"),
             "step_error": _var("update", history.step_error, "1", "estimated local error of each update relative to the roughness (rail.growth.step_error)"),
             "full_slip": _var("update", history.full_slip, "1", "largest fraction of the bay with no stick zone in the contact, per update"),
             **({} if force is None else {"force": _var(("passage", "wheel", "position"), np.array([force(z, x) for z in Z]), "N",
