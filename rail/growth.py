@@ -39,7 +39,7 @@ from .contact import ContactError
 from .interaction import ContactLossError, Roughness
 
 __all__ = ["GrowthSettings", "GrowthHistory", "GrowthStepError", "grid_phase", "levels_dB", "run_growth", "step_error",
-           "DB_PER_NEPER", "BandGrowth", "band_growth", "late_saves"]
+           "DB_PER_NEPER", "BandGrowth", "band_growth"]
 
 DB_PER_NEPER = 20 * np.log10(np.e)  # dB of amplitude per unit of ln(amplitude)
 
@@ -248,24 +248,6 @@ def band_growth(passages, ms) -> BandGrowth:
         elif c + s * n[-1] > 0:
             out["dr"][b], out["de"][b] = DB_PER_NEPER * s / (c + s * n[-1]), DB_PER_NEPER * se / (c + s * n[-1])
     return BandGrowth(out["lr"], out["le"], out["er"], out["ee"], law.astype(str), out["lm"], out["em"], out["dr"], out["de"])
-
-
-def late_saves(passages):
-    """The saves the growth rates are fitted over: the second half of the run (n >= n_last / 2),
-    where a growth from the smooth rail has left its start; all saves when that holds fewer than 3.
-
-    Parameters
-    ----------
-    passages : ndarray, shape (n,)
-        Saved passage counts [-].
-
-    Returns
-    -------
-    ndarray of bool, shape (n,)
-    """
-    n = np.asarray(passages, dtype=float)
-    half = n >= n[-1] / 2
-    return half if half.sum() >= 3 else np.ones(n.size, dtype=bool)
 
 
 def _fingerprint(obj) -> str:

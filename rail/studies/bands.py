@@ -17,8 +17,7 @@ coefficients Z_j of its Fourier series (rail.interaction.Roughness):
 * Levels in dB re 1 um rms: L = 10 log10(mean square / (1e-6 m)^2).
 
 Growth per band (rail.growth.band_growth): from the rms amplitude a(n) of each band at the saved
-passage counts n of the second half of the run (rail.growth.late_saves; all saves when that holds
-fewer than 3), a straight line a = a0 + r n (amplitude growth, um per 1e5 axle passages) and an
+passage counts n, a straight line a = a0 + r n (amplitude growth, um per 1e5 axle passages) and an
 exponential a = a0 exp(g n) (e-folding rate g per 1e5 axle passages) are both fitted by least
 squares with their standard errors; the one with the smaller residual relative to the band's
 amplitude is reported as the band's growth law, and the level growth rate in dB per 1e5 axle
@@ -33,11 +32,11 @@ from dataclasses import dataclass
 
 import numpy as np
 
-from ..growth import DB_PER_NEPER, BandGrowth, band_growth, late_saves
+from ..growth import DB_PER_NEPER, BandGrowth, band_growth
 from ..roughness import NOMINAL_WAVELENGTHS_M, nominal_band
 
 __all__ = ["NOMINAL_WAVELENGTHS_M", "ThirdOctaveBands", "third_octave_bands", "band_mean_square", "band_levels",
-           "BandGrowth", "band_growth", "late_saves", "grinding_interval", "empty_band_reasons", "bands_dataset", "grinding_interval_text", "band_csv_text", "write_band_csv", "sweep_band_map", "readable_count"]
+           "BandGrowth", "band_growth", "grinding_interval", "empty_band_reasons", "bands_dataset", "grinding_interval_text", "band_csv_text", "write_band_csv", "sweep_band_map", "readable_count"]
 
 # NOMINAL_WAVELENGTHS_M: EN 15610 nominal centre wavelengths (m) of the exact series 10^(-n/10) m,
 # n = 0..25 (rail.roughness, where the limit spectrum is read and checked against them)
@@ -289,8 +288,7 @@ def bands_dataset(growth, L: float, bands: ThirdOctaveBands, min_lines: int, lim
     with np.errstate(divide="ignore"):
         level = np.where(ms > 0, 10 * np.log10(np.where(ms > 0, ms, 1.0) / 1e-12), np.nan)
     reasons = empty_band_reasons(bands, N * L, N * L / J, resolved, ms, min_lines)
-    late = late_saves(n)  # the rates are fitted over the second half of the run (rail.growth.late_saves)
-    g = band_growth(n[late], ms[late])
+    g = band_growth(n, ms)
     lim = np.full(len(bands.centre), np.nan)
     if limit is not None:
         for lw, lv in zip(*limit):  # the limit's bands as rail.roughness.read_limit_spectrum names them
@@ -493,8 +491,7 @@ def sweep_band_map(runs, keys, values, indices, L: float, bands: ThirdOctaveBand
         N = int(run.attrs.get("bays", 1))
         Z = run["Z_real"].values + 1j * run["Z_imag"].values
         ms, _ = band_mean_square(Z, N * L, bands, min_lines)
-        late = late_saves(run["passage"].values)
-        g = band_growth(run["passage"].values[late], ms[late])
+        g = band_growth(run["passage"].values, ms)
         rate[tuple(idx)], err[tuple(idx)], law[tuple(idx)] = g.linear_rate * 1e6, g.linear_error * 1e6, g.law
         dB[tuple(idx)] = g.dB_rate
         final[tuple(idx)] = np.where(ms[-1] > 0, 10 * np.log10(np.where(ms[-1] > 0, ms[-1], 1.0) / 1e-12), np.nan)

@@ -13,8 +13,7 @@ import xarray as xr
 
 from .. import halfspace
 from ..halfspace import ElasticMaterial, HalfSpaceNumerics
-from ..growth import band_growth, late_saves, levels_dB
-from ..traffic import AXLES_PER_RATE
+from ..growth import band_growth, levels_dB
 from ..interaction import Roughness, force_history
 from ..moving import MovingReceptance
 from ..setup.build import HalfSpaceFigureSettings
@@ -320,7 +319,6 @@ def growth(history, track, speed: float, n_wheels: int, points: int = 601, bays:
     n = history.passages
     half = n >= n[-1] / 2
     if half.sum() >= 2:
-        amp_slope = np.polyfit(n[half], rms[half], 1)[0] * AXLES_PER_RATE * 1e6  # um per 1e5 axle passages
         # the e-folding rate d ln(amplitude) / dn where the amplitude stays positive (growth about a
         # roughness that is there; from a smooth rail the amplitude grows linearly and this rate is
         # not a property of the track)
@@ -328,11 +326,14 @@ def growth(history, track, speed: float, n_wheels: int, points: int = 601, bays:
         log_rms = np.log(np.where(rms[half] > 0, rms[half], 1.0))
         exp_rate = np.where(positive, np.polyfit(n[half], log_rms, 1)[0], np.nan)
     else:
-        amp_slope = exp_rate = np.full(K, np.nan)
-    # the level growth rate at the last save from the law that fits each line, as for a band
-    # (rail.growth.band_growth over rail.growth.late_saves: the second half of the run)
-    late = late_saves(n)
-    dB_rate = band_growth(n[late], rms[late] ** 2).dB_rate if late.sum() >= 3 else np.full(K, np.nan)
+        exp_rate = np.full(K, np.nan)
+    # amplitude and level growth of each line as of a band (rail.growth.band_growth over every save):
+    # the straight-line amplitude rate and the level rate at the last save from the law that fits
+    if n.size >= 3:
+        g = band_growth(n, rms**2)
+        amp_rate, dB_rate = g.linear_rate * 1e6, g.dB_rate
+    else:
+        amp_rate = dB_rate = np.full(K, np.nan)
     return xr.Dataset(
         {
             "level": _var(("passage", "harmonic"), levels, "dB re 1 um", "rms roughness level of each harmonic of the bay (NaN where the harmonic is exactly 0)"),
@@ -341,11 +342,11 @@ def growth(history, track, speed: float, n_wheels: int, points: int = 601, bays:
             "Z_imag": _var(("passage", "harmonic_all"), Z.imag, "m", "imaginary part of the roughness coefficients Z_k"),
             "exponential_rate": _var("harmonic", exp_rate, "1", "e-folding rate of the rms amplitude per wheel passage over the second half "
                                      "of the run (d ln A / dn; from a smooth rail the growth is linear in the amplitude, see amplitude_growth_rate)"),
-            "amplitude_growth_um_per_1e5_axles": _var("harmonic", amp_slope, "um per 100000 axle passages",
-                                                      "growth rate of the rms amplitude over the second half of the run"),
+            "amplitude_growth_um_per_1e5_axles": _var("harmonic", amp_rate, "um per 100000 axle passages",
+                                                      "growth rate of the rms amplitude (straight-line fit over every save, as for a band)"),
             "growth_dB_per_1e5_axles": _var("harmonic", dB_rate, "dB per 100000 axle passages",
                                             "level growth rate at the last save from the law (straight line or exponential in amplitude) "
-                                            "that fits the line over the second half of the run, as for a band (rail.growth.band_growth)"),
+                                            "that fits the line, as for a band (rail.growth.band_growth)"),
             "step_error": _var("update", history.step_error, "1", "estimated local error of each update relative to the roughness (rail.growth.step_error)"),
             "full_slip": _var("update", history.full_slip, "1", "largest fraction of the bay with no stick zone in the contact, per update"),
             **({} if force is None else {"force": _var(("passage", "wheel", "position"), np.array([force(z, x) for z in Z]), "N",

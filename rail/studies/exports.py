@@ -232,11 +232,11 @@ def narrow_band_csv_text(growth, L: float, traffic: Traffic | None = None, grind
     head = ["# narrow-band roughness levels of a growth run (rail.studies.datasets.growth; docs/exports.md)",
             f"# lines 2 pi j / (N L) of the roughness period N L = {N * L:.4g} m; frequency_Hz = V / wavelength at V = {V:g} m/s",
             "# levels: rms of each line, dB re 1 um; empty cell: no roughness at that line and count",
-            f"# growth rates: at the last save from the law fitted over the second half of the run (as for the bands), "
+            f"# growth rates: at the last save from the law (straight line or exponential in amplitude) that fits the line, as for the bands, "
             f"dB per {AXLES_PER_RATE:,} axle passages (wheel passages on the rail)"
             + (f"; per year and per MGT with {traffic.axles_per_day:g} axles/day and axle load {traffic.axle_load_t:.4g} t"
                if traffic is not None else "; no traffic given"),
-            "# empty growth rate: the line has no roughness in the second half of the run",
+            "# empty growth rate: the line has no roughness, or its straight-line fit ends at zero amplitude",
             f"# grinding interval (one-third-octave bands against the limit): {grinding or 'not computed'}"]
     cols = ["line_j", "wavelength_m", "frequency_Hz"] + [f"level_dB_re_1um_at_{int(p)}_axle_passages" for p in n]
     cols += ["growth_dB_per_1e5_axles"] + (["growth_dB_per_year", "growth_dB_per_MGT"] if traffic is not None else [])
