@@ -233,7 +233,7 @@ def test_band_figure_titles_say_already_exceeded_and_use_readable_numbers():
     t = 1e5 * (20 - 20 * np.log10(2 / np.sqrt(2))) / 3.7
     assert f"after {readable_count(t)} axle passages" in fig.get_suptitle() and "e+" not in fig.get_suptitle()
     assert "dB per 100,000 axle passages" in fig.axes[1].get_ylabel()
-    assert "µm per 100,000 axle passages" in fig.axes[2].get_ylabel()
+    assert "µm rms per 100,000 axle passages" in fig.axes[2].get_ylabel()
 
 
 def test_rate_spectrum_dataset_gives_the_axle_year_and_MGT_rates_and_its_csv(tmp_path):
