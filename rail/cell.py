@@ -81,11 +81,13 @@ class RailDamper:
 class TrackCell:
     """A track periodic over a cell of length P with N supports (and optional rail dampers).
 
-    track    : Track: the rail, the damping model ('hysteretic' or 'viscous') and the nominal
+    Attributes
+    ----------
+    track : Track: the rail, the damping model ('hysteretic' or 'viscous') and the nominal
                support, whose spacing is the cell's mean spacing P / N
     supports : tuple of Support, positions strictly increasing, the first at 0, the last < P
-    period   : P, m (> 0)
-    dampers  : tuple of RailDamper (positions in [0, P))
+    period : P, m (> 0)
+    dampers : tuple of RailDamper (positions in [0, P))
     """
 
     track: Track
@@ -201,9 +203,11 @@ def cell_lattice_sum(beta, omega, x: float, period: float, track: Track):
     """Phased lattice sum over the cell, S_x(beta) = sum_m H(beta + m beta_P, omega) exp(i (beta + m beta_P) x).
 
     Closed form per partial fraction of H (docs/track.md, "Lattice sums in closed form", with L -> P):
-    for 0 < x < P
+    for 0 < x < P::
+
       sum_m e^{i q x} / (q - p) =  i P e^{i p x} / (1 - e^{i (p - beta) P}),
       sum_m e^{i q x} / (q + p) = -i P e^{i p (P - x)} e^{i beta P} / (1 - e^{i (p + beta) P}),
+
     q = beta + m beta_P; x = 0 is the unphased sum (the sum of H is continuous there), and
     S_{x - P} = e^{-i beta P} S_x gives -P < x < 0.
 
@@ -257,9 +261,9 @@ def cell_lattice_sums_excluding(beta, omega, xs, period: float, track: Track, ex
 
     For wavenumbers near the static point (beta, omega -> 0), where H(beta) ~ 1/(EI beta^4) diverges
     and the closed form would lose every digit to the cancellation with the m = 0 term.  Explicit
-    summation: H itself for 0 < |m| <= ``explicit``, then its quasi-static form 1/(EI q^4) +
+    summation: H itself for 0 < abs(m) <= ``explicit``, then its quasi-static form 1/(EI q^4) +
     1/(kappa G A q^2): for x = 0 the whole rest in closed form by polygamma (as the uniform track
-    always did), for x != 0 explicitly to |m| = ``tail`` (the terms fall like 1/(kappa G A m^2 beta_P^2)
+    always did), for x != 0 explicitly to abs(m) = ``tail`` (the terms fall like 1/(kappa G A m^2 beta_P^2)
     and turn in phase with m, so the truncation error is O(1/tail^2)).
 
     Parameters
@@ -341,8 +345,8 @@ def cell_stationary_receptance(x, x0, omega, cell: TrackCell, rtol: float = 1e-7
 
     Force F e^{i omega t} at x0; the attachments react with R_{j,m} = K_j w(s_j + m P).  A discrete
     Fourier transform over the cells (Floquet wavenumber kappa in the cell's Brillouin zone
-    |kappa| <= beta_P / 2) gives, for each kappa, N equations for the reactions
-    (docs/track.md, "A cell of N bays"):
+    abs(kappa) <= beta_P / 2) gives, for each kappa, N equations for the reactions
+    (docs/track.md, "A cell of N bays")::
 
         (I + diag(K) S(kappa) / P) R = diag(K) s_{x0}(kappa) / P,   S[l, j] = S_{s_j - s_l}(kappa),
                                                                     s_{x0}[l] = S_{x0 - s_l}(kappa),
@@ -408,14 +412,16 @@ def cell_stationary_receptance(x, x0, omega, cell: TrackCell, rtol: float = 1e-7
 class RandomSupports:
     """Seeded random factors on the supports of a cell (a random track).
 
-    seed         : seed of numpy.random.default_rng [-]
-    distribution : 'uniform' (factor 1 + s u, u uniform in [-1, 1]) or 'normal' (1 + s g, g standard
-                   normal cut at +-3)
-    spacing, pad, ballast, sleeper_mass : spreads s [-] in [0, 0.3]
-
     The draws are taken in a fixed order (spacing, pad, ballast, sleeper mass; N each), whatever the
     spreads, so that a seed gives the same track bit for bit and a spread of 0 leaves the others'
     draws unchanged.
+
+    Attributes
+    ----------
+    seed : seed of numpy.random.default_rng [-]
+    distribution : 'uniform' (factor 1 + s u, u uniform in [-1, 1]) or 'normal' (1 + s g, g standard
+                   normal cut at +-3)
+    spacing, pad, ballast, sleeper_mass : spreads s [-] in [0, 0.3]
     """
 
     seed: int

@@ -60,7 +60,7 @@ def wheel_offsets(scn: Scenario) -> list[float]:
     Returns
     -------
     list of float
-        d = a_l - a_j [m] for every ordered pair of wheels, 0 first, by |d|.
+        d = a_l - a_j [m] for every ordered pair of wheels, 0 first, by abs(d).
     """
     pos = [float(x) for x in scn.wheels.positions]
     out = {0.0} | {round(a - b, 9) for a in pos for b in pos if a != b}
@@ -278,9 +278,9 @@ def train_wear(scn: Scenario, table: MovingReceptance, Z, grid_phase: float = 0.
         w = passage_wear(scn, forces, current, int(l), grid_phase)
         dZ += w.Z
         slip = max(slip, w.full_slip)
-        # the worn profile keeps the roughness's period (rail.wear.apply_wear returns a 1-bay roughness,
-        # which made the second wheel of a train over an N-bay period fail); Z - 1.0 dZ == Z - dZ bitwise
-        current = Roughness(current.Z - w.Z, current.bays)
+        # the worn profile keeps the roughness's period (a 1-bay roughness here made the second wheel of
+        # a train over an N-bay period fail; tests/test_fleet.py)
+        current = wear.apply_wear(current, w.Z)
     return dZ, slip
 
 
@@ -424,10 +424,12 @@ def grow_fleet(classes, tables: dict, roughness: Roughness | None = None, *, che
 class ContactShift:
     """The largest move of the contact centre over the wheels and the period (contact_shift).
 
-    shift : largest |c| [m], c the centre of the single-zone patch relative to the wheel centre
-    ratio : largest |c| / a [-]
-    sweep : largest |dc/dx_w| [-]: the patch sweeps the rail at V (1 + dc/dx_w), so the wear depth the
-            model leaves out is -dc/dx_w of the mean wear (for a harmonic, beta |c|)
+    Attributes
+    ----------
+    shift : largest abs(c) [m], c the centre of the single-zone patch relative to the wheel centre
+    ratio : largest abs(c) / a [-]
+    sweep : largest abs(dc/dx_w) [-]: the patch sweeps the rail at V (1 + dc/dx_w), so the wear depth the
+            model leaves out is -dc/dx_w of the mean wear (for a harmonic, beta abs(c))
     """
 
     shift: float
@@ -443,7 +445,7 @@ def contact_shift(scn: Scenario, table: MovingReceptance, Z) -> ContactShift:
     roughness slope averaged over the patch with the weight 1 / (pi sqrt(a^2 - s^2)) (c = R_w r'
     J0(beta a) for a small cosine). It is evaluated for every wheel with the forces of the
     roughness Z, on either normal-contact model (the report's keeps the patch on the wheel centre
-    too), at max(512, 16 K) positions per bay: the largest |c| sampled at 16 points per shortest
+    too), at max(512, 16 K) positions per bay: the largest abs(c) sampled at 16 points per shortest
     wavelength is low by at most 1 - cos(pi / 16) = 1.9 %. dc/dx_w is the spectral derivative.
 
     Parameters
@@ -457,7 +459,7 @@ def contact_shift(scn: Scenario, table: MovingReceptance, Z) -> ContactShift:
     Returns
     -------
     ContactShift
-        Largest |c| [m], |c| / a [-] and |dc/dx_w| [-]; NaN where the single-zone contact does not
+        Largest abs(c) [m], abs(c) / a [-] and abs(dc/dx_w) [-]; NaN where the single-zone contact does not
         hold (contact lost, multiple contact: the run stops there, rail.growth.run_growth).
     """
     rough = Roughness(np.asarray(Z), scn.roughness.bays)

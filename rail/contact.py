@@ -8,9 +8,11 @@ Conventions
   eq 26, s = V gamma - V du/dxi + du/dt. In slip, q = -mu_d p sign(s) (eq 27). For a driving
   wheel gamma < 0 and q > 0.
 * u(xi, t) is the relative tangential surface displacement (eq 29), u = -k int q(zeta) K(xi, zeta)
-  d zeta with k = 4 (1 - nu^2) / (pi E). The kernel depends on the closure:
+  d zeta with k = 4 (1 - nu^2) / (pi E). The kernel depends on the closure::
+
     report   (eqs 29, 32-33): K = ln|1 - xi/zeta|, plus u(0, t) = q(0, t) / sigma.
     default  (well-posed):    K = ln(|xi - zeta| / l(t)), l = (a / 2) exp(2 s / pi), s = 1.
+
   The two agree in steady rolling, where only du/dxi matters. The default is the report's rigid
   term linearised about the Cattaneo traction at vanishing force (docs/contact.md). The family
   parameter s scales the report's rigid compliance 1/sigma.
@@ -19,8 +21,10 @@ Discretisation (docs/contact.md)
 --------------------------------
 The grid is fixed to the patch, with nodes xi_n = (n - M) Delta, and the wheel advances
 Delta = V dt per step. A rail particle at node m+1 at step i-1 is at node m at step i, so the
-material derivative du/dt - V du/dxi is exact along particle paths:
+material derivative du/dt - V du/dxi is exact along particle paths::
+
     s_m = V gamma + (u_m(t) - u_{m+1}(t - dt)) / dt.
+
 The traction is q = W sum_n g_n phi_n with W = sqrt(1 - xi^2/a^2) and g_n = q_n / W(xi_n):
 square-root weighted hats, exact for the Hertz ellipse, so that the square-root edges of the
 traction carry no grid-position error (the unknowns stay the nodal tractions). u is collocated at
@@ -28,7 +32,7 @@ the nodes; the log-kernel influence coefficients are rebuilt with a(t) every ste
 A particle that entered the patch during the step sticks from the edge displacement at its entry
 time (interpolated between the steps); the frictional work integrates the Hertz pressure exactly
 along each path (_step_work). Each step is a small linear complementarity problem (stick: s = 0,
-|q| <= mu_s p; slip: q = -mu_d p sign(s)), solved by an active-set iteration that admits any
+abs(q) <= mu_s p; slip: q = -mu_d p sign(s)), solved by an active-set iteration that admits any
 number of stick and slip zones.
 """
 
@@ -215,8 +219,8 @@ def hertz_pressure(xi, P, a, m: ContactMaterial):
 def carter(xi, P, m: ContactMaterial, speed: float, R: float):
     """Carter's steady 2D rolling solution (from eqs 26-30).
 
-    1 - c/a = |gamma| / (pi k mu p0), Q = mu P (1 - (c/a)^2), the sign of q opposite to gamma.
-    Saturation (no stick) when |gamma| >= 4 (1 - nu^2) mu_d p0 / E.
+    1 - c/a = abs(gamma) / (pi k mu p0), Q = mu P (1 - (c/a)^2), the sign of q opposite to gamma.
+    Saturation (no stick) when abs(gamma) >= 4 (1 - nu^2) mu_d p0 / E.
 
     Parameters
     ----------
@@ -287,14 +291,16 @@ def _g1(t: float) -> float:
 class TangentialSolution:
     """Result of one bay of unsteady rolling.
 
-    q, s    : (steps, nodes) traction (Pa) and slip velocity (m/s) at the grid nodes
-    xi      : (nodes,) node positions in the patch, m
-    a, P    : (steps,) half-length (m) and normal force (N)
-    Q       : (steps,) total tangential force 2b int q, N
-    work    : (steps + nodes,) frictional work per unit area done on each rail particle, J/m^2;
+    Attributes
+    ----------
+    q, s : (steps, nodes) traction (Pa) and slip velocity (m/s) at the grid nodes
+    xi : (nodes,) node positions in the patch, m
+    a, P : (steps,) half-length (m) and normal force (N)
+    Q : (steps,) total tangential force 2b int q, N
+    work : (steps + nodes,) frictional work per unit area done on each rail particle, J/m^2;
               particle j is at node m = j - i at step i (x = x_wheel(i) + (j - i - M) Delta)
-    power   : (steps,) frictional power per unit area of the patch, summed over it, W/m (per unit width)
-    delta   : grid spacing = V dt, m
+    power : (steps,) frictional power per unit area of the patch, summed over it, W/m (per unit width)
+    delta : grid spacing = V dt, m
     stick_nodes : (steps,) number of stick nodes in the patch; 0 while loaded means full slip
               (saturated creepage or fast unloading: no stick zone, the traction is mu_d p)
     """
@@ -335,7 +341,7 @@ def checkerboard_measure(q, stick, p0, mu):
     Returns
     -------
     float
-        max |q_{n+1} - 2 q_n + q_{n-1}| / (mu p0) over the stick-zone cores [-].
+        max abs(q_{n+1} - 2 q_n + q_{n-1}) / (mu p0) over the stick-zone cores [-].
     """
     core = stick.copy()
     core[1:] &= stick[:-1]
@@ -368,10 +374,12 @@ class ContactNumerics:
     """How the contact is modelled, discretised and closed (config keys ``numerics.contact`` and
     ``contact.closure``, ``contact.closure_scale``, ``contact.normal``).
 
-    nodes         : grid nodes across the largest patch [-], >= MIN_NODES
-    closure       : 'default' (well-posed log kernel) or 'report' (eqs 32-33)
+    Attributes
+    ----------
+    nodes : grid nodes across the largest patch [-], >= MIN_NODES
+    closure : 'default' (well-posed log kernel) or 'report' (eqs 32-33)
     closure_scale : s, scale of the closure's rigid compliance [-], > 0
-    normal        : normal contact: 'report' (point spring on the roughness at the wheel centre, Hertz
+    normal : normal contact: 'report' (point spring on the roughness at the wheel centre, Hertz
                     patch with the local rail curvature, eqs 22-24) or 'nonhertzian' (the roughness
                     under the patch: the force through the contact filter J0(beta a), the exact
                     single-zone 2D pressure; rail.normal, docs/contact.md)
@@ -532,7 +540,7 @@ def chebyshev_hat_moments(n_off: int):
     Returns
     -------
     M : ndarray, shape (_KMAX, 2 n_off + 1)
-        M[j, x + n_off] = int_{-1}^{1} hat(t) T_j(t) ln|x - t| dt for integer x in [-n_off, n_off]
+        M[j, x + n_off] = int_{-1}^{1} hat(t) T_j(t) ln abs(x - t) dt for integer x in [-n_off, n_off]
         [in units of the grid spacing].
     mu : ndarray, shape (_KMAX,)
         mu[j] = int hat T_j [in units of the grid spacing].
@@ -1325,7 +1333,7 @@ def solve_tangential(P, a, m: ContactMaterial, speed: float, delta: float, M: in
     entered in the last step has stuck since it crossed xi = a at t_e, with the surface displacement
     u_a(t_e) interpolated between the steps: u_lead(t) = u_a(t_e) - gamma (1 - theta) Delta. Slip nodes carry q = -mu_d p sign(s),
     with the slip direction carried by the particles. An active-set iteration moves nodes where
-    |q| > mu_s p to slip and nodes whose slip opposes their traction to stick. The slip velocity is
+    abs(q) > mu_s p to slip and nodes whose slip opposes their traction to stick. The slip velocity is
     s = V gamma + (E q - h) / dt, exact along the particle path.
 
     The time loop is compiled with numba (``_march``); ``tests/reference/contact_numpy.py`` holds
@@ -1412,7 +1420,7 @@ def perturbation_growth(m: ContactMaterial, P: float, speed: float, nodes: int, 
 
     The discrete steady state is computed with the default closure (the closures differ only by a
     rigid term that is constant in steady rolling, so it is the fixed point of every closure). A
-    random perturbation of relative size ``eps`` (of max |q|, on the loaded nodes) is added, and
+    random perturbation of relative size ``eps`` (of max abs(q), on the loaded nodes) is added, and
     the perturbed and unperturbed states are both time-stepped with the closure under test. The
     growth per transit is (d_last / d_first)^(1 / (transits - 1)), with d_n the largest traction
     difference over transit n. Below 1: perturbations decay (well-posed); above 1 they grow. The

@@ -5,11 +5,11 @@ properties of track sections for pass by noise measurements*, estimates the spat
 rail vibration in each one-third-octave band from the band-averaged transfer functions A(x_n)
 between an excitation point x_0 and response points x_n running out along the rail:
 
-    DR = 10 log10(e) / sum_n ( |A(x_n)|^2 / |A(x_0)|^2 ) dx_n        dB/m          (EN 15461)
+    DR = 10 log10(e) / sum_n ( abs(A(x_n))^2 / abs(A(x_0))^2 ) dx_n        dB/m          (EN 15461)
 
-10 log10(e) = 4.343.  For a single wave decaying as exp(-k_i x), |A|^2 falls as exp(-2 k_i x), the
+10 log10(e) = 4.343.  For a single wave decaying as exp(-k_i x), abs(A)^2 falls as exp(-2 k_i x), the
 sum tends to 1 / (2 k_i) and DR = 20 log10(e) k_i = 8.686 k_i dB/m.  Near the excitation the
-evanescent (near-field) wave adds to |A(x_0)|^2, so where it is not small against the propagating
+evanescent (near-field) wave adds to abs(A(x_0))^2, so where it is not small against the propagating
 wave the formula gives a larger decay rate than the propagating wave's own (it is a property of
 the standard's estimator, which this module reproduces rather than corrects).
 
@@ -196,7 +196,7 @@ def decay_distances(spacing: float, max_bays: float = 128.0, scheme: str = "en15
 def trapezoid_weights(distances) -> np.ndarray:
     """Weights dx_n of the EN 15461 sum: half the distance to each neighbour (trapezoidal rule).
 
-    The sum then integrates |A|^2 exactly for a piecewise-linear response.
+    The sum then integrates abs(A)^2 exactly for a piecewise-linear response.
 
     Parameters
     ----------
@@ -224,7 +224,7 @@ def trapezoid_weights(distances) -> np.ndarray:
 
 
 def en15461_decay_rate(distances, squared_transfer) -> np.ndarray:
-    """Decay rate DR = 4.343 / sum_n (|A(x_n)|^2 / |A(x_0)|^2) dx_n (EN 15461).
+    """Decay rate DR = 4.343 / sum_n (abs(A(x_n))^2 / abs(A(x_0))^2) dx_n (EN 15461).
 
     4.343 = 10 log10(e); dx_n are the trapezoidal weights (``trapezoid_weights``).
 
@@ -233,7 +233,7 @@ def en15461_decay_rate(distances, squared_transfer) -> np.ndarray:
     distances : array_like, shape (positions,)
         Positions from the excitation point [m]: 0 first, increasing.
     squared_transfer : array_like, shape (..., positions)
-        Band-averaged |A(x_n)|^2 [m^2/N^2] (or any unit: only ratios enter).
+        Band-averaged abs(A(x_n))^2 [m^2/N^2] (or any unit: only ratios enter).
 
     Returns
     -------
@@ -251,7 +251,7 @@ def en15461_decay_rate(distances, squared_transfer) -> np.ndarray:
 
 
 def band_averaged_squared_transfer(track, x0: float, distances, frequencies, rtol: float = 1e-6) -> np.ndarray:
-    """Mean of |A(x0 + d_n, x0; f)|^2 over the frequencies of each band.
+    """Mean of abs(A(x0 + d_n, x0; f))^2 over the frequencies of each band.
 
     A is the transfer receptance of the periodically supported rail
     (``rail.track.stationary_receptance``).
@@ -274,7 +274,7 @@ def band_averaged_squared_transfer(track, x0: float, distances, frequencies, rto
     Returns
     -------
     ndarray, shape (bands, positions)
-        Band-averaged |A|^2 [m^2/N^2].
+        Band-averaged abs(A)^2 [m^2/N^2].
     """
     x = x0 + np.asarray(distances, dtype=float)
     f = np.asarray(frequencies, dtype=float)
@@ -294,15 +294,17 @@ def band_averaged_squared_transfer(track, x0: float, distances, frequencies, rto
 class DecayRate:
     """Track decay rates in one-third-octave bands (EN 15461 estimator on the track model).
 
-    bands        : ThirdOctaveBands
-    frequencies  : Hz, (band, per_band): the frequencies averaged in each band
-    excitation   : m, (excitation,): excitation points x_0 measured from a support
-    distances    : m, (position,): every response point x_n - x_0 computed (union of the schemes)
-    schemes      : names of the position sets (``decay_distances``), or ("custom",)
-    weights      : m, (scheme, position): dx_n of each scheme's sum, 0 where a scheme does not
+    Attributes
+    ----------
+    bands : ThirdOctaveBands
+    frequencies : Hz, (band, per_band): the frequencies averaged in each band
+    excitation : m, (excitation,): excitation points x_0 measured from a support
+    distances : m, (position,): every response point x_n - x_0 computed (union of the schemes)
+    schemes : names of the position sets (``decay_distances``), or ("custom",)
+    weights : m, (scheme, position): dx_n of each scheme's sum, 0 where a scheme does not
                    use the position
-    level        : dB, (excitation, band, position): 10 log10 of band-averaged |A(x_n)|^2 / |A(x_0)|^2
-    decay_rate   : dB/m, (scheme, excitation, band)
+    level : dB, (excitation, band, position): 10 log10 of band-averaged abs(A(x_n))^2 / abs(A(x_0))^2
+    decay_rate : dB/m, (scheme, excitation, band)
     """
 
     bands: ThirdOctaveBands

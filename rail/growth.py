@@ -1,16 +1,18 @@
 """Roughness growth over many wheel passages, with progress and resumable checkpoints (sec. 5).
 
 One update:
+
 1. compute the wear of one train passage at the current roughness (rail.chain.train_wear: the
    normal forces of every wheel, then the wheels roll over the bay in turn, leading wheel first,
    each on the profile the one before it left);
 2. remove that wear ``passages_per_update / n_wheels`` times (eq 54, Delta Z_0 = 0).
+
 This module is the integrator (steps, error estimates, checkpoints); the model it integrates is
 handed in as a function.
 
 Passages are counted as wheel passages, as in the report ("one passage of the two bogies equals
 four wheel passages"). The roughness is saved every ``save_every`` wheel passages. Levels are
-rms levels in dB re 1 um: a component Z_k, Z_-k has amplitude 2|Z_k| and rms sqrt(2)|Z_k|.
+rms levels in dB re 1 um: a component Z_k, Z_{-k} has amplitude 2 abs(Z_k) and rms sqrt(2) abs(Z_k).
 
 The contact grid's spacing changes between updates, so that a / Delta at the bay's mean
 half-length sweeps one unit over the updates in a golden-ratio (low-discrepancy) sequence
@@ -70,12 +72,14 @@ def grid_phase(update: int) -> float:
 class GrowthSettings:
     """Growth-loop settings (config key ``growth``).
 
-    passages             : total wheel passages [-]
-    passages_per_update  : wheel passages whose wear is applied per force/contact update [-]
-    save_every           : wheel passages between saved profiles (a multiple of passages_per_update) [-]
-    vary_grid_spacing    : vary the contact grid spacing between updates so that a / Delta sweeps
+    Attributes
+    ----------
+    passages : total wheel passages [-]
+    passages_per_update : wheel passages whose wear is applied per force/contact update [-]
+    save_every : wheel passages between saved profiles (a multiple of passages_per_update) [-]
+    vary_grid_spacing : vary the contact grid spacing between updates so that a / Delta sweeps
                            one unit (averages the grid-tied error; rail.wear.bay_wear grid_phase)
-    step_tolerance       : largest accepted estimate of one update's error, relative to the
+    step_tolerance : largest accepted estimate of one update's error, relative to the
                            roughness [-] (see run_growth); a larger one stops the run with an error
     """
 
@@ -104,12 +108,18 @@ class GrowthSettings:
 
 @dataclass
 class GrowthHistory:
-    """passages : (n,) wheel passages at each save; Z : (n, 2K+1) roughness coefficients, m.
+    """Saved states of a growth run (run_growth).
+
+    Attributes
+    ----------
+    passages : (n,) wheel passages at each save
+    Z : (n, 2K+1) roughness coefficients, m
     step_error : (updates,) estimated local error of each update relative to the roughness, -; NaN
-                 where the two rates compared were on different contact grids (grid_phase);
-    full_slip  : (updates,) largest fraction of the bay without a stick zone over the wheels, -;
-    stopped    : '' for a run that reached its passages, else the one-line reason it stopped early (a
-                 physical assumption broke: contact lost, multiple contact; run_growth)."""
+                 where the two rates compared were on different contact grids (grid_phase)
+    full_slip : (updates,) largest fraction of the bay without a stick zone over the wheels, -
+    stopped : '' for a run that reached its passages, else the one-line reason it stopped early (a
+                 physical assumption broke: contact lost, multiple contact; run_growth).
+    """
 
     passages: np.ndarray
     Z: np.ndarray
@@ -122,7 +132,7 @@ def stop_message(done: int, Z0, Z, error: Exception, period: float | None = None
     """One line: why a growth run stopped, at how many passages, and the roughness that broke it.
 
     The contact breaks where the rail is too curved under the wheel, so the harmonic named is the
-    one with the largest curvature amplitude j^2 |Z_j|, with its level and its change since the start.
+    one with the largest curvature amplitude j^2 abs(Z_j), with its level and its change since the start.
 
     Parameters
     ----------
@@ -151,7 +161,7 @@ def stop_message(done: int, Z0, Z, error: Exception, period: float | None = None
 
 
 def levels_dB(Z):
-    """rms roughness level of each harmonic k >= 1, 20 log10(sqrt(2) |Z_k| / 1e-6).
+    """rms roughness level of each harmonic k >= 1, 20 log10(sqrt(2) abs(Z_k) / 1e-6).
 
     Parameters
     ----------
@@ -293,11 +303,11 @@ def step_error(rate_before, rate_after, Z_after, train_passages: float) -> float
     Returns
     -------
     float
-        (h / 2) |W(Z') - W(Z)| / |Z'| (L2 norms over the harmonics) [-].
+        (h / 2) norm(W(Z') - W(Z)) / norm(Z') (L2 norms over the harmonics) [-].
 
     Notes
     -----
-    The error of the update is (h / 2) |W(Z') - W(Z)| to leading order (the step is first
+    The error of the update is (h / 2) norm(W(Z') - W(Z)) to leading order (the step is first
     order), with h the train passages per update and W the wear per train passage (m). Its L2
     norm over the harmonics is divided by that of the roughness Z'. The next update computes
     W(Z') anyway, so the estimate costs nothing but one extra evaluation after the last update.

@@ -255,31 +255,33 @@ def _linear_rates(scn, tabs, free, locked, eps, phase, max_columns=None):
 class RateSpectrum:
     """The linearised growth-rate spectrum of one train at one speed about the smooth rail (rate_spectrum).
 
+    Attributes
+    ----------
     wavelength : (n,) wavelengths N L / j of the lines [m], decreasing
-    line       : (n,) the lines j (wavenumbers 2 pi j / (N L)) [-]
-    locked     : (n,) 0 for a free line; 1 on the one-bay comb L / k and 2 on the half-comb
+    line : (n,) the lines j (wavenumbers 2 pi j / (N L)) [-]
+    locked : (n,) 0 for a free line; 1 on the one-bay comb L / k and 2 on the half-comb
                  2 L / (2k + 1), where the wavelength is locked to the supports: a cosine and a sine
                  (peaks over the sleepers or between) grow at different rates
-    rate       : (n,) complex rate per train passage [-]: at a free line R_j (module docstring), the
+    rate : (n,) complex rate per train passage [-]: at a free line R_j (module docstring), the
                  roughness grows like exp(-R_j n); at a locked line the eigenvalue of the 2 x 2
                  (cosine, sine) wear operator with the faster growth
     rate_other : (n,) the other eigenvalue (at a free line the conjugate of R_j: the same growth)
-    source     : (n,) wear of the smooth rail at the line, 2 |Delta W0_k| per train passage [m]:
+    source : (n,) wear of the smooth rail at the line, 2 abs(Delta W0_k) per train passage [m]:
                  the supports' parametric source, non-zero only on the comb
-    sideband   : (n,) at a free line, the largest wear at the sidebands j +- N over the wear at j [-]:
+    sideband : (n,) at a free line, the largest wear at the sidebands j +- N over the wear at j [-]:
                  the coupling within the class through the supports that the diagonal leaves out
                  (class_operator gives the class's matrix and eigenvalues); 0 at a locked line
-    grid_spread: (n,) half the spread of the growth rate -Re(rate) over the contact grids averaged
+    grid_spread : (n,) half the spread of the growth rate -Re(rate) over the contact grids averaged
                  [-]: the size of the grid-tied error of one grid (the mean's is smaller)
-    linearity  : largest change of the growth rate with the probe doubled (2 eps against eps),
+    linearity : largest change of the growth rate with the probe doubled (2 eps against eps),
                  relative to the rate, over the lines checked [-]
-    eps        : amplitude of the probing cosines [m]
-    bays       : N [-]
-    grid_phases: contact grids averaged over [-]
-    method     : 'linear' (the tangent march) or 'probe'; 'linear, probes at ...' names the grid
+    eps : amplitude of the probing cosines [m]
+    bays : N [-]
+    grid_phases : contact grids averaged over [-]
+    method : 'linear' (the tangent march) or 'probe'; 'linear, probes at ...' names the grid
                  phases where the probes' contact grid differed from the smooth rail's and the
                  probes of the nonlinear march were taken instead
-    operator   : (n, 2, 2) the (cosine, sine) wear operator per train passage averaged over the grids
+    operator : (n, 2, 2) the (cosine, sine) wear operator per train passage averaged over the grids
                  at the locked lines (its eigenvalues are rate and rate_other), zero at free lines;
                  kept so that operators of several trains can be summed (fleet_rate_spectrum)
     """
@@ -469,7 +471,7 @@ def rate_spectrum(scn: Scenario, table, lines, eps: float = 1e-9, grid_phases: i
 
     The smooth rail's wear on the same contact grid is subtracted, which removes the grid-tied bias
     of the wear but not that of its derivative: the rate of one grid carries an error that is
-    periodic in a / Delta (about 0.1-0.4 % of |R| at 61 nodes, docs/growth-spectrum.md). The rates
+    periodic in a / Delta (about 0.1-0.4 % of abs(R) at 61 nodes, docs/growth-spectrum.md). The rates
     are therefore averaged over ``grid_phases`` grids whose a / Delta differ by 1 / grid_phases
     (rail.wear.bay_wear's grid_phase; two phases half a unit apart cancel the fundamental of that
     error), and half the spread between the phases is returned as its estimate.
@@ -664,12 +666,12 @@ def class_operator(scn: Scenario, table, lines, eps: float = 1e-9, grid_phases: 
         The tables of the N-bay period at the speed.
     lines : sequence of int
         Lines of one class r (j = r mod N, r neither 0 nor N/2), of either sign (a negative line is
-        the conjugate of a line of the class N - r), |j| <= N K.
+        the conjugate of a line of the class N - r), abs(j) <= N K.
     eps : float
         Probing amplitude [m].
     grid_phases : int
         Contact grids averaged over (as rate_spectrum: the sideband entries are a few percent of the
-        diagonal, so the grid-tied error of one grid, 0.1-0.4 % of |R|, is several percent of them).
+        diagonal, so the grid-tied error of one grid, 0.1-0.4 % of abs(R), is several percent of them).
 
     Returns
     -------

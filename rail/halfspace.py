@@ -57,10 +57,12 @@ def _check_range(name: str, value: float, low: float, high: float, low_open=True
 class ElasticMaterial:
     """Homogeneous isotropic elastic solid (report section 3).
 
+    Attributes
+    ----------
     youngs_modulus : Pa,     > 0
-    poisson_ratio  : -,      -1 < nu < 0.5
-    density        : kg/m^3, > 0
-    loss_factor    : -,      >= 0; hysteretic damping, moduli multiplied by (1 + i eta).
+    poisson_ratio : -,      -1 < nu < 0.5
+    density : kg/m^3, > 0
+    loss_factor : -,      >= 0; hysteretic damping, moduli multiplied by (1 + i eta).
                      The report's half-space is undamped (0); a positive value is used only
                      by the independent radiation-condition check.
     """
@@ -325,9 +327,11 @@ def folded_integrand(beta, omega, r, material: ElasticMaterial):
 def rayleigh_residue(omega, material: ElasticMaterial):
     """Residue of beta G(beta, omega) at the Rayleigh pole beta_R (from report eqs 9, 11).
 
-    beta G = N(beta)/D(beta) with N = alpha1 omega^2 beta / (mu c2^2); residue = N/D'(beta_R),
-    D'(beta) = 4 beta^2 (alpha1' alpha2 + alpha1 alpha2') + 8 beta alpha1 alpha2
-               - 8 beta (2 beta^2 - k2^2),  alpha_j' = beta / alpha_j.
+    beta G = N(beta)/D(beta) with N = alpha1 omega^2 beta / (mu c2^2); residue = N/D'(beta_R), where::
+
+      D'(beta) = 4 beta^2 (alpha1' alpha2 + alpha1 alpha2') + 8 beta alpha1 alpha2
+                 - 8 beta (2 beta^2 - k2^2),  alpha_j' = beta / alpha_j.
+
     Real and negative for the undamped material (D decreases through its root).
 
     Parameters

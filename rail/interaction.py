@@ -10,9 +10,11 @@ Conventions
 * Contact spring: P = k_H (1 + i eta_H(omega)) (z_w - u + z) for the dynamic part; the
   mean force of every wheel equals its static load.
 
-Harmonic balance (eq 21), for every wheel l and harmonic p != 0:
+Harmonic balance (eq 21), for every wheel l and harmonic p != 0::
+
     (1 / k_H(omega_p) - 1 / (M omega_p^2)) P_lp + sum_j sum_k A^{lj}[p, k] P_jk = Z_lp,
     A^{lj}[p, k] = A_{a_l - a_j}[p, k] exp(i (p - k) beta0 a_j),   Z_lp = Z_p exp(i p beta0 a_l),
+
 where A_d is the moving-load receptance table (rail.moving) and the k = 0 terms, with
 P_j0 = the static load, are the parametric excitation by the supports.  The wheel is a rigid mass
 (receptance -1/(M omega^2)).
@@ -47,11 +49,13 @@ __all__ = [
 class Wheels:
     """Rigid wheels of one train (section 6).
 
-    mass        : kg, > 0 (each wheel)
-    radius      : m, > 0
+    Attributes
+    ----------
+    mass : kg, > 0 (each wheel)
+    radius : m, > 0
     static_load : N, > 0 (each wheel; the mean contact force)
-    positions   : m, positions a_l along the train (the first wheel passes a support at t = 0)
-    creepage    : -, one signed creepage per wheel (eq 25; rail.fleet), or None for the contact's
+    positions : m, positions a_l along the train (the first wheel passes a support at t = 0)
+    creepage : -, one signed creepage per wheel (eq 25; rail.fleet), or None for the contact's
                   creepage on every wheel (rail.contact.ContactMaterial.creepage)
     """
 
@@ -78,10 +82,12 @@ class Wheels:
 class ContactSpring:
     """Linearised Hertz contact spring k_H (1 + i eta_H(omega)), N/m.
 
+    Attributes
+    ----------
     hertz_stiffness : k_H, N/m, > 0
-    loss_slope      : s/rad; eta_H = loss_slope * omega (the half-space model, Fig. 6, is exactly
+    loss_slope : s/rad; eta_H = loss_slope * omega (the half-space model, Fig. 6, is exactly
                       proportional to frequency, i.e. a dashpot k_H * loss_slope)
-    loss_factor     : constant eta_H (hysteretic, sign(omega)), used when loss_slope is 0
+    loss_factor : constant eta_H (hysteretic, sign(omega)), used when loss_slope is 0
     """
 
     hertz_stiffness: float
@@ -106,7 +112,9 @@ class ContactSpring:
 class Roughness:
     """Rail-head roughness periodic over N bays (eqs 18-19 with the period N L).
 
-    Z    : coefficients Z_j [m], j = -J..J, of z(x) = sum_j Z_j exp(i j beta0 x / N), Z_0 = 0;
+    Attributes
+    ----------
+    Z : coefficients Z_j [m], j = -J..J, of z(x) = sum_j Z_j exp(i j beta0 x / N), Z_0 = 0;
            J = N K for K harmonics of the sleeper-passing frequency
     bays : N [-], the period in sleeper bays (1: today's bay-periodic roughness, j = k)
     """

@@ -5,7 +5,7 @@ t = 0).  The rail displacement at the load, and at points moving with it at offs
 
     w(V t + d, t) = F exp(i Omega t) sum_n a_n(Omega, d) exp(i n Omega_0 t),  Omega_0 = 2 pi V / L,
 
-with (docs/track.md, derived by a space-time Fourier transform and Poisson summation)
+with (docs/track.md, derived by a space-time Fourier transform and Poisson summation)::
 
     a_n(Omega, d) = delta_n0 / (2 pi) int g_0(beta) e^{-i beta d} d beta
                     - 1 / (2 pi L) int w(beta) g_0(beta) g_n(beta) e^{-i (beta - n beta0) d} d beta,
@@ -39,19 +39,21 @@ __all__ = ["MovingReceptance", "receptance_table", "bloch_tables", "cell_recepta
 class MovingReceptance:
     """Receptance matrices of the moving-load problem at one speed.
 
-    speed     : V, m/s
+    Attributes
+    ----------
+    speed : V, m/s
     harmonics : K; rows p and columns k run over -K..K (fraction 0) or -K..K-1 (fraction > 0, so
                 that the frequencies (k + nu) Omega_0 of the classes nu and 1 - nu mirror each other)
-    offsets   : d, m (0 = at the load)
-    A         : complex (offset, p, k), m/N: response at (p + nu) Omega_0 at offset d per unit force
+    offsets : d, m (0 = at the load)
+    A : complex (offset, p, k), m/N: response at (p + nu) Omega_0 at offset d per unit force
                 at (k + nu) Omega_0, A_d[p, k] = a_{p-k}((k + nu) Omega_0, d)
-    error     : upper bound of the absolute quadrature error of A (same shape), m/N: the error of
+    error : upper bound of the absolute quadrature error of A (same shape), m/N: the error of
                 the rule with half the nodes; the result's own error is far smaller (docs/track.md)
-    nodes     : number of wavenumber quadrature nodes
-    fraction  : Bloch fraction nu in [0, 1) of the base frequency nu Omega_0 (0: bay-periodic loads)
-    bays      : N, the track's cell in bays (rail.cell): the harmonics are then of the cell
+    nodes : number of wavenumber quadrature nodes
+    fraction : Bloch fraction nu in [0, 1) of the base frequency nu Omega_0 (0: bay-periodic loads)
+    bays : N, the track's cell in bays (rail.cell): the harmonics are then of the cell
                 frequency Omega_P = Omega_0 / N and ``harmonics`` counts them (N K)
-    supports  : positions of the cell's point attachments in the period [m] (None: the uniform track)
+    supports : positions of the cell's point attachments in the period [m] (None: the uniform track)
     """
 
     speed: float
@@ -71,7 +73,7 @@ class MovingReceptance:
         return np.arange(-K, K + (1 if self.fraction == 0 else 0))
 
     def a(self, n: int, k: int, offset_index: int = 0) -> complex:
-        """a_n(k Omega_0, d): needs |k| <= K and |k + n| <= K."""
+        """a_n(k Omega_0, d): needs abs(k) <= K and abs(k + n) <= K."""
         K = self.harmonics
         hi = K if self.fraction == 0 else K - 1
         if not (-K <= k <= hi and -K <= k + n <= hi):
@@ -283,7 +285,7 @@ def receptance_table(
 ) -> MovingReceptance:
     """Receptance matrices A_d[p, k] = a_{p-k}((k + nu) Omega_0, d) at one speed.
 
-    With the Bloch fraction nu = 0 (default) |p|, |k| <= K: loads periodic over one bay. With
+    With the Bloch fraction nu = 0 (default) abs(p), abs(k) <= K: loads periodic over one bay. With
     0 < nu < 1, p, k = -K..K-1: the class of loads at frequencies (k + nu) Omega_0, which a roughness
     periodic over N bays excites for nu = r / N (docs/track.md, "Roughness periodic over N bays").
     The base frequency nu Omega_0 enters the same single Gram product (g_j(beta) = H(beta - j beta0,
@@ -352,7 +354,7 @@ def bloch_tables(track: Track, speed: float, harmonics: int, bays: int, offsets=
     speed : float
         Speed V [m/s], > 0.
     harmonics : int
-        K [-]: the force frequencies (k + nu) Omega_0 reach |K Omega_0|.
+        K [-]: the force frequencies (k + nu) Omega_0 reach abs(K Omega_0).
     bays : int
         N, the roughness period in bays [-], >= 1.
     offsets : sequence of float
@@ -375,7 +377,7 @@ def cell_receptance_table(cell: TrackCell, speed: float, harmonics: int, offsets
     """Receptance matrices of a track periodic over a cell of N bays (docs/track.md, "A cell of N bays").
 
     The loads and responses are periodic over the cell: frequencies q Omega_P, Omega_P = 2 pi V / P,
-    |q| <= N K, so the force harmonics reach K Omega_0 as on the uniform track (Omega_0 = 2 pi V / L,
+    abs(q) <= N K, so the force harmonics reach K Omega_0 as on the uniform track (Omega_0 = 2 pi V / L,
     L = P / N).  A_d[p, q] = a_{p-q}(q Omega_P, d) with the cell's reactions in the support term
     (one N x N solve per wavenumber node).  For a cell of one support this is
     ``receptance_table``; for N identical supports at equal spacing its entries with p = q (mod N)
@@ -420,7 +422,7 @@ def cell_receptance_table(cell: TrackCell, speed: float, harmonics: int, offsets
 
 
 def moving_coefficients(track: Track, speed: float, Omega: float, n_max: int, offset: float = 0.0, rtol: float = 1e-6):
-    """Moving-load coefficients a_n(Omega, d) for |n| <= n_max at any excitation frequency Omega, one speed.
+    """Moving-load coefficients a_n(Omega, d) for abs(n) <= n_max at any excitation frequency Omega, one speed.
 
     a_n is defined in the module docstring (docs/track.md, "Moving harmonic load").  For
     Omega = k Omega_0 this equals column k of ``receptance_table``.
@@ -434,7 +436,7 @@ def moving_coefficients(track: Track, speed: float, Omega: float, n_max: int, of
     Omega : float
         Excitation frequency of the load [rad/s].
     n_max : int
-        Largest harmonic order |n| [-].
+        Largest harmonic order abs(n) [-].
     offset : float, optional
         Offset d of the response point moving with the load [m]; default 0 (at the load).
     rtol : float, optional
@@ -476,7 +478,7 @@ def moving_coefficients(track: Track, speed: float, Omega: float, n_max: int, of
 def critical_speed(track: Track, v_min: float = 20.0, v_max: float = 1000.0, step: float = 10.0, rtol: float = 1e-5) -> float:
     """Critical speed of the track: where the mean rail deflection under a moving constant load is largest.
 
-    The mean deflection is |a_0(0)| of the moving-load receptance (docs/track.md, "Critical speed").
+    The mean deflection is abs(a_0(0)) of the moving-load receptance (docs/track.md, "Critical speed").
     The supports are discrete and damped, so the resonance is a broad maximum rather than a
     singularity; the scan is on a grid of ``step`` m/s refined by a parabola through the
     largest value (a maximum at either end of the grid is returned unrefined).  (A smeared-support

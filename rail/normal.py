@@ -27,7 +27,7 @@ Conventions
 * Plane strain per unit width of a strip of width 2b (the report's 2D contact: its eq 23 is the 2D
   Hertz half-length with the load per unit width P' = P / (2b)). Composite modulus
   1/E* = (1 - nu_1^2)/E_1 + (1 - nu_2^2)/E_2 = 2 (1 - nu^2) / E for two steel bodies. The surface
-  approach of both bodies under a pressure p is u(x) = -k int p(s) ln|x - s| ds + const with
+  approach of both bodies under a pressure p is u(x) = -k int p(s) ln abs(x - s) ds + const with
   k = 2 / (pi E*) = 4 (1 - nu^2) / (pi E), the compliance of the tangential problem (eq 29).
 * Pressure p >= 0 in Pa; loads in N (the whole strip) unless called "per unit width" (N/m).
 """
@@ -76,7 +76,7 @@ def _log_element(t0, t1):
 def influence_matrix(x, h: float, period: float | None = None):
     """Influence coefficients of piecewise-constant pressure elements on a 2D half-space.
 
-    A[i, j] = -int over element j of ln|x_i - s| ds (open surface) or of ln|2 sin(pi (x_i - s) / lambda)|
+    A[i, j] = -int over element j of ln abs(x_i - s) ds (open surface) or of ln abs(2 sin(pi (x_i - s) / lambda))
     (pressure periodic over lambda), so that the approach of both bodies is u = k A p + const with
     k = 2 / (pi E*).
 
@@ -114,11 +114,13 @@ def influence_matrix(x, h: float, period: float | None = None):
 class NormalSolution:
     """Brute-force normal contact on a grid (solve_normal).
 
-    x        : (n,) element centres, m
-    p        : (n,) pressure, Pa (>= 0)
+    Attributes
+    ----------
+    x : (n,) element centres, m
+    p : (n,) pressure, Pa (>= 0)
     approach : rigid approach delta of the two bodies, m (the gap is h + k A p - delta), defined
                up to the constant of the 2D kernel (differences at equal load are meaningful)
-    zones    : number of separate contact zones
+    zones : number of separate contact zones
     """
 
     x: np.ndarray
@@ -268,15 +270,17 @@ def half_length_filter(beta, a):
 class PatchContact:
     """Single-zone normal contact along a wheel passage (patch_contact).
 
-    a       : (steps,) half-length, m
-    shape   : (steps, nodes) pressure / Hertz ellipse of the same P and a at the patch nodes, -
+    Attributes
+    ----------
+    a : (steps,) half-length, m
+    shape : (steps, nodes) pressure / Hertz ellipse of the same P and a at the patch nodes, -
               (p = P / (pi a b) sqrt(1 - xi^2/a^2) shape); 1 on a smooth rail
     min_shape : (steps,) smallest shape factor over the patch, edges included; < 0 means contact lost
               inside the patch
-    shift   : (steps,) where the single-zone contact would centre relative to the wheel, c = R_w x
+    shift : (steps,) where the single-zone contact would centre relative to the wheel, c = R_w x
               (the Chebyshev mean of the gap slope), m; neglected (the patch stays centred on the
               wheel, as in the report)
-    zones   : (steps,) number of contact zones (passage_contact; None from patch_contact: one)
+    zones : (steps,) number of contact zones (passage_contact; None from patch_contact: one)
     """
 
     a: np.ndarray
@@ -312,8 +316,10 @@ def patch_contact(P, x_wheel, slope, m: ContactMaterial, xi, nodes: int = CHEBYS
     """The exact single-zone 2D contact of the wheel on the rough rail at each step of a passage.
 
     With the gap slope h'(s) = s / R_w - r'(x_w + s) = sum_m c_m T_m(s / a) over the patch, the
-    bounded solution of u' = -h' in [-a, a] (Johnson, Contact Mechanics, eqs 2.44-2.49) is
+    bounded solution of u' = -h' in [-a, a] (Johnson, Contact Mechanics, eqs 2.44-2.49) is::
+
         p(s) = (E*/2) sqrt(1 - s^2/a^2) sum_{m>=1} c_m U_{m-1}(s / a),
+
     and the load fixes a: P / (2b) = pi E* a c_1 / 4. A smooth rail gives c_1 = a / R_w: Hertz
     (eq 23). The mean slope c_0 (a tilt) does not enter the pressure; it would move the patch centre
     by c = R_w c_0, which is neglected as in the report (returned as ``shift``).
@@ -410,13 +416,15 @@ MULTIZONE_REFINE = 5  # brute-force elements per contact-grid spacing in multizo
 class MultizoneContact:
     """Normal contact with any number of zones at the steps of a passage (multizone_contact).
 
-    a     : (steps,) half-length of the hull of the contact zones (the outermost edges, centred on the
+    Attributes
+    ----------
+    a : (steps,) half-length of the hull of the contact zones (the outermost edges, centred on the
             wheel; where the hull jumps with the tilt, the larger of its two ends), m
-    offset: (steps,) the hull's centre that remains, m (0 within 5 % of a brute-force element unless
+    offset : (steps,) the hull's centre that remains, m (0 within 5 % of a brute-force element unless
             the hull jumps)
     shape : (steps, nodes) pressure / Hertz ellipse of the same P and a at the patch nodes, -; 0 in a gap
     zones : (steps,) number of contact zones
-    tilt  : (steps,) gap slope removed to centre the hull on the wheel, -: the neglected move of the
+    tilt : (steps,) gap slope removed to centre the hull on the wheel, -: the neglected move of the
             contact centre is shift = -R_w tilt (as PatchContact.shift)
     """
 

@@ -62,7 +62,7 @@ def adaptive_panels(f, edges, rtol=1e-6, atol=0.0, order=16, max_panels=20000, s
         Largest number of panels [-]; default 20000.
     scale : array_like, optional
         Magnitude per component against which ``rtol`` is applied [unit of the integral];
-        default: the integral of |f_c| over ``edges``.
+        default: the integral of abs(f_c) over ``edges``.
 
     Returns
     -------

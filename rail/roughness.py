@@ -3,14 +3,25 @@
 Both give the coefficients Z_j, j = -J..J, of z(x) = sum_j Z_j exp(i 2 pi j x / P) over the period
 P = N L (rail.interaction.Roughness with bays = N); J = N K, so the shortest wavelength is L / K.
 
-Measured profile (CSV ``position_m,height_m``): the first P of the profile, made periodic by
-removing the straight line through its first and last point (so that the ends meet without a
-step, the usual choice before a periodic transform; it removes the mean slope and nothing else),
-resampled by linear interpolation onto 8 J uniform points, and transformed. A profile shorter
-than P is made periodic over its own length and repeated to fill P, with a warning: then only the
-wavenumbers of its own period are present.
+Units: every CSV states the unit of each column in its header (rail.csvinput: ``position_mm``,
+``position [mm]``, ``wavelength_cm``, ``level [dB re 1 µm]``, ...): positions and wavelengths in m,
+cm or mm, profile heights in m, mm or µm, spectrum levels in dB re 1 µm or rms µm. What was read
+(file, units, rows, range) is stated back (ProfileRecord.describe, SpectrumTable.describe,
+profile_statement). docs/roughness-input.md is the user's page.
 
-One-third-octave wavelength spectrum (CSV ``wavelength_m,level_dB``, centre wavelengths and rms
+Measured profile (CSV ``position_<unit>,height_<unit>``; process_profile): optionally cleaned of
+spikes and pits (remove_spikes, roughness.spike_removal), then the whole record is used: it is cut
+into its whole periods P from the start (the remainder is stated), each segment made periodic by
+removing the straight line through its first and last point (so that the ends meet without a step,
+the usual choice before a periodic transform; it removes the mean slope and nothing else),
+resampled by linear interpolation onto 8 J uniform points, and transformed; the coefficients have
+the segments' mean power and the first segment's phases. With roughness.record = period the
+period N L is taken from the record (record_bays) instead. A profile shorter than P is made
+periodic over its own length and repeated to fill P, with a warning: then only the wavenumbers of
+its own period are present. The longest one-third-octave band the analysed length resolves is
+stated (longest_resolved_band, resolved_bands).
+
+One-third-octave wavelength spectrum (CSV ``wavelength_<unit>,level_<unit>``, centre wavelengths and rms
 levels in dB re 1 um, as EN 15610 states a roughness spectrum): every band's mean square
 (1e-6 10^(level / 20))^2 is shared equally between the wavenumbers 2 pi j / P whose wavelength
 P / j falls in the band (band_edges: neighbouring bands meet at the geometric mean of their
@@ -37,12 +48,16 @@ A spectrum in mm that happens to lie within 1 mm .. 10 m as metres (bands 10 mm 
 from __future__ import annotations
 
 import warnings
+from dataclasses import dataclass
 
 import numpy as np
 
-from .csvinput import data_rows
+from .csvinput import Column, unit_rows
 
-__all__ = ["RoughnessInputWarning", "read_profile", "profile_coefficients", "read_third_octave_spectrum",
+__all__ = ["RoughnessInputWarning", "read_profile", "read_profile_record", "ProfileRecord", "read_spectrum_table",
+           "SpectrumTable", "LENGTH_FACTORS", "PROFILE_COLUMNS", "SPECTRUM_COLUMNS", "RECORD_MODES", "SPIKE_THRESHOLD",
+           "RECORD_CYCLES", "remove_spikes", "record_segments", "record_bays", "longest_resolved_band", "resolved_bands",
+           "ProfileProcessing", "process_profile", "profile_statement", "profile_coefficients", "read_third_octave_spectrum",
            "band_edges", "spectrum_coefficients", "NOMINAL_WAVELENGTHS_M", "NOMINAL_TOLERANCE", "nominal_band",
            "read_limit_spectrum", "PROFILE_MAX_SPACING_M", "PROFILE_MAX_LENGTH_M", "SPECTRUM_WAVELENGTH_RANGE_M"]
 
@@ -57,17 +72,33 @@ PROFILE_MAX_SPACING_M = 0.05
 PROFILE_MAX_LENGTH_M = 1000.0
 SPECTRUM_WAVELENGTH_RANGE_M = (1e-3, 10.0)
 
+# units a header may state (rail.csvinput: the grammar), as factors to SI
+LENGTH_FACTORS = {"m": 1.0, "cm": 1e-2, "mm": 1e-3, "µm": 1e-6}
+PROFILE_COLUMNS = (Column("position", ("distance",), ("m", "cm", "mm")),
+                   Column("height", ("roughness", "displacement"), ("m", "mm", "µm")))
+SPECTRUM_COLUMNS = (Column("wavelength", (), ("m", "cm", "mm")), Column("level", (), ("dB", "µm")))
+# how a measured record longer than the period N L is used (config key roughness.record)
+RECORD_MODES = ("average", "period")
+# spike removal (remove_spikes): a sample is a spike where its curvature departs from the record's
+# median by more than SPIKE_THRESHOLD robust standard deviations (1.4826 x median absolute deviation)
+SPIKE_THRESHOLD = 6.0
+# a one-third-octave band is resolved by a record at least RECORD_CYCLES times its upper band-edge
+# wavelength long (longest_resolved_band)
+RECORD_CYCLES = 3.0
+
 
 class RoughnessInputWarning(UserWarning):
     """A roughness input covers less than asked for (a short profile, bands the period cannot hold)."""
 
 
-def _read_two_columns(path, header: tuple[str, str], what: str):
-    """Two columns of numbers and the file's line number of each row (blank lines are skipped)."""
+def _read_two_columns(path, columns, example: str, what: str):
+    """The header's units and two columns of numbers as written, with the file's line number of
+    each row (blank lines are skipped; rail.csvinput.unit_rows: the header grammar)."""
+    units, rows = unit_rows(path, columns, example)
     a, b, lines = [], [], []
-    for n, row in data_rows(path, header):
+    for n, row in rows:
         if len(row) != 2:
-            raise ValueError(f"{path}, line {n}: expected 2 values {','.join(header)}, got {len(row)}.")
+            raise ValueError(f"{path}, line {n}: expected 2 values {example}, got {len(row)}.")
         try:
             u, v = float(row[0]), float(row[1])
         except ValueError:
@@ -79,46 +110,122 @@ def _read_two_columns(path, header: tuple[str, str], what: str):
         lines.append(n)
     if len(a) < 2:
         raise ValueError(f"{path}: needs at least two data lines, has {len(a)}.")
-    return np.array(a), np.array(b), lines
+    return units, np.array(a), np.array(b), lines
 
 
-def read_profile(path):
-    """Read a measured roughness profile.
+@dataclass(frozen=True)
+class ProfileRecord:
+    """A measured roughness profile as read (read_profile_record), in SI units.
+
+    x      : positions from the first [m], strictly increasing
+    z      : rail-head heights [m]
+    source : the file
+    units  : (position unit, height unit) as its header states them
+    """
+
+    x: np.ndarray
+    z: np.ndarray
+    source: str
+    units: tuple
+
+    @property
+    def length(self) -> float:
+        """Record length x[-1] - x[0] [m]."""
+        return float(self.x[-1])
+
+    def describe(self) -> str:
+        """One line saying what was read: the file, the units, the rows and the record's range."""
+        f = LENGTH_FACTORS[self.units[0]]
+        return (f"{self.source}: measured profile, position in {self.units[0]}, height in {self.units[1]}, {self.x.size} rows, "
+                f"position 0 .. {self.length / f:g} {self.units[0]} (record {self.length:g} m, median step "
+                f"{1000 * float(np.median(np.diff(self.x))):.3g} mm)")
+
+
+@dataclass(frozen=True)
+class SpectrumTable:
+    """A one-third-octave roughness spectrum as read (read_spectrum_table).
+
+    wavelength : band centre wavelengths [m]
+    level_dB   : rms band levels [dB re 1 µm]
+    source     : the file
+    units      : (wavelength unit, level unit) as its header states them ('dB' or 'µm')
+    """
+
+    wavelength: np.ndarray
+    level_dB: np.ndarray
+    source: str
+    units: tuple
+
+    def describe(self) -> str:
+        """One line saying what was read: the file, the units, the rows and the wavelength range."""
+        f = LENGTH_FACTORS[self.units[0]]
+        lev = "dB re 1 µm" if self.units[1] == "dB" else "rms µm (read as dB re 1 µm)"
+        return (f"{self.source}: one-third-octave spectrum, wavelength in {self.units[0]}, level in {lev}, {self.wavelength.size} "
+                f"rows, wavelength {self.wavelength.max() / f:g} .. {self.wavelength.min() / f:g} {self.units[0]} "
+                f"({self.wavelength.max():g} .. {self.wavelength.min():g} m)")
+
+
+def read_profile_record(path) -> ProfileRecord:
+    """Read a measured roughness profile, with the units its header states.
 
     Parameters
     ----------
     path : str or Path
-        CSV with the header ``position_m,height_m``: positions along the rail [m], strictly
-        increasing, and rail-head heights [m] (upwards positive).
+        CSV with two columns: position [m, cm or mm] (strictly increasing) and rail-head height
+        [m, mm or µm] (upwards positive), the units in the header (rail.csvinput: ``position_m,height_m``,
+        ``position [mm],roughness [µm]``, ...; the names position or distance, height, roughness or
+        displacement).
+
+    Returns
+    -------
+    ProfileRecord
+        Positions from 0 [m] and heights [m], the file and the units read.
+
+    Raises
+    ------
+    ValueError
+        Naming the file and the line of a wrong header, a missing or unknown unit (and the column),
+        a row that is not two finite numbers, or a position that does not increase; naming the file,
+        when the positions look like a smaller unit than the header's: a median sample spacing above
+        PROFILE_MAX_SPACING_M = 0.05 m (records are sampled at about 1 mm) or a record longer than
+        PROFILE_MAX_LENGTH_M = 1000 m.
+    """
+    units, x, z, lines = _read_two_columns(path, PROFILE_COLUMNS, "position_m,height_m",
+                                           "position and height")
+    ux = units[0]
+    bad = np.nonzero(np.diff(x) <= 0)[0]
+    if bad.size:
+        n = lines[int(bad[0]) + 1]  # the line of the second position
+        raise ValueError(f"{path}, line {n}: position {float(x[bad[0] + 1]):g} {ux} does not increase (previous {float(x[bad[0]]):g} {ux}).")
+    fx = LENGTH_FACTORS[ux]
+    x, z = x * fx, z * LENGTH_FACTORS[units[1]]
+    fix = "write position_m in metres" if ux == "m" else f"check the position unit of the header ({ux})"
+    step = float(np.median(np.diff(x)))
+    if step > PROFILE_MAX_SPACING_M:
+        raise ValueError(f"{path}: the positions look like millimetres: the median sample spacing is {step:g} m, and a roughness "
+                         f"record is sampled at steps of about 1 mm (at most {PROFILE_MAX_SPACING_M:g} m allowed); {fix}.")
+    length = float(x[-1] - x[0])
+    if length > PROFILE_MAX_LENGTH_M:
+        raise ValueError(f"{path}, line {lines[-1]}: the positions look like millimetres: the record is {length:g} m long (at most "
+                         f"{PROFILE_MAX_LENGTH_M:g} m allowed; in mm it would be {length / 1000:g} m); {fix}.")
+    return ProfileRecord(x - x[0], z, str(path), units)
+
+
+def read_profile(path):
+    """Read a measured roughness profile (read_profile_record: the header, its units and the checks).
+
+    Parameters
+    ----------
+    path : str or Path
+        CSV with the header ``position_<unit>,height_<unit>`` (e.g. ``position_m,height_m``).
 
     Returns
     -------
     x, z : ndarray
         Positions [m] from 0 and heights [m].
-
-    Raises
-    ------
-    ValueError
-        Naming the file and the line of a wrong header, a row that is not two finite numbers, or a
-        position that does not increase; naming the file, when the positions look like millimetres:
-        a median sample spacing above PROFILE_MAX_SPACING_M = 0.05 m (records are sampled at about
-        1 mm) or a record longer than PROFILE_MAX_LENGTH_M = 1000 m.
     """
-    x, z, lines = _read_two_columns(path, ("position_m", "height_m"), "position in m and height in m")
-    bad = np.nonzero(np.diff(x) <= 0)[0]
-    if bad.size:
-        n = lines[int(bad[0]) + 1]  # the line of the second position
-        raise ValueError(f"{path}, line {n}: position {float(x[bad[0] + 1]):g} m does not increase (previous {float(x[bad[0]]):g} m).")
-    step = float(np.median(np.diff(x)))
-    if step > PROFILE_MAX_SPACING_M:
-        raise ValueError(f"{path}: the positions look like millimetres: the median sample spacing is {step:g} m, and a roughness "
-                         f"record is sampled at steps of about 1 mm (at most {PROFILE_MAX_SPACING_M:g} m allowed); write position_m "
-                         f"in metres.")
-    length = float(x[-1] - x[0])
-    if length > PROFILE_MAX_LENGTH_M:
-        raise ValueError(f"{path}, line {len(x) + 1}: the positions look like millimetres: the record is {length:g} m long (at most "
-                         f"{PROFILE_MAX_LENGTH_M:g} m allowed; in mm it would be {length / 1000:g} m); write position_m in metres.")
-    return x - x[0], z
+    r = read_profile_record(path)
+    return r.x, r.z
 
 
 def _check_period(period, J):
@@ -129,8 +236,307 @@ def _check_period(period, J):
         raise ValueError(f"J = {J!r} is not allowed: the highest index N K must be an integer >= 1.")
 
 
+def remove_spikes(x, z, threshold: float = SPIKE_THRESHOLD):
+    """Spikes and pits of a measured profile replaced by straight lines (an EN 15610-style curvature
+    criterion; docs/roughness-input.md states the variant).
+
+    The curvature of the record at every inner sample is the three-point second derivative
+    c_i = 2 [(z_{i+1} - z_i) / (x_{i+1} - x_i) - (z_i - z_{i-1}) / (x_i - x_{i-1})] / (x_{i+1} - x_{i-1}).
+    A sample is a spike (upwards) or a pit (downwards) where abs(c_i - median(c)) exceeds ``threshold``
+    robust standard deviations s = 1.4826 median(abs(c - median(c))) of the whole record (s is taken
+    once, from the record as measured). Each run of neighbouring flagged samples is replaced by the
+    straight line between the unflagged samples on either side; the curvature is then taken again
+    and the test repeated (against the same s) until no sample is flagged (at most 10 passes). The
+    first and last samples are never flagged.
+
+    Parameters
+    ----------
+    x : ndarray
+        Positions [m], strictly increasing.
+    z : ndarray
+        Heights [m].
+    threshold : float
+        Multiple [-] of the robust standard deviation of the curvature, > 0.
+
+    Returns
+    -------
+    z : ndarray
+        The heights with the spikes replaced [m].
+    removed : ndarray of bool
+        True at every replaced sample [-].
+    """
+    if not (np.isfinite(threshold) and threshold > 0):
+        raise ValueError(f"spike threshold = {threshold!r} is not allowed: it must be a finite number > 0.")
+    x = np.asarray(x, dtype=float)
+    z = np.array(z, dtype=float)
+    removed = np.zeros(z.size, dtype=bool)
+    if z.size < 5:
+        return z, removed
+
+    def curvature(zz):
+        d = np.diff(zz) / np.diff(x)
+        return 2 * np.diff(d) / (x[2:] - x[:-2])
+
+    c = curvature(z)
+    centre = float(np.median(c))
+    spread = 1.4826 * float(np.median(np.abs(c - centre)))
+    if spread == 0:
+        spread = float(np.finfo(float).tiny)
+    for _ in range(10):
+        flag = np.zeros(z.size, dtype=bool)
+        flag[1:-1] = np.abs(curvature(z) - centre) > threshold * spread
+        if not flag.any():
+            break
+        removed |= flag
+        good = ~removed
+        z[removed] = np.interp(x[removed], x[good], z[good])  # each run: the line between its good neighbours
+    return z, removed
+
+
+def record_segments(length: float, period: float) -> tuple[int, float]:
+    """How many whole periods a record holds, and the remainder.
+
+    Parameters
+    ----------
+    length : float
+        Record length [m].
+    period : float
+        P = N L [m], > 0.
+
+    Returns
+    -------
+    segments : int
+        floor(length / P) [-] (0 for a record shorter than P).
+    remainder : float
+        length - segments P [m].
+    """
+    n = int(np.floor(length / period * (1 + 1e-9)))
+    return n, max(0.0, float(length - n * period))
+
+
+def record_bays(length: float, L: float) -> int:
+    """The roughness period in bays a record supports (roughness.record = 'period'): the whole bays
+    it holds, at least 1.
+
+    Parameters
+    ----------
+    length : float
+        Record length [m].
+    L : float
+        Sleeper spacing [m], > 0.
+
+    Returns
+    -------
+    int
+        N = max(1, floor(length / L)) [-].
+    """
+    return max(1, int(np.floor(length / L * (1 + 1e-9))))
+
+
+def longest_resolved_band(length: float, cycles: float = RECORD_CYCLES) -> float:
+    """The longest one-third-octave wavelength band a record length resolves.
+
+    A band is resolved when the length holds ``cycles`` wavelengths of its upper band edge
+    2^(1/6) lambda_c (EN 15610 asks for a record several times the longest wavelength analysed;
+    docs/roughness-input.md). Bands are those of the exact series lambda_c = 10^(-n/10) m (n any
+    integer; the nominal labels of rail.roughness.NOMINAL_WAVELENGTHS_M are within 1 % of them).
+
+    Parameters
+    ----------
+    length : float
+        Record (or analysed segment) length [m], > 0.
+    cycles : float
+        Upper band-edge wavelengths the length must hold [-], > 0.
+
+    Returns
+    -------
+    float
+        Exact centre wavelength 10^(-n/10) [m] of the longest resolved band.
+    """
+    if not (np.isfinite(length) and length > 0):
+        raise ValueError(f"record length = {length!r} m is not allowed: it must be a finite number > 0.")
+    n = int(np.ceil(-10 * np.log10(length / (cycles * 2 ** (1 / 6))) - 1e-9))
+    return float(10.0 ** (-n / 10))
+
+
+def resolved_bands(wavelength, length: float, cycles: float = RECORD_CYCLES):
+    """Which one-third-octave bands a record length resolves (longest_resolved_band); bands longer
+    are unresolved and their levels should be flagged so in an export.
+
+    Parameters
+    ----------
+    wavelength : array-like
+        Band centre wavelengths [m], nominal or exact.
+    length : float
+        Record (or analysed segment) length [m].
+    cycles : float
+        As longest_resolved_band [-].
+
+    Returns
+    -------
+    ndarray of bool
+        True where the band is resolved [-].
+    """
+    longest = longest_resolved_band(length, cycles)
+    return np.asarray(wavelength, dtype=float) <= longest * (1 + NOMINAL_TOLERANCE)
+
+
+@dataclass(frozen=True)
+class ProfileProcessing:
+    """A measured profile made into coefficients over the period (process_profile), and what was done.
+
+    Attributes
+    ----------
+    Z : coefficients Z_j [m], j = -J..J
+    period : P = N L [m]
+    record : record length [m]
+    mode : 'average' or 'period' (roughness.record)
+    segments : whole periods of the record averaged [-] (1 for a record of one period or
+        shorter, then repeated)
+    remainder : record length after the last whole period, not used [m]
+    spikes_removed : samples replaced by remove_spikes [-], or None when spike removal is off
+    analysed : length of one analysed segment, min(record, P) [m]
+    longest_band : longest_resolved_band(analysed) [m]
+    record_longest_band : longest_resolved_band(record) [m]
+    """
+
+    Z: np.ndarray
+    period: float
+    record: float
+    mode: str
+    segments: int
+    remainder: float
+    spikes_removed: int | None
+    analysed: float
+    longest_band: float
+    record_longest_band: float
+
+
+def process_profile(x, z, period: float, J: int, *, mode: str = "average", spikes: bool = False,
+                    spike_threshold: float = SPIKE_THRESHOLD, source: str = "profile") -> ProfileProcessing:
+    """Coefficients Z_j over the period from a whole measured record (module docstring: the method).
+
+    Spikes (remove_spikes) are removed first if asked. A record holding S >= 1 whole periods P is cut
+    into S segments [s P, (s + 1) P] from its start (the remainder after the last is not used and is
+    stated); each is made periodic (the line through its end points removed), resampled linearly
+    onto 8 J points and transformed, F_s,j. The coefficients have the mean power of the segments and
+    the phases of the first: Z_j = sqrt(mean_s abs(F_s,j)^2) exp(i arg F_1,j), so that every band
+    level is the record's mean (the one-third-octave spectrum EN 15610 averages over a record) and a
+    record of one period gives its own coefficients. A record shorter than P is made periodic over
+    its own length and repeated, with a warning.
+
+    Parameters
+    ----------
+    x, z : ndarray
+        Positions from 0 [m] (increasing) and heights [m].
+    period : float
+        P = N L [m], finite and > 0.
+    J : int
+        Highest index j [-] (N K).
+    mode : str
+        'average' (the segments averaged) or 'period' (the caller chose P from the record,
+        record_bays; computed the same way, named in the statement) [-].
+    spikes : bool
+        Remove spikes and pits first (remove_spikes) [-].
+    spike_threshold : float
+        remove_spikes' threshold [-].
+    source : str
+        Name of the profile, for the warning.
+
+    Returns
+    -------
+    ProfileProcessing
+        Z_j [m], Z_0 = 0, and the numbers the statement names.
+    """
+    _check_period(period, J)
+    if mode not in RECORD_MODES:
+        raise ValueError(f"roughness.record = {mode!r} is not allowed: it must be one of {list(RECORD_MODES)}.")
+    x = np.asarray(x, dtype=float)
+    z = np.asarray(z, dtype=float)
+    removed = None
+    if spikes:
+        z, flags = remove_spikes(x, z, spike_threshold)
+        removed = int(flags.sum())
+    n = 8 * J
+    length = float(x[-1])
+    segments, remainder = record_segments(length, period)
+    j = np.arange(-J, J + 1)
+    if segments == 0:
+        reps = int(np.ceil(period / length))
+        warnings.warn(f"{source}: the profile is {length:.4g} m long, shorter than the roughness period N L = {period:.4g} m; "
+                      f"it is made periodic over its own length and repeated {reps} times (only the wavenumbers of its own "
+                      f"length are present).", RoughnessInputWarning, stacklevel=2)
+        zi = np.interp(np.linspace(0.0, length, n + 1), x, z)
+        zi = zi - (zi[0] + (zi[-1] - zi[0]) * np.linspace(0.0, 1.0, n + 1))  # ends meet without a step
+        s = np.linspace(0.0, period, n, endpoint=False)
+        zp = np.interp(s % length, np.linspace(0.0, length, n + 1), zi)
+        Z = (np.fft.fft(zp) / n)[j % n]
+        segments, remainder, analysed = 1, 0.0, length
+    else:
+        t = np.linspace(0.0, 1.0, n + 1)
+        power = np.zeros(2 * J + 1)
+        for k in range(segments):
+            zi = np.interp(period * (k + t), x, z)
+            zi = zi - (zi[0] + (zi[-1] - zi[0]) * t)  # ends meet without a step
+            F = (np.fft.fft(zi[:n]) / n)[j % n]
+            power += np.abs(F) ** 2
+            if k == 0:
+                phase = np.exp(1j * np.angle(F))
+        Z = np.sqrt(power / segments) * phase
+        analysed = period
+    Z[J] = 0.0
+    return ProfileProcessing(Z, float(period), length, mode, segments, remainder, removed, analysed,
+                             longest_resolved_band(analysed), longest_resolved_band(length))
+
+
+def profile_statement(record: ProfileRecord, p: ProfileProcessing, spike_threshold: float = SPIKE_THRESHOLD) -> dict:
+    """What was read and done to a measured profile, as result attributes (and log lines).
+
+    Parameters
+    ----------
+    record : ProfileRecord
+        As read.
+    p : ProfileProcessing
+        As processed.
+    spike_threshold : float
+        The threshold used [-] (named when spikes were removed).
+
+    Returns
+    -------
+    dict
+        ``roughness_input`` (file, units, rows, range), ``roughness_processing`` (segments, remainder,
+        period, spikes), ``roughness_record_length_m`` [m], ``roughness_segments`` [-],
+        ``roughness_remainder_m`` [m], ``roughness_spikes_removed`` [-] (-1: off),
+        ``roughness_longest_resolved_band_m`` [m] (of one analysed segment) and
+        ``roughness_record_longest_band_m`` [m] (of the whole record).
+    """
+    how = ("the period N L taken from the record (roughness.record = period)" if p.mode == "period"
+           else "the whole record averaged (roughness.record = average)")
+    if p.record < p.period * (1 - 1e-9):
+        use = f"record {p.record:.4g} m shorter than N L = {p.period:.4g} m: made periodic over its length and repeated"
+    else:
+        use = (f"{how}: {p.segments} segment(s) of N L = {p.period:.4g} m, power averaged, phases of the first; "
+               f"{p.remainder:.4g} m at the end of the {p.record:.4g} m record not used")
+    spikes = ("spike removal off" if p.spikes_removed is None
+              else f"spike removal on (curvature beyond {spike_threshold:g} robust standard deviations): {p.spikes_removed} samples replaced")
+    band = (f"longest resolved one-third-octave band {p.longest_band:.3g} m (a segment of {p.analysed:.4g} m holds "
+            f"{RECORD_CYCLES:g} upper band-edge wavelengths; the whole record's {p.record_longest_band:.3g} m); longer bands "
+            f"are unresolved")
+    return {
+        "roughness_input": record.describe(),
+        "roughness_processing": f"{use}; {spikes}; {band}.",
+        "roughness_record_length_m": p.record,
+        "roughness_segments": p.segments,
+        "roughness_remainder_m": p.remainder,
+        "roughness_spikes_removed": -1 if p.spikes_removed is None else p.spikes_removed,
+        "roughness_longest_resolved_band_m": p.longest_band,
+        "roughness_record_longest_band_m": p.record_longest_band,
+    }
+
+
 def profile_coefficients(x, z, period: float, J: int, source: str = "profile"):
-    """Coefficients Z_j over the period of a measured profile (module docstring: the method).
+    """Coefficients Z_j over the period of a measured profile, the whole record averaged
+    (process_profile with its defaults: no spike removal).
 
     Parameters
     ----------
@@ -148,63 +554,74 @@ def profile_coefficients(x, z, period: float, J: int, source: str = "profile"):
     ndarray, shape (2J + 1,)
         Z_j [m], Z_0 = 0.
     """
-    _check_period(period, J)
-    n = 8 * J
-    length = float(x[-1])
-    if length < period * (1 - 1e-9):
-        reps = int(np.ceil(period / length))
-        warnings.warn(f"{source}: the profile is {length:.4g} m long, shorter than the roughness period N L = {period:.4g} m; "
-                      f"it is made periodic over its own length and repeated {reps} times (only the wavenumbers of its own "
-                      f"length are present).", RoughnessInputWarning, stacklevel=2)
-        use = length
-    else:
-        use = period
-    zi = np.interp(np.linspace(0.0, use, n + 1), x, z)
-    zi = zi - (zi[0] + (zi[-1] - zi[0]) * np.linspace(0.0, 1.0, n + 1))  # ends meet without a step
-    s = np.linspace(0.0, period, n, endpoint=False)
-    zp = np.interp(s % use, np.linspace(0.0, use, n + 1), zi)
-    F = np.fft.fft(zp) / n
-    j = np.arange(-J, J + 1)
-    Z = F[j % n]
-    Z[J] = 0.0
-    return Z
+    return process_profile(x, z, period, J, source=source).Z
 
 
-def read_third_octave_spectrum(path):
-    """Read a one-third-octave roughness wavelength spectrum.
+def read_spectrum_table(path) -> SpectrumTable:
+    """Read a one-third-octave roughness wavelength spectrum, with the units its header states.
 
     Parameters
     ----------
     path : str or Path
-        CSV with the header ``wavelength_m,level_dB``: band centre wavelengths [m] (> 0, each
-        once) and rms levels [dB re 1 µm].
+        CSV with two columns: band centre wavelength [m, cm or mm] (> 0, each once) and rms level
+        [dB re 1 µm, or rms µm], the units in the header (rail.csvinput: ``wavelength_m,level_dB``,
+        ``wavelength_cm,level_dB``, ``wavelength [mm],level [µm]``, ...).
+
+    Returns
+    -------
+    SpectrumTable
+        Wavelengths [m] and levels [dB re 1 µm] (a level in µm is 20 log10(level / 1 µm)).
+
+    Raises
+    ------
+    ValueError
+        Naming the file and the line of a wrong header, a missing or unknown unit (and the column), a
+        row that is not two finite numbers, a non-positive or repeated wavelength, a level in µm
+        that is not > 0, or a wavelength outside SPECTRUM_WAVELENGTH_RANGE_M = 1 mm .. 10 m (naming
+        millimetres when the value in mm would lie inside).
+    """
+    units, lam, lev, lines = _read_two_columns(path, SPECTRUM_COLUMNS, "wavelength_m,level_dB",
+                                               "centre wavelength and level")
+    ul, uv = units
+    lo, hi = SPECTRUM_WAVELENGTH_RANGE_M
+    f = LENGTH_FACTORS[ul]
+    for i, v in enumerate(lam):
+        if v <= 0:
+            raise ValueError(f"{path}, line {lines[i]}: wavelength {float(v):g} {ul} is not allowed: it must be > 0.")
+        same = np.nonzero(np.isclose(lam[:i], v, rtol=1e-9))[0]
+        if same.size:
+            raise ValueError(f"{path}, line {lines[i]}: wavelength {float(v):g} {ul} appears twice (first at line {lines[same[0]]}); "
+                             "give each band once.")
+        vm = v * f
+        if not (lo * (1 - 1e-9) <= vm <= hi * (1 + 1e-9)):
+            unit = (f"it looks like millimetres ({float(vm) / 1000:g} m); " if vm > hi and vm / 1000 >= lo * (1 - 1e-9) else "")
+            fix = "write wavelength_m in metres" if ul == "m" else f"check the wavelength unit of the header ({ul})"
+            shown = f"{float(v):g} m" if ul == "m" else f"{float(v):g} {ul} = {float(vm):g} m"
+            raise ValueError(f"{path}, line {lines[i]}: wavelength {shown} is not allowed: {unit}rail roughness wavelengths "
+                             f"lie between {lo * 1000:g} mm and {hi:g} m; {fix}.")
+        if uv == "µm" and not lev[i] > 0:
+            raise ValueError(f"{path}, line {lines[i]}: level {float(lev[i]):g} µm is not allowed: an rms level in µm must be > 0 "
+                             "(or give the column in dB re 1 µm).")
+    level = 20 * np.log10(lev) if uv == "µm" else lev
+    return SpectrumTable(lam * f, level, str(path), units)
+
+
+def read_third_octave_spectrum(path):
+    """Read a one-third-octave roughness wavelength spectrum (read_spectrum_table: the header, its
+    units and the checks).
+
+    Parameters
+    ----------
+    path : str or Path
+        CSV with the header ``wavelength_<unit>,level_<unit>`` (e.g. ``wavelength_m,level_dB``).
 
     Returns
     -------
     wavelength, level : ndarray
         [m] and [dB re 1 µm].
-
-    Raises
-    ------
-    ValueError
-        Naming the file and the line of a wrong header, row, non-positive or repeated wavelength, or
-        a wavelength outside SPECTRUM_WAVELENGTH_RANGE_M = 1 mm .. 10 m (naming millimetres when
-        the value in mm would lie inside).
     """
-    lam, lev, lines = _read_two_columns(path, ("wavelength_m", "level_dB"), "centre wavelength in m and level in dB re 1 um")
-    lo, hi = SPECTRUM_WAVELENGTH_RANGE_M
-    for i, v in enumerate(lam):
-        if v <= 0:
-            raise ValueError(f"{path}, line {lines[i]}: wavelength {float(v):g} m is not allowed: it must be > 0.")
-        same = np.nonzero(np.isclose(lam[:i], v, rtol=1e-9))[0]
-        if same.size:
-            raise ValueError(f"{path}, line {lines[i]}: wavelength {float(v):g} m appears twice (first at line {lines[same[0]]}); "
-                             "give each band once.")
-        if not (lo * (1 - 1e-9) <= v <= hi * (1 + 1e-9)):
-            unit = (f"it looks like millimetres ({float(v) / 1000:g} m); " if v > hi and v / 1000 >= lo * (1 - 1e-9) else "")
-            raise ValueError(f"{path}, line {lines[i]}: wavelength {float(v):g} m is not allowed: {unit}rail roughness wavelengths "
-                             f"lie between {lo * 1000:g} mm and {hi:g} m; write wavelength_m in metres.")
-    return lam, lev
+    t = read_spectrum_table(path)
+    return t.wavelength, t.level_dB
 
 
 def nominal_band(wavelength: float) -> int:
@@ -321,7 +738,7 @@ def spectrum_coefficients(wavelength, level_dB, period: float, J: int, seed: int
     Returns
     -------
     ndarray, shape (2J + 1,)
-        Z_j [m], Z_0 = 0, Z_-j = conj(Z_j); sum over the band's j of 2 |Z_j|^2 is its mean square.
+        Z_j [m], Z_0 = 0, Z_{-j} = conj(Z_j); sum over the band's j of 2 abs(Z_j)^2 is its mean square.
     """
     _check_period(period, J)
     rng = np.random.default_rng(int(seed))

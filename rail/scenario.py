@@ -15,7 +15,8 @@ from .contact import ContactMaterial, ContactNumerics
 from .growth import GrowthSettings
 from .halfspace import ElasticMaterial
 from .interaction import ContactSpring, Roughness, Wheels, read_roughness_coefficients
-from .roughness import profile_coefficients, read_profile, read_third_octave_spectrum, spectrum_coefficients
+from .roughness import (RECORD_MODES, SPIKE_THRESHOLD, process_profile, profile_statement, read_profile_record, read_spectrum_table,
+                        spectrum_coefficients)
 from .track import Track
 from .wear import WearLaw
 
@@ -46,16 +47,23 @@ class TrackNumerics:
 class InitialRoughness:
     """The rail-head roughness a growth run starts from (config key ``roughness``, eqs 18-19).
 
-    kind       : 'smooth', 'harmonic' (z = amplitude cos(2 pi x / wavelength), x = 0 at a support),
+    Attributes
+    ----------
+    kind : 'smooth', 'harmonic' (z = amplitude cos(2 pi x / wavelength), x = 0 at a support),
                  'file' (eq 18 coefficients per bay harmonic, CSV k,A_m,B_m), 'profile' (a measured
                  profile, CSV position_m,height_m) or 'spectrum' (a one-third-octave wavelength
                  spectrum, CSV wavelength_m,level_dB, realised with random phases; rail.roughness)
-    amplitude  : [m], kind 'harmonic'
-    frequency  : excitation frequency V / wavelength [Hz], kind 'harmonic' without a wavelength
+    amplitude : [m], kind 'harmonic'
+    frequency : excitation frequency V / wavelength [Hz], kind 'harmonic' without a wavelength
     wavelength : [m] or None, kind 'harmonic' (must divide the period N L)
-    file       : path or None, kinds 'file', 'profile', 'spectrum'
-    bays       : N, the roughness period in sleeper bays [-], >= 1
-    seed       : seed of the random phases [-], kind 'spectrum'
+    file : path or None, kinds 'file', 'profile', 'spectrum'
+    bays : N, the roughness period in sleeper bays [-], >= 1 (with record 'period': the bays
+        the record holds, rail.setup.build takes them from the record)
+    seed : seed of the random phases [-], kind 'spectrum'
+    record : kind 'profile': 'average' (the whole record, its N L segments averaged) or 'period'
+        (N L from the record's length) [-]; rail.roughness.process_profile
+    spike_removal : kind 'profile': remove spikes and pits first (rail.roughness.remove_spikes) [-]
+    spike_threshold : their curvature criterion, robust standard deviations [-], > 0
     """
 
     kind: str
@@ -65,6 +73,9 @@ class InitialRoughness:
     file: str | None
     bays: int = 1
     seed: int = 0
+    record: str = "average"
+    spike_removal: bool = False
+    spike_threshold: float = SPIKE_THRESHOLD
 
     def __post_init__(self):
         if self.kind not in ROUGHNESS_KINDS:
@@ -72,6 +83,14 @@ class InitialRoughness:
         if self.kind in ("file", "profile", "spectrum") and not self.file:
             header = {"file": "k,A_m,B_m", "profile": "position_m,height_m", "spectrum": "wavelength_m,level_dB"}[self.kind]
             raise ValueError(f"roughness.kind = '{self.kind}' needs roughness.file, a CSV with header {header}.")
+        if self.record not in RECORD_MODES:
+            raise ValueError(f"roughness.record = {self.record!r} is not allowed: it must be one of {list(RECORD_MODES)}.")
+        if self.kind != "profile" and (self.record != "average" or self.spike_removal):
+            key = "roughness.spike_removal = true" if self.spike_removal else f"roughness.record = '{self.record}'"
+            raise ValueError(f"{key} is not allowed with roughness.kind = '{self.kind}': it applies to a measured profile "
+                             "(kind: profile) only.")
+        if not (np.isfinite(self.spike_threshold) and self.spike_threshold > 0):
+            raise ValueError(f"roughness.spike_threshold = {self.spike_threshold!r} is not allowed: it must be a finite number > 0.")
         if int(self.bays) != self.bays or self.bays < 1:
             raise ValueError(f"roughness.bays = {self.bays!r} is not allowed: it must be an integer >= 1.")
         if self.kind == "harmonic":
@@ -90,7 +109,7 @@ class InitialRoughness:
         L : float
             Sleeper spacing [m]; the period is N L.
         K : int
-            Harmonics of the sleeper-passing frequency [-]: Z_j for |j| <= N K.
+            Harmonics of the sleeper-passing frequency [-]: Z_j for abs(j) <= N K.
 
         Returns
         -------
@@ -104,33 +123,66 @@ class InitialRoughness:
             k, A, B = read_roughness_coefficients(self.file)
             return Roughness.from_coefficients(k, A, B, K, N)
         if self.kind == "profile":
-            x, z = read_profile(self.file)
-            return Roughness(profile_coefficients(x, z, N * L, N * K, source=str(self.file)), N)
+            return Roughness(self._profile(L, K)[1].Z, N)
         if self.kind == "spectrum":
-            lam, lev = read_third_octave_spectrum(self.file)
-            return Roughness(spectrum_coefficients(lam, lev, N * L, N * K, self.seed, source=str(self.file)), N)
+            t = read_spectrum_table(self.file)
+            return Roughness(spectrum_coefficients(t.wavelength, t.level_dB, N * L, N * K, self.seed, source=str(self.file)), N)
         wavelength = self.wavelength if self.wavelength is not None else speed / self.frequency
         return Roughness.harmonic(self.amplitude, float(wavelength), L, K, N)
+
+
+    def _profile(self, L: float, K: int):
+        rec = read_profile_record(self.file)
+        N = int(self.bays)
+        return rec, process_profile(rec.x, rec.z, N * L, N * K, mode=self.record, spikes=bool(self.spike_removal),
+                                    spike_threshold=float(self.spike_threshold), source=str(self.file))
+
+    def statement(self, L: float, K: int) -> dict:
+        """What the initial roughness was read from and how it was processed, as result attributes
+        (rail.roughness.profile_statement for a measured profile; the file, units, rows and range for
+        a spectrum; the kind otherwise).
+
+        Parameters
+        ----------
+        L : float
+            Sleeper spacing [m].
+        K : int
+            Harmonics of the sleeper-passing frequency [-].
+
+        Returns
+        -------
+        dict
+            Attribute name -> str, int or float ([m] where the name ends in _m).
+        """
+        out = {"roughness_kind": self.kind}
+        if self.kind == "profile":
+            rec, p = self._profile(L, K)
+            out.update(profile_statement(rec, p, float(self.spike_threshold)))
+        elif self.kind == "spectrum":
+            out["roughness_input"] = read_spectrum_table(self.file).describe()
+        return out
 
 
 @dataclass(frozen=True)
 class Scenario:
     """Everything the model chain computes from (rail.chain), for one scenario.
 
-    name             : scenario name (config/scenarios/<name>.yaml; 'default' for config.yaml)
-    track            : Table 1 track (sec. 4.1)
-    track_numerics   : harmonics and quadrature tolerance of the receptance table
-    wheels           : the train's wheels
-    spring           : linearised Hertz contact spring with its damping
-    material         : contact parameters (secs 4.2-4.3)
-    elastic          : rail steel as an elastic half-space (sec. 3)
-    wear_law         : rho and K of eq 49
+    Attributes
+    ----------
+    name : scenario name (config/scenarios/<name>.yaml; 'default' for config.yaml)
+    track : Table 1 track (sec. 4.1)
+    track_numerics : harmonics and quadrature tolerance of the receptance table
+    wheels : the train's wheels
+    spring : linearised Hertz contact spring with its damping
+    material : contact parameters (secs 4.2-4.3)
+    elastic : rail steel as an elastic half-space (sec. 3)
+    wear_law : rho and K of eq 49
     contact_numerics : tangential-contact grid and closure
-    growth           : growth-loop settings (sec. 5)
-    roughness        : the initial roughness
-    speeds           : train speeds of the scenario's studies [m/s]
-    axles_per_day    : traffic over the rail, wheel passages per day on one rail [1/day]
-    cell             : the track's cell of N bays whose supports differ (rail.cell.TrackCell), or None
+    growth : growth-loop settings (sec. 5)
+    roughness : the initial roughness
+    speeds : train speeds of the scenario's studies [m/s]
+    axles_per_day : traffic over the rail, wheel passages per day on one rail [1/day]
+    cell : the track's cell of N bays whose supports differ (rail.cell.TrackCell), or None
                        for identical supports at equal spacing; ``track`` is then its nominal track
                        with the mean spacing P / N
     """

@@ -356,7 +356,7 @@ def periodic_sum(beta, omega, track: Track):
     """Lattice sum S(beta, omega) = sum_m H(beta + m beta0, omega) in closed form (docs/track.md).
 
     sum_m 1/((beta + m beta0)^2 - p^2) = (L / (2p)) sin(pL) / (cos(pL) - cos(beta L)), evaluated as
-    (L / (2p)) (z^2 - 1) / (i (1 + z^2 - 2 z cos(beta L))), z = exp(i p L), |z| <= 1.
+    (L / (2p)) (z^2 - 1) / (i (1 + z^2 - 2 z cos(beta L))), z = exp(i p L), abs(z) <= 1.
 
     Parameters
     ----------
@@ -391,9 +391,11 @@ def periodic_sum(beta, omega, track: Track):
 def phased_periodic_sum(kappa, x, omega, track: Track):
     """Phased lattice sum S_x(kappa) = sum_m H(kappa + m beta0, omega) exp(i (kappa + m beta0) x), closed form.
 
-    For 0 < x < L each partial fraction gives (docs/track.md)
+    For 0 < x < L each partial fraction gives (docs/track.md)::
+
       sum_m e^{i(kappa+m beta0)x}/(kappa+m beta0-p) =  i L e^{ipx} / (1 - e^{i(p-kappa)L})
       sum_m e^{i(kappa+m beta0)x}/(kappa+m beta0+p) = -i L e^{ip(L-x)} e^{i kappa L} / (1 - e^{i(p+kappa)L})
+
     x = 0 takes the mean of the limits from both sides (the sum of H itself is continuous);
     other x follow from S_{x+L} = e^{i kappa L} S_x.
 
@@ -444,7 +446,7 @@ def free_green(x, omega, track: Track):
     """Displacement of the free infinite rail at x under a unit harmonic force at 0 (docs/track.md).
 
     Residues of H: closing the contour in the half-plane where exp(-i beta x) decays picks the
-    pole -p_j for x > 0, so w(x) = sum_j c_j (i / (2 p_j)) exp(i p_j |x|), Im p_j > 0 (decaying).
+    pole -p_j for x > 0, so w(x) = sum_j c_j (i / (2 p_j)) exp(i p_j abs(x)), Im p_j > 0 (decaying).
 
     Parameters
     ----------
@@ -473,9 +475,11 @@ def free_green(x, omega, track: Track):
 def stationary_receptance(x, x0, omega, track: Track, rtol: float = 1e-7, return_error=False):
     """Receptance alpha(x, x0; omega) of the periodically supported rail (report sec. 4.2, ref. [18]).
 
-    Harmonic unit force at x0, displacement at x (any positions), omega != 0:
+    Harmonic unit force at x0, displacement at x (any positions), omega != 0::
+
       alpha = G(x - x0) - (K_s / 2pi) int_BZ S_{x0}(kappa) S_x(-kappa) / (L + K_s S(kappa)) d kappa
-    over the Brillouin zone |kappa| <= beta0 / 2, with G the free-rail Green's function, S the
+
+    over the Brillouin zone abs(kappa) <= beta0 / 2, with G the free-rail Green's function, S the
     periodic sum and S_x the phased sum (docs/track.md, "Stationary harmonic load at x_0").  The zone
     integrand has peaks at the Floquet waves of the track, as narrow as the damping allows; it is
     integrated adaptively (rail.quadrature) to ``rtol``.
@@ -574,7 +578,8 @@ def pinned_pinned_frequency(track: Track) -> float:
     """First pinned-pinned frequency of the rail.
 
     Lowest bending mode of a simply supported, undamped Timoshenko beam of span L: with k = pi / L,
-    the smaller root w^2 of the frequency equation for mode number 1,
+    the smaller root w^2 of the frequency equation for mode number 1::
+
       (rho I rho A / kGA) w^4 - (rho A + rho I k^2 + rho A EI k^2 / kGA) w^2 + EI k^4 = 0.
 
     Parameters
@@ -602,9 +607,9 @@ def pinned_pinned_frequency(track: Track) -> float:
 def characteristic_frequencies(track: Track, f_min=20.0, f_max=3000.0, points=600) -> dict[str, float]:
     """Characteristic frequencies of the track, identified from its stationary point receptance.
 
-    |alpha| (``stationary_receptance`` at rtol 1e-4) is computed above a sleeper and at mid-span on
+    abs(alpha) (``stationary_receptance`` at rtol 1e-4) is computed above a sleeper and at mid-span on
     ``points`` log-spaced frequencies from f_min to f_max.  Each maximum is refined by a parabola
-    (in log |alpha| against log f) through the three grid points around it.
+    (in log abs(alpha) against log f) through the three grid points around it.
 
     Parameters
     ----------
@@ -623,11 +628,11 @@ def characteristic_frequencies(track: Track, f_min=20.0, f_max=3000.0, points=60
         Frequencies [Hz]; NaN where the maximum is not found in the scan.
 
         track_on_ballast
-            First maximum of |alpha| above a sleeper (track mass on the ballast).
+            First maximum of abs(alpha) above a sleeper (track mass on the ballast).
         out_of_phase
-            Second maximum of |alpha| above a sleeper (rail and sleepers out of phase).
+            Second maximum of abs(alpha) above a sleeper (rail and sleepers out of phase).
         pinned_pinned
-            Maximum of |alpha| at mid-span above the out-of-phase resonance.
+            Maximum of abs(alpha) at mid-span above the out-of-phase resonance.
     """
     f = np.geomspace(f_min, f_max, points)
     om = 2 * np.pi * f

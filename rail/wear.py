@@ -61,20 +61,22 @@ class WearLaw:
 class WearResult:
     """Wear of one wheel passage over a bay.
 
-    x        : (N_x,) rail positions in the bay, m
-    depth    : (N_x,) removed height Delta z(x_k), m (eq 51)
-    Z        : (2K+1,) Fourier coefficients Delta Z_k of the depth over the bay, Delta Z_0 = 0, m
-    P, a     : (N_x,) normal force (N) and half-length (m) with the wheel centre at x_k
-    Q        : (N_x,) tangential force with the wheel centre at x_k, N
+    Attributes
+    ----------
+    x : (N_x,) rail positions in the bay, m
+    depth : (N_x,) removed height Delta z(x_k), m (eq 51)
+    Z : (2K+1,) Fourier coefficients Delta Z_k of the depth over the bay, Delta Z_0 = 0, m
+    P, a : (N_x,) normal force (N) and half-length (m) with the wheel centre at x_k
+    Q : (N_x,) tangential force with the wheel centre at x_k, N
     q, s, xi : traction (Pa) and slip velocity (m/s) at the patch nodes xi (m) with the wheel at x_k
     periodicity : max change of the traction state between the starts of the two bays, relative
-                  to max |q|
-    full_slip   : fraction of the bay's positions with no stick zone in the loaded patch (0 in
+                  to max abs(q)
+    full_slip : fraction of the bay's positions with no stick zone in the loaded patch (0 in
                   the report's regime; 1 with saturated creepage). Reported, not an error: the
                   traction is then mu_d p everywhere, which the model handles.
-    min_shape   : smallest pressure shape factor over the bay (normal contact 'nonhertzian'; 1 for
+    min_shape : smallest pressure shape factor over the bay (normal contact 'nonhertzian'; 1 for
                   Hertz): the roughness's share of the pressure at its worst, rail.normal.patch_contact
-    shift       : largest |c| / a over the bay, the neglected move of the contact centre relative to
+    shift : largest abs(c) / a over the bay, the neglected move of the contact centre relative to
                   the wheel (normal contact 'nonhertzian'; 0 for the report's model) [-]
     """
 
@@ -131,8 +133,9 @@ def apply_wear(roughness: Roughness, dZ, passages: float = 1.0) -> Roughness:
     Returns
     -------
     Roughness
+        Over the same period of N bays as ``roughness``.
     """
-    return Roughness(roughness.Z - passages * np.asarray(dZ))
+    return Roughness(roughness.Z - passages * np.asarray(dZ), roughness.bays)
 
 
 def bay_wear(forces: ForceResult, wheel_index: int, roughness: Roughness, material: ContactMaterial, wear_law: WearLaw,
@@ -218,9 +221,11 @@ def bay_wear(forces: ForceResult, wheel_index: int, roughness: Roughness, materi
 class MarchInputs:
     """What bay_wear hands the tangential march (solve_tangential) for one wheel over the period.
 
-    P, a   : (steps,) normal force [N] and half-length [m] at each step of the march
-    shape  : (steps, 2M + 1) pressure shape factor (normal contact 'nonhertzian'), else None
-    delta  : grid spacing [m]; Nx: spacings over the period; M: centre node; spin: spin-up steps
+    Attributes
+    ----------
+    P, a : (steps,) normal force [N] and half-length [m] at each step of the march
+    shape : (steps, 2M + 1) pressure shape factor (normal contact 'nonhertzian'), else None
+    delta : grid spacing [m]; Nx: spacings over the period; M: centre node; spin: spin-up steps
              (step spin + k has the wheel at x_k = k delta)
     min_shape, shift : as WearResult
     """

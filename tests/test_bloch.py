@@ -138,3 +138,13 @@ def test_force_and_curvature_on_a_grid_by_fft_equal_the_direct_sums(random_force
     c1 = np.real(np.exp(1j * np.outer(x, j)) @ (j**2 * Z))
     c2 = W._curvature_on_grid(rough, n, F.period)
     assert np.abs(c1 - c2).max() < 1e-12 * np.abs(c1).max()
+
+
+def test_worn_roughness_keeps_its_period_of_n_bays():
+    # rail.wear.apply_wear returned a 1-bay roughness whatever the period: the next passage then read
+    # an N-bay coefficient vector as harmonics of one bay (the chain had its own copy that kept it)
+    r = I.Roughness.harmonic(1e-6, 0.8 * 3 * 0.6 / 4, 0.6, 4, bays=3)
+    dZ = 1e-9 * np.ones_like(r.Z)
+    worn = W.apply_wear(r, dZ, passages=2.0)
+    assert worn.bays == 3
+    np.testing.assert_array_equal(worn.Z, r.Z - 2.0 * dZ)

@@ -177,3 +177,285 @@ def test_shipped_roughness_examples_pass_the_unit_checks(root):
     for name in ("example_limit.csv", "example_limit_minus10.csv"):
         lam, _ = R.read_limit_spectrum(root / "config/roughness" / name)
         assert lam[0] == 1.0 and lam[-1] == 0.00315 and len(lam) == 26
+
+
+# issue 36 (part B): units read from the header, the whole measured record, spike removal, the
+# longest resolved band (docs/roughness-input.md)
+
+
+def _profile_text(header, x, z):
+    return header + "\n" + "".join(f"{float(a)!r},{float(b)!r}\n" for a, b in zip(x, z))
+
+
+@pytest.mark.parametrize("header, fx, fz", [
+    ("position_cm,height_mm", 100.0, 1e3),
+    ("position [mm],roughness [µm]", 1e3, 1e6),
+    ("distance (mm), height [um]", 1e3, 1e6),
+    ("Position_MM,displacement_\u03bcm", 1e3, 1e6),
+    (" position [cm] , height [m] ", 100.0, 1.0),
+])
+def test_profile_in_cm_mm_and_um_gives_the_roughness_of_the_si_file(tmp_path, header, fx, fz):
+    # the same 3 m record written in metres and in the units practice writes: the positions,
+    # heights and the coefficients over 4 bays agree to rounding, and the units are stated back
+    rng = np.random.default_rng(36)
+    x = np.arange(0.0, 3.0005, 0.001)
+    z = 6e-6 * np.sin(2 * np.pi * x / 0.048) + 1e-6 * rng.standard_normal(x.size)
+    si = _write(tmp_path / "si.csv", _profile_text("position_m,height_m", x, z))
+    other = _write(tmp_path / "other.csv", _profile_text(header, x * fx, z * fz))
+    a, b = R.read_profile_record(si), R.read_profile_record(other)
+    np.testing.assert_allclose(b.x, a.x, rtol=1e-12, atol=1e-15)
+    np.testing.assert_allclose(b.z, a.z, rtol=1e-12, atol=1e-21)
+    J = 4 * 32
+    Za, Zb = R.profile_coefficients(a.x, a.z, 4 * L, J), R.profile_coefficients(b.x, b.z, 4 * L, J)
+    np.testing.assert_allclose(Zb, Za, rtol=0, atol=1e-12 * np.abs(Za).max())
+    ux, uz = (split.strip() for split in header.split(","))
+    unit_x = {100.0: "cm", 1e3: "mm"}[fx]
+    unit_z = {1e3: "mm", 1e6: "µm", 1.0: "m"}[fz]
+    assert b.units == (unit_x, unit_z)
+    said = b.describe()
+    assert f"position in {unit_x}, height in {unit_z}, {x.size} rows" in said and "record 3 m" in said
+
+
+@pytest.mark.parametrize("header, fl, to_level", [
+    ("wavelength_cm,level_dB", 100.0, lambda d: d),
+    ("wavelength [mm],level [dB re 1 µm]", 1e3, lambda d: d),
+    ("wavelength_m,level_um", 1.0, lambda d: 10 ** (d / 20)),
+    ("wavelength (cm), level [µm]", 100.0, lambda d: 10 ** (d / 20)),
+])
+def test_spectrum_in_cm_mm_and_um_gives_the_roughness_of_the_si_file(tmp_path, header, fl, to_level):
+    # EN 15610 / ISO 3095 tables in cm and µm: the same band levels as the file in m and dB (a level
+    # in µm is the band's rms roughness, 20 log10(level / 1 µm) dB), so the same realisation
+    lam = np.array([0.5, 0.4, 0.315, 0.25, 0.2, 0.16, 0.125, 0.1, 0.08, 0.063, 0.05, 0.04, 0.0315, 0.025, 0.02, 0.016])
+    lev = np.linspace(12.0, -6.0, lam.size)
+    si = _write(tmp_path / "si.csv", "wavelength_m,level_dB\n" + "".join(f"{float(a)!r},{float(b)!r}\n" for a, b in zip(lam, lev)))
+    other = _write(tmp_path / "other.csv", header + "\n" + "".join(f"{float(a * fl)!r},{float(to_level(b))!r}\n" for a, b in zip(lam, lev)))
+    a, b = R.read_spectrum_table(si), R.read_spectrum_table(other)
+    np.testing.assert_allclose(b.wavelength, a.wavelength, rtol=1e-12)
+    np.testing.assert_allclose(b.level_dB, a.level_dB, rtol=0, atol=1e-9)
+    P, J = 16 * L, 16 * 64
+    np.testing.assert_allclose(R.spectrum_coefficients(b.wavelength, b.level_dB, P, J, seed=1),
+                               R.spectrum_coefficients(a.wavelength, a.level_dB, P, J, seed=1), rtol=0, atol=1e-15)
+    assert f"{lam.size} rows" in b.describe() and f"wavelength in {b.units[0]}" in b.describe()
+
+
+@pytest.mark.parametrize("reader, text, message", [
+    ("profile", "position_in,height_m\n0,0\n1,0\n",
+     r"line 1, column 1 \('position_in'\): the unit 'in' is not accepted for position: it must be one of m, cm, mm"),
+    ("profile", "position,height_m\n0,0\n1,0\n",
+     r"line 1, column 1 \('position'\): no unit: write position_<unit> or 'position \[<unit>\]' with <unit> one of m, cm, mm"),
+    ("profile", "position_mm,height_cm\n0,0\n1,0\n",
+     r"line 1, column 2 \('height_cm'\): the unit 'cm' is not accepted for height: it must be one of m, mm, µm \(or um\)"),
+    ("spectrum", "wavelength_m,level\n0.1,0\n0.05,0\n",
+     r"line 1, column 2 \('level'\): no unit: .* one of dB \(re 1 µm\), µm \(or um\)"),
+    ("spectrum", "wavelength [ft],level_dB\n0.1,0\n0.05,0\n",
+     r"line 1, column 1 \('wavelength \[ft\]'\): the unit 'ft' is not accepted for wavelength: it must be one of m, cm, mm"),
+    ("spectrum", "wavelength_m,level [dB re 20 µPa]\n0.1,0\n0.05,0\n",
+     r"line 1, column 2 \('level \[dB re 20 µPa\]'\): the unit 'dB re 20 µPa' is not accepted for level"),
+])
+def test_a_missing_or_unknown_unit_names_the_file_the_column_and_the_accepted_units(tmp_path, reader, text, message):
+    p = _write(tmp_path / "bad.csv", text)
+    read = R.read_profile if reader == "profile" else R.read_third_octave_spectrum
+    with pytest.raises(ValueError, match=re_escape_path(p) + ", " + message):
+        read(p)
+
+
+def test_a_level_in_um_that_is_not_positive_is_refused(tmp_path):
+    p = _write(tmp_path / "bad.csv", "wavelength_cm,level_um\n10,1.5\n5,0\n")
+    with pytest.raises(ValueError, match=re_escape_path(p) + r", line 3: level 0 µm is not allowed: an rms level in µm must be > 0"):
+        R.read_third_octave_spectrum(p)
+
+
+def test_a_bad_unit_stops_the_scenario_at_load_before_any_job(tmp_path):
+    # the start-up path the workflow, railgrowth and the API share (rail.setup.inputs.check_inputs)
+    from rail.app import api
+    from rail.setup.config import ConfigError
+
+    bad = _write(tmp_path / "bad.csv", "position [in],height [µm]\n0,0\n0.04,1\n")
+    with pytest.raises(ConfigError, match=r"scenario profile_example \(.*\): roughness: " + re_escape_path(bad)
+                                          + r", line 1, column 1 \('position \[in\]'\): the unit 'in' is not accepted"):
+        api.load("profile_example", changes={"roughness": {"file": str(bad)}})
+
+
+def _band_levels(Z, J, period):
+    """Band levels [dB re 1 µm] of coefficients over exact one-third-octave bands 10^(-n/10) m,
+    edges 10^(-(n -+ 1/2)/10) m (written here, not taken from rail.roughness)."""
+    j = np.arange(1, J + 1)
+    lam_j = period / j
+    ms = 2 * np.abs(Z[J + 1:]) ** 2
+    out = {}
+    for n in range(2, 22):  # 0.63 m .. 6.3 mm
+        inside = (lam_j < 10 ** (-(n - 0.5) / 10)) & (lam_j >= 10 ** (-(n + 0.5) / 10))
+        if inside.any():
+            out[n] = 10 * np.log10(ms[inside].sum() / 1e-12)
+    return out
+
+
+def test_a_record_twice_the_period_gives_band_levels_from_the_whole_record(tmp_path):
+    # a 4.8 m record over a 2.4 m period (4 bays): its two halves differ (a 48 mm wave of 2 then
+    # 6 µm, independent random roughness). The band levels must be the mean of the two halves'
+    # spectra, computed here directly: numpy's FFT of each half (sampled on the transform's own
+    # grid, so no resampling) with the end-to-end line removed, power averaged.
+    N, K = 4, 32
+    P, J = N * L, N * K
+    n = 8 * J
+    x = np.arange(2 * n + 1) * (P / n)
+    rng = np.random.default_rng(3601)
+    amp = np.where(x < P, 2e-6, 6e-6)
+    z = amp * np.sin(2 * np.pi * x / 0.048) + np.where(x < P, 0.5e-6, 1.5e-6) * rng.standard_normal(x.size)
+    path = _write(tmp_path / "long.csv", _profile_text("position [mm],height [µm]", x * 1e3, z * 1e6))
+    rough = InitialRoughness("profile", 0.0, 1000.0, None, str(path), bays=N)
+    Z = rough.realise(40.0, L, K).Z
+    power = np.zeros(J)  # |F_j|^2 summed over the two halves, j = 1..J
+    for s in range(2):
+        seg = z[s * n: (s + 1) * n + 1]
+        seg = seg - (seg[0] + (seg[-1] - seg[0]) * np.linspace(0.0, 1.0, n + 1))
+        power += np.abs(np.fft.rfft(seg[:n])[1: J + 1] / n) ** 2
+    direct = np.zeros(2 * J + 1, dtype=complex)
+    direct[J + 1:] = np.sqrt(power / 2)  # the mean over the halves
+    got, want = _band_levels(Z, J, P), _band_levels(direct, J, P)
+    assert got.keys() == want.keys() and len(got) >= 15
+    for k in want:
+        assert got[k] == pytest.approx(want[k], abs=1e-6), f"band 10^(-{k}/10) m"
+    # the first half alone (what was used before) is 3 dB and more below in the 48 mm band (n = 13)
+    first = np.zeros(2 * J + 1, dtype=complex)
+    seg = z[: n + 1] - (z[0] + (z[n] - z[0]) * np.linspace(0.0, 1.0, n + 1))
+    first[J + 1:] = np.fft.rfft(seg[:n])[1: J + 1] / n
+    assert want[13] - _band_levels(first, J, P)[13] > 3.0
+    # and it is stated: two segments, nothing left over, the longest band a 2.4 m segment resolves
+    said = rough.statement(L, K)
+    assert said["roughness_segments"] == 2 and said["roughness_remainder_m"] == pytest.approx(0.0, abs=1e-9)
+    assert "2 segment(s) of N L = 2.4 m" in said["roughness_processing"]
+    assert "position in mm, height in µm" in said["roughness_input"]
+
+
+def test_the_remainder_after_the_last_whole_period_is_stated():
+    assert R.record_segments(5.1, 2.4) == (2, pytest.approx(0.3))
+    assert R.record_segments(2.4, 2.4) == (1, 0.0)
+    assert R.record_segments(1.2, 2.4) == (0, pytest.approx(1.2))
+
+
+def test_the_period_from_the_record_takes_the_bays_it_holds(root):
+    from rail.app import api
+    from rail.setup.config import ConfigError
+
+    # the shipped synthetic record is 3.0 m: 5 bays of 0.6 m (profile_example.yaml asks 4)
+    study = api.load("profile_example", changes={"roughness": {"record": "period"}})
+    assert study.scenario.roughness.bays == 5
+    said = study.scenario.roughness.statement(study.scenario.L, 8)
+    assert "the period N L taken from the record" in said["roughness_processing"] and said["roughness_segments"] == 1
+    with pytest.raises(ConfigError, match=r"spectrum_n16\.yaml: roughness\.record = 'period' is not allowed with roughness\.kind = "
+                                          r"'spectrum'"):
+        api.load("spectrum_n16", changes={"roughness": {"record": "period"}})
+
+
+def _spiky_sinusoid():
+    # 6 µm at 48 mm over 3 m at 1 mm steps, with 20 spikes and pits of 20-50 µm, one or two samples wide
+    x = np.arange(3001) * 1e-3
+    true = 6e-6 * np.sin(2 * np.pi * x / 0.048)
+    rng = np.random.default_rng(15610)
+    z = true.copy()
+    where = rng.choice(np.arange(10, 2990), 20, replace=False)
+    for k, i in enumerate(where):
+        h = rng.uniform(20e-6, 50e-6) * (1 if k % 2 else -1)
+        z[i] += h
+        if k % 3 == 0:
+            z[i + 1] += h
+    return x, true, z
+
+
+def test_spike_removal_restores_a_sinusoid_and_is_visibly_off_without_it():
+    x, true, z = _spiky_sinusoid()
+    # off: the spikes are there (20 µm and more)
+    assert np.abs(z - true).max() > 20e-6
+    cleaned, removed = R.remove_spikes(x, z)
+    # on: each spike of one (two) samples and its two neighbours, whose curvature it raises, are
+    # flagged; the run is replaced by the chord over w = 4 (5) steps, which differs from the
+    # sinusoid by at most A k^2 (w dx)^2 / 8
+    k = 2 * np.pi / 0.048
+    bound = 6e-6 * k**2 * (5 * 1e-3) ** 2 / 8  # 0.32 µm
+    assert np.abs(cleaned - true).max() < bound
+    assert 60 <= removed.sum() <= 80  # 20 spikes, 7 of two samples: 20 x 3 + 7 = 67 samples
+    # the clean sinusoid is left alone
+    same, none = R.remove_spikes(x, true)
+    assert not none.any() and np.array_equal(same, true)
+    # in the coefficients over 4 bays (the option of a scenario): the lines away from the 48 mm
+    # wave hold the spikes' energy with it off (above 2 % of the wave's amplitude; measured 3.6 %),
+    # and the chords' error only with it on (below 0.1 %; measured 0.04 %)
+    J = 4 * 64
+    off = R.process_profile(x, z, 4 * L, J).Z
+    on = R.process_profile(x, z, 4 * L, J, spikes=True)
+    ref = R.process_profile(x, true, 4 * L, J).Z
+    away = np.ones(2 * J + 1, dtype=bool)
+    away[[J - 50, J + 50]] = False
+    assert np.abs(off - ref)[away].max() > 2e-2 * 6e-6
+    assert np.abs(on.Z - ref)[away].max() < 1e-3 * 6e-6
+    # the wave itself within 0.3 % (measured 0.10 %: the 67 chords each cut a little off the wave's
+    # crests; ref is the clean record through the same resampling)
+    assert abs(on.Z[J + 50] - ref[J + 50]) < 3e-3 * abs(ref[J + 50])
+    assert on.spikes_removed == removed.sum()
+
+
+def test_spike_removal_is_a_scenario_option_stated_in_the_attributes(tmp_path):
+    x, _, z = _spiky_sinusoid()
+    path = _write(tmp_path / "spiky.csv", _profile_text("position_m,height_m", x, z))
+    off = InitialRoughness("profile", 0.0, 1000.0, None, str(path), bays=4).statement(L, 64)
+    on = InitialRoughness("profile", 0.0, 1000.0, None, str(path), bays=4, spike_removal=True).statement(L, 64)
+    assert off["roughness_spikes_removed"] == -1 and "spike removal off" in off["roughness_processing"]
+    assert 60 <= on["roughness_spikes_removed"] <= 80 and "spike removal on" in on["roughness_processing"]
+    with pytest.raises(ValueError, match=r"roughness\.spike_removal = true is not allowed with roughness\.kind = 'spectrum'"):
+        InitialRoughness("spectrum", 0.0, 1000.0, None, str(path), spike_removal=True)
+
+
+def test_the_longest_resolved_band_of_a_known_record_length():
+    # a band is resolved when the record holds 3 wavelengths of its upper edge 2^(1/6) lambda_c:
+    # 3 m / (3 x 1.1225) = 0.891 m, so the 0.8 m band (exact 10^(-0.1) = 0.794 m, edge 0.891 m) is the
+    # longest and 1 m (edge 1.122 m) is not; 2.4 m: 0.713 m -> 0.63 m; 10 m: 2.97 m -> 2.5 m
+    assert R.longest_resolved_band(3.0) == pytest.approx(10 ** -0.1)
+    assert R.longest_resolved_band(2.4) == pytest.approx(10 ** -0.2)
+    assert R.longest_resolved_band(10.0) == pytest.approx(10 ** 0.4)
+    assert R.longest_resolved_band(3 * 2 ** (1 / 6) * 0.1) == pytest.approx(0.1)  # exactly at the edge: resolved
+    np.testing.assert_array_equal(R.resolved_bands([1.0, 0.8, 0.63, 0.1], 3.0), [False, True, True, True])
+
+
+
+def test_the_shipped_profile_states_its_record_segments_and_longest_band(root):
+    # config/roughness/synthetic_profile.csv: 3 m at 1 mm; over 4 bays (2.4 m) one segment, 0.6 m
+    # not used; the 2.4 m segment resolves down to 0.63 m, the 3 m record to 0.8 m
+    said = InitialRoughness("profile", 0.0, 1000.0, None, str(root / "config/roughness/synthetic_profile.csv"), bays=4).statement(L, 64)
+    assert said["roughness_segments"] == 1 and said["roughness_remainder_m"] == pytest.approx(0.6)
+    assert said["roughness_record_length_m"] == pytest.approx(3.0)
+    assert said["roughness_longest_resolved_band_m"] == pytest.approx(10 ** -0.2)
+    assert said["roughness_record_longest_band_m"] == pytest.approx(10 ** -0.1)
+    assert "position in m, height in m, 3001 rows" in said["roughness_input"]
+    assert "0.6 m at the end of the 3 m record not used" in said["roughness_processing"]
+    assert "longest resolved one-third-octave band 0.631 m" in said["roughness_processing"]
+
+
+def test_the_growth_result_and_its_log_state_the_measured_profile(root):
+    # one update of 10,000 passages from the shipped profile (1 bay): the result's attributes and the
+    # log lines say what was read and how it was processed
+    import dataclasses
+    import io
+
+    from test_contact_shift import K as K_CS
+    from test_contact_shift import _scn, _track
+
+    from rail import chain, moving
+    from rail.studies import runs
+
+    table = moving.receptance_table(_track(), 40.0, K_CS, offsets=[0.0])
+    scn = _scn("report", passages=10000, step=10000)
+    prof = InitialRoughness("profile", 0.0, 1000.0, None, str(root / "config/roughness/synthetic_profile.csv"), bays=1,
+                            spike_removal=True)
+    scn = dataclasses.replace(scn, roughness=prof)
+    h = chain.grow(scn, table, progress=io.StringIO())
+    log = io.StringIO()
+    ds = runs.growth_dataset(scn, table, h, 40.0, warn=log)
+    assert ds.attrs["roughness_kind"] == "profile"
+    assert ds.attrs["roughness_segments"] == 5 and ds.attrs["roughness_remainder_m"] == pytest.approx(0.0, abs=1e-9)
+    assert ds.attrs["roughness_spikes_removed"] == 0
+    # a 0.6 m segment: 0.6 / (3 x 1.1225) = 0.178 m, so the 0.16 m band (exact 10^(-0.8) = 0.158 m)
+    assert ds.attrs["roughness_longest_resolved_band_m"] == pytest.approx(10 ** -0.8)
+    lines = [a for a in log.getvalue().splitlines() if a.startswith("initial roughness: ")]
+    assert len(lines) == 2 and "synthetic_profile.csv: measured profile, position in m" in lines[0]
+    assert "5 segment(s) of N L = 0.6 m" in lines[1] and "spike removal on" in lines[1]

@@ -10,6 +10,8 @@ import matplotlib.ticker  # noqa: E402
 import numpy as np  # noqa: E402
 import xarray as xr  # noqa: E402
 
+from . import text  # noqa: E402
+
 __all__ = ["case_figure", "summary_figure"]
 
 
@@ -93,7 +95,7 @@ def summary_figure(table: xr.Dataset):
     ax.set_xlabel("spread of the sleeper spacing in the random tracks (± %; named cases at the left)")
     band = float(table.attrs.get("pp_band_m", np.nan)) * 1e3
     ax.set_ylabel(f"level of the {band:g} mm band (dB re 1 µm)")
-    ax.set_title(f"pinned-pinned band after {int(table.attrs.get('passages', 0))} passages at {table.attrs.get('speed_m_per_s', 0):g} m/s",
+    ax.set_title(f"pinned-pinned band {text.after(int(table.attrs.get('passages', 0)))} at {table.attrs.get('speed_m_per_s', 0):g} m/s",
                  fontsize=9)
     ax.legend(fontsize=7, loc="best")
     return fig

@@ -10,9 +10,13 @@ from __future__ import annotations
 import matplotlib
 
 matplotlib.use("Agg")
+import matplotlib.colors  # noqa: E402
+import matplotlib.ticker  # noqa: E402
 import matplotlib.pyplot as plt  # noqa: E402
 import numpy as np  # noqa: E402
 import xarray as xr  # noqa: E402
+
+from . import text  # noqa: E402
 
 __all__ = ["fig02", "fig03", "fig04", "fig05", "fig06", "fig08", "fig09", "fig10", "fig11", "fig_wear", "fig_wear_spectrum", "fig22", "growth_profiles", "growth_spectra", "growth_final_profiles", "growth_3d", "sweep_map"]
 
@@ -229,18 +233,40 @@ def growth_final_profiles(ds: xr.Dataset):
     return fig
 
 
-def growth_3d(ds: xr.Dataset):
-    """The three-dimensional plot of section 5: level over wavenumber and passages."""
+def growth_3d(ds: xr.Dataset, axis: str = "wavenumber", name: str = ""):
+    """The three-dimensional plot of section 5: level over wavenumber (or wavelength) and passages.
+
+    Parameters
+    ----------
+    ds : xarray.Dataset
+        A growth dataset (rail.studies.datasets.growth).
+    axis : str
+        "wavenumber" (rad/m, linear; as the report describes the plot, used for the default
+        scenario's section-5 plot) or "wavelength" (mm, log scale; a scenario's plot, as its other
+        figures).
+    name : str
+        The scenario, named in the title when given.
+    """
+    if axis not in ("wavenumber", "wavelength"):
+        raise ValueError(f"growth_3d: axis = {axis!r} is not allowed: it must be 'wavenumber' or 'wavelength'")
     fig = plt.figure(figsize=(7.0, 5.0), layout="constrained")
     ax = fig.add_subplot(projection="3d")
     level = ds["level"].values
     keep = np.any(np.isfinite(level), axis=1)  # a smooth rail (no level) is left out, not drawn at a floor
-    kk, nn = np.meshgrid(ds["wavenumber"].values, ds["passage"].values[keep])
-    ax.plot_surface(kk, nn / 1e3, level[keep], cmap="viridis", linewidth=0)
-    ax.set_xlabel("wavenumber (rad/m)")
+    k = ds["wavenumber"].values
+    x = k if axis == "wavenumber" else np.log10(2 * np.pi / k * 1e3)  # mplot3d has no log axis: log10 of mm, ticks in mm
+    xx, nn = np.meshgrid(x, ds["passage"].values[keep])
+    ax.plot_surface(xx, nn / 1e3, level[keep], cmap="viridis", linewidth=0)
+    if axis == "wavenumber":
+        ax.set_xlabel("wavenumber (rad/m)")
+    else:
+        ticks = [t for t in (1, 2, 5, 10, 20, 50, 100, 200, 500, 1000, 2000, 5000) if x.min() - 1e-9 <= np.log10(t) <= x.max() + 1e-9]
+        ax.set_xticks(np.log10(ticks), [f"{t:g}" for t in ticks])
+        ax.set_xlabel("wavelength (mm, log scale)")
+        ax.set_box_aspect(None, zoom=0.9)  # room for the tick labels in mm below the axis
     ax.set_ylabel("passages (thousands)")
     ax.set_zlabel("level (dB re 1 µm)")
-    ax.set_title(f"roughness growth, V = {ds.attrs['speed_m_per_s']:g} m/s", fontsize=9)
+    ax.set_title(f"roughness growth{f' of {name}' if name else ''}, V = {ds.attrs['speed_m_per_s']:g} m/s", fontsize=9)
     return fig
 
 
@@ -256,7 +282,7 @@ def growth_narrowband(ds: xr.Dataset):
     comb = (ds["harmonic"].values % N) == 0
     for style, i in zip(_STYLES, picks):
         lev = ds["level"].values[i]
-        a1.semilogx(lam, lev, linestyle=style, color="k", lw=0.8, label=f"{int(n[i])} passages")
+        a1.semilogx(lam, lev, linestyle=style, color="k", lw=0.8, label=text.passages(n[i]))
         a1.plot(lam[comb], lev[comb], "o", mfc="none", color="k", ms=3)
     a1.set_xlabel("wavelength (mm)")
     a1.set_ylabel("roughness level (dB re 1 µm)")
@@ -264,7 +290,7 @@ def growth_narrowband(ds: xr.Dataset):
     a1.set_title(f"narrow band, period {N} bays (circles: the one-bay comb L/k), V = {ds.attrs['speed_m_per_s']:g} m/s", fontsize=9)
     a1.legend(fontsize=8)
     for style, i in zip(_STYLES, picks):
-        a2.plot(ds["position"], ds["profile"].values[i] * 1e6, linestyle=style, color="k", lw=0.7, label=f"{int(n[i])} passages")
+        a2.plot(ds["position"], ds["profile"].values[i] * 1e6, linestyle=style, color="k", lw=0.7, label=text.passages(n[i]))
     a2.set_xlabel(f"position over the {N}-bay period (m), 0 above a sleeper")
     a2.set_ylabel("roughness (µm)")
     a2.legend(fontsize=8)
@@ -286,7 +312,7 @@ def band_spectra(ds: xr.Dataset):
     has = has if has.size else np.arange(len(n))  # the saves with a level (not the smooth rail at the start)
     for style, i in zip(_STYLES, sorted({int(has[0]), int(has[len(has) // 2]), int(has[-1])})):
         days = ds["days"].values[i]
-        label = f"{int(n[i]):,} axle passages" + (f" ({days:.3g} days)" if np.isfinite(days) else "")
+        label = f"{text.count(n[i])} axle passages" + (f" ({text.count(days)} days)" if np.isfinite(days) else "")
         a1.semilogx(lam[res], ds["level"].values[i][res], linestyle=style, marker="o", ms=3, color="k", lw=0.8, label=label)
     if np.isfinite(ds["limit"].values).any():
         a1.semilogx(lam, ds["limit"].values, color="0.5", lw=2, label="limit")
@@ -354,11 +380,11 @@ def sweep_band_map(ds: xr.Dataset):
         zz = (z.isel({second: p}) if second else z).transpose(keys[0], "band").values
         m = ax.pcolormesh(np.arange(len(lam) + 1), np.arange(len(y) + 1), zz, cmap="RdBu_r", vmin=-lim, vmax=lim)
         ax.set_xticks(np.arange(len(lam))[::3] + 0.5, [f"{v:g}" for v in lam[::3]], fontsize=7)
-        ax.set_yticks(np.arange(len(y)) + 0.5, [f"{v:g}" for v in y], fontsize=7)
+        ax.set_yticks(np.arange(len(y)) + 0.5, [text.number(v) for v in y], fontsize=7)
         ax.set_xlabel("one-third-octave band, centre wavelength (mm)")
         ax.set_ylabel(f"{keys[0]} ({ds[keys[0]].attrs.get('units', '')})")
         if second:
-            ax.set_title(f"{second} = {ds[second].values[p]:g} {ds[second].attrs.get('units', '')}", fontsize=9)
+            ax.set_title(f"{second} = {text.number(ds[second].values[p])} {ds[second].attrs.get('units', '')}", fontsize=9)
     fig.colorbar(m, ax=axes[0].tolist(), label="level growth at the last save (dB per 100,000 axle passages)")
     return fig
 
@@ -389,47 +415,127 @@ def sweep_map(ds: xr.Dataset):
 
 
 
-def scenario_overview(ds: xr.Dataset, default: xr.Dataset | None = None, name: str = ""):
-    """A growth run of any scenario on one page: (left) the narrow-band level against wavelength at
-    the first, middle and last saved passage counts, beside the default scenario's final spectrum at
-    the same speed (grey); (middle) the profiles at every saved passage count; (right) the contact
-    force of the first wheel along the period at the start and the end."""
-    fig, (a1, a2, a3) = plt.subplots(1, 3, figsize=(15.0, 4.3), layout="constrained")
+_MAX_LEGEND = 16  # more saved passage counts than this get a colour bar of passages instead of a legend
+
+
+def _passage_colours(n):
+    """One viridis colour per saved passage count (dark: first, yellow: last)."""
+    return [plt.cm.viridis(i / max(len(n) - 1, 1)) for i in range(len(n))]
+
+
+def _passage_key(fig, n, colours, drawn):
+    """Every saved passage count on the figure: a legend (up to _MAX_LEGEND counts; a count whose
+    state has no level, a smooth rail, says so) or a discrete colour bar of passages."""
+    if len(n) <= _MAX_LEGEND:
+        handles = [plt.Line2D([], [], color=c, lw=1.5) for c in colours]
+        labels = [text.count(p) + ("" if ok else " (smooth: no level)") for p, ok in zip(n, drawn)]
+        fig.legend(handles, labels, title="passages", loc="outside right upper", fontsize=7, title_fontsize=8)
+        return
+    cmap = matplotlib.colors.ListedColormap(colours)
+    norm = matplotlib.colors.BoundaryNorm(np.arange(len(n) + 1) - 0.5, len(n))
+    bar = fig.colorbar(matplotlib.cm.ScalarMappable(norm=norm, cmap=cmap), ax=fig.axes, label="passages", location="right")
+    ticks = np.unique(np.linspace(0, len(n) - 1, _MAX_LEGEND // 2).round().astype(int))
+    bar.set_ticks(ticks, labels=[text.count(n[i]) for i in ticks])
+
+
+def _mm_axis(ax, lam_mm):
+    """A log wavelength axis in mm over the lines lam_mm, ticked at round values written plainly
+    (20, 50, 100, not 2×10¹)."""
+    lo, hi = float(np.min(lam_mm)), float(np.max(lam_mm))
+    ax.set_xscale("log")
+    ax.set_xlim(lo / 1.05, hi * 1.05)
+    ax.set_xticks([t for t in (1, 2, 5, 10, 20, 50, 100, 200, 500, 1000, 2000, 5000, 10000) if lo / 1.05 <= t <= hi * 1.05])
+    ax.xaxis.set_major_formatter(matplotlib.ticker.FormatStrFormatter("%g"))
+    ax.xaxis.set_minor_formatter(matplotlib.ticker.NullFormatter())
+
+
+def level_change(ds: xr.Dataset):
+    """Change in level of every line since a reference state [dB]: the initial state where it has a
+    level, else (a smooth rail) the first saved state with a level. Returns (change, ref): change of
+    shape (passage, harmonic), NaN where a line has no level at the reference or at that state; ref
+    the index of the reference state (None when no state has a level)."""
+    level = ds["level"].values
+    has = np.isfinite(level).any(axis=1)
+    if not has.any():
+        return np.full_like(level, np.nan), None
+    ref = int(np.argmax(has))
+    return level - level[ref], ref
+
+
+def scenario_overview(ds: xr.Dataset, default: xr.Dataset | None = None, name: str = "", default_note: str = ""):
+    """A growth run of any scenario on one page, every saved passage count in one colour per count
+    (legend, or a colour bar beyond 16 counts):
+    (a) the narrow-band level against wavelength, with the default scenario's final spectrum at the
+    same speed (grey) or, when there is none, a note saying so (``default_note``, or a generic one);
+    (b) the change in level of every line since the initial state (since the first state with a level
+    when the rail starts smooth; then linear amplitude growth gives 20 log10(n / n_ref) dB at every
+    line, drawn as dotted lines), for the lines within 80 dB of the highest;
+    (c) the profiles over the period; (d) the contact force of the first wheel at the start and the end.
+    """
+    fig, axes = plt.subplots(2, 2, figsize=(13.0, 8.0), layout="constrained")
+    (a1, a4), (a2, a3) = axes
     N = int(ds.attrs.get("bays", 1))
     lam = 2 * np.pi / ds["wavenumber"].values * 1e3
     n = ds["passage"].values
-    has = np.nonzero(np.isfinite(ds["level"].values[:, res]).any(axis=1))[0] if res.any() else np.arange(len(n))
-    has = has if has.size else np.arange(len(n))  # the saves with a level (not the smooth rail at the start)
-    for style, i in zip(_STYLES, sorted({int(has[0]), int(has[len(has) // 2]), int(has[-1])})):
-        if np.isfinite(ds["level"].values[i]).any():
-            a1.semilogx(lam, ds["level"].values[i], linestyle=style, color="k", lw=0.8, label=f"{int(n[i])} passages")
+    colours = _passage_colours(n)
+    level = ds["level"].values
+    drawn = np.isfinite(level).any(axis=1)
+    for i in range(len(n)):
+        if drawn[i]:
+            a1.semilogx(lam, level[i], color=colours[i], lw=0.8)
     if default is not None:
         dl = 2 * np.pi / default["wavenumber"].values * 1e3
         a1.semilogx(dl, default["level"].values[-1], color="0.6", lw=1.6, zorder=0,
-                    label=f"default, {int(default['passage'].values[-1])} passages")
+                    label=f"default scenario, {text.passages(default['passage'].values[-1])}")
+        a1.legend(fontsize=7, loc="lower left")
+    elif name != "default":
+        a1.text(0.02, 0.98, default_note or "no default run to compare with", transform=a1.transAxes, fontsize=7,
+                va="top", ha="left", color="firebrick", bbox={"facecolor": "w", "edgecolor": "firebrick", "lw": 0.6})
     a1.set_xlabel("wavelength (mm)")
     a1.set_ylabel("roughness level (dB re 1 µm)")
-    top = float(np.nanmax(ds["level"].values))
+    _mm_axis(a1, lam)
+    top = float(np.nanmax(level)) if drawn.any() else 0.0
     a1.set_ylim(top - 80, top + 5)
-    a1.legend(fontsize=7, loc="lower left")
-    a1.set_title(f"{name}: V = {ds.attrs['speed_m_per_s']:g} m/s, period {N} bay(s)", fontsize=9)
-    for i, p in enumerate(n):
-        a2.plot(ds["position"], ds["profile"].values[i] * 1e6, color=plt.cm.viridis(i / max(len(n) - 1, 1)), lw=0.7,
-                label=f"{int(p)}" if i in (0, len(n) - 1) else None)
+    a1.set_title("(a) roughness level of each line", fontsize=9)
+
+    change, ref = level_change(ds)
+    shown = np.isfinite(level[-1]) & (level[-1] >= top - 80)
+    if ref is not None:
+        for i in range(ref + 1, len(n)):
+            a4.semilogx(lam[shown], change[i][shown], color=colours[i], lw=0.8)
+            if ref > 0:  # from a smooth rail: the change of a line growing linearly in amplitude
+                a4.axhline(20 * np.log10(n[i] / n[ref]), color=colours[i], lw=0.8, ls=":")
+        since = ("the start" if ref == 0 else
+                 f"{text.passages(n[ref])}\n(the rail starts smooth; dotted: linear growth, 20 log10(n / {text.count(n[ref])}) dB)")
+    else:
+        since = "the start (no state has a level)"
+    a4.axhline(0.0, color="0.3", lw=0.6)
+    a4.set_xlabel("wavelength (mm)")
+    _mm_axis(a4, lam)
+    a4.set_ylabel("change in level (dB)")
+    a4.set_title(f"(b) change in level of each line since {since}", fontsize=9)
+
+    for i in range(len(n)):
+        a2.plot(ds["position"], ds["profile"].values[i] * 1e6, color=colours[i], lw=0.7)
     a2.set_xlabel(f"position over the {N}-bay period (m), 0 above a sleeper")
     a2.set_ylabel("roughness (µm)")
-    a2.legend(title="passages", fontsize=7, title_fontsize=7)
+    a2.set_title("(c) roughness profile", fontsize=9)
     if "force" in ds:
-        for style, i in zip(_STYLES, (0, len(n) - 1)):
-            a3.plot(ds["position"], ds["force"].values[i, 0] / 1e3, linestyle=style, color="k", lw=0.8, label=f"{int(n[i])} passages")
+        for style, i in zip(_STYLES, sorted({0, len(n) - 1})):
+            a3.plot(ds["position"], ds["force"].values[i, 0] / 1e3, linestyle=style, color=colours[i], lw=0.9,
+                    label=text.after(n[i]).capitalize())
         a3.set_ylabel("contact force, first wheel (kN)")
         a3.legend(fontsize=7)
     a3.set_xlabel(f"position over the {N}-bay period (m)")
+    a3.set_title("(d) contact force at the start and the end", fontsize=9)
+    _passage_key(fig, n, colours, drawn)
     contact = ds.attrs.get("normal_contact")
-    if contact:
-        a1.set_title(f"{name}: V = {ds.attrs['speed_m_per_s']:g} m/s, period {N} bay(s), normal contact {contact}", fontsize=9)
+    title = (f"{name + ': ' if name else ''}V = {ds.attrs['speed_m_per_s']:g} m/s, roughness period {N} bay{'s' if N > 1 else ''}"
+             + (f", normal contact {contact}" if contact else ""))
     if ds.attrs.get("stopped"):  # the run left the model: say where, on the page
         reason = ds.attrs["stopped"].split(": ", 2)
-        fig.suptitle(f"STOPPED at {int(n[-1])} passages ({reason[1] if len(reason) > 1 else 'see the file'}); "
-                     "the states up to there are shown", fontsize=9, color="firebrick")
+        fig.suptitle(f"{title}\nSTOPPED {text.after(n[-1])} ({reason[1] if len(reason) > 1 else 'see the file'}); "
+                     "the states up to there are shown", fontsize=10, color="firebrick")
+    else:
+        fig.suptitle(title, fontsize=10)
     return fig

@@ -5,6 +5,8 @@ One function per figure: it takes a dataset and returns a matplotlib Figure.
 
 from __future__ import annotations
 
+import re
+
 import matplotlib
 import matplotlib.colors
 import matplotlib.ticker
@@ -14,6 +16,7 @@ import matplotlib.pyplot as plt  # noqa: E402
 import numpy as np  # noqa: E402
 import xarray as xr  # noqa: E402
 
+from . import text  # noqa: E402
 from .report import sweep_panels  # noqa: E402
 
 __all__ = ["closure_spectra", "closure_wear_spectra", "convergence_figure"]
@@ -45,7 +48,7 @@ def closure_spectra(ds: xr.Dataset):
             ax.plot(ds["wavenumber"].values[sel], y, linestyle=style, color=color, lw=lw, label=f"s = {s:g}" + ("" if ok else " (ill-posed)"))
         ax.set_xlabel("wavenumber (rad/m)")
         ax.set_ylabel("roughness level (dB re 1 µm)")
-        ax.set_title(f"V = {v:g} m/s, {int(ds['passage'].values[-1])} passages, single wheel", fontsize=9)
+        ax.set_title(f"V = {v:g} m/s, {text.passages(ds['passage'].values[-1])}, single wheel", fontsize=9)
     axes[0][0].legend(fontsize=7, title="closure scale", title_fontsize=7)
     return fig
 
@@ -119,31 +122,49 @@ def _growth_norm(values):
     return norm, np.r_[np.linspace(norm.vmin, 0, 4)[:-1], np.linspace(0, norm.vmax, 4)]
 
 
+def _per_passages(g):
+    """'100,000 train passages' from a growth variable's long name '... per 100000 train passages ...'."""
+    m = re.search(r"per ([\d,]+) ((?:\w+ )?)passages", g.attrs["long_name"])
+    if m is None:
+        return "passages"
+    return f"{text.count(int(m.group(1).replace(',', '')))} {m.group(2)}passages"
+
+
 def rate_spectrum_figure(ds: xr.Dataset):
     """Growth-rate spectrum: the level change per 100,000 train passages over wavelength, one line
-    per speed (top), and the speed x wavelength map (bottom); comb lines L/k marked."""
-    fig, (ax, bx) = plt.subplots(2, 1, figsize=(7.5, 7.5), layout="constrained", sharex=True)
+    per speed (top), and the speed x wavelength map (bottom); comb lines L/k marked. With one speed
+    only the line (a map of one speed would smear it over an invented speed range)."""
+    one = ds.sizes["speed"] == 1
+    if one:
+        fig, ax = plt.subplots(figsize=(7.5, 4.2), layout="constrained")
+    else:
+        fig, (ax, bx) = plt.subplots(2, 1, figsize=(7.5, 7.5), layout="constrained", sharex=True)
     lam = ds["wavelength"].values * 1e3
     g = ds["growth_dB"]
+    per = _per_passages(g)
     for v in ds["speed"].values:
-        ax.plot(lam, g.sel(speed=v).values, lw=1.2, label=f"{v:g} m/s")
+        ax.plot(lam, g.sel(speed=v).values, lw=1.2, color="k" if one else None, label=f"{v:g} m/s")
     ax.axhline(0, color="0.3", lw=0.7)
     comb = ds["locked"].values == 1
     for x in lam[comb]:
         ax.axvline(x, color="0.85", lw=0.6, zorder=0)
     ax.set_xscale("log")
-    ax.set_ylabel(f"growth ({g.attrs.get('level_unit', g.attrs['units'])} per {g.attrs['long_name'].split(' per ')[1].split(' train')[0]} passages)")
-    ax.legend(fontsize=8, ncol=2, loc="best", framealpha=0.9)
-    ax.set_title(f"linearised growth-rate spectrum ({int(ds.attrs['wheels'])} wheel(s), probe {ds.attrs['eps_m'] * 1e9:g} nm; "
-                 "grey: comb L/k)", fontsize=9)
+    ax.set_ylabel(f"growth ({g.attrs.get('level_unit', g.attrs['units'])} per {per})")
+    if not one:
+        ax.legend(fontsize=8, ncol=2, loc="best", framealpha=0.9)
+    ax.set_title(f"linearised growth-rate spectrum{f' at {float(ds.speed.values[0]):g} m/s' if one else ''} "
+                 f"({int(ds.attrs['wheels'])} wheel(s), probe {ds.attrs['eps_m'] * 1e9:g} nm; grey: comb L/k)", fontsize=9)
+    lam_edges = _wavelength_edges(lam)
+    if one:
+        ax.set_xlabel("wavelength (mm)")
+        _wavelength_axis(ax, lam_edges)
+        _mark_contact(ds, (ax,), lam_edges)
+        return fig
     norm, ticks = _growth_norm(g.values)
     V = ds["speed"].values
-    edges = np.r_[V[0] - 0.5 * (V[1] - V[0]) if V.size > 1 else V[0] - 5, 0.5 * (V[1:] + V[:-1]),
-                  V[-1] + 0.5 * (V[-1] - V[-2]) if V.size > 1 else V[0] + 5]
-    lam_edges = _wavelength_edges(lam)
+    edges = np.r_[V[0] - 0.5 * (V[1] - V[0]), 0.5 * (V[1:] + V[:-1]), V[-1] + 0.5 * (V[-1] - V[-2])]
     m = bx.pcolormesh(lam_edges, edges, g.values, cmap="RdBu_r", norm=norm)
-    fig.colorbar(m, ax=bx, ticks=ticks, format="%.2g",
-                 label=f"growth (dB per {g.attrs['long_name'].split(' per ')[1].split(' train')[0]} passages)")
+    fig.colorbar(m, ax=bx, ticks=ticks, format="%.2g", label=f"growth (dB per {per})")
     bx.set_xlabel("wavelength (mm)")
     bx.set_ylabel("speed (m/s)")
     for a in (ax, bx):
@@ -185,12 +206,12 @@ def rate_spectrum_sweep_figure(ds: xr.Dataset):
         zz = (z.isel({second: p}) if second else z).transpose(keys[0], "wavelength").values
         m = ax.pcolormesh(lam_edges, np.arange(len(y) + 1), zz, cmap="RdBu_r", norm=norm)
         _wavelength_axis(ax, lam_edges)
-        ax.set_yticks(np.arange(len(y)) + 0.5, [f"{v:g}" for v in y], fontsize=7)
+        ax.set_yticks(np.arange(len(y)) + 0.5, [text.number(v) for v in y], fontsize=7)
         ax.set_xlabel("wavelength (mm)")
         ax.set_ylabel(f"{keys[0]} ({ds[keys[0]].attrs.get('units', '')})")
         if second:
-            ax.set_title(f"{second} = {ds[second].values[p]:g} {ds[second].attrs.get('units', '')}", fontsize=9)
-    fig.colorbar(m, ax=axes[0].tolist(), ticks=ticks, format="%.2g", label="growth (dB per 100000 passages)")
+            ax.set_title(f"{second} = {text.number(ds[second].values[p])} {ds[second].attrs.get('units', '')}", fontsize=9)
+    fig.colorbar(m, ax=axes[0].tolist(), ticks=ticks, format="%.2g", label="growth (dB per 100,000 passages)")
     return fig
 
 

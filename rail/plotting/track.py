@@ -60,7 +60,7 @@ def track_receptance(ds: xr.Dataset):
 
 
 def moving_receptance(ds: xr.Dataset):
-    """|a_0| of a moving harmonic load at the contact point for each speed (coloured) and the
+    """abs(a_0) of a moving harmonic load at the contact point for each speed (coloured) and the
     stationary point receptance averaged over the bay (black dashed)."""
     fig, ax = plt.subplots(figsize=(6.5, 4.5), layout="constrained")
     f = ds["frequency"]

@@ -22,10 +22,13 @@ from ..fleet import Fleet, Vehicle, speed_classes
 from ..growth import GrowthSettings
 from ..halfspace import ElasticMaterial, HalfSpaceNumerics, contact_loss_factor
 from ..interaction import ContactSpring, Wheels
+from ..roughness import SPIKE_THRESHOLD, read_profile_record, record_bays
 from ..scenario import InitialRoughness, Scenario, TrackNumerics
 from ..track import Ballast, Pad, Rail, Sleeper, Track, damping_problem, min_harmonics, pinned_pinned_frequency
 from ..wear import WearLaw
 from .config import ConfigError, configured_speeds
+
+MAX_ROUGHNESS_BAYS = 64  # the schema's bound on roughness.bays (config/schema: roughness.bays.maximum)
 
 __all__ = ["HalfSpaceFigureSettings", "PASSAGE_KEYS", "elastic", "fleet", "fleet_classes", "track_cell", "passage_scenario", "scenario", "spectrum_scenario", "track", "physics_problems", "halfspace_numerics", "halfspace_figures"]
 
@@ -160,12 +163,36 @@ def _material(cfg: dict) -> ContactMaterial:
     )
 
 
-def _roughness(cfg: dict) -> InitialRoughness:
+def _roughness(cfg: dict, source: str = "config") -> InitialRoughness:
     r = cfg["roughness"]
     wl = r.get("wavelength")
-    return InitialRoughness(kind=str(r["kind"]), amplitude=float(r["amplitude"]), frequency=float(r["frequency"]),
-                            wavelength=None if wl is None else float(wl), file=r.get("file"), bays=int(r["bays"]),
-                            seed=int(r["seed"]))
+    record = str(r.get("record", "average"))
+    bays = int(r["bays"])
+    if record == "period" and r.get("kind") == "profile" and r.get("file"):
+        bays = _record_bays(cfg, source)
+    try:
+        return InitialRoughness(kind=str(r["kind"]), amplitude=float(r["amplitude"]), frequency=float(r["frequency"]),
+                                wavelength=None if wl is None else float(wl), file=r.get("file"), bays=bays,
+                                seed=int(r["seed"]), record=record, spike_removal=bool(r.get("spike_removal", False)),
+                                spike_threshold=float(r.get("spike_threshold", SPIKE_THRESHOLD)))
+    except ValueError as e:  # a combination of keys the schema cannot state, named with the file
+        raise ConfigError(f"invalid configuration:\n  {source}: {e}") from None
+
+
+def _record_bays(cfg: dict, source: str) -> int:
+    """roughness.record = 'period': the roughness period N from the measured record's length
+    (rail.roughness.record_bays), within the schema's bound of roughness.bays."""
+    r = cfg["roughness"]
+    try:
+        rec = read_profile_record(r["file"])
+    except (OSError, ValueError) as e:
+        raise ConfigError(f"invalid configuration:\n  {source}: roughness: {e}") from None
+    N = record_bays(rec.length, _track(cfg).L)
+    if N > MAX_ROUGHNESS_BAYS:
+        raise ConfigError(f"invalid configuration:\n  {source}: roughness.record = 'period' is not allowed with {r['file']}: the "
+                          f"{rec.length:g} m record holds {N} bays, more than roughness.bays allows ({MAX_ROUGHNESS_BAYS}); use "
+                          "roughness.record = 'average' (the record's segments of roughness.bays bays averaged).")
+    return N
 
 
 def physics_problems(cfg: dict, source: str) -> list[str]:
@@ -176,6 +203,9 @@ def physics_problems(cfg: dict, source: str) -> list[str]:
     if (problem := damping_problem(tr)) is not None:
         out.append(f"{source}: {problem}")
     cell = cfg["track"].get("cell")
+    if cell is not None and cfg["roughness"].get("record", "average") == "period":
+        out.append(f"{source}: roughness.record = 'period' is not allowed with track.cell: the roughness period must be the "
+                   f"cell's {int(cell['bays'])} bays; use roughness.record = 'average'.")
     if cell is not None:
         nb, rb = int(cell["bays"]), int(cfg["roughness"].get("bays", 1))
         if nb != rb:
@@ -207,7 +237,8 @@ def spectrum_scenario(cfg: dict, name: str = "default", source: str = "config") 
     if cell is not None and int(cell["bays"]) != bays:
         raise ConfigError(f"invalid configuration:\n  {source}: figures.rate_spectrum.bays = {bays} is not allowed with track.cell.bays = "
                           f"{int(cell['bays'])}: the spectrum's lines must be periodic over the track's cell; set it to {int(cell['bays'])}.")
-    return scenario({**cfg, "roughness": {**cfg["roughness"], "kind": "smooth", "bays": bays}}, name, source)
+    return scenario({**cfg, "roughness": {**cfg["roughness"], "kind": "smooth", "bays": bays, "record": "average",
+                                          "spike_removal": False}}, name, source)
 
 
 # What one wheel passage over a given roughness reads (forces, contact and wear: Figs 8, 22, 9-19).
@@ -267,7 +298,7 @@ def scenario(cfg: dict, name: str = "default", source: str = "config") -> Scenar
         growth=GrowthSettings(passages=int(g["passages"]), passages_per_update=int(g["passages_per_update"]),
                               save_every=int(g["save_every"]), vary_grid_spacing=bool(g["vary_grid_spacing"]),
                               step_tolerance=float(g["step_tolerance"])),
-        roughness=_roughness(cfg),
+        roughness=_roughness(cfg, source),
         speeds=tuple(float(v) for v in cfg["speeds"]),
         axles_per_day=float(cfg["traffic"]["axles_per_day"]),
         cell=track_cell(cfg),

@@ -275,7 +275,7 @@ def scenario_files(directory) -> dict:
 def check_scenario_names(files: dict, sweep_points: dict) -> None:
     """Refuse scenario names that would silently replace another scenario.
 
-    files : {name: path} of config/scenarios/*.yaml and *.yml (scenario_files); sweep_points : {point name: sweep file}.
+    files : {name: path} of ``config/scenarios/*.yaml`` and ``*.yml`` (scenario_files); sweep_points : {point name: sweep file}.
     'default' is the configuration itself; '<study>-p<n>' names the points of sweep studies.
     """
     import re

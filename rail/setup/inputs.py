@@ -114,7 +114,9 @@ def check_inputs(cfg: dict, scn: Scenario, name: str, source: str, root=".") -> 
     """Read and check every input file of a scenario and the settings that need its physics.
 
     The initial roughness realised at every speed (its file read: a missing file, a folder, a
-    binary or mis-encoded file, a harmonic wavelength that does not divide the period are errors),
+    binary or mis-encoded file, a header whose unit is missing or not accepted, values implausible
+    for the header's unit, a harmonic wavelength that does not divide the period are errors; a
+    measured profile is processed as the run will process it: spike removal, the record's segments),
     the limit spectrum of the band view, the growth-rate spectrum's lines, and the measured decay
     rate (given, or found by the scenario's name under config/measured/).
 

@@ -7,7 +7,7 @@ coefficients Z_j of its Fourier series (rail.interaction.Roughness):
   ..., 3.16 mm), labelled by EN 15610's nominal values (1, 0.8, 0.63, ... m). Band edges
   lambda_n 10^(+-1/20), so neighbouring bands meet and partition the wavelength axis.
 * No window: a periodic profile over its own period has no leakage, so a band's mean square is the
-  sum of the mean squares of the lines 2 pi j / (N L) inside it, 2 |Z_j|^2 (Parseval; a line on an
+  sum of the mean squares of the lines 2 pi j / (N L) inside it, 2 abs(Z_j)^2 (Parseval; a line on an
   edge belongs to the band with the shorter wavelengths). This replaces the measured-profile
   steps of EN 15610 (spike removal, curvature processing, windowed spectra), which a computed
   profile does not need.
@@ -304,7 +304,7 @@ def bands_dataset(growth, L: float, bands: ThirdOctaveBands, min_lines: int, lim
     rates = {
         "growth_dB_per_1e5_axles": _var("band", g.dB_rate, "dB per 100000 axle passages",
                                         "level growth rate of the band at the last save from its growth law: 20 log10(e) x "
-                                        "efolding_rate for an exponential, 20 log10(e) x amplitude rate / fitted amplitude for a "
+                                        "efolding_rate_per_1e5_axles for an exponential, 20 log10(e) x amplitude rate / fitted amplitude for a "
                                         "straight line (falls as the amplitude grows)"),
         "growth_dB_per_1e5_axles_error": _var("band", g.dB_error, "dB per 100000 axle passages", "standard error of growth_dB_per_1e5_axles"),
     }

@@ -32,7 +32,7 @@ CONCLUSIONS = {
 
 def overall_level_dB(Z) -> float:
     """Overall rms roughness level of all harmonics k >= 1, dB re 1 um (rms of a component pair
-    Z_k, Z_-k is sqrt(2) |Z_k|)."""
+    Z_k, Z_{-k} is sqrt(2) abs(Z_k))."""
     Z = np.asarray(Z)
     K = (Z.shape[-1] - 1) // 2
     return float(20 * np.log10(np.sqrt(2 * np.sum(np.abs(Z[..., K + 1 :]) ** 2, axis=-1)) / 1e-6))
@@ -57,7 +57,7 @@ def short_wavelength_ratio(Z, L: float, k_min: int = 5, points: int = 601) -> fl
 def wear_at_roughness(wear_Z, roughness_Z, harmonic: int, mean_wear: float):
     """Wear of one passage at the harmonic of a harmonic roughness: (amplitude, rate).
 
-    amplitude : 2 |Delta Z_m| / mean wear depth, - (how strongly the wear varies at the roughness
+    amplitude : 2 abs(Delta Z_m) / mean wear depth, - (how strongly the wear varies at the roughness
                 wavelength);
     rate      : -Re(Delta Z_m / Z_m), - per passage: the in-phase part, > 0 when the wear makes the
                 roughness grow (Z_m - Delta Z_m is larger), < 0 when it wears it away.

@@ -3,7 +3,7 @@
 Three quantities, one per stage of the model:
 
 * ``force``  : the normal force along the bay on a smooth rail (Fig. 22), at ``points`` positions.
-  Error: max |P - P_ref| over the fluctuation max P_ref - min P_ref.
+  Error: max abs(P - P_ref) over the fluctuation max P_ref - min P_ref.
 * ``wear``   : the wear spectrum of one passage over a 10 um harmonic roughness (Figs 13-19),
   Delta Z_k for k <= K. Error: harmonic_error, each harmonic against itself.
 * ``growth`` : the roughness coefficients Z_k after the growth run from a smooth rail (Fig. 23).
@@ -126,15 +126,15 @@ def default_settings(scn: Scenario) -> dict:
 
 
 def force_error(P, P_ref) -> float:
-    """max |P - P_ref| over the fluctuation of P_ref, -."""
+    """max abs(P - P_ref) over the fluctuation of P_ref, -."""
     return float(np.max(np.abs(np.asarray(P) - P_ref)) / np.ptp(P_ref))
 
 
 def harmonic_error(Z, Z_ref, within_dB: float = WITHIN_DB, k_max: int | None = None) -> float:
-    """Largest relative error of a harmonic against itself, max_k |Z_k / Z_k,ref - 1|, over the
+    """Largest relative error of a harmonic against itself, max_k abs(Z_k / Z_k,ref - 1), over the
     harmonics 1 <= k <= k_max whose reference amplitude is within ``within_dB`` of the largest, -.
 
-    |Z / Z_ref - 1| bounds both the relative amplitude error and the phase error (in radians, for
+    abs(Z / Z_ref - 1) bounds both the relative amplitude error and the phase error (in radians, for
     small errors). Z, Z_ref : coefficients k = -K..K (the spectra may have different K; the common
     harmonics k <= min(K, K_ref) are compared).
     """

@@ -341,7 +341,7 @@ def growth(history, track, speed: float, n_wheels: int, points: int = 601, bays:
             "Z_real": _var(("passage", "harmonic_all"), Z.real, "m", "real part of the roughness coefficients Z_k, k = -K..K"),
             "Z_imag": _var(("passage", "harmonic_all"), Z.imag, "m", "imaginary part of the roughness coefficients Z_k"),
             "exponential_rate": _var("harmonic", exp_rate, "1", "e-folding rate of the rms amplitude per wheel passage over the second half "
-                                     "of the run (d ln A / dn; from a smooth rail the growth is linear in the amplitude, see amplitude_growth_rate)"),
+                                     "of the run (d ln A / dn; from a smooth rail the growth is linear in the amplitude, see amplitude_growth_um_per_1e5_axles)"),
             "amplitude_growth_um_per_1e5_axles": _var("harmonic", amp_rate, "um per 100000 axle passages",
                                                       "growth rate of the rms amplitude (straight-line fit over every save, as for a band)"),
             "growth_dB_per_1e5_axles": _var("harmonic", dB_rate, "dB per 100000 axle passages",

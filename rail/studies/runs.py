@@ -16,7 +16,11 @@ def growth_dataset(scn: Scenario, table, history, speed: float, warn=None) -> xr
     """The growth dataset of a run (rail.studies.datasets.growth) with every wheel's contact force
     and the neglected move of the contact centre (rail.chain.contact_shift) at each saved roughness.
 
-    Where the move's sweep error |dc/dx| exceeds rail.chain.SWEEP_ERROR_LIMIT at a saved state, the
+    The initial roughness is stated in the attributes (rail.scenario.InitialRoughness.statement:
+    for a measured profile the file, units, rows, segments averaged, remainder, spike removal and
+    the longest resolved band) and in two lines to ``warn``.
+
+    Where the move's sweep error abs(dc/dx) exceeds rail.chain.SWEEP_ERROR_LIMIT at a saved state, the
     attribute ``contact_shift_warning`` holds one line saying so (docs/contact.md), also written to
     ``warn``.
 
@@ -45,6 +49,12 @@ def growth_dataset(scn: Scenario, table, history, speed: float, warn=None) -> xr
     if "contact_shift_warning" in ds.attrs and warn is not None:
         print("warning: " + ds.attrs["contact_shift_warning"], file=warn, flush=True)
     ds.attrs["normal_contact"] = scn.contact_numerics.normal
+    stated = scn.roughness.statement(scn.L, scn.harmonics)  # what the initial roughness was read from, and how
+    ds.attrs.update(stated)
+    if warn is not None:
+        for key in ("roughness_input", "roughness_processing"):
+            if key in stated:
+                print(f"initial roughness: {stated[key]}", file=warn, flush=True)
     if history.stopped:  # a physical assumption broke: the states up to there, and why
         ds.attrs["stopped"] = history.stopped
     return ds

@@ -629,6 +629,21 @@ def scenario_overview_inputs(wildcards):
     return out
 
 
+def scenario_overview_note(wildcards):
+    """Why the overview has no default comparison (said on the figure and in the log), or "" when it has one."""
+    if wildcards.scenario == "default" or float(wildcards.speed) in [float(v) for v in config["speeds"]]:
+        return ""
+    runs = ", ".join(f"{float(v):g}" for v in config["speeds"])
+    return (f"no default run at {float(wildcards.speed):g} m/s (the default scenario runs at {runs} m/s): "
+            "no comparison with the default")
+
+
+def growth_3d_axis(wildcards):
+    """The 3-D plot's across axis: wavenumber for the default scenario (the plot of the report's
+    section 5, drawn as the report describes it), wavelength (log, mm) for every other scenario."""
+    return "wavenumber" if wildcards.scenario == "default" else "wavelength"
+
+
 def study_names():
     """The scenario files and sweep studies of config/scenarios/ (each a target study_<name>)."""
     points = {p["name"] for sw in SWEEPS.values() for p in sw["points"]}

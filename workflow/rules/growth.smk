@@ -25,13 +25,15 @@ rule growth:
 
 
 rule growth_3d:
-    """The three-dimensional plot of section 5: level over wavenumber and passages."""
+    """The three-dimensional plot of section 5: level over passages and wavenumber (the default
+    scenario, as the report draws it) or wavelength (log, mm; any other scenario)."""
     input:
         "results/growth/{scenario}/V{speed}.nc",
     output:
         report("results/growth/{scenario}/V{speed}_3d.png", caption="../report/growth_3d.rst", category="Section 5: roughness growth"),
     params:
         code=code("growth_figure.py"),
+        axis=growth_3d_axis,
     resources:
         mem_mb=400,
         runtime=5,
@@ -64,14 +66,16 @@ rule growth_narrowband:
 
 
 rule scenario_overview:
-    """Any scenario's growth run on one page: narrow-band spectrum against wavelength beside the
-    default's, profiles at every saved passage count, and the contact force along the period."""
+    """Any scenario's growth run on one page, every saved passage count: narrow-band spectrum against
+    wavelength beside the default's (or a note why there is none), the change in level, profiles and
+    the contact force along the period."""
     input:
         unpack(scenario_overview_inputs),
     output:
         report("results/growth/{scenario}/V{speed}_overview.png", caption="../report/scenario_overview.rst", category="Scenarios", subcategory="{scenario}"),
     params:
         code=code("growth_figure.py"),
+        default_note=scenario_overview_note,
     resources:
         mem_mb=400,
         runtime=5,

@@ -51,7 +51,7 @@ rule rate_spectrum_speed:
 
 
 rule rate_spectrum_map:
-    """The spectra of a scenario over its speeds: dataset and speed x wavelength map."""
+    """The spectra of a scenario over its speeds: dataset and speed x wavelength map (one speed: the line alone)."""
     input:
         rate_spectrum_speeds,
     output:

@@ -38,14 +38,18 @@ def report_figures(runs, config, data_paths, figure_paths):
         _save(draw(ds), figure_path, dpi=150)
 
 
-def main(rule, name, inputs, outputs):
+def main(rule, name, inputs, outputs, params):
     if rule == "growth_3d":
-        _save(report.growth_3d(_load(inputs[0])), outputs[0], dpi=130)
+        axis = params.get("axis", "wavenumber")
+        _save(report.growth_3d(_load(inputs[0]), axis, "" if axis == "wavenumber" else name), outputs[0], dpi=130)
     elif rule == "growth_narrowband":
         _save(report.growth_narrowband(_load(inputs[0])), outputs[0], dpi=150)
     elif rule == "scenario_overview":
         default = _load(inputs.default) if "default" in inputs.keys() else None
-        _save(report.scenario_overview(_load(inputs.run), default, name), outputs[0], dpi=130)
+        note = params.get("default_note", "")
+        if default is None and note:
+            print(f"{name}: {note}", file=sys.stderr)  # the log says it too, not only the figure
+        _save(report.scenario_overview(_load(inputs.run), default, name, note), outputs[0], dpi=130)
     else:
         raise ValueError(f"growth_figure.py: unknown rule {rule!r}")
 
@@ -55,4 +59,4 @@ if __name__ == "__main__":
     if snakemake.rule == "growth_figures":  # noqa: F821
         report_figures(snakemake.params.runs, snakemake.params.cfg, snakemake.output.data, snakemake.output.figure)  # noqa: F821
     else:
-        main(snakemake.rule, snakemake.wildcards.get("scenario", ""), snakemake.input, snakemake.output)  # noqa: F821
+        main(snakemake.rule, snakemake.wildcards.get("scenario", ""), snakemake.input, snakemake.output, dict(snakemake.params.items()))  # noqa: F821

@@ -1,4 +1,5 @@
-"""The growth-rate spectra of one scenario over its speeds: one dataset and the speed x wavelength map."""
+"""The growth-rate spectra of one scenario over its speeds: one dataset and the speed x wavelength map
+(with one speed the line alone, rail.plotting.studies.rate_spectrum_figure)."""
 
 import sys
 

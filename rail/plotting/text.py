@@ -1,0 +1,73 @@
+"""Numbers in figure titles, labels and legends as a reader writes them.
+
+``count(82345.6)`` is ``"82,300"``, never ``"8.23e+04"``; a state at 0 passages reads "initially",
+never "after 0 passages"; a parameter value such as 3.5e8 N/m reads ``"3.5×10⁸"``. Every plotting
+module formats passage counts and parameter values through these functions (docs/figures.md).
+"""
+
+from __future__ import annotations
+
+import math
+import numbers
+
+__all__ = ["count", "passages", "after", "limit_reached", "number"]
+
+_SUPERSCRIPT = str.maketrans("-0123456789", "⁻⁰¹²³⁴⁵⁶⁷⁸⁹")
+
+
+def count(n, significant: int = 3) -> str:
+    """A count with thousands separators: an integer exactly (``10000`` -> ``"10,000"``), any other
+    number rounded to ``significant`` figures (``82345.6`` -> ``"82,300"``).
+
+    n : int or float, a count of passages, days, members, ... (finite).
+    significant : significant figures kept for a non-integer, >= 1.
+    """
+    if isinstance(n, numbers.Integral):  # numpy integers too
+        return f"{int(n):,}"
+    x = float(n)
+    if not math.isfinite(x):
+        raise ValueError(f"count: n = {x} is not a finite number")
+    if x == 0:
+        return "0"
+    digits = significant - 1 - math.floor(math.log10(abs(x)))
+    r = round(x, digits)
+    if digits <= 0:
+        return f"{int(r):,}"
+    return f"{r:,.{digits}f}".rstrip("0").rstrip(".")
+
+
+def passages(n) -> str:
+    """``"82,300 passages"`` (``"1 passage"``)."""
+    return f"{count(n)} passage{'' if n == 1 else 's'}"
+
+
+def after(n) -> str:
+    """The time of a saved state: ``"initially"`` at 0 passages, ``"after 82,300 passages"`` otherwise."""
+    return "initially" if n == 0 else f"after {passages(n)}"
+
+
+def limit_reached(n, days: float = float("nan"), band_mm: float | None = None) -> str:
+    """The grinding interval in words: ``"limit reached after 82,300 passages (95 days) in the
+    31.5 mm band"``, or ``"limit already exceeded initially (in the 31.5 mm band)"`` when the
+    interval is 0 passages; ``days`` NaN when the traffic is not given."""
+    band = f" in the {band_mm:g} mm band" if band_mm is not None else ""
+    if n <= 0:
+        return f"limit already exceeded initially{f' ({band.strip()})' if band else ''}"
+    when = f" ({count(days)} days)" if math.isfinite(days) else ""
+    return f"limit reached after {passages(n)}{when}{band}"
+
+
+def number(x, significant: int = 3) -> str:
+    """A parameter value for a title or tick: ``"40"``, ``"0.25"``, ``"3.5×10⁸"`` (powers of ten
+    for magnitudes from 10⁵ and below 10⁻³, never ``"3.5e+08"``)."""
+    x = float(x)
+    if x == 0 or not math.isfinite(x):
+        return f"{x:g}"
+    e = math.floor(math.log10(abs(x)))
+    if -3 <= e < 5:
+        return f"{x:.{significant}g}"
+    m = f"{x / 10 ** e:.{significant}g}"
+    if m == "10":  # rounding carried over
+        m, e = "1", e + 1
+    power = f"10{str(e).translate(_SUPERSCRIPT)}"
+    return power if m == "1" else f"{m}×{power}"
