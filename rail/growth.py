@@ -183,14 +183,20 @@ def levels_dB(Z):
 class BandGrowth:
     """Growth of each band (or line) over a run (band_growth).
 
-    linear_rate, linear_error   : amplitude growth rate and its standard error [m per 1e5 passages]
-    exp_rate, exp_error         : e-folding rate and its standard error [1 per 1e5 passages]
-    law                         : 'linear' or 'exponential', the better fit; '' where not resolved
-    linear_misfit, exp_misfit   : rms residual of each fit relative to the band's mean amplitude [-]
-    dB_rate, dB_error           : level growth rate at the last save and its standard error [dB per 1e5
-                                  passages], from the law that fits: 20 log10(e) exp_rate for an
-                                  exponential; 20 log10(e) linear_rate / a(n_last) for a straight line
-                                  (the rate of a linear growth falls as its amplitude grows)
+    Attributes
+    ----------
+    linear_rate, linear_error : ndarray
+        Amplitude growth rate and its standard error [m per 1e5 passages].
+    exp_rate, exp_error : ndarray
+        e-folding rate and its standard error [1 per 1e5 passages].
+    law : ndarray of str
+        'linear' or 'exponential', the better fit; '' where not resolved.
+    linear_misfit, exp_misfit : ndarray
+        rms residual of each fit relative to the band's mean amplitude [-].
+    dB_rate, dB_error : ndarray
+        Level growth rate at the last save and its standard error [dB per 1e5 passages], from the
+        law that fits: 20 log10(e) exp_rate for an exponential, 20 log10(e) linear_rate / a(n_last)
+        for a straight line (the rate of a linear growth falls as its amplitude grows).
     """
 
     linear_rate: np.ndarray
