@@ -335,3 +335,35 @@ def test_a_line_and_its_band_report_one_growth_rate():
         if expected is not None:
             assert band["growth_dB_per_1e5_axles"].values[b100] == pytest.approx(expected, rel=1e-9)
             assert band["amplitude_growth_um_per_1e5_axles"].values[b100] == pytest.approx(3.0, rel=1e-9)
+
+
+def test_a_scenarios_spectrum_file_states_its_traffic_and_its_rates_per_year_and_MGT(tmp_path, defaults, schema):
+    # rail.studies.rate_spectrum.spectrum_dataset_of on the default scenario (one wheel): the rates
+    # per year and per MGT from the configuration's numbers, through finalize and netCDF, the CSV
+    from rail.growth_spectrum import RateSpectrum
+    from rail.setup import build
+    from rail.setup import config as rconfig
+    from rail.setup import io as rio
+    from rail.studies.rate_spectrum import spectrum_dataset_of
+
+    cfg = rconfig.validate_config(defaults, schema, "config.yaml")
+    scn = build.spectrum_scenario(cfg)
+    lines = np.arange(24, 61, 12)
+    g = np.linspace(-1, 1, lines.size) * 1e-6
+    sp = RateSpectrum(4 * L / lines, lines, np.zeros(lines.size, int), (-g).astype(complex), (-g).astype(complex),
+                      np.zeros(lines.size), np.zeros(lines.size), np.zeros(lines.size), 1e-4, 1e-9, 4, 1)
+    ds = rio.finalize(spectrum_dataset_of({40.0: sp}, scn), cfg, title="t", source="test")
+    rio.write_netcdf(ds, tmp_path / "s.nc")
+    back = xr.open_dataset(tmp_path / "s.nc")
+    per_day = float(defaults["traffic"]["axles_per_day"])
+    axle_t = 2 * float(defaults["wheels"]["static_load"]) / 9.80665 / 1000
+    wheels = len(defaults["wheels"]["positions"])
+    d = 20 * np.log10(np.e) * g * 1e5 / wheels
+    np.testing.assert_allclose(back["growth_dB_per_1e5_axles"].values[0], d, rtol=1e-12, atol=1e-15)
+    np.testing.assert_allclose(back["growth_dB_per_year"].values[0], d / 1e5 * per_day * 365, rtol=1e-12, atol=1e-12)
+    np.testing.assert_allclose(back["growth_dB_per_MGT"].values[0], d / 1e5 * 1e6 / axle_t, rtol=1e-12, atol=1e-12)
+    assert back["growth_dB_per_1e5_axles"].attrs["units_text"] == "dB per 100000 axle passages"
+    assert back["growth_dB_per_year"].attrs["units_text"] == "dB/year" and back.attrs["axle_load_t"] == pytest.approx(axle_t)
+    rows = _rows(E.spectrum_csv_text(back))
+    np.testing.assert_allclose([float(r["growth_dB_per_MGT"]) for r in rows], d / 1e5 * 1e6 / axle_t, rtol=1e-3, atol=1e-9)
+    back.close()
