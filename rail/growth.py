@@ -40,7 +40,10 @@ import numpy as np
 from .contact import ContactError
 from .interaction import ContactLossError, Roughness
 
-__all__ = ["GrowthSettings", "GrowthHistory", "GrowthStepError", "grid_phase", "levels_dB", "run_growth", "step_error"]
+__all__ = ["GrowthSettings", "GrowthHistory", "GrowthStepError", "grid_phase", "levels_dB", "run_growth", "step_error",
+           "DB_PER_NEPER", "BandGrowth", "band_growth"]
+
+DB_PER_NEPER = 20 * np.log10(np.e)  # dB of amplitude per unit of ln(amplitude)
 
 GOLDEN = (np.sqrt(5) - 1) / 2
 
@@ -174,6 +177,93 @@ def levels_dB(Z):
     K = (Z.shape[-1] - 1) // 2
     rms = np.sqrt(2) * np.abs(Z[..., K + 1 :])
     return 20 * np.log10(np.maximum(rms, 1e-30) / 1e-6)
+
+
+@dataclass(frozen=True)
+class BandGrowth:
+    """Growth of each band (or line) over a run (band_growth).
+
+    Attributes
+    ----------
+    linear_rate, linear_error : ndarray
+        Amplitude growth rate and its standard error [m per 1e5 passages].
+    exp_rate, exp_error : ndarray
+        e-folding rate and its standard error [1 per 1e5 passages].
+    law : ndarray of str
+        'linear' or 'exponential', the better fit; '' where not resolved.
+    linear_misfit, exp_misfit : ndarray
+        rms residual of each fit relative to the band's mean amplitude [-].
+    dB_rate, dB_error : ndarray
+        Level growth rate at the last save and its standard error [dB per 1e5 passages], from the
+        law that fits: 20 log10(e) exp_rate for an exponential, 20 log10(e) linear_rate / a(n_last)
+        for a straight line (the rate of a linear growth falls as its amplitude grows).
+    """
+
+    linear_rate: np.ndarray
+    linear_error: np.ndarray
+    exp_rate: np.ndarray
+    exp_error: np.ndarray
+    law: np.ndarray
+    linear_misfit: np.ndarray
+    exp_misfit: np.ndarray
+    dB_rate: np.ndarray
+    dB_error: np.ndarray
+
+
+def _line_fit(x, y):
+    """Least-squares slope, its standard error and the rms residual of y = c + s x."""
+    A = np.vstack([np.ones_like(x), x]).T
+    coef, *_ = np.linalg.lstsq(A, y, rcond=None)
+    res = y - A @ coef
+    dof = max(len(x) - 2, 1)
+    s2 = float(res @ res) / dof
+    cov = s2 * np.linalg.inv(A.T @ A)
+    return coef, float(np.sqrt(cov[1, 1])), float(np.sqrt(np.mean(res**2)))
+
+
+def band_growth(passages, ms) -> BandGrowth:
+    """Fit the growth of every band or line: a straight line and an exponential in its rms amplitude,
+    the better one its law, and the level growth rate at the last save from that law
+    (rail.studies.bands, docs/exports.md).
+
+    Parameters
+    ----------
+    passages : ndarray, shape (n,)
+        Wheel passages at the saves [-]; at least 3.
+    ms : ndarray, shape (n, bands)
+        Band mean squares [m^2] (band_mean_square); NaN columns are unresolved bands.
+
+    Returns
+    -------
+    BandGrowth
+    """
+    n = np.asarray(passages, dtype=float) / 1e5
+    if n.size < 3:
+        raise ValueError(f"band growth needs at least 3 saved passage counts, got {n.size}.")
+    amp = np.sqrt(np.asarray(ms, dtype=float))
+    B = amp.shape[1]
+    out = {k: np.full(B, np.nan) for k in ("lr", "le", "er", "ee", "lm", "em", "dr", "de")}
+    law = np.full(B, "", dtype=object)
+    for b in range(B):
+        a = amp[:, b]
+        if not np.all(np.isfinite(a)):
+            continue
+        scale = max(float(np.mean(a)), 1e-300)
+        (c, s), se, rms = _line_fit(n, a)
+        out["lr"][b], out["le"][b], out["lm"][b] = s, se, rms / scale
+        if np.all(a > 0):
+            (c2, g), ge, _ = _line_fit(n, np.log(a))
+            fit = np.exp(c2 + g * n)
+            out["er"][b], out["ee"][b] = g, ge
+            out["em"][b] = float(np.sqrt(np.mean((a - fit) ** 2))) / scale
+        law[b] = "exponential" if np.isfinite(out["em"][b]) and out["em"][b] < out["lm"][b] else "linear"
+        # the level growth rate at the last save from the law that fits: constant for an exponential,
+        # 20 log10(e) s / a(n_last) for a straight line (falls as the amplitude grows)
+        if law[b] == "exponential":
+            out["dr"][b], out["de"][b] = DB_PER_NEPER * out["er"][b], DB_PER_NEPER * out["ee"][b]
+        elif c + s * n[-1] > 0:
+            out["dr"][b], out["de"][b] = DB_PER_NEPER * s / (c + s * n[-1]), DB_PER_NEPER * se / (c + s * n[-1])
+    return BandGrowth(out["lr"], out["le"], out["er"], out["ee"], law.astype(str), out["lm"], out["em"], out["dr"], out["de"])
 
 
 def _fingerprint(obj) -> str:

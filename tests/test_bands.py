@@ -108,16 +108,17 @@ def test_band_dataset_and_csv_of_a_growth_run(tmp_path):
     limit = (tob.nominal, np.full(len(tob.nominal), 10.0))
     ds = B.bands_dataset(g, L, tob, 1, limit, per_day=10000.0)
     b50 = int(np.nonzero(tob.nominal == 0.05)[0][0])
-    assert ds["growth_law"].values[b50] == "exponential" and ds["efolding_rate"].values[b50] == pytest.approx(2.0, rel=1e-9)
+    assert ds["growth_law"].values[b50] == "exponential" and ds["efolding_rate_per_1e5_axles"].values[b50] == pytest.approx(2.0, rel=1e-9)
     t = 1e5 * np.log(1e-6 * 10 ** 0.5 * np.sqrt(2) / 1e-6) / 2.0  # band rms a / sqrt(2) reaches 10 dB (74,893)
     assert ds.attrs["grinding_interval_band_m"] == 0.05
     assert ds.attrs["grinding_interval_passages"] == pytest.approx(t, rel=1e-9)
     assert ds.attrs["grinding_interval_days"] == pytest.approx(t / 10000.0)
     B.write_band_csv(ds, tmp_path / "b.csv")
-    lines = (tmp_path / "b.csv").read_text().splitlines()
-    assert lines[0].startswith("nominal_wavelength_m,centre_wavelength_m,resolved,level_dB_re_1um_at_0_passages")
+    lines = [x for x in (tmp_path / "b.csv").read_text().splitlines() if not x.startswith("#")]
+    assert lines[0].startswith("nominal_wavelength_m,centre_wavelength_m,frequency_Hz,resolved,level_dB_re_1um_at_0_axle_passages")
     assert len(lines) == 1 + len(tob.nominal)
-    assert lines[1].split(",")[2] == "0" and lines[1].split(",")[3] == "nan"  # 1 m: longer than 4 bays
+    first = lines[1].split(",")
+    assert first[3] == "0" and first[4] == "" and "not resolved" in first[-1]  # 1 m: no line 4 L / j in the band
 
 
 def test_sweep_band_map_puts_each_runs_band_growth_on_the_grid():
@@ -140,9 +141,12 @@ def test_sweep_band_map_puts_each_runs_band_growth_on_the_grid():
             idx.append((a_i, b_i))
     ds = B.sweep_band_map(runs, ["speed", "track.pad.stiffness"], [[20.0, 40.0], [3.5e8, 1e8]], idx, L, tob)
     b50 = int(np.nonzero(tob.nominal == 0.05)[0][0])
-    np.testing.assert_allclose(ds["amplitude_growth_rate"].values[:, :, b50], [[1.0, 3.0], [2.0, 4.0]], rtol=1e-9)
+    np.testing.assert_allclose(ds["amplitude_growth_um_per_1e5_axles"].values[:, :, b50], [[1.0, 3.0], [2.0, 4.0]], rtol=1e-9)
+    # linear growth 0.1 um + r per 1e5: at 50,000 passages 20 log10(e) r / (0.1 um + r / 2) dB per 1e5
+    r = np.array([[1.0, 3.0], [2.0, 4.0]])
+    np.testing.assert_allclose(ds["growth_dB_per_1e5_axles"].values[:, :, b50], 20 / np.log(10) * r / (0.1 + r / 2), rtol=1e-9)
     assert ds.sizes == {"speed": 2, "track_pad_stiffness": 2, "band": len(tob.nominal)}
-    assert np.isnan(ds["amplitude_growth_rate"].values[0, 0, 0])  # 1 m: longer than the bay
+    assert np.isnan(ds["amplitude_growth_um_per_1e5_axles"].values[0, 0, 0])  # 1 m: longer than the bay
 
 
 def test_sweep_band_figure_draws_a_panel_per_value_of_the_second_key(tmp_path):
@@ -153,7 +157,7 @@ def test_sweep_band_figure_draws_a_panel_per_value_of_the_second_key(tmp_path):
 
     tob = B.third_octave_bands(1.0, 0.00315)
     rng = np.random.default_rng(0)
-    ds = xr.Dataset({"amplitude_growth_rate": (("speed", "pad", "band"), rng.standard_normal((2, 3, len(tob.nominal))))},
+    ds = xr.Dataset({"growth_dB_per_1e5_axles": (("speed", "pad", "band"), rng.standard_normal((2, 3, len(tob.nominal))))},
                     coords={"speed": ("speed", [20.0, 40.0], {"units": "m/s"}), "pad": ("pad", [1e8, 2e8, 3e8], {"units": "N/m"}),
                             "nominal_wavelength": ("band", tob.nominal)})
     fig = report.sweep_band_map(ds)

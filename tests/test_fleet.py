@@ -423,18 +423,22 @@ def test_fleet_spectrum_per_axle_figure_and_the_traffic_study_summary_from_class
     again = GS.fleet_spectrum_of(classes, back)
     assert np.array_equal(again.total.rate, fs.total.rate) and np.array_equal(again.total.rate_other, fs.total.rate_other)
     ds = FS.fleet_spectrum_dataset(again, fl)
-    np.testing.assert_allclose(ds["growth_dB_per_axle"].values, ds["growth_dB"].values / fl.axles_per_train, rtol=1e-15)
+    np.testing.assert_allclose(ds["growth_dB_per_1e5_axles"].values, ds["growth_dB"].values / fl.axles_per_train, rtol=1e-15)
+    # per MGT: the traffic's mean axle load worked out here from the vehicles (2 P / g per axle, weighted by share x axles)
+    w = [v.share * len(v.positions) for v in fl.vehicles]
+    load_t = sum(wi * 2 * v.static_load / 9.80665 / 1000 for wi, v in zip(w, fl.vehicles)) / sum(w)
+    np.testing.assert_allclose(ds["growth_dB_per_MGT"].values, ds["growth_dB_per_1e5_axles"].values / 1e5 * 1e6 / load_t, rtol=1e-12)
     ds.attrs.update({"pinned_pinned_frequency_Hz": 1000.0, "mean_speed_m_per_s": 40.0,
                      "pinned_pinned_wavelength_m": float(ds["wavelength"].values.mean())})
     plots.fleet_spectrum_figure(ds).savefig(tmp_path / "f.png")
     twice = ds.copy(deep=True)
-    twice["growth_dB_per_axle"] = 2 * ds["growth_dB_per_axle"]
+    twice["growth_dB_per_1e5_axles"] = 2 * ds["growth_dB_per_1e5_axles"]
     st = FS.traffic_study_dataset([ds, twice], [("driven", 0.0), ("driven", 0.1)])
-    lam, g = ds["wavelength"].values, ds["growth_dB_per_axle"].values
+    lam, g = ds["wavelength"].values, ds["growth_dB_per_1e5_axles"].values
     bands = third_octave_bands(float(lam.max()), float(lam.min()))
     for b, (lo, hi) in enumerate(zip(bands.lower, bands.upper)):
         sel = (lam >= lo) & (lam < hi)
-        got = st["band_growth_dB_per_axle"].sel(drive="driven", spread=0.1, band=bands.nominal[b]).item()
+        got = st["band_growth_dB_per_1e5_axles"].sel(drive="driven", spread=0.1, band=bands.nominal[b]).item()
         assert (np.isnan(got) and not sel.any()) or got == pytest.approx(2 * g[sel].mean(), rel=1e-14)
     text = FS.traffic_summary_markdown(st)
     assert "| driven | ±0 % |" in text and "| driven | ±10 % |" in text

@@ -29,7 +29,7 @@ def _unit_literals():
 
 def test_the_source_has_unit_strings_to_check():
     units = _unit_literals()
-    assert len(units) > 15 and "dB re 1 um" in units and "um per 100000 passages" in units
+    assert len(units) > 15 and "dB re 1 um" in units and "um per 100000 axle passages" in units
 
 
 @pytest.mark.parametrize("units", _unit_literals())

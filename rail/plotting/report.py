@@ -299,40 +299,57 @@ def growth_narrowband(ds: xr.Dataset):
 
 def band_spectra(ds: xr.Dataset):
     """One-third-octave bands of a growth run: (left) band levels at the first, middle and last saved
-    passage counts against the limit; (right) the growth rate per band with its error (the law the
-    data prefer marked: o linear, ^ exponential)."""
-    fig, (a1, a2) = plt.subplots(1, 2, figsize=(11.0, 4.2), layout="constrained")
+    passage counts with a level against the limit; (middle) the level growth rate per band in dB per
+    100,000 axle passages at the last save with its error, as in the band export (the law the data
+    prefer marked: o linear, ^ exponential); (right) the amplitude growth rate in µm per 100,000 axle
+    passages, which ranks the bands where growth is linear (from a smooth rail every such band's dB
+    rate is the same, about 8.7 dB at 100,000 passages)."""
+    fig, (a1, a2, a3) = plt.subplots(1, 3, figsize=(15.0, 4.2), layout="constrained")
     lam = ds["nominal_wavelength"].values * 1e3
     n = ds["passage"].values
     res = ds["resolved"].values.astype(bool)
-    for style, i in zip(_STYLES, sorted({0, len(n) // 2, len(n) - 1})):
+    has = np.nonzero(np.isfinite(ds["level"].values[:, res]).any(axis=1))[0] if res.any() else np.arange(len(n))
+    has = has if has.size else np.arange(len(n))  # the saves with a level (not the smooth rail at the start)
+    for style, i in zip(_STYLES, sorted({int(has[0]), int(has[len(has) // 2]), int(has[-1])})):
         days = ds["days"].values[i]
-        label = text.passages(n[i]) + (f" ({text.count(days)} days)" if np.isfinite(days) else "")
+        label = f"{text.count(n[i])} axle passages" + (f" ({text.count(days)} days)" if np.isfinite(days) else "")
         a1.semilogx(lam[res], ds["level"].values[i][res], linestyle=style, marker="o", ms=3, color="k", lw=0.8, label=label)
     if np.isfinite(ds["limit"].values).any():
         a1.semilogx(lam, ds["limit"].values, color="0.5", lw=2, label="limit")
     a1.invert_xaxis()
     a1.set_xlabel("one-third-octave band, centre wavelength (mm)")
     a1.set_ylabel("roughness level (dB re 1 µm)")
-    gi = ds.attrs["grinding_interval_passages"]
     nb = int(ds.attrs['bays'])
     title = f"V = {ds.attrs['speed_m_per_s']:g} m/s, roughness period {nb} bay{'s' if nb > 1 else ''}"
-    if np.isfinite(gi):
-        days = ds.attrs["grinding_interval_days"]
-        title += "\n" + text.limit_reached(gi, days, ds.attrs["grinding_interval_band_m"] * 1e3)
-    a1.set_title(title, fontsize=9)
+    if ds.attrs.get("grinding_interval_text"):
+        title += "\n" + ds.attrs["grinding_interval_text"]
+    fig.suptitle(title, fontsize=9)
     a1.legend(fontsize=7)
-    rate, err = ds["amplitude_growth_rate"].values, ds["amplitude_growth_rate_error"].values
+    rate, err = ds["growth_dB_per_1e5_axles"].values, ds["growth_dB_per_1e5_axles_error"].values
     law = ds["growth_law"].values
-    a2.errorbar(lam[res], rate[res], yerr=err[res], fmt="none", ecolor="k", lw=0.6)
+    ok = res & np.isfinite(rate)
+    a2.errorbar(lam[ok], rate[ok], yerr=err[ok], fmt="none", ecolor="k", lw=0.6)
     for mark, name in (("o", "linear"), ("^", "exponential")):
-        sel = res & (law == name)
+        sel = ok & (law == name)
         a2.semilogx(lam[sel], rate[sel], mark, color="k", mfc="none", label=f"{name} growth fits better")
     a2.axhline(0.0, color="0.6", lw=0.6)
-    a2.invert_xaxis()
+    a2.set_xscale("log")
+    a2.set_xlim(a1.get_xlim())  # already inverted: the same bands under each other
     a2.set_xlabel("one-third-octave band, centre wavelength (mm)")
-    a2.set_ylabel("rms amplitude growth rate (µm per 100,000 passages)")
+    a2.set_ylabel("level growth (dB per 100,000 axle passages)")
+    a2.set_title("level growth rate at the last save", fontsize=8)
     a2.legend(fontsize=7)
+    amp, amp_err = ds["amplitude_growth_um_per_1e5_axles"].values, ds["amplitude_growth_um_per_1e5_axles_error"].values
+    ok3 = res & np.isfinite(amp)
+    a3.errorbar(lam[ok3], amp[ok3], yerr=amp_err[ok3], fmt="none", ecolor="k", lw=0.6)
+    for mark, name in (("o", "linear"), ("^", "exponential")):
+        sel = ok3 & (law == name)
+        a3.semilogx(lam[sel], amp[sel], mark, color="k", mfc="none", label=f"{name} growth fits better")
+    a3.axhline(0.0, color="0.6", lw=0.6)
+    a3.set_xlim(a1.get_xlim())
+    a3.set_xlabel("one-third-octave band, centre wavelength (mm)")
+    a3.set_ylabel("amplitude growth (µm rms per 100,000 axle passages)")
+    a3.set_title("amplitude growth rate: ranks the linearly growing bands", fontsize=8)
     return fig
 
 
@@ -352,9 +369,10 @@ def sweep_panels(ds: xr.Dataset, name: str, across: str, extra_width: float = 0.
 
 
 def sweep_band_map(ds: xr.Dataset):
-    """Growth rate per one-third-octave band over a sweep: band wavelength across, the first swept
-    key up; one panel per value of a second swept key (the first value of any further key)."""
-    z, keys, second, panels, fig, axes = sweep_panels(ds, "amplitude_growth_rate", "band")
+    """Level growth rate per one-third-octave band over a sweep (dB per 100,000 axle passages, as the
+    band export): band wavelength across, the first swept key up; one panel per value of a second
+    swept key (the first value of any further key)."""
+    z, keys, second, panels, fig, axes = sweep_panels(ds, "growth_dB_per_1e5_axles", "band")
     lam = ds["nominal_wavelength"].values * 1e3
     lim = float(np.nanmax(np.abs(z.values))) if np.isfinite(z.values).any() else 1.0
     y = ds[keys[0]].values
@@ -367,7 +385,7 @@ def sweep_band_map(ds: xr.Dataset):
         ax.set_ylabel(f"{keys[0]} ({ds[keys[0]].attrs.get('units', '')})")
         if second:
             ax.set_title(f"{second} = {text.number(ds[second].values[p])} {ds[second].attrs.get('units', '')}", fontsize=9)
-    fig.colorbar(m, ax=axes[0].tolist(), label="rms amplitude growth rate (µm per 100,000 passages)")
+    fig.colorbar(m, ax=axes[0].tolist(), label="level growth at the last save (dB per 100,000 axle passages)")
     return fig
 
 
@@ -375,11 +393,11 @@ def sweep_map(ds: xr.Dataset):
     """Growth rate of the fastest-growing wavelength over a sweep's grid (map for two swept keys,
     lines for one or more than two)."""
     fig, ax = _new()
-    dims = [d for d in ds["max_growth_rate"].dims]
-    z = ds["max_growth_rate"]
+    dims = [d for d in ds["max_amplitude_growth_um_per_1e5_axles"].dims]
+    z = ds["max_amplitude_growth_um_per_1e5_axles"]
     if len(dims) == 2:
         m = ax.pcolormesh(ds[dims[1]], ds[dims[0]], z.values, shading="nearest", cmap="viridis")
-        fig.colorbar(m, ax=ax, label="fastest growth (µm rms per 10,000 passages)")
+        fig.colorbar(m, ax=ax, label="fastest growth (µm rms per 100,000 axle passages)")
         for i, y in enumerate(ds[dims[0]].values):
             for j, x in enumerate(ds[dims[1]].values):
                 ax.annotate(f"{1e3 * float(ds['fastest_wavelength'].values[i, j]):.0f} mm", (x, y), ha="center", va="center", fontsize=7, color="w")
@@ -391,7 +409,7 @@ def sweep_map(ds: xr.Dataset):
         for i in range(other.sizes["points"]):
             ax.plot(ds[x], other.isel(points=i), "-o", color="k", ms=3)
         ax.set_xlabel(f"{x} ({ds[x].attrs['units']})")
-        ax.set_ylabel("fastest growth (µm rms per 10,000 passages)")
+        ax.set_ylabel("fastest growth (µm rms per 100,000 axle passages)")
     ax.set_title("labels: fastest-growing wavelength", fontsize=9)
     return fig
 

@@ -230,7 +230,7 @@ def fleet_spectrum_figure(ds: xr.Dataset, title: str = ""):
         for c in ds["class"].values:
             ax.plot(lam, ds["class_contribution"].sel({"class": c}).values * to_dB * per_axle, lw=0.7,
                     label=str(ds["class_label"].values[c]) + f" (w = {float(ds['class_weight'].values[c]):.3g})")
-    ax.plot(lam, ds["growth_dB_per_axle"].values, color="k", lw=2, label="fleet")
+    ax.plot(lam, ds["growth_dB_per_1e5_axles"].values, color="k", lw=2, label="fleet")
     ax.axhline(0, color="0.3", lw=0.7)
     if "pinned_pinned_wavelength_m" in ds.attrs:
         x = 1e3 * float(ds.attrs["pinned_pinned_wavelength_m"])
@@ -254,7 +254,7 @@ def traffic_study_figure(ds: xr.Dataset):
     pp = 1e3 * float(ds.attrs["pinned_pinned_wavelength_m"])
     for ax, d in zip(axes[0], drives):
         for s in ds["spread"].values:
-            ax.plot(lam, ds["growth_dB_per_axle"].sel(drive=d, spread=s).values, lw=1.2, label=f"speed spread ±{100 * s:g} %")
+            ax.plot(lam, ds["growth_dB_per_1e5_axles"].sel(drive=d, spread=s).values, lw=1.2, label=f"speed spread ±{100 * s:g} %")
         ax.axhline(0, color="0.3", lw=0.7)
         ax.axvline(pp, color="k", ls=":", lw=1)
         ax.text(pp, 0.98, f" pinned-pinned {pp:.1f} mm", transform=ax.get_xaxis_transform(), fontsize=7, va="top")

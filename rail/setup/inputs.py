@@ -13,7 +13,7 @@ from pathlib import Path
 
 from ..decay import read_measured_decay_rate
 from ..growth_spectrum import spectrum_lines
-from ..roughness import read_limit_spectrum
+from ..roughness import read_limit_spectrum, read_third_octave_spectrum
 from ..scenario import Scenario
 from .build import physics_problems
 from .config import ConfigError
@@ -23,7 +23,7 @@ __all__ = ["FILE_KEYS", "MAX_SPEED", "resolve_paths", "measured_decay_file", "ch
 MAX_SPEED = 300.0  # m/s, the schema's bound on a configured speed (config/schema: speeds.items.maximum)
 
 # The configuration keys that name files (relative paths are relative to the project folder)
-FILE_KEYS = (("roughness", "file"), ("figures", "bands", "limit"), ("measured", "decay_rate"))
+FILE_KEYS = (("roughness", "file"), ("figures", "bands", "limit"), ("figures", "bands", "wheel_roughness"), ("measured", "decay_rate"))
 
 
 def _get(cfg: dict, keys):
@@ -148,6 +148,12 @@ def check_inputs(cfg: dict, scn: Scenario, name: str, source: str, root=".") -> 
             read_limit_spectrum(limit)
         except (OSError, ValueError) as e:
             raise ConfigError(f"{where}: figures.bands.limit: {e}") from None
+    wheel = _get(cfg, ("figures", "bands", "wheel_roughness"))
+    if wheel:
+        try:
+            read_third_octave_spectrum(wheel)
+        except (OSError, ValueError) as e:
+            raise ConfigError(f"{where}: figures.bands.wheel_roughness: {e}") from None
     s = _get(cfg, ("figures", "rate_spectrum"))
     if s:
         try:  # the spectrum's period must resolve its longest wavelength, its shortest lie above L / K

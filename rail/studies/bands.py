@@ -16,12 +16,14 @@ coefficients Z_j of its Fourier series (rail.interaction.Roughness):
   are marked (NaN level and resolved = 0), never filled.
 * Levels in dB re 1 um rms: L = 10 log10(mean square / (1e-6 m)^2).
 
-Growth per band: from the rms amplitude a(n) of each band at the saved passage counts n, a straight
-line a = a0 + r n (amplitude growth, um per 1e5 passages) and an exponential a = a0 exp(g n)
-(e-folding rate g per 1e5 passages) are both fitted by least squares with their standard errors;
-the one with the smaller residual relative to the band's amplitude is reported as the band's
-growth law. The grinding interval is the number of passages (and, with the traffic, days) until
-the first band's level, extrapolated with its own growth law, reaches the limit spectrum.
+Growth per band (rail.growth.band_growth): from the rms amplitude a(n) of each band at the saved
+passage counts n, a straight line a = a0 + r n (amplitude growth, um per 1e5 axle passages) and an
+exponential a = a0 exp(g n) (e-folding rate g per 1e5 axle passages) are both fitted by least
+squares with their standard errors; the one with the smaller residual relative to the band's
+amplitude is reported as the band's growth law, and the level growth rate in dB per 1e5 axle
+passages is that law's rate at the last save (docs/exports.md). The grinding interval is the number
+of axle passages (and, with the traffic, days, years and MGT) until the first band's level,
+extrapolated with its own growth law, reaches the limit spectrum.
 """
 
 from __future__ import annotations
@@ -30,13 +32,37 @@ from dataclasses import dataclass
 
 import numpy as np
 
+from ..growth import DB_PER_NEPER, BandGrowth, band_growth
 from ..roughness import NOMINAL_WAVELENGTHS_M, nominal_band
 
 __all__ = ["NOMINAL_WAVELENGTHS_M", "ThirdOctaveBands", "third_octave_bands", "band_mean_square", "band_levels",
-           "BandGrowth", "band_growth", "grinding_interval", "bands_dataset", "write_band_csv", "sweep_band_map"]
+           "BandGrowth", "band_growth", "grinding_interval", "empty_band_reasons", "bands_dataset", "grinding_interval_text", "band_csv_text", "write_band_csv", "sweep_band_map", "readable_count"]
 
 # NOMINAL_WAVELENGTHS_M: EN 15610 nominal centre wavelengths (m) of the exact series 10^(-n/10) m,
 # n = 0..25 (rail.roughness, where the limit spectrum is read and checked against them)
+
+
+def readable_count(x: float, digits: int = 3) -> str:
+    """A count for a title or a header: ``digits`` significant figures with thousands separators
+    (82,300 rather than 8.23e+04); 'never' for inf.
+
+    Parameters
+    ----------
+    x : float
+    digits : int
+
+    Returns
+    -------
+    str
+    """
+    if not np.isfinite(x):
+        return "never" if x > 0 else "nan"
+    if x == 0:
+        return "0"
+    r = float(f"{x:.{digits}g}")
+    if abs(r) >= 10 ** (digits - 1):
+        return f"{int(round(r)):,}"
+    return f"{r:,.{max(digits - 1 - int(np.floor(np.log10(abs(r)))), 0)}f}"
 
 
 @dataclass(frozen=True)
@@ -128,73 +154,6 @@ def band_levels(Z, period: float, bands: ThirdOctaveBands, min_lines: int = 1):
         return 10 * np.log10(ms / 1e-12), resolved
 
 
-@dataclass(frozen=True)
-class BandGrowth:
-    """Growth of each band over a run (module docstring).
-
-    linear_rate, linear_error   : amplitude growth rate and its standard error [m per 1e5 passages]
-    exp_rate, exp_error         : e-folding rate and its standard error [1 per 1e5 passages]
-    law                         : 'linear' or 'exponential', the better fit; '' where not resolved
-    linear_misfit, exp_misfit   : rms residual of each fit relative to the band's mean amplitude [-]
-    """
-
-    linear_rate: np.ndarray
-    linear_error: np.ndarray
-    exp_rate: np.ndarray
-    exp_error: np.ndarray
-    law: np.ndarray
-    linear_misfit: np.ndarray
-    exp_misfit: np.ndarray
-
-
-def _line_fit(x, y):
-    """Least-squares slope, its standard error and the rms residual of y = c + s x."""
-    A = np.vstack([np.ones_like(x), x]).T
-    coef, *_ = np.linalg.lstsq(A, y, rcond=None)
-    res = y - A @ coef
-    dof = max(len(x) - 2, 1)
-    s2 = float(res @ res) / dof
-    cov = s2 * np.linalg.inv(A.T @ A)
-    return coef, float(np.sqrt(cov[1, 1])), float(np.sqrt(np.mean(res**2)))
-
-
-def band_growth(passages, ms) -> BandGrowth:
-    """Fit the growth of every band (module docstring).
-
-    Parameters
-    ----------
-    passages : ndarray, shape (n,)
-        Wheel passages at the saves [-]; at least 3.
-    ms : ndarray, shape (n, bands)
-        Band mean squares [m^2] (band_mean_square); NaN columns are unresolved bands.
-
-    Returns
-    -------
-    BandGrowth
-    """
-    n = np.asarray(passages, dtype=float) / 1e5
-    if n.size < 3:
-        raise ValueError(f"band growth needs at least 3 saved passage counts, got {n.size}.")
-    amp = np.sqrt(np.asarray(ms, dtype=float))
-    B = amp.shape[1]
-    out = {k: np.full(B, np.nan) for k in ("lr", "le", "er", "ee", "lm", "em")}
-    law = np.full(B, "", dtype=object)
-    for b in range(B):
-        a = amp[:, b]
-        if not np.all(np.isfinite(a)):
-            continue
-        scale = max(float(np.mean(a)), 1e-300)
-        (c, s), se, rms = _line_fit(n, a)
-        out["lr"][b], out["le"][b], out["lm"][b] = s, se, rms / scale
-        if np.all(a > 0):
-            (c2, g), ge, _ = _line_fit(n, np.log(a))
-            fit = np.exp(c2 + g * n)
-            out["er"][b], out["ee"][b] = g, ge
-            out["em"][b] = float(np.sqrt(np.mean((a - fit) ** 2))) / scale
-        law[b] = "exponential" if np.isfinite(out["em"][b]) and out["em"][b] < out["lm"][b] else "linear"
-    return BandGrowth(out["lr"], out["le"], out["er"], out["ee"], law.astype(str), out["lm"], out["em"])
-
-
 def grinding_interval(passages, ms, growth: BandGrowth, limit_dB, per_day: float | None = None):
     """Passages (and days) until the first band reaches the limit, with its band.
 
@@ -244,8 +203,51 @@ def grinding_interval(passages, ms, growth: BandGrowth, limit_dB, per_day: float
     return {"passages": best, "days": best / per_day if per_day else np.nan, "band": band, "already": already}
 
 
-def bands_dataset(growth, L: float, bands: ThirdOctaveBands, min_lines: int, limit=None, per_day: float | None = None):
+def empty_band_reasons(bands: ThirdOctaveBands, period: float, shortest: float, resolved, ms, min_lines: int = 1) -> np.ndarray:
+    """Why a band has no level, per band ('' where it has one at every save).
+
+    Parameters
+    ----------
+    bands : ThirdOctaveBands
+    period : float
+        N L, the roughness period [m] (the longest wavelength the record resolves).
+    shortest : float
+        The shortest wavelength of the record, N L / J [m].
+    resolved : ndarray of bool, shape (bands,)
+    ms : ndarray, shape (n, bands)
+        Band mean squares at the saves [m^2].
+    min_lines : int
+        Lines a band must hold to be resolved [-] (band_mean_square).
+
+    Returns
+    -------
+    ndarray of str, shape (bands,)
+    """
+    out = []
+    ms = np.atleast_2d(np.asarray(ms, dtype=float))
+    for b in range(len(bands.centre)):
+        if not resolved[b]:
+            if bands.lower[b] >= period:
+                why = f"not resolved: the band is longer than the roughness period N L = {period:.4g} m"
+            elif bands.upper[b] < shortest:
+                why = f"not resolved: the band is shorter than the shortest wavelength of the record, {1e3 * shortest:.3g} mm"
+            else:
+                why = (f"not resolved: fewer than min_lines = {min_lines} of the wavelengths N L / j of the roughness period "
+                       f"N L = {period:.4g} m fall in the band")
+        else:
+            zero = np.nonzero(~(ms[:, b] > 0))[0]
+            why = (f"no roughness in the band at {len(zero)} of {ms.shape[0]} saves (e.g. the smooth rail at the start): "
+                   "level empty there" if zero.size else "")
+        out.append(why)
+    return np.array(out, dtype=str)
+
+
+def bands_dataset(growth, L: float, bands: ThirdOctaveBands, min_lines: int, limit=None, per_day: float | None = None,
+                  traffic=None):
     """The band view of a growth run (a dataset of rail.studies.datasets.growth).
+
+    Rates follow one convention (rail.traffic, docs/exports.md): level growth in dB per 100,000 axle
+    (wheel) passages, and per year and per MGT with the traffic.
 
     Parameters
     ----------
@@ -260,24 +262,32 @@ def bands_dataset(growth, L: float, bands: ThirdOctaveBands, min_lines: int, lim
         Limit spectrum; matched to the bands by rail.roughness.nominal_band (within 1.5 % of a nominal
         label or exact centre; others are left out).
     per_day : float, optional
-        Wheel passages per day on the rail [1/day].
+        Wheel passages per day on the rail [1/day] (when ``traffic`` is not given: days only).
+    traffic : rail.traffic.Traffic, optional
+        Axles per day and axle load: the rates per year and per MGT and the interval in years and MGT.
 
     Returns
     -------
     xarray.Dataset
-        Band levels per saved passage count, resolved flags, growth rates with errors and the law,
-        the limit and the grinding interval (attributes).
+        Band levels per saved passage count (NaN where a band has no level, with the reason in
+        ``empty_reason``; never -inf), resolved flags, growth rates with errors and the law, the
+        limit and the grinding interval (attributes), the frequency V / lambda at the run's speed.
     """
     import xarray as xr
 
+    from ..traffic import AXLES_PER_RATE
     from .datasets import _var
 
+    if traffic is not None:
+        per_day = traffic.axles_per_day
     N = int(growth.attrs.get("bays", 1))
     Z = growth["Z_real"].values + 1j * growth["Z_imag"].values
     n = growth["passage"].values
+    J = (Z.shape[-1] - 1) // 2
     ms, resolved = band_mean_square(Z, N * L, bands, min_lines)
     with np.errstate(divide="ignore"):
-        level = 10 * np.log10(ms / 1e-12)
+        level = np.where(ms > 0, 10 * np.log10(np.where(ms > 0, ms, 1.0) / 1e-12), np.nan)
+    reasons = empty_band_reasons(bands, N * L, N * L / J, resolved, ms, min_lines)
     g = band_growth(n, ms)
     lim = np.full(len(bands.centre), np.nan)
     if limit is not None:
@@ -288,60 +298,163 @@ def bands_dataset(growth, L: float, bands: ThirdOctaveBands, min_lines: int, lim
                 lim[hit[0]] = lv
     gi = grinding_interval(n, ms, g, lim, per_day)
     band = int(gi["band"])
+    V = float(growth.attrs.get("speed_m_per_s", np.nan))
     dims = ("passage", "band")
+    per_1e5 = f"per {AXLES_PER_RATE} axle passages"
+    rates = {
+        "growth_dB_per_1e5_axles": _var("band", g.dB_rate, "dB per 100000 axle passages",
+                                        "level growth rate of the band at the last save from its growth law: 20 log10(e) x "
+                                        "efolding_rate_per_1e5_axles for an exponential, 20 log10(e) x amplitude rate / fitted amplitude for a "
+                                        "straight line (falls as the amplitude grows)"),
+        "growth_dB_per_1e5_axles_error": _var("band", g.dB_error, "dB per 100000 axle passages", "standard error of growth_dB_per_1e5_axles"),
+    }
+    if traffic is not None:
+        rates["growth_dB_per_year"] = _var("band", traffic.per_year(g.dB_rate), "1/year",
+                                           "level growth rate of the band per year of the traffic (growth_dB_per_1e5_axles x "
+                                           "axles_per_day x 365 / 1e5)", level_unit="dB", units_text="dB/year")
+        rates["growth_dB_per_MGT"] = _var("band", traffic.per_mgt(g.dB_rate), "1/Mt",
+                                          "level growth rate of the band per million gross tonnes (growth_dB_per_1e5_axles x "
+                                          "1e6 / axle_load_t / 1e5)", level_unit="dB", units_text="dB/Mt")
+    gi_attrs = {
+        "grinding_interval_passages": float(gi["passages"]),
+        "grinding_interval_days": float(gi["days"]),
+        "grinding_interval_years": float(traffic.years(gi["passages"])) if traffic is not None else float("nan"),
+        "grinding_interval_MGT": float(traffic.mgt(gi["passages"])) if traffic is not None else float("nan"),
+        "grinding_interval_band_m": float(bands.nominal[band]) if band >= 0 else float("nan"),
+        "grinding_interval_definition": ("axle (wheel) passages until the first band's level, extrapolated with its own growth law "
+                                         "(linear or exponential in amplitude), reaches the limit; interpolated in ln amplitude "
+                                         "between the saves when reached within the run; 0 and limit_exceeded_at_start = 1 when "
+                                         "the initial roughness already exceeds the limit; inf when no band reaches it"),
+        "limit_exceeded_at_start": int(gi["already"]),
+    }
+    gi_attrs["grinding_interval_text"] = grinding_interval_text(gi_attrs, n[0], bool(np.isfinite(lim).any()))
     return xr.Dataset(
         {
-            "level": _var(dims, level, "dB re 1 um", "one-third-octave band level of the roughness (rms)"),
+            "level": _var(dims, level, "dB re 1 um",
+                          "one-third-octave band level of the roughness (rms); NaN where the band has no level (empty_reason)"),
             "resolved": _var("band", resolved.astype(int), "1", "1 where the roughness period resolves the band (at least min_lines lines)"),
-            "amplitude_growth_rate": _var("band", g.linear_rate * 1e6, "um per 100000 passages", "rms amplitude growth rate of the band (straight-line fit)"),
-            "amplitude_growth_rate_error": _var("band", g.linear_error * 1e6, "um per 100000 passages", "standard error of the amplitude growth rate"),
-            "efolding_rate": _var("band", g.exp_rate, "1 per 100000 passages", "e-folding rate of the band's rms amplitude (exponential fit)"),
-            "efolding_rate_error": _var("band", g.exp_error, "1 per 100000 passages", "standard error of the e-folding rate"),
+            "empty_reason": _var("band", reasons, "", "why the band has no level at some or all saves ('' where it has one at every save)"),
+            **rates,
+            "amplitude_growth_um_per_1e5_axles": _var("band", g.linear_rate * 1e6, "um per 100000 axle passages",
+                                                      "rms amplitude growth rate of the band (straight-line fit)"),
+            "amplitude_growth_um_per_1e5_axles_error": _var("band", g.linear_error * 1e6, "um per 100000 axle passages",
+                                                            "standard error of the amplitude growth rate"),
+            "efolding_rate_per_1e5_axles": _var("band", g.exp_rate, "1 per 100000 axle passages",
+                                                f"e-folding rate of the band's rms amplitude (exponential fit; x {DB_PER_NEPER:.4f} = dB)"),
+            "efolding_rate_per_1e5_axles_error": _var("band", g.exp_error, "1 per 100000 axle passages", "standard error of the e-folding rate"),
             "growth_law": _var("band", g.law, "1", "the fit with the smaller misfit: linear or exponential"),
             "linear_misfit": _var("band", g.linear_misfit, "1", "rms residual of the straight-line fit over the band's mean amplitude"),
             "exponential_misfit": _var("band", g.exp_misfit, "1", "rms residual of the exponential fit over the band's mean amplitude"),
             "limit": _var("band", lim, "dB re 1 um", "limit spectrum (NaN: no limit in the band)"),
         },
         coords={
-            "passage": _var("passage", n, "1", "wheel passages"),
+            "passage": _var("passage", n, "1", "axle passages (wheel passages on the rail; a train of n axles counts n)"),
             "band": _var("band", np.arange(len(bands.centre)), "1", "band index, longest wavelength first"),
             "centre_wavelength": _var("band", bands.centre, "m", "exact centre wavelength 10^(-n/10) m"),
             "nominal_wavelength": _var("band", bands.nominal, "m", "EN 15610 nominal centre wavelength"),
+            "frequency": _var("band", V / bands.centre, "Hz", f"excitation frequency V / centre wavelength at V = {V:g} m/s"),
             "days": _var("passage", n / per_day if per_day else np.full(len(n), np.nan), "day", "days of traffic"),
+            "years": _var("passage", traffic.years(n) if traffic is not None else np.full(len(n), np.nan), "year", "years of traffic"),
+            "mgt": _var("passage", traffic.mgt(n) if traffic is not None else np.full(len(n), np.nan), "Mt", "million gross tonnes of traffic"),
         },
         attrs={
-            "grinding_interval_passages": float(gi["passages"]),
-            "grinding_interval_days": float(gi["days"]),
-            "grinding_interval_band_m": float(bands.nominal[band]) if band >= 0 else float("nan"),
-            "limit_exceeded_at_start": int(gi["already"]),
+            **gi_attrs,
             "axles_per_day": float(per_day) if per_day else float("nan"),
+            **({k: v for k, v in traffic.attributes().items() if k != "axles_per_day"} if traffic is not None else {}),
+            "rate_convention": f"level growth in dB {per_1e5} (a wheel passage on the rail is an axle passage), per year and per MGT "
+                               "with the traffic (docs/exports.md)",
             "bays": N,
-            "speed_m_per_s": float(growth.attrs.get("speed_m_per_s", np.nan)),
+            "period_m": float(N * L),
+            "shortest_wavelength_m": float(N * L / J),
+            "speed_m_per_s": V,
             "processing": "lines of the periodic profile summed per band (no window); rail/studies/bands.py",
         },
     )
 
 
-def write_band_csv(ds, path) -> None:
-    """Export of the band spectra for rolling-noise tools: one row per band, one level column per
-    saved passage count, units in the header (levels in dB re 1 um rms; nan: band not resolved,
-    -inf: resolved but no roughness in it).
+def grinding_interval_text(attrs: dict, first: float, has_limit: bool) -> str:
+    """The grinding interval in words for a title or a header, readable numbers (82,300, not 8.23e+04).
+
+    Parameters
+    ----------
+    attrs : dict
+        The grinding_interval_* attributes of bands_dataset.
+    first : float
+        The first saved passage count [-].
+    has_limit : bool
+        Whether a limit spectrum was given.
+
+    Returns
+    -------
+    str
+    """
+    gi, band = attrs["grinding_interval_passages"], attrs["grinding_interval_band_m"]
+    if not has_limit:
+        return "no limit spectrum given"
+    if attrs["limit_exceeded_at_start"] and gi <= first:
+        return f"limit already exceeded by the initial roughness (the {1e3 * band:g} mm band)"
+    if not np.isfinite(gi):
+        return "no band reaches the limit with its growth"
+    years, mgt, days = attrs["grinding_interval_years"], attrs["grinding_interval_MGT"], attrs["grinding_interval_days"]
+    when = (f" ({years:.3g} years, {mgt:.3g} MGT)" if np.isfinite(years) and np.isfinite(mgt)
+            else f" ({days:,.0f} days)" if np.isfinite(days) else "")
+    return f"limit reached after {readable_count(gi)} axle passages{when}, set by the {1e3 * band:g} mm band"
+
+
+def band_csv_text(ds) -> str:
+    """The band export (docs/exports.md): '#' header lines with the conventions, the traffic and the
+    grinding interval with its band; one row per band with its wavelength, frequency V / lambda at the
+    run's speed, the level at every saved passage count, the growth rates and the limit. A band with
+    no level has an empty cell and its reason in the last column (never -inf).
 
     Parameters
     ----------
     ds : xarray.Dataset
         From bands_dataset.
-    path : str or Path
+
+    Returns
+    -------
+    str
     """
     n = ds["passage"].values
-    head = ["nominal_wavelength_m", "centre_wavelength_m", "resolved"] + [f"level_dB_re_1um_at_{int(p)}_passages" for p in n]
+    a = ds.attrs
+    head = ["# one-third-octave band levels of the rail roughness and their growth (rail.studies.bands; docs/exports.md)",
+            f"# speed {a['speed_m_per_s']:g} m/s; frequency_Hz = speed / centre wavelength; roughness period {a['period_m']:.4g} m "
+            f"({a['bays']} bays), shortest wavelength {1e3 * a['shortest_wavelength_m']:.3g} mm",
+            "# levels in dB re 1 um (rms); rates: dB per 100,000 axle passages (wheel passages on the rail)"
+            + (", dB/year and dB/MGT with the traffic" if "growth_dB_per_year" in ds else "; no traffic given: no rates per year or MGT"),
+            f"# traffic: {a['axles_per_day']:g} axles/day" + (f", axle load {a['axle_load_t']:.4g} t, {a['mgt_per_year']:.4g} MGT/year"
+                                                             if "axle_load_t" in a else ""),
+            "# empty cell: the band has no level there (reason in the column empty_reason)"]
+    head.append("# grinding interval: " + a["grinding_interval_text"])
+    head.append("# " + "; ".join(f"{k}={a[k]:.6g}" if np.isfinite(a[k]) else f"{k}=" for k in
+                                 ("grinding_interval_passages", "grinding_interval_years", "grinding_interval_MGT", "grinding_interval_band_m"))
+                + " (axle passages, years, MGT, band in m; empty: no finite interval, see above)")
+    cols = ["nominal_wavelength_m", "centre_wavelength_m", "frequency_Hz", "resolved"]
+    cols += [f"level_dB_re_1um_at_{int(p)}_axle_passages" for p in n]
+    rate_cols = [c for c in ("growth_dB_per_1e5_axles", "growth_dB_per_1e5_axles_error", "growth_dB_per_year", "growth_dB_per_MGT",
+                             "amplitude_growth_um_per_1e5_axles") if c in ds]
+    cols += rate_cols + ["growth_law", "limit_dB_re_1um", "empty_reason"]
+
+    def cell(v, fmt=".4g"):
+        return f"{v:{fmt}}" if np.isfinite(v) else ""
+
+    rows = [",".join(cols)]
+    for b in range(ds.sizes["band"]):
+        cells = [f"{ds['nominal_wavelength'].values[b]:g}", f"{ds['centre_wavelength'].values[b]:.8g}",
+                 cell(float(ds["frequency"].values[b]), ".5g"), str(int(ds["resolved"].values[b]))]
+        cells += [cell(v, ".3f") for v in ds["level"].values[:, b]]
+        cells += [cell(float(ds[c].values[b])) for c in rate_cols]
+        cells += [str(ds["growth_law"].values[b]), cell(float(ds["limit"].values[b]), "g"),
+                  '"' + str(ds["empty_reason"].values[b]).replace('"', "'") + '"' if ds["empty_reason"].values[b] else ""]
+        rows.append(",".join(cells))
+    return "\n".join(head + rows) + "\n"
+
+
+def write_band_csv(ds, path) -> None:
+    """Write band_csv_text(ds) to ``path``."""
     with open(path, "w") as f:
-        f.write(",".join(head) + "\n")
-        for b in range(ds.sizes["band"]):
-            lev = ds["level"].values[:, b]
-            cells = [f"{ds['nominal_wavelength'].values[b]:g}", f"{ds['centre_wavelength'].values[b]:.6g}",
-                     str(int(ds["resolved"].values[b]))] + [f"{v:.3f}" if np.isfinite(v) else ("-inf" if v == -np.inf else "nan") for v in lev]
-            f.write(",".join(cells) + "\n")
+        f.write(band_csv_text(ds))
 
 
 def sweep_band_map(runs, keys, values, indices, L: float, bands: ThirdOctaveBands, min_lines: int = 1):
@@ -362,8 +475,9 @@ def sweep_band_map(runs, keys, values, indices, L: float, bands: ThirdOctaveBand
     Returns
     -------
     xarray.Dataset
-        amplitude_growth_rate [µm per 1e5 passages], its error, the preferred law and the final band
-        level [dB re 1 µm] per grid point and band.
+        growth_dB_per_1e5_axles [dB per 1e5 axle passages, at the last save from the band's law],
+        amplitude_growth_um_per_1e5_axles [µm per 1e5 axle passages] and its error, the preferred law
+        and the final band level [dB re 1 µm, NaN where empty] per grid point and band.
     """
     import xarray as xr
 
@@ -371,7 +485,7 @@ def sweep_band_map(runs, keys, values, indices, L: float, bands: ThirdOctaveBand
 
     dims = tuple(k.replace(".", "_") for k in keys)
     shape = tuple(len(v) for v in values) + (len(bands.centre),)
-    rate, err, final = np.full(shape, np.nan), np.full(shape, np.nan), np.full(shape, np.nan)
+    rate, err, final, dB = np.full(shape, np.nan), np.full(shape, np.nan), np.full(shape, np.nan), np.full(shape, np.nan)
     law = np.full(shape, "", dtype=object)
     for run, idx in zip(runs, indices):
         N = int(run.attrs.get("bays", 1))
@@ -379,17 +493,20 @@ def sweep_band_map(runs, keys, values, indices, L: float, bands: ThirdOctaveBand
         ms, _ = band_mean_square(Z, N * L, bands, min_lines)
         g = band_growth(run["passage"].values, ms)
         rate[tuple(idx)], err[tuple(idx)], law[tuple(idx)] = g.linear_rate * 1e6, g.linear_error * 1e6, g.law
-        with np.errstate(divide="ignore"):
-            final[tuple(idx)] = 10 * np.log10(ms[-1] / 1e-12)
+        dB[tuple(idx)] = g.dB_rate
+        final[tuple(idx)] = np.where(ms[-1] > 0, 10 * np.log10(np.where(ms[-1] > 0, ms[-1], 1.0) / 1e-12), np.nan)
     coords = {d: (d, np.asarray(v), {"units": _unit_of(k), "long_name": f"swept parameter {k}"}) for d, k, v in zip(dims, keys, values)}
     coords["nominal_wavelength"] = _var("band", bands.nominal, "m", "EN 15610 nominal centre wavelength of the band")
     full = dims + ("band",)
     return xr.Dataset(
         {
-            "amplitude_growth_rate": _var(full, rate, "um per 100000 passages", "rms amplitude growth rate of the band (straight-line fit)"),
-            "amplitude_growth_rate_error": _var(full, err, "um per 100000 passages", "standard error of the growth rate"),
+            "growth_dB_per_1e5_axles": _var(full, dB, "dB per 100000 axle passages",
+                                            "level growth rate of the band at the last save from its growth law (bands_dataset)"),
+            "amplitude_growth_um_per_1e5_axles": _var(full, rate, "um per 100000 axle passages",
+                                                      "rms amplitude growth rate of the band (straight-line fit)"),
+            "amplitude_growth_um_per_1e5_axles_error": _var(full, err, "um per 100000 axle passages", "standard error of the growth rate"),
             "growth_law": _var(full, law.astype(str), "1", "the fit with the smaller misfit: linear or exponential"),
-            "level": _var(full, final, "dB re 1 um", "band level at the end of the run"),
+            "level": _var(full, final, "dB re 1 um", "band level at the end of the run (NaN: the band has no level)"),
         },
         coords=coords,
         attrs={"swept_keys": list(keys)},

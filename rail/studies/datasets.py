@@ -13,7 +13,7 @@ import xarray as xr
 
 from .. import halfspace
 from ..halfspace import ElasticMaterial, HalfSpaceNumerics
-from ..growth import levels_dB
+from ..growth import band_growth, levels_dB
 from ..interaction import Roughness, force_history
 from ..moving import MovingReceptance
 from ..setup.build import HalfSpaceFigureSettings
@@ -319,7 +319,6 @@ def growth(history, track, speed: float, n_wheels: int, points: int = 601, bays:
     n = history.passages
     half = n >= n[-1] / 2
     if half.sum() >= 2:
-        amp_slope = np.polyfit(n[half], rms[half], 1)[0] * 1e4
         # the e-folding rate d ln(amplitude) / dn where the amplitude stays positive (growth about a
         # roughness that is there; from a smooth rail the amplitude grows linearly and this rate is
         # not a property of the track)
@@ -327,7 +326,14 @@ def growth(history, track, speed: float, n_wheels: int, points: int = 601, bays:
         log_rms = np.log(np.where(rms[half] > 0, rms[half], 1.0))
         exp_rate = np.where(positive, np.polyfit(n[half], log_rms, 1)[0], np.nan)
     else:
-        amp_slope = exp_rate = np.full(K, np.nan)
+        exp_rate = np.full(K, np.nan)
+    # amplitude and level growth of each line as of a band (rail.growth.band_growth over every save):
+    # the straight-line amplitude rate and the level rate at the last save from the law that fits
+    if n.size >= 3:
+        g = band_growth(n, rms**2)
+        amp_rate, dB_rate = g.linear_rate * 1e6, g.dB_rate
+    else:
+        amp_rate = dB_rate = np.full(K, np.nan)
     return xr.Dataset(
         {
             "level": _var(("passage", "harmonic"), levels, "dB re 1 um", "rms roughness level of each harmonic of the bay (NaN where the harmonic is exactly 0)"),
@@ -335,15 +341,19 @@ def growth(history, track, speed: float, n_wheels: int, points: int = 601, bays:
             "Z_real": _var(("passage", "harmonic_all"), Z.real, "m", "real part of the roughness coefficients Z_k, k = -K..K"),
             "Z_imag": _var(("passage", "harmonic_all"), Z.imag, "m", "imaginary part of the roughness coefficients Z_k"),
             "exponential_rate": _var("harmonic", exp_rate, "1", "e-folding rate of the rms amplitude per wheel passage over the second half "
-                                     "of the run (d ln A / dn; from a smooth rail the growth is linear in the amplitude, see amplitude_growth_rate)"),
-            "amplitude_growth_rate": _var("harmonic", amp_slope, "m per 10000 passages", "growth rate of the rms amplitude over the second half of the run"),
+                                     "of the run (d ln A / dn; from a smooth rail the growth is linear in the amplitude, see amplitude_growth_um_per_1e5_axles)"),
+            "amplitude_growth_um_per_1e5_axles": _var("harmonic", amp_rate, "um per 100000 axle passages",
+                                                      "growth rate of the rms amplitude (straight-line fit over every save, as for a band)"),
+            "growth_dB_per_1e5_axles": _var("harmonic", dB_rate, "dB per 100000 axle passages",
+                                            "level growth rate at the last save from the law (straight line or exponential in amplitude) "
+                                            "that fits the line, as for a band (rail.growth.band_growth)"),
             "step_error": _var("update", history.step_error, "1", "estimated local error of each update relative to the roughness (rail.growth.step_error)"),
             "full_slip": _var("update", history.full_slip, "1", "largest fraction of the bay with no stick zone in the contact, per update"),
             **({} if force is None else {"force": _var(("passage", "wheel", "position"), np.array([force(z, x) for z in Z]), "N",
                                                         "contact force of each wheel with the wheel at the position (eq 21)")}),
         },
         coords={
-            "passage": _var("passage", n, "1", "wheel passages (a train of n wheels counts n)"),
+            "passage": _var("passage", n, "1", "axle passages: wheel passages on the rail (a train of n wheels counts n)"),
             "harmonic": _var("harmonic", k, "1", "harmonic k of the sleeper bay" if bays == 1 else f"index j of the wavenumber 2 pi j / ({bays} L)"),
             "wavenumber": _var("harmonic", k / bays * track.beta0, "rad/m", "wavenumber k beta0" if bays == 1 else f"wavenumber j beta0 / {bays}"),
             "harmonic_all": _var("harmonic_all", np.arange(-K, K + 1), "1", "harmonic index k of Z_k"),
@@ -424,7 +434,7 @@ def sweep(runs, keys, values, indices) -> xr.Dataset:
     rate = np.full(shape + (K,), np.nan)
     for run, idx in zip(runs, indices):
         level[tuple(idx)] = run["level"].values[-1]
-        rate[tuple(idx)] = run["amplitude_growth_rate"].values
+        rate[tuple(idx)] = run["amplitude_growth_um_per_1e5_axles"].values
     overall = 10 * np.log10(np.sum(10 ** (level / 10), axis=-1))
     fastest = np.nanargmax(rate, axis=-1)
     wavelength = 2 * np.pi / first["wavenumber"].values[fastest]
@@ -435,7 +445,8 @@ def sweep(runs, keys, values, indices) -> xr.Dataset:
         {
             "level": _var(dims + ("harmonic",), level, "dB re 1 um", "rms roughness level of each harmonic at the end of the run"),
             "overall_level": _var(dims, overall, "dB re 1 um", "overall rms roughness level at the end of the run"),
-            "max_growth_rate": _var(dims, np.nanmax(rate, axis=-1) * 1e6, "um per 10000 passages", "rms amplitude growth rate of the fastest-growing wavelength"),
+            "max_amplitude_growth_um_per_1e5_axles": _var(dims, np.nanmax(rate, axis=-1), "um per 100000 axle passages",
+                                                          "rms amplitude growth rate of the fastest-growing wavelength"),
             "fastest_wavelength": _var(dims, wavelength, "m", "wavelength that grows fastest"),
         },
         coords=coords,

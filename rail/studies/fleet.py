@@ -12,6 +12,7 @@ import xarray as xr
 from .. import chain, interaction
 from ..fleet import Fleet
 from ..growth_spectrum import FleetRateSpectrum
+from ..traffic import Traffic
 from . import datasets
 from .datasets import _var
 from .rate_spectrum import PASSAGES_PER_DB
@@ -121,13 +122,16 @@ def fleet_spectrum_dataset(fs: FleetRateSpectrum, fleet: Fleet) -> xr.Dataset:
     Returns
     -------
     xr.Dataset
-        growth_rate, drift, growth_dB, growth_dB_per_year over wavelength; class_growth_rate (per
+        growth_rate, drift, growth_dB (per fleet passage), growth_dB_per_1e5_axles, growth_dB_per_year,
+        growth_dB_per_MGT over wavelength; class_growth_rate (per
         passage of the class's train) and class_contribution (w_c times it) over (class, wavelength).
     """
     t = fs.total
     g = -t.rate.real
     gc = np.array([-s.rate.real for s in fs.classes])
     trains_per_year = fleet.trains_per_day * 365
+    d_axle = DB_PER_NEPER * g * PASSAGES_PER_DB / fleet.axles_per_train
+    traffic = Traffic(fleet.axles_per_day, fleet.mean_axle_load)
     return xr.Dataset(
         {
             "growth_rate": _var("wavelength", g, "1", "relative growth rate of the roughness amplitude per fleet passage, -Re R "
@@ -136,9 +140,12 @@ def fleet_spectrum_dataset(fs: FleetRateSpectrum, fleet: Fleet) -> xr.Dataset:
             "drift": _var("wavelength", -t.rate.imag, "rad", "phase drift of the roughness per fleet passage, -Im R"),
             "growth_dB": _var("wavelength", DB_PER_NEPER * g * PASSAGES_PER_DB, "dB",
                               f"level change per {PASSAGES_PER_DB} fleet passages of a small roughness at the wavelength"),
-            "growth_dB_per_axle": _var("wavelength", DB_PER_NEPER * g * PASSAGES_PER_DB / fleet.axles_per_train, "dB",
-                                       f"level change per {PASSAGES_PER_DB} axle passages of the traffic of a small roughness at "
-                                       "the wavelength (growth_dB / axles_per_train)"),
+            "growth_dB_per_1e5_axles": _var("wavelength", d_axle, "dB per 100000 axle passages",
+                                            "level change per 100,000 axle passages of the traffic of a small roughness at "
+                                            "the wavelength (growth_dB / axles_per_train)"),
+            "growth_dB_per_MGT": _var("wavelength", traffic.per_mgt(d_axle), "1/Mt",
+                                      "level change per million gross tonnes of the traffic (growth_dB_per_1e5_axles x 1e6 / "
+                                      "mean axle load [t] / 1e5)", level_unit="dB", units_text="dB/Mt"),
             "growth_rate_per_year": _var("wavelength", g * trains_per_year, "1/year",
                                          "relative growth rate of the roughness amplitude per year of the traffic"),
             "growth_dB_per_year": _var("wavelength", DB_PER_NEPER * g * trains_per_year, "1/year",
@@ -330,7 +337,7 @@ def traffic_study_dataset(spectra, cases) -> xr.Dataset:
     Returns
     -------
     xr.Dataset
-        growth_dB_per_axle (drive, spread, wavelength) and band_growth_dB_per_axle (drive, spread, band)
+        growth_dB_per_1e5_axles (drive, spread, wavelength) and band_growth_dB_per_1e5_axles (drive, spread, band)
         [dB per 100,000 axle passages]; attributes pinned_pinned_wavelength_m and pinned_pinned_band_m
         (the nominal centre of the band holding it).
     """
@@ -344,7 +351,7 @@ def traffic_study_dataset(spectra, cases) -> xr.Dataset:
             raise ValueError("the traffic study's spectra must share their lines (one figures.rate_spectrum for every case).")
     g = np.full((len(drives), len(spreads), lam.size), np.nan)
     for ds, (d, s) in zip(spectra, cases):
-        g[drives.index(d), spreads.index(float(s))] = ds["growth_dB_per_axle"].values
+        g[drives.index(d), spreads.index(float(s))] = ds["growth_dB_per_1e5_axles"].values
     if np.isnan(g).any():
         raise ValueError("the traffic study needs one spectrum for every (drive, spread).")
     bands = third_octave_bands(float(lam.max()), float(lam.min()))
@@ -356,9 +363,9 @@ def traffic_study_dataset(spectra, cases) -> xr.Dataset:
     first = spectra[0]
     return xr.Dataset(
         {
-            "growth_dB_per_axle": _var(("drive", "spread", "wavelength"), g, "dB",
+            "growth_dB_per_1e5_axles": _var(("drive", "spread", "wavelength"), g, "dB per 100000 axle passages",
                                        "level change per 100,000 axle passages of the traffic of a small roughness"),
-            "band_growth_dB_per_axle": _var(("drive", "spread", "band"), gb, "dB",
+            "band_growth_dB_per_1e5_axles": _var(("drive", "spread", "band"), gb, "dB per 100000 axle passages",
                                             "mean over the band's lines of the level change per 100,000 axle passages "
                                             "(NaN: no line in the band)"),
         },
@@ -395,8 +402,8 @@ def traffic_summary_markdown(ds: xr.Dataset) -> str:
     rows = []
     for d in ds["drive"].values:
         for s in ds["spread"].values:
-            b = ds["band_growth_dB_per_axle"].sel(drive=d, spread=s)
-            g = ds["growth_dB_per_axle"].sel(drive=d, spread=s).values
+            b = ds["band_growth_dB_per_1e5_axles"].sel(drive=d, spread=s)
+            g = ds["growth_dB_per_1e5_axles"].sel(drive=d, spread=s).values
             ifast = int(np.nanargmax(b.values))
             iline = int(np.argmax(g))
             rows.append(f"| {d} | ±{100 * s:g} % | {float(b.sel(band=pp_band)):+.3g} | {1e3 * float(b['band'][ifast]):g} | "

@@ -30,7 +30,7 @@ def spectrum_with_settings(scn, tables, settings: dict, progress=None) -> RateSp
 
 
 def rate_spectrum_dataset(spectra: dict[float, RateSpectrum], L: float, wheels: int, contact_length: float | None = None,
-                          normal: str | None = None) -> xr.Dataset:
+                          normal: str | None = None, traffic=None) -> xr.Dataset:
     """One dataset of the growth-rate spectra of one scenario at several speeds.
 
     Parameters
@@ -46,12 +46,17 @@ def rate_spectrum_dataset(spectra: dict[float, RateSpectrum], L: float, wheels: 
     normal : str, optional
         The normal-contact model ('report': valid above about ten patch lengths, stated in the
         attributes and shaded in the figure below that).
+    traffic : rail.traffic.Traffic, optional
+        For the growth per year and per MGT (growth_dB_per_year, growth_dB_per_MGT).
 
     Returns
     -------
     xr.Dataset
-        growth_rate, drift, growth_dB, source, crossover_amplitude over (speed, wavelength).
+        growth_rate, drift, growth_dB (per train passage, the figure's), growth_dB_per_1e5_axles (the
+        export convention, docs/exports.md), source, crossover_amplitude over (speed, wavelength).
     """
+    from .exports import spectrum_rates
+
     V = sorted(spectra)
     first = spectra[V[0]]
     if any(not np.array_equal(spectra[v].line, first.line) for v in V):
@@ -62,8 +67,16 @@ def rate_spectrum_dataset(spectra: dict[float, RateSpectrum], L: float, wheels: 
     with np.errstate(divide="ignore", invalid="ignore"):
         cross = np.where(src > 0, src / np.abs(R), np.nan)
     lam = first.wavelength
+    rates = spectrum_rates(g, wheels, traffic)
+    units = {"growth_dB_per_1e5_axles": ("dB per 100000 axle passages", "level change per 100,000 axle (wheel) passages of a small "
+                                         "roughness at the wavelength (growth_dB / wheels of the train)", {}),
+             "growth_dB_per_year": ("1/year", "level change per year of the traffic (growth_dB_per_1e5_axles x axles_per_day x 365 / 1e5)",
+                                    {"level_unit": "dB", "units_text": "dB/year"}),
+             "growth_dB_per_MGT": ("1/Mt", "level change per million gross tonnes (growth_dB_per_1e5_axles x 1e6 / axle_load_t / 1e5)",
+                                   {"level_unit": "dB", "units_text": "dB/Mt"})}
     return xr.Dataset(
         {
+            **{k: _var(("speed", "wavelength"), v, units[k][0], units[k][1], **units[k][2]) for k, v in rates.items()},
             "growth_rate": _var(("speed", "wavelength"), g, "1",
                                 "relative growth rate of the roughness amplitude per train passage, -Re R (> 0: grows)"),
             "growth_rate_other": _var(("speed", "wavelength"), np.array([-spectra[v].rate_other.real for v in V]), "1",
@@ -100,7 +113,9 @@ def rate_spectrum_dataset(spectra: dict[float, RateSpectrum], L: float, wheels: 
         },
         attrs={"eps_m": first.eps, "bays": first.bays, "grid_phases": first.grid_phases,
                "method": "; ".join(f"{v:g} m/s: {spectra[v].method}" for v in V), "wheels": int(wheels), "sleeper_spacing_m": float(L),
-               "passages": "per train passage (a train of n wheels counts once)",
+               "passages": "growth_dB, growth_rate, drift: per train passage (a train of n wheels counts once); "
+                           "growth_dB_per_1e5_axles: per 100,000 axle (wheel) passages",
+               **(traffic.attributes() if traffic is not None else {}),
                **({"contact_length_m": float(contact_length)} if contact_length else {}),
                **({"normal_contact": normal} if normal else {}),
                **({"report_model_valid_above_m": REPORT_VALID_PATCH_LENGTHS * float(contact_length),
@@ -124,8 +139,11 @@ def spectrum_dataset_of(spectra: dict[float, RateSpectrum], scn) -> xr.Dataset:
     -------
     xr.Dataset
     """
+    from ..traffic import traffic_of
+
     a0 = float(hertz_half_length(scn.wheels.static_load, scn.material.wheel_radius, scn.material))
-    return rate_spectrum_dataset(spectra, scn.L, len(scn.wheels.positions), 2 * a0, scn.contact_numerics.normal)
+    traffic = traffic_of(scn) if scn.axles_per_day else None
+    return rate_spectrum_dataset(spectra, scn.L, len(scn.wheels.positions), 2 * a0, scn.contact_numerics.normal, traffic)
 
 
 def growing_bands(wavelength, growth_rate):

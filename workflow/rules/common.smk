@@ -365,9 +365,10 @@ def any_wavelength_targets():
 
 
 def band_limit_file(wildcards):
-    """The limit spectrum of a scenario's band view, as an input so that editing it reruns it."""
-    f = SCENARIOS[wildcards.scenario]["figures"]["bands"]["limit"]
-    return [f] if f else []
+    """The limit spectrum and the wheel roughness (if any) of a scenario's band view, as inputs so
+    that editing them reruns it."""
+    b = SCENARIOS[wildcards.scenario]["figures"]["bands"]
+    return [f for f in (b["limit"], b.get("wheel_roughness")) if f]
 
 
 def band_targets():

@@ -99,7 +99,8 @@ for _study_name in study_names():
 
 rule growth_bands:
     """One-third-octave band levels of a growth run at every saved passage count, growth per band,
-    the grinding interval against the limit spectrum, and a CSV for rolling-noise tools."""
+    the grinding interval against the limit spectrum; CSV exports of the bands, the narrow-band levels
+    and the roughness for rolling-noise tools (docs/exports.md)."""
     input:
         "results/growth/{scenario}/V{speed}.nc",
         band_limit_file,
@@ -107,6 +108,10 @@ rule growth_bands:
         data="results/growth/{scenario}/V{speed}_bands.nc",
         csv=report("results/growth/{scenario}/V{speed}_bands.csv", caption="../report/growth_bands.rst", category="Roughness bands (EN 15610 form)",
                    subcategory="{scenario}"),
+        narrow_csv=report("results/growth/{scenario}/V{speed}_narrowband.csv", caption="../report/growth_bands.rst", category="Roughness bands (EN 15610 form)",
+                          subcategory="{scenario}"),
+        rolling_noise_csv=report("results/growth/{scenario}/V{speed}_rolling_noise_roughness.csv", caption="../report/growth_bands.rst",
+                                 category="Roughness bands (EN 15610 form)", subcategory="{scenario}"),
         figure=report("results/growth/{scenario}/V{speed}_bands.png", caption="../report/growth_bands.rst", category="Roughness bands (EN 15610 form)",
                       subcategory="{scenario}"),
     params:

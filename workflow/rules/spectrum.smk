@@ -38,6 +38,8 @@ rule rate_spectrum_map:
                       subcategory="{scenario}"),
         summary=report("results/spectrum/{scenario}/summary.md", caption="../report/rate_spectrum.rst", category="Growth-rate spectrum",
                        subcategory="{scenario}"),
+        csv=report("results/spectrum/{scenario}/rate_spectrum.csv", caption="../report/rate_spectrum.rst", category="Growth-rate spectrum",
+                   subcategory="{scenario}"),
     params:
         code=code("rate_spectrum_map.py"),
     resources:

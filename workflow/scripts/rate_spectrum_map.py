@@ -7,10 +7,10 @@ import xarray as xr
 
 from rail.plotting import studies as plots
 from rail.setup import io
-from rail.studies import rate_spectrum
+from rail.studies import exports, rate_spectrum
 
 
-def main(paths, data_path, figure_path, summary_path):
+def main(paths, data_path, figure_path, summary_path, csv_path):
     parts = [io.open_intermediate(p) for p in paths]
     ds = xr.concat(parts, dim="speed", data_vars="minimal", coords="minimal", compat="override", combine_attrs="override")
     ds = ds.sortby("speed")
@@ -18,8 +18,10 @@ def main(paths, data_path, figure_path, summary_path):
     plots.rate_spectrum_figure(ds).savefig(figure_path, dpi=150)
     with open(summary_path, "w") as fh:
         fh.write(rate_spectrum.summary_markdown(ds))
+    with open(csv_path, "w") as fh:
+        fh.write(exports.spectrum_csv_text(ds))
 
 
 if __name__ == "__main__":
     sys.stderr = open(snakemake.log[0], "w")  # noqa: F821
-    main(list(snakemake.input), snakemake.output.data, snakemake.output.figure, snakemake.output.summary)  # noqa: F821
+    main(list(snakemake.input), snakemake.output.data, snakemake.output.figure, snakemake.output.summary, snakemake.output.csv)  # noqa: F821
