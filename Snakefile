@@ -74,7 +74,7 @@ localrules:
 
 # `snakemake --report report.html` (without a target) reports what is built: report_all is then the
 # default target. With --report-after-run the run itself builds the figure set as usual.
-REPORTING = "--report" in sys.argv and "--report-after-run" not in sys.argv
+REPORTING = any(a == "--report" or a.startswith("--report=") for a in sys.argv) and "--report-after-run" not in sys.argv
 
 
 rule all:

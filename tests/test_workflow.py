@@ -456,6 +456,10 @@ def test_the_report_builds_from_one_user_study_alone_and_lists_all_its_outputs(r
     rep2 = snakemake(root, "--report", "report2.html", "report_all", cwd=workdir)
     assert rep2.returncode == 0, rep2.stderr[-2000:]
     assert "V40_3d.png" in (workdir / "report2.html").read_text(errors="replace")
+    # and the --report=FILE spelling of the option is recognised as a report call too
+    rep3 = snakemake(root, "--report=report3.html", cwd=workdir)
+    assert rep3.returncode == 0, rep3.stderr[-2000:]
+    assert "V40_3d.png" in (workdir / "report3.html").read_text(errors="replace")
 
 
 @pytest.mark.slow
