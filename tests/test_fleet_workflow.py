@@ -1,6 +1,8 @@
 """The workflow runs a scenario with a fleet (issue 35, docs/traffic.md): one receptance table per
-(track, speed) shared by every vehicle and fleet scenario, a fleet growth run and a fleet spectrum,
+class speed, named by its content and shared by the fleet's vehicles, a fleet growth run and a fleet spectrum,
 study_<name> building them, and the default target untouched. Dry runs only."""
+
+import re
 
 import numpy as np
 import pytest
@@ -46,19 +48,28 @@ def _fleets(workdir, **files):
 
 
 @pytest.mark.slow
-def test_a_fleet_study_computes_one_table_per_speed_shared_by_its_vehicles_and_other_fleets(root, workdir):
-    _fleets(workdir, mix=MIX, other=OTHER)
+def test_a_fleet_study_computes_one_table_per_speed_shared_by_its_vehicles_and_named_by_its_content(root, workdir):
+    # issue 36: a fleet's tables are named by the track, numerics and its vehicles' offsets. Before,
+    # one table per (track, speed) held every fleet's offsets, so adding a fleet scenario of other
+    # vehicles renamed nothing but changed (and reran) every other fleet's tables.
+    _fleets(workdir, mix=MIX)
+    alone = snakemake(root, "-n", "study_mix", cwd=workdir)
+    assert alone.returncode == 0, alone.stderr
+    (workdir / "config/scenarios/other.yaml").write_text(OTHER)
     out = snakemake(root, "-n", "study_mix", "study_other", cwd=workdir)
     assert out.returncode == 0, out.stderr
-    # 3 + 1 distinct speeds (36, 40, 44 from classes at 37.33, 40, 42.67 and 40, 44): one table each per
-    # period (the growth's one bay, the spectrum's N = 48), never one per vehicle or per scenario
-    speeds = ["37.333333333333336", "40", "42.666666666666664", "44"]
-    assert job_counts(out.stdout) == {"fleet_receptance": 4, "fleet_receptance_bloch": 4, "fleet_growth": 2,
+    # mix: 3 speeds (classes at 37.33, 40, 42.67), other: 2 (40, 44): one table each per period (the
+    # growth's one bay, the spectrum's N = 48), never one per vehicle
+    assert job_counts(out.stdout) == {"fleet_receptance": 5, "fleet_receptance_bloch": 5, "fleet_growth": 2,
                                       "fleet_class_spectrum": 8, "fleet_rate_spectrum": 2, "compile_kernels": 2,
                                       "study_mix": 1, "study_other": 1}  # classes: 2 vehicles x 3 speeds, 1 x 2
-    for v in speeds:  # the union of every vehicle's axle offsets, in each table
-        assert (f"fleet receptance table: track default, V = {v} m/s, offsets 0.0 -1.8 1.8 -2.6 2.6 -3.2 3.2 -3.3 3.3 -5.0 5.0 m"
-                in out.stdout), v
+    for v in ["37.333333333333336", "40", "42.666666666666664"]:  # the union of the fleet's vehicles' axle offsets
+        assert re.search(rf"fleet receptance table: track [0-9a-f]{{10}}, V = {v} m/s, offsets 0\.0 -2\.6 2\.6 -3\.3 3\.3 m", out.stdout), v
+    for v in ["40", "44"]:
+        assert re.search(rf"fleet receptance table: track [0-9a-f]{{10}}, V = {v} m/s, offsets 0\.0 -1\.8 1\.8 -3\.2 3\.2 -5\.0 5\.0 m", out.stdout), v
+    # adding the other fleet left mix's tables as they were (same files, same offsets)
+    tables = re.compile(r"results/receptance/[0-9a-f]{10}/fleet_V[0-9.]+(?:_N[0-9]+)?\.nc")
+    assert set(tables.findall(alone.stdout)) and set(tables.findall(alone.stdout)) <= set(tables.findall(out.stdout))
     assert "results/fleet/mix/growth.nc" in out.stdout and "results/fleet/other/rate_spectrum.png" in out.stdout
     assert "rule growth:" not in out.stdout and "rule receptance:" not in out.stdout  # no one-train job
 
@@ -100,9 +111,15 @@ def test_a_fleet_roughness_tied_to_one_speed_is_refused_at_start_up(root, workdi
 
 def test_a_fleet_table_at_a_speed_no_fleet_runs_at_is_refused(root, workdir):
     _fleets(workdir, mix=MIX)
-    out = snakemake(root, "-n", "results/receptance/default/fleet_V41.nc", cwd=workdir)
-    assert_stops_at_start_up(out, r"fleet table of track 'default' at V41, which is no class speed of a fleet on that track: "
+    plan = snakemake(root, "-n", "study_mix", cwd=workdir)
+    key = re.search(r"results/receptance/([0-9a-f]{10})/fleet_V40\.nc", plan.stdout).group(1)
+    out = snakemake(root, "-n", f"results/receptance/{key}/fleet_V41.nc", cwd=workdir)
+    assert_stops_at_start_up(out, rf"fleet table '{key}' \(fleets mix\) at V41, which is no class speed of those fleets: "
                                   r"the speeds are 37\.333333333333336, 40, 42\.666666666666664 m/s", workdir)
+    # a scenario's name in the key's place is refused with the content-named path
+    out = snakemake(root, "-n", "results/receptance/mix/fleet_V40.nc", cwd=workdir)
+    assert_stops_at_start_up(out, rf"fleet receptance tables are named by their content, not by a scenario: those of fleet "
+                                  rf"'mix' are results/receptance/{key}/fleet_V37\.333333333333336\.nc", workdir)
 
 
 # ---------------------------------------------------------------- the traffic study (config/traffic_study.yaml)

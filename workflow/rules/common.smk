@@ -760,11 +760,28 @@ def fleet_speed_label(v):
     return text[:-2] if text.endswith(".0") else text
 
 
+def _fleet_offsets_of(name):
+    """Offsets d between every ordered pair of axles of every vehicle of a fleet scenario (0 first) [m]."""
+    return sorted({d for c in FLEET_CLASSES[name] for d in wheel_offsets_of(c.scenario)}, key=lambda d: (abs(d), d))
+
+
+# A fleet's tables are named by their content too (issue 36): the track, its numerics and the offsets
+# of the fleet's vehicles. Fleets of the same vehicles on one track share them (the traffic study's
+# cases); a fleet of other vehicles gets its own, so adding a fleet scenario reruns no other.
+# {key: {"scenario": the first fleet holding it, "offsets": [m], "scenarios": [names]}}
+FLEET_TABLES = {}
+FLEET_TABLE = {}
+for _name in FLEET_CLASSES:
+    _key = table_key(_track_part(_name), _fleet_offsets_of(_name))
+    FLEET_TABLE[_name] = _key
+    FLEET_TABLES.setdefault(_key, {"scenario": _name, "offsets": _fleet_offsets_of(_name), "scenarios": []})["scenarios"].append(_name)
+
+
 def fleet_table_file(name, speed, bays):
-    """The shared receptance table of a fleet scenario's track at one speed (a roughness period of N > 1
-    bays: its Bloch tables)."""
+    """The shared receptance table of a fleet scenario at one class speed (a roughness period of N > 1
+    bays: its Bloch tables), named by its content (FLEET_TABLES)."""
     suffix = "" if bays == 1 else f"_N{bays}"
-    return f"results/receptance/{track_name(name)}/fleet_V{fleet_speed_label(speed)}{suffix}.nc"
+    return f"results/receptance/{FLEET_TABLE[name]}/fleet_V{fleet_speed_label(speed)}{suffix}.nc"
 
 
 def fleet_speeds(name):
@@ -814,23 +831,36 @@ def fleet_table_speeds(wildcards):
 
 
 def fleet_offsets(wildcards):
-    """Offsets d between every ordered pair of axles of every vehicle of every fleet scenario on the
-    track (0 first): one table per (track, speed) serves all of them (rail.chain.fleet_tables)."""
-    offsets = set()
-    for name, classes in FLEET_CLASSES.items():
-        if track_name(name) == wildcards.track:
-            offsets |= {d for c in classes for d in wheel_offsets_of(c.scenario)}
-    return sorted(offsets, key=lambda d: (abs(d), d))
+    """Offsets d between every ordered pair of axles of every vehicle of the fleets a table serves (0
+    first) [m] (rail.chain.fleet_tables)."""
+    return _fleet_table(wildcards)["offsets"]
+
+
+def _fleet_table(wildcards):
+    """The entry of FLEET_TABLES a fleet table target names; a scenario's name in its place is refused
+    with the content-named path."""
+    key = wildcards.track
+    if key in FLEET_TABLES:
+        return FLEET_TABLES[key]
+    if key in FLEET_TABLE:
+        raise ConfigError(f"fleet receptance tables are named by their content, not by a scenario: those of fleet '{key}' are "
+                          f"{fleet_table_file(key, fleet_speeds(key)[0], int(wildcards.get('bays', 1)))} and the other class "
+                          "speeds (docs/workflow.md).")
+    known = "; ".join(f"{k} ({', '.join(v['scenarios'][:3])})" for k, v in FLEET_TABLES.items()) or "none"
+    raise ConfigError(f"target names the fleet receptance table '{key}', which no fleet scenario uses: the fleet tables are {known}.")
 
 
 def fleet_track_config(wildcards):
-    """What a fleet table depends on: the track part of its track's configuration; the speed checked
-    as a class speed of some fleet on the track."""
-    speeds = {fleet_speed_label(v) for name in FLEET_CLASSES if track_name(name) == wildcards.track for v in fleet_speeds(name)}
+    """What a fleet table depends on: the track part of its fleets' configuration; the speed checked
+    as a class speed of a fleet it serves."""
+    t = _fleet_table(wildcards)
+    if hasattr(wildcards, "bays"):
+        checked_bays(wildcards.bays)
+    speeds = {fleet_speed_label(v) for name in t["scenarios"] for v in fleet_speeds(name)}
     if wildcards.speed not in speeds:
-        raise ConfigError(f"target names a fleet table of track '{wildcards.track}' at V{wildcards.speed}, which is no class "
-                          f"speed of a fleet on that track: the speeds are {', '.join(sorted(speeds, key=float)) or 'none'} m/s.")
-    return track_config(wildcards)
+        raise ConfigError(f"target names a fleet table '{wildcards.track}' (fleets {', '.join(t['scenarios'])}) at V{wildcards.speed}, "
+                          f"which is no class speed of those fleets: the speeds are {', '.join(sorted(speeds, key=float)) or 'none'} m/s.")
+    return _track_part(t["scenario"])
 
 
 def fleet_growth_runtime(wildcards):

@@ -1,11 +1,12 @@
 # Traffic as a fleet (issue 35, docs/traffic.md): growth and the growth-rate spectrum of a scenario with
-# `fleet:`. One receptance table per (track, speed), with the offsets of every vehicle of every fleet
-# on the track, serves every vehicle and every fleet scenario at that speed (computed once).
+# `fleet:`. One receptance table per class speed, named by its content (the track, its numerics and the
+# offsets of the fleet's vehicles), serves every vehicle of the fleet and every fleet scenario of the
+# same vehicles on that track (computed once).
 
 
 rule fleet_receptance:
     """Receptance table a_{p-k}(k Omega_0, d) of a track at one fleet class speed, with the offsets of
-    every axle pair of every fleet vehicle on the track (rail.chain.fleet_tables)."""
+    every axle pair of the fleet's vehicles (rail.chain.fleet_tables)."""
     output:
         "results/receptance/{track}/fleet_V{speed}.nc",
     wildcard_constraints:
