@@ -316,9 +316,10 @@ def test_sweep_rate_spectrum_puts_every_point_on_the_grid():
             points.append(rate_spectrum_dataset({40.0: sp}, 0.6, 1))
             indices.append((i, j))
     ds = sweep_rate_spectrum(points, ["track.pad.stiffness", "speed"], [[1e8, 3.5e8], [20.0, 40.0, 60.0]], indices)
-    assert ds["growth_dB"].dims == ("track_pad_stiffness", "speed", "wavelength")
+    assert ds["growth_dB_per_1e5_trains"].dims == ("track_pad_stiffness", "speed", "wavelength")
     for p, (i, j) in zip(points, indices):
-        np.testing.assert_array_equal(ds["growth_dB"].values[i, j], p["growth_dB"].values[0])
+        np.testing.assert_array_equal(ds["growth_dB_per_1e5_trains"].values[i, j], p["growth_dB_per_1e5_trains"].values[0])
+        np.testing.assert_array_equal(ds["growth_dB_per_1e5_axles"].values[i, j], p["growth_dB_per_1e5_axles"].values[0])
         assert ds["fastest_wavelength"].values[i, j] == p["wavelength"].values[np.argmax(p["growth_rate"].values[0])]
     assert ds["track_pad_stiffness"].attrs["units"] == "N/m"
 
