@@ -30,4 +30,4 @@ g = sp["growth_dB_per_1e5_axles"].sel(speed=40.0)
 grows = sp["wavelength"].values[g.values > 0]
 print("wavelengths that grow (mm):", ", ".join(f"{1e3 * w:.1f}" for w in grows) or "none")
 print(f"fastest: {1e3 * float(sp['fastest_wavelength'].values[0]):.1f} mm, "
-      f"{float(sp['fastest_growth_dB_per_1e5_trains'].values[0]):+.2f} dB per 100,000 train passages")
+      f"{float(sp['fastest_growth_dB_per_1e5_trains'].values[0]):+.2f} dB per 100,000 passages of the train")
