@@ -26,8 +26,8 @@ print(f"after {int(ds['passage'].values[-1])} passages the largest harmonic is k
 # over a roughness period of 4 bays, on one contact grid (quick; the workflow uses 48 bays, 30
 # lines per octave and two grids)
 sp = api.spectrum(study, speeds=[40.0], shortest=0.04, longest=0.1, per_octave=6, bays=4, grid_phases=1)
-g = sp["growth_dB"].sel(speed=40.0)
+g = sp["growth_dB_per_1e5_axles"].sel(speed=40.0)
 grows = sp["wavelength"].values[g.values > 0]
 print("wavelengths that grow (mm):", ", ".join(f"{1e3 * w:.1f}" for w in grows) or "none")
 print(f"fastest: {1e3 * float(sp['fastest_wavelength'].values[0]):.1f} mm, "
-      f"{float(sp['fastest_growth_dB'].values[0]):+.2f} dB per 100,000 passages")
+      f"{float(sp['fastest_growth_dB_per_1e5_trains'].values[0]):+.2f} dB per 100,000 passages of the train")

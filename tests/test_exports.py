@@ -250,7 +250,7 @@ def test_rate_spectrum_dataset_gives_the_axle_year_and_MGT_rates_and_its_csv(tmp
     ds = rate_spectrum_dataset({40.0: sp}, L, 4, traffic=tr)
     d = 20 * np.log10(np.e) * np.linspace(-1, 1, lines.size) * 1e-6 * 1e5 / 4
     np.testing.assert_allclose(ds["growth_dB_per_1e5_axles"].values[0], d, rtol=1e-12, atol=1e-15)
-    np.testing.assert_allclose(ds["growth_dB_per_1e5_axles"].values[0], ds["growth_dB"].values[0] / 4, rtol=1e-12, atol=1e-15)
+    np.testing.assert_allclose(ds["growth_dB_per_1e5_axles"].values[0], ds["growth_dB_per_1e5_trains"].values[0] / 4, rtol=1e-12, atol=1e-15)
     np.testing.assert_allclose(ds["growth_dB_per_year"].values[0], d / 1e5 * 20000 * 365, rtol=1e-12, atol=1e-12)
     np.testing.assert_allclose(ds["growth_dB_per_MGT"].values[0], d / 1e5 * 1e6 / 20.0, rtol=1e-12, atol=1e-12)
     assert ds.attrs["mgt_per_year"] == pytest.approx(20000 * 365 * 20 / 1e6)
@@ -273,6 +273,10 @@ def test_rates_per_axle_passage_keep_their_meaning_in_netcdf():
     u, extra = rio.cf_units("um per 100000 axle passages")
     assert u == "1e-05 um" and extra["per"] == "axle passage"
     assert cf_units.Unit(u).convert(1.0, "m") == pytest.approx(1e-11)
+    # per train passage (growth_dB_per_1e5_trains): the same scaling, the convention kept in per
+    u, extra = rio.cf_units("dB per 100000 train passages")
+    assert u == "1e-05" and extra == {"per": "train passage", "units_text": "dB per 100000 train passages", "level_unit": "dB"}
+    cf_units.Unit(u)
 
 
 def test_a_wheel_roughness_file_gives_the_combined_roughness_and_an_off_band_wavelength_is_refused(tmp_path, defaults, schema):

@@ -423,7 +423,7 @@ def test_fleet_spectrum_per_axle_figure_and_the_traffic_study_summary_from_class
     again = GS.fleet_spectrum_of(classes, back)
     assert np.array_equal(again.total.rate, fs.total.rate) and np.array_equal(again.total.rate_other, fs.total.rate_other)
     ds = FS.fleet_spectrum_dataset(again, fl)
-    np.testing.assert_allclose(ds["growth_dB_per_1e5_axles"].values, ds["growth_dB"].values / fl.axles_per_train, rtol=1e-15)
+    np.testing.assert_allclose(ds["growth_dB_per_1e5_axles"].values, ds["growth_dB_per_1e5_trains"].values / fl.axles_per_train, rtol=1e-15)
     # per MGT: the traffic's mean axle load worked out here from the vehicles (2 P / g per axle, weighted by share x axles)
     w = [v.share * len(v.positions) for v in fl.vehicles]
     load_t = sum(wi * 2 * v.static_load / 9.80665 / 1000 for wi, v in zip(w, fl.vehicles)) / sum(w)

@@ -316,9 +316,10 @@ def test_sweep_rate_spectrum_puts_every_point_on_the_grid():
             points.append(rate_spectrum_dataset({40.0: sp}, 0.6, 1))
             indices.append((i, j))
     ds = sweep_rate_spectrum(points, ["track.pad.stiffness", "speed"], [[1e8, 3.5e8], [20.0, 40.0, 60.0]], indices)
-    assert ds["growth_dB"].dims == ("track_pad_stiffness", "speed", "wavelength")
+    assert ds["growth_dB_per_1e5_trains"].dims == ("track_pad_stiffness", "speed", "wavelength")
     for p, (i, j) in zip(points, indices):
-        np.testing.assert_array_equal(ds["growth_dB"].values[i, j], p["growth_dB"].values[0])
+        np.testing.assert_array_equal(ds["growth_dB_per_1e5_trains"].values[i, j], p["growth_dB_per_1e5_trains"].values[0])
+        np.testing.assert_array_equal(ds["growth_dB_per_1e5_axles"].values[i, j], p["growth_dB_per_1e5_axles"].values[0])
         assert ds["fastest_wavelength"].values[i, j] == p["wavelength"].values[np.argmax(p["growth_rate"].values[0])]
     assert ds["track_pad_stiffness"].attrs["units"] == "N/m"
 
@@ -344,6 +345,30 @@ def test_spectrum_figures_draw_the_lines_they_are_given(tmp_path):
     sweep = sweep_rate_spectrum([ds.isel(speed=[i]) for i in range(2)], ["speed"], [[20.0, 40.0]], [(0,), (1,)])
     plots.rate_spectrum_sweep_figure(sweep).savefig(tmp_path / "m.png")
     assert (tmp_path / "m.png").stat().st_size > 5000
+
+
+def test_spectrum_of_a_train_of_four_wheels_is_plotted_and_summarised_per_axle_passage():
+    # growth_dB_per_1e5_trains counts one passage of the whole train, growth_dB_per_1e5_axles one wheel:
+    # a quarter of it for 4 wheels (both from the rate by hand); the figure draws the per-axle line
+    # and the summary gives the fastest growth in both conventions
+    from rail.growth_spectrum import RateSpectrum
+    from rail.plotting import studies as plots
+    from rail.studies.rate_spectrum import rate_spectrum_dataset, summary_markdown
+
+    lines = np.arange(24, 61, 4)
+    g = np.linspace(-1, 1, lines.size) * 1e-6
+    sp = RateSpectrum(4 * 0.6 / lines, lines, np.zeros(lines.size, int), (-g).astype(complex), (-g).astype(complex),
+                      np.zeros(lines.size), np.zeros(lines.size), np.zeros(lines.size), 1e-4, 1e-9, 4, 1)
+    ds = rate_spectrum_dataset({40.0: sp}, 0.6, 4)
+    per_train = 20 * np.log10(np.e) * g * 1e5
+    np.testing.assert_allclose(ds["growth_dB_per_1e5_trains"].values[0], per_train, rtol=1e-12)
+    np.testing.assert_allclose(ds["growth_dB_per_1e5_axles"].values[0], per_train / 4, rtol=1e-12)
+    assert ds["growth_dB_per_1e5_trains"].attrs["units"] == "dB per 100000 train passages"
+    ax = plots.rate_spectrum_figure(ds).axes[0]
+    line = [ln for ln in ax.get_lines() if np.size(ln.get_xdata()) == lines.size]
+    np.testing.assert_allclose(line[0].get_ydata(), per_train / 4, rtol=1e-12)
+    row = summary_markdown(ds).splitlines()[2].split("|")
+    assert float(row[4]) == pytest.approx(per_train.max(), abs=0.005) and float(row[5]) == pytest.approx(per_train.max() / 4, abs=0.005)
 
 
 @pytest.mark.parametrize("normal", ["report", "nonhertzian"])

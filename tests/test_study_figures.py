@@ -224,8 +224,8 @@ def test_one_speed_spectrum_is_a_line_not_a_map():
     assert ax.get_xlabel() == "wavelength (mm)" and "at 50 m/s" in ax.get_title()
     line = [ln for ln in ax.get_lines() if np.size(ln.get_xdata()) == ds.sizes["wavelength"]]
     assert len(line) == 1
-    np.testing.assert_allclose(line[0].get_ydata(), ds["growth_dB"].values[0])
-    assert "per 100,000 train passages" in ax.get_ylabel()
+    np.testing.assert_allclose(line[0].get_ydata(), ds["growth_dB_per_1e5_axles"].values[0])
+    assert ax.get_ylabel() == "growth (dB per 100,000 axle passages)"
 
 
 def test_two_speed_spectrum_keeps_its_map():

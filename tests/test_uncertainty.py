@@ -83,11 +83,31 @@ def test_ensemble_dataset_gives_each_band_the_median_and_interval_of_its_members
     from rail.studies.ensemble import ensemble_dataset
 
     lam = np.array([0.105, 0.095, 0.079, 0.071])  # two lines in the 100 mm band, two in the 80 mm band
-    members = [xr.Dataset({"growth_dB": (("speed", "wavelength"), [[m, m + 2.0, -m, -m]])}, coords={"wavelength": lam})
+    members = [xr.Dataset({"growth_dB_per_1e5_axles": (("speed", "wavelength"), [[m, m + 2.0, -m, -m]])}, coords={"wavelength": lam})
                for m in range(5)]  # 100 mm band mean: m + 1; 80 mm band: -m
     ds = ensemble_dataset(members, {"wear.coefficient": np.arange(5.0)}, (0.25, 0.75))
     assert ds["band"].values.tolist() == [0.1, 0.08]
-    assert np.array_equal(ds["band_growth_dB"].values[:, 0], np.arange(5.0) + 1)
-    assert ds["band_median"].values.tolist() == [3.0, -2.0]
-    assert ds["band_lower"].values.tolist() == [2.0, -3.0] and ds["band_upper"].values.tolist() == [4.0, -1.0]
-    assert ds["band_growth_dB"].attrs["units"] == "dB" and "draw_wear.coefficient" in ds.coords
+    assert np.array_equal(ds["band_growth_dB_per_1e5_axles"].values[:, 0], np.arange(5.0) + 1)
+    assert ds["band_median_dB_per_1e5_axles"].values.tolist() == [3.0, -2.0]
+    assert ds["band_lower_dB_per_1e5_axles"].values.tolist() == [2.0, -3.0] and ds["band_upper_dB_per_1e5_axles"].values.tolist() == [4.0, -1.0]
+    assert ds["band_growth_dB_per_1e5_axles"].attrs["units"] == "dB per 100000 axle passages" and "draw_wear.coefficient" in ds.coords
+
+
+def test_band_interval_figure_plots_the_per_axle_band_median_and_interval():
+    # the figure's convention is the exports' (dB per 100,000 axle passages): the plotted median line and
+    # the shaded interval are the dataset's band_*_dB_per_1e5_axles
+    import xarray as xr
+
+    from rail.plotting.ensemble import band_interval_figure
+    from rail.studies.ensemble import ensemble_dataset
+
+    lam = np.array([0.105, 0.095, 0.079, 0.071])
+    members = [xr.Dataset({"growth_dB_per_1e5_axles": (("speed", "wavelength"), [[m, m + 2.0, -m, -m]])}, coords={"wavelength": lam})
+               for m in range(5)]
+    ds = ensemble_dataset(members, {"wear.coefficient": np.arange(5.0)}, (0.25, 0.75))
+    ax = band_interval_figure(ds).axes[0]
+    assert ax.get_ylabel() == "growth (dB per 100,000 axle passages)"
+    median = [ln for ln in ax.get_lines() if ln.get_label() == "median"]
+    assert len(median) == 1 and median[0].get_ydata().tolist() == [3.0, -2.0]
+    path = ax.collections[0].get_paths()[0].vertices[:, 1]
+    assert set(np.round(path, 12)) == {2.0, -3.0, 4.0, -1.0}

@@ -264,8 +264,8 @@ def fleet_spectrum(study: Study, *, shortest: float | None = None, longest: floa
     Returns
     -------
     xr.Dataset
-        growth_rate, growth_dB, growth_dB_per_year over wavelength; class_growth_rate and
-        class_contribution over (class, wavelength).
+        growth_rate, growth_dB_per_1e5_trains, growth_dB_per_1e5_axles, growth_dB_per_year over
+        wavelength; class_growth_rate and class_contribution over (class, wavelength).
 
     Raises
     ------

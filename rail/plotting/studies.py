@@ -5,8 +5,6 @@ One function per figure: it takes a dataset and returns a matplotlib Figure.
 
 from __future__ import annotations
 
-import re
-
 import matplotlib
 import matplotlib.colors
 import matplotlib.ticker
@@ -20,6 +18,8 @@ from . import text  # noqa: E402
 from .report import sweep_panels  # noqa: E402
 
 __all__ = ["closure_spectra", "closure_wear_spectra", "convergence_figure"]
+
+GROWTH_LABEL = "growth (dB per 100,000 axle passages)"  # every growth-rate figure: the export convention (docs/exports.md)
 
 
 def _closure_lines(ds):
@@ -122,16 +122,9 @@ def _growth_norm(values):
     return norm, np.r_[np.linspace(norm.vmin, 0, 4)[:-1], np.linspace(0, norm.vmax, 4)]
 
 
-def _per_passages(g):
-    """'100,000 train passages' from a growth variable's long name '... per 100000 train passages ...'."""
-    m = re.search(r"per ([\d,]+) ((?:\w+ )?)passages", g.attrs["long_name"])
-    if m is None:
-        return "passages"
-    return f"{text.count(int(m.group(1).replace(',', '')))} {m.group(2)}passages"
-
-
 def rate_spectrum_figure(ds: xr.Dataset):
-    """Growth-rate spectrum: the level change per 100,000 train passages over wavelength, one line
+    """Growth-rate spectrum: the level change per 100,000 axle passages (growth_dB_per_1e5_axles, the
+    export convention) over wavelength, one line
     per speed (top), and the speed x wavelength map (bottom); comb lines L/k marked. With one speed
     only the line (a map of one speed would smear it over an invented speed range)."""
     one = ds.sizes["speed"] == 1
@@ -140,8 +133,7 @@ def rate_spectrum_figure(ds: xr.Dataset):
     else:
         fig, (ax, bx) = plt.subplots(2, 1, figsize=(7.5, 7.5), layout="constrained", sharex=True)
     lam = ds["wavelength"].values * 1e3
-    g = ds["growth_dB"]
-    per = _per_passages(g)
+    g = ds["growth_dB_per_1e5_axles"]
     for v in ds["speed"].values:
         ax.plot(lam, g.sel(speed=v).values, lw=1.2, color="k" if one else None, label=f"{v:g} m/s")
     ax.axhline(0, color="0.3", lw=0.7)
@@ -149,7 +141,7 @@ def rate_spectrum_figure(ds: xr.Dataset):
     for x in lam[comb]:
         ax.axvline(x, color="0.85", lw=0.6, zorder=0)
     ax.set_xscale("log")
-    ax.set_ylabel(f"growth ({g.attrs.get('level_unit', g.attrs['units'])} per {per})")
+    ax.set_ylabel(GROWTH_LABEL)
     if not one:
         ax.legend(fontsize=8, ncol=2, loc="best", framealpha=0.9)
     ax.set_title(f"linearised growth-rate spectrum{f' at {float(ds.speed.values[0]):g} m/s' if one else ''} "
@@ -164,7 +156,7 @@ def rate_spectrum_figure(ds: xr.Dataset):
     V = ds["speed"].values
     edges = np.r_[V[0] - 0.5 * (V[1] - V[0]), 0.5 * (V[1:] + V[:-1]), V[-1] + 0.5 * (V[-1] - V[-2])]
     m = bx.pcolormesh(lam_edges, edges, g.values, cmap="RdBu_r", norm=norm)
-    fig.colorbar(m, ax=bx, ticks=ticks, format="%.2g", label=f"growth (dB per {per})")
+    fig.colorbar(m, ax=bx, ticks=ticks, format="%.2g", label=GROWTH_LABEL)
     bx.set_xlabel("wavelength (mm)")
     bx.set_ylabel("speed (m/s)")
     for a in (ax, bx):
@@ -196,9 +188,9 @@ def _mark_contact(ds: xr.Dataset, axes, lam_edges):
 
 
 def rate_spectrum_sweep_figure(ds: xr.Dataset):
-    """Growth-rate spectrum over a sweep: wavelength across, the first swept key up, one panel per
-    value of a second swept key (the first value of any further key)."""
-    z, keys, second, panels, fig, axes = sweep_panels(ds, "growth_dB", "wavelength", extra_width=1.0)
+    """Growth-rate spectrum over a sweep (growth_dB_per_1e5_axles): wavelength across, the first swept
+    key up, one panel per value of a second swept key (the first value of any further key)."""
+    z, keys, second, panels, fig, axes = sweep_panels(ds, "growth_dB_per_1e5_axles", "wavelength", extra_width=1.0)
     lam_edges = _wavelength_edges(ds["wavelength"].values * 1e3)
     norm, ticks = _growth_norm(z.values)
     y = ds[keys[0]].values
@@ -211,7 +203,7 @@ def rate_spectrum_sweep_figure(ds: xr.Dataset):
         ax.set_ylabel(f"{keys[0]} ({ds[keys[0]].attrs.get('units', '')})")
         if second:
             ax.set_title(f"{second} = {text.number(ds[second].values[p])} {ds[second].attrs.get('units', '')}", fontsize=9)
-    fig.colorbar(m, ax=axes[0].tolist(), ticks=ticks, format="%.2g", label="growth (dB per 100,000 passages)")
+    fig.colorbar(m, ax=axes[0].tolist(), ticks=ticks, format="%.2g", label=GROWTH_LABEL)
     return fig
 
 
@@ -223,7 +215,7 @@ def fleet_spectrum_figure(ds: xr.Dataset, title: str = ""):
     fig, ax = plt.subplots(figsize=(7.5, 4.5), layout="constrained")
     lam = ds["wavelength"].values * 1e3
     per_axle = 1.0 / float(ds.attrs["axles_per_train"])
-    to_dB = float(ds["growth_dB"].values[0] / ds["growth_rate"].values[0]) if ds["growth_rate"].values[0] else None
+    to_dB = float(ds["growth_dB_per_1e5_trains"].values[0] / ds["growth_rate"].values[0]) if ds["growth_rate"].values[0] else None
     for x in lam[ds["locked"].values == 1]:
         ax.axvline(x, color="0.88", lw=0.6, zorder=0)
     if to_dB is not None:
@@ -238,7 +230,7 @@ def fleet_spectrum_figure(ds: xr.Dataset, title: str = ""):
         ax.text(x, 0.98, f" pinned-pinned {x:.1f} mm", transform=ax.get_xaxis_transform(), fontsize=7, va="top")
     _wavelength_axis(ax, _wavelength_edges(lam))
     ax.set_xlabel("wavelength (mm)")
-    ax.set_ylabel("growth (dB per 100,000 axle passages)")
+    ax.set_ylabel(GROWTH_LABEL)
     ax.set_title(title or f"growth-rate spectrum under the fleet ({ds.attrs.get('scenario', '')})", fontsize=9)
     if ds.sizes["class"] <= 12:
         ax.legend(fontsize=6, ncol=2, loc="best", framealpha=0.9)
@@ -261,6 +253,6 @@ def traffic_study_figure(ds: xr.Dataset):
         _wavelength_axis(ax, _wavelength_edges(lam))
         ax.set_xlabel("wavelength (mm)")
         ax.set_title(f"locomotive {d}, mean {float(ds.attrs['mean_speed_m_per_s']):g} m/s", fontsize=9)
-    axes[0][0].set_ylabel("growth (dB per 100,000 axle passages)")
+    axes[0][0].set_ylabel(GROWTH_LABEL)
     axes[0][0].legend(fontsize=7, loc="best", framealpha=0.9)
     return fig

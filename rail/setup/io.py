@@ -36,7 +36,7 @@ def package_versions() -> dict[str, str]:
 
 
 _LEVEL = re.compile(r"^dB(?: re (?P<ref>.+))?$")
-_PER_PASSAGES = re.compile(r"^(?P<unit>\S+) per (?P<n>[0-9]+) (?P<axle>axle )?passages$")
+_PER_PASSAGES = re.compile(r"^(?P<unit>\S+) per (?P<n>[0-9]+) (?:(?P<kind>axle|train) )?passages$")
 
 
 def cf_units(units: str) -> tuple[str, dict]:
@@ -45,9 +45,9 @@ def cf_units(units: str) -> tuple[str, dict]:
     * levels in decibels ("dB", "dB re 1 um"): units "1" (a level is a number), with level_unit
       "dB" and level_reference the reference ("1 um", meaning 1 µm rms);
     * "dB/m" (a decay rate): "1/m" with level_unit "dB";
-    * rates per N passages ("um per 100000 passages", "dB per 100000 axle passages"): the unit
-      scaled to one passage ("1e-05 um": the value times 1e-05 um is the amount per wheel passage),
-      with per "passage" (or "axle passage");
+    * rates per N passages ("um per 100000 passages", "dB per 100000 axle passages", "dB per 100000
+      train passages"): the unit scaled to one passage ("1e-05 um": the value times 1e-05 um is the
+      amount per wheel passage), with per "passage" (or "axle passage", "train passage");
     * anything else unchanged. The original string is kept in units_text whenever it changes.
     """
     m = _LEVEL.match(units)
@@ -63,7 +63,7 @@ def cf_units(units: str) -> tuple[str, dict]:
         scale = f"{1 / int(m.group('n')):g}"
         level = m.group("unit") == "dB"  # a level change: a number, in dB
         unit = scale if m.group("unit") in ("1", "dB") else f"{scale} {m.group('unit')}"
-        return unit, {"per": "axle passage" if m.group("axle") else "passage", "units_text": units,
+        return unit, {"per": f"{m.group('kind')} passage" if m.group("kind") else "passage", "units_text": units,
                       **({"level_unit": "dB"} if level else {})}
     return units, {}
 

@@ -29,14 +29,16 @@ def ensemble_dataset(members, values: dict, interval=(0.1, 0.9)) -> xr.Dataset:
     Returns
     -------
     xr.Dataset
-        growth_dB (member, wavelength), band_growth_dB (member, band), band_median, band_lower,
-        band_upper (band) [dB per 100,000 train passages]; each parameter's draws as a coordinate.
+        growth_dB_per_1e5_axles (member, wavelength), band_growth_dB_per_1e5_axles (member, band),
+        band_median_dB_per_1e5_axles, band_lower_dB_per_1e5_axles, band_upper_dB_per_1e5_axles (band)
+        [dB per 100,000 axle (wheel) passages: each member's train is one wheel, so per axle and per
+        train passage are the same numbers]; each parameter's draws as a coordinate.
     """
     lam = members[0]["wavelength"].values
     for m in members:
         if not np.array_equal(m["wavelength"].values, lam):
             raise ValueError("the ensemble's spectra must share their lines (one figures.rate_spectrum for every member).")
-    g = np.array([m["growth_dB"].values.reshape(-1, lam.size)[0] for m in members])
+    g = np.array([m["growth_dB_per_1e5_axles"].values.reshape(-1, lam.size)[0] for m in members])
     bands = third_octave_bands(float(lam.max()), float(lam.min()))
     keep = (bands.upper > lam.min()) & (bands.lower < lam.max())
     centre, nominal, lower, upper = (x[keep] for x in (bands.centre, bands.nominal, bands.lower, bands.upper))
@@ -46,7 +48,7 @@ def ensemble_dataset(members, values: dict, interval=(0.1, 0.9)) -> xr.Dataset:
         if sel.any():
             gb[:, b] = g[:, sel].mean(axis=1)
     med, lo, hi = band_statistics(gb, interval)
-    unit = "dB"
+    unit = "dB per 100000 axle passages"
     coords = {
         "member": _var("member", np.arange(len(members)), "1", "ensemble member"),
         "wavelength": _var("wavelength", lam, "m", "roughness wavelength"),
@@ -57,11 +59,15 @@ def ensemble_dataset(members, values: dict, interval=(0.1, 0.9)) -> xr.Dataset:
     q = f"{100 * interval[0]:g}-{100 * interval[1]:g} % quantiles"
     return xr.Dataset(
         {
-            "growth_dB": _var(("member", "wavelength"), g, unit, "level change per 100,000 train passages of a small roughness"),
-            "band_growth_dB": _var(("member", "band"), gb, unit, "mean over the band's lines of growth_dB (NaN: no line in the band)"),
-            "band_median": _var("band", med, unit, "median of band_growth_dB over the members"),
-            "band_lower": _var("band", lo, unit, f"lower end of the interval ({q}) of band_growth_dB over the members"),
-            "band_upper": _var("band", hi, unit, f"upper end of the interval ({q}) of band_growth_dB over the members"),
+            "growth_dB_per_1e5_axles": _var(("member", "wavelength"), g, unit,
+                                            "level change per 100,000 axle (wheel) passages of a small roughness"),
+            "band_growth_dB_per_1e5_axles": _var(("member", "band"), gb, unit, "mean over the band's lines of growth_dB_per_1e5_axles "
+                                                 "(NaN: no line in the band)"),
+            "band_median_dB_per_1e5_axles": _var("band", med, unit, "median of band_growth_dB_per_1e5_axles over the members"),
+            "band_lower_dB_per_1e5_axles": _var("band", lo, unit,
+                                                f"lower end of the interval ({q}) of band_growth_dB_per_1e5_axles over the members"),
+            "band_upper_dB_per_1e5_axles": _var("band", hi, unit,
+                                                f"upper end of the interval ({q}) of band_growth_dB_per_1e5_axles over the members"),
         },
         coords=coords,
         attrs={"interval_quantiles": list(interval), "members": len(members)},

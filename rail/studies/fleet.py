@@ -122,7 +122,7 @@ def fleet_spectrum_dataset(fs: FleetRateSpectrum, fleet: Fleet) -> xr.Dataset:
     Returns
     -------
     xr.Dataset
-        growth_rate, drift, growth_dB (per fleet passage), growth_dB_per_1e5_axles, growth_dB_per_year,
+        growth_rate, drift, growth_dB_per_1e5_trains (per fleet passage), growth_dB_per_1e5_axles, growth_dB_per_year,
         growth_dB_per_MGT over wavelength; class_growth_rate (per
         passage of the class's train) and class_contribution (w_c times it) over (class, wavelength).
     """
@@ -138,11 +138,12 @@ def fleet_spectrum_dataset(fs: FleetRateSpectrum, fleet: Fleet) -> xr.Dataset:
                                 "(R = sum_c w_c R_c; > 0: grows)"),
             "growth_rate_other": _var("wavelength", -t.rate_other.real, "1", "growth rate of the other phase at a locked line"),
             "drift": _var("wavelength", -t.rate.imag, "rad", "phase drift of the roughness per fleet passage, -Im R"),
-            "growth_dB": _var("wavelength", DB_PER_NEPER * g * PASSAGES_PER_DB, "dB",
-                              f"level change per {PASSAGES_PER_DB} fleet passages of a small roughness at the wavelength"),
+            "growth_dB_per_1e5_trains": _var("wavelength", DB_PER_NEPER * g * PASSAGES_PER_DB, f"dB per {PASSAGES_PER_DB} train passages",
+                                             f"level change per {PASSAGES_PER_DB} fleet passages (passages of whole trains of "
+                                             "the fleet's mix) of a small roughness at the wavelength"),
             "growth_dB_per_1e5_axles": _var("wavelength", d_axle, "dB per 100000 axle passages",
                                             "level change per 100,000 axle passages of the traffic of a small roughness at "
-                                            "the wavelength (growth_dB / axles_per_train)"),
+                                            "the wavelength (growth_dB_per_1e5_trains / axles_per_train)"),
             "growth_dB_per_MGT": _var("wavelength", traffic.per_mgt(d_axle), "1/Mt",
                                       "level change per million gross tonnes of the traffic (growth_dB_per_1e5_axles x 1e6 / "
                                       "mean axle load [t] / 1e5)", level_unit="dB", units_text="dB/Mt"),

@@ -52,8 +52,8 @@ def rate_spectrum_dataset(spectra: dict[float, RateSpectrum], L: float, wheels: 
     Returns
     -------
     xr.Dataset
-        growth_rate, drift, growth_dB (per train passage, the figure's), growth_dB_per_1e5_axles (the
-        export convention, docs/exports.md), source, crossover_amplitude over (speed, wavelength).
+        growth_rate, drift, growth_dB_per_1e5_trains (per 100,000 passages of the whole train),
+        growth_dB_per_1e5_axles (the export and figure convention, docs/exports.md), source, crossover_amplitude over (speed, wavelength).
     """
     from .exports import spectrum_rates
 
@@ -69,7 +69,7 @@ def rate_spectrum_dataset(spectra: dict[float, RateSpectrum], L: float, wheels: 
     lam = first.wavelength
     rates = spectrum_rates(g, wheels, traffic)
     units = {"growth_dB_per_1e5_axles": ("dB per 100000 axle passages", "level change per 100,000 axle (wheel) passages of a small "
-                                         "roughness at the wavelength (growth_dB / wheels of the train)", {}),
+                                         "roughness at the wavelength (growth_dB_per_1e5_trains / wheels of the train)", {}),
              "growth_dB_per_year": ("1/year", "level change per year of the traffic (growth_dB_per_1e5_axles x axles_per_day x 365 / 1e5)",
                                     {"level_unit": "dB", "units_text": "dB/year"}),
              "growth_dB_per_MGT": ("1/Mt", "level change per million gross tonnes (growth_dB_per_1e5_axles x 1e6 / axle_load_t / 1e5)",
@@ -84,9 +84,11 @@ def rate_spectrum_dataset(spectra: dict[float, RateSpectrum], L: float, wheels: 
                                       "at a free line the same as growth_rate"),
             "drift": _var(("speed", "wavelength"), -R.imag, "rad",
                           "phase drift of the roughness per train passage, -Im R (the profile moves along the rail)"),
-            "growth_dB": _var(("speed", "wavelength"), 20 * np.log10(np.e) * g * PASSAGES_PER_DB, "dB",
-                              f"level change per {PASSAGES_PER_DB} train passages of a small roughness at the wavelength",
-                              reference_level="dB re the initial level"),
+            "growth_dB_per_1e5_trains": _var(("speed", "wavelength"), 20 * np.log10(np.e) * g * PASSAGES_PER_DB,
+                                             f"dB per {PASSAGES_PER_DB} train passages",
+                                             f"level change per {PASSAGES_PER_DB} passages of the whole train (all its wheels "
+                                             "once) of a small roughness at the wavelength",
+                                             reference_level="dB re the initial level"),
             "source": _var(("speed", "wavelength"), src, "m",
                            "wear of the smooth rail at the line per train passage (amplitude 2|W0|; only on the one-bay comb L/k)"),
             "crossover_amplitude": _var(("speed", "wavelength"), cross, "m",
@@ -98,8 +100,9 @@ def rate_spectrum_dataset(spectra: dict[float, RateSpectrum], L: float, wheels: 
                                    "largest wear at the sidebands j +- N over the wear at j (coupling within the Bloch class; "
                                    "0 at locked lines)"),
             "fastest_wavelength": _var("speed", lam[np.argmax(g, axis=1)], "m", "wavelength of the fastest growth"),
-            "fastest_growth_dB": _var("speed", 20 * np.log10(np.e) * g.max(axis=1) * PASSAGES_PER_DB, "dB",
-                                      f"fastest growth per {PASSAGES_PER_DB} train passages"),
+            "fastest_growth_dB_per_1e5_trains": _var("speed", 20 * np.log10(np.e) * g.max(axis=1) * PASSAGES_PER_DB,
+                                                     f"dB per {PASSAGES_PER_DB} train passages",
+                                                     f"fastest growth per {PASSAGES_PER_DB} passages of the whole train"),
             "linearity": _var("speed", np.array([spectra[v].linearity for v in V]), "1",
                               "largest |R(2 eps) / R(eps) - 1| over the lines checked"),
         },
@@ -113,7 +116,7 @@ def rate_spectrum_dataset(spectra: dict[float, RateSpectrum], L: float, wheels: 
         },
         attrs={"eps_m": first.eps, "bays": first.bays, "grid_phases": first.grid_phases,
                "method": "; ".join(f"{v:g} m/s: {spectra[v].method}" for v in V), "wheels": int(wheels), "sleeper_spacing_m": float(L),
-               "passages": "growth_dB, growth_rate, drift: per train passage (a train of n wheels counts once); "
+               "passages": "growth_dB_per_1e5_trains, growth_rate, drift: per train passage (a train of n wheels counts once); "
                            "growth_dB_per_1e5_axles: per 100,000 axle (wheel) passages",
                **(traffic.attributes() if traffic is not None else {}),
                **({"contact_length_m": float(contact_length)} if contact_length else {}),
@@ -175,14 +178,16 @@ def growing_bands(wavelength, growth_rate):
 
 def summary_markdown(ds: xr.Dataset) -> str:
     """Where the rate is positive, per speed, and the fastest-growing wavelength (a Markdown table)."""
-    rows = ["| speed (m/s) | wavelengths that grow (mm) | fastest (mm) | its growth (dB per 100,000 passages) |",
-            "|---|---|---|---|"]
+    rows = ["| speed (m/s) | wavelengths that grow (mm) | fastest (mm) | its growth (dB per 100,000 train passages) "
+            "| its growth (dB per 100,000 axle passages) |",
+            "|---|---|---|---|---|"]
     lam = ds["wavelength"].values
     for i, v in enumerate(ds["speed"].values):
         bands = growing_bands(lam, ds["growth_rate"].values[i])
         text = ", ".join(f"{1e3 * a:.3g}-{1e3 * b:.3g}" for a, b in bands) or "none"
         rows.append(f"| {v:g} | {text} | {1e3 * float(ds['fastest_wavelength'].values[i]):.3g} | "
-                    f"{float(ds['fastest_growth_dB'].values[i]):+.2f} |")
+                    f"{float(ds['fastest_growth_dB_per_1e5_trains'].values[i]):+.2f} | "
+                    f"{float(ds['growth_dB_per_1e5_axles'].values[i][np.argmax(ds['growth_rate'].values[i])]):+.2f} |")
     return "\n".join(rows) + "\n"
 
 
@@ -203,30 +208,34 @@ def sweep_rate_spectrum(points: list, keys, values, indices) -> xr.Dataset:
     Returns
     -------
     xr.Dataset
-        growth_dB, growth_rate and drift over (swept keys..., wavelength); the fastest-growing
-        wavelength and its growth per grid point.
+        growth_dB_per_1e5_trains, growth_dB_per_1e5_axles, growth_rate and drift over (swept keys...,
+        wavelength); the fastest-growing wavelength and its growth per 100,000 train passages per grid point.
     """
     dims = tuple(k.replace(".", "_") for k in keys)
     shape = tuple(len(v) for v in values)
     first = points[0]
     lam = first["wavelength"].values
-    out = {name: np.full(shape + (lam.size,), np.nan) for name in ("growth_dB", "growth_rate", "drift")}
+    out = {name: np.full(shape + (lam.size,), np.nan) for name in ("growth_dB_per_1e5_trains", "growth_dB_per_1e5_axles", "growth_rate", "drift")}
     for ds, idx in zip(points, indices):
         if not np.array_equal(ds["wavelength"].values, lam):
             raise ValueError("the sweep's spectra must share their lines (the same figures.rate_spectrum).")
         for name in out:
             out[name][tuple(idx)] = ds[name].values[0]
-    g = out["growth_dB"]
+    g = out["growth_dB_per_1e5_trains"]
     coords = {d: (d, np.asarray(v), {"units": _unit_of(k), "long_name": f"swept parameter {k}"}) for d, k, v in zip(dims, keys, values)}
     coords["wavelength"] = first["wavelength"]
     coords["locked"] = first["locked"]
     return xr.Dataset(
         {
-            "growth_dB": _var(dims + ("wavelength",), g, "dB", first["growth_dB"].attrs["long_name"]),
+            "growth_dB_per_1e5_trains": _var(dims + ("wavelength",), g, f"dB per {PASSAGES_PER_DB} train passages",
+                                             first["growth_dB_per_1e5_trains"].attrs["long_name"]),
+            "growth_dB_per_1e5_axles": _var(dims + ("wavelength",), out["growth_dB_per_1e5_axles"], "dB per 100000 axle passages",
+                                            first["growth_dB_per_1e5_axles"].attrs["long_name"]),
             "growth_rate": _var(dims + ("wavelength",), out["growth_rate"], "1", first["growth_rate"].attrs["long_name"]),
             "drift": _var(dims + ("wavelength",), out["drift"], "rad", first["drift"].attrs["long_name"]),
             "fastest_wavelength": _var(dims, lam[np.nanargmax(g, axis=-1)], "m", "wavelength of the fastest growth"),
-            "fastest_growth_dB": _var(dims, np.nanmax(g, axis=-1), "dB", f"fastest growth per {PASSAGES_PER_DB} train passages"),
+            "fastest_growth_dB_per_1e5_trains": _var(dims, np.nanmax(g, axis=-1), f"dB per {PASSAGES_PER_DB} train passages",
+                                                     f"fastest growth per {PASSAGES_PER_DB} passages of the whole train"),
         },
         coords=coords,
         attrs={"swept_keys": list(keys)},
