@@ -325,32 +325,30 @@ def band_spectra(ds: xr.Dataset):
         title += "\n" + ds.attrs["grinding_interval_text"]
     fig.suptitle(title, fontsize=9)
     a1.legend(fontsize=7)
-    rate, err = ds["growth_dB_per_1e5_axles"].values, ds["growth_dB_per_1e5_axles_error"].values
     law = ds["growth_law"].values
-    ok = res & np.isfinite(rate)
-    a2.errorbar(lam[ok], rate[ok], yerr=err[ok], fmt="none", ecolor="k", lw=0.6)
+    _band_rate_panel(a2, lam, ds["growth_dB_per_1e5_axles"].values, ds["growth_dB_per_1e5_axles_error"].values, res, law,
+                     a1.get_xlim(), "level growth (dB per 100,000 axle passages)", "level growth rate at the last save")
+    a2.legend(fontsize=7)
+    _band_rate_panel(a3, lam, ds["amplitude_growth_um_per_1e5_axles"].values, ds["amplitude_growth_um_per_1e5_axles_error"].values,
+                     res, law, a1.get_xlim(), "amplitude growth (µm rms per 100,000 axle passages)",
+                     "amplitude growth rate: ranks the linearly growing bands")
+    return fig
+
+
+def _band_rate_panel(ax, lam, value, err, resolved, law, xlim, ylabel, title):
+    """One rate panel of band_spectra: the resolved bands' rates with their errors, marked by the
+    growth law that fits better, against the band's centre wavelength (mm, the levels' axis)."""
+    ok = resolved & np.isfinite(value)
+    ax.errorbar(lam[ok], value[ok], yerr=err[ok], fmt="none", ecolor="k", lw=0.6)
     for mark, name in (("o", "linear"), ("^", "exponential")):
         sel = ok & (law == name)
-        a2.semilogx(lam[sel], rate[sel], mark, color="k", mfc="none", label=f"{name} growth fits better")
-    a2.axhline(0.0, color="0.6", lw=0.6)
-    a2.set_xscale("log")
-    a2.set_xlim(a1.get_xlim())  # already inverted: the same bands under each other
-    a2.set_xlabel("one-third-octave band, centre wavelength (mm)")
-    a2.set_ylabel("level growth (dB per 100,000 axle passages)")
-    a2.set_title("level growth rate at the last save", fontsize=8)
-    a2.legend(fontsize=7)
-    amp, amp_err = ds["amplitude_growth_um_per_1e5_axles"].values, ds["amplitude_growth_um_per_1e5_axles_error"].values
-    ok3 = res & np.isfinite(amp)
-    a3.errorbar(lam[ok3], amp[ok3], yerr=amp_err[ok3], fmt="none", ecolor="k", lw=0.6)
-    for mark, name in (("o", "linear"), ("^", "exponential")):
-        sel = ok3 & (law == name)
-        a3.semilogx(lam[sel], amp[sel], mark, color="k", mfc="none", label=f"{name} growth fits better")
-    a3.axhline(0.0, color="0.6", lw=0.6)
-    a3.set_xlim(a1.get_xlim())
-    a3.set_xlabel("one-third-octave band, centre wavelength (mm)")
-    a3.set_ylabel("amplitude growth (µm rms per 100,000 axle passages)")
-    a3.set_title("amplitude growth rate: ranks the linearly growing bands", fontsize=8)
-    return fig
+        ax.semilogx(lam[sel], value[sel], mark, color="k", mfc="none", label=f"{name} growth fits better")
+    ax.axhline(0.0, color="0.6", lw=0.6)
+    ax.set_xscale("log")
+    ax.set_xlim(xlim)  # already inverted: the same bands under each other
+    ax.set_xlabel("one-third-octave band, centre wavelength (mm)")
+    ax.set_ylabel(ylabel)
+    ax.set_title(title, fontsize=8)
 
 
 def sweep_panels(ds: xr.Dataset, name: str, across: str, extra_width: float = 0.0):

@@ -142,18 +142,13 @@ def check_inputs(cfg: dict, scn: Scenario, name: str, source: str, root=".") -> 
             scn.roughness.realise(V, scn.L, scn.harmonics)
     except (OSError, ValueError) as e:
         raise ConfigError(f"{where}: roughness: {e}") from None
-    limit = _get(cfg, ("figures", "bands", "limit"))
-    if limit:
-        try:
-            read_limit_spectrum(limit)
-        except (OSError, ValueError) as e:
-            raise ConfigError(f"{where}: figures.bands.limit: {e}") from None
-    wheel = _get(cfg, ("figures", "bands", "wheel_roughness"))
-    if wheel:
-        try:
-            read_third_octave_spectrum(wheel)
-        except (OSError, ValueError) as e:
-            raise ConfigError(f"{where}: figures.bands.wheel_roughness: {e}") from None
+    for key, read in (("limit", read_limit_spectrum), ("wheel_roughness", read_third_octave_spectrum)):
+        path = _get(cfg, ("figures", "bands", key))
+        if path:
+            try:
+                read(path)
+            except (OSError, ValueError) as e:
+                raise ConfigError(f"{where}: figures.bands.{key}: {e}") from None
     s = _get(cfg, ("figures", "rate_spectrum"))
     if s:
         try:  # the spectrum's period must resolve its longest wavelength, its shortest lie above L / K
