@@ -32,7 +32,6 @@ import dataclasses
 from dataclasses import dataclass
 
 import numpy as np
-from scipy.special import ndtri
 
 from .interaction import ContactSpring, Wheels
 from .scenario import Scenario
@@ -154,6 +153,8 @@ def normal_classes(mean: float, std: float, n: int) -> SpeedClasses:
     """
     if not (np.isfinite(std) and std >= 0):
         raise ValueError(f"fleet.speeds.std = {std!r} m/s is not allowed: it must be a finite number >= 0.")
+    from scipy.special import ndtri  # here, not at the top: importing scipy costs jobs that do not use it about 0.7 s CPU
+
     z = ndtri(np.arange(n + 1) / n)  # -inf .. inf
     phi = np.exp(-0.5 * z ** 2) / np.sqrt(2 * np.pi)  # 0 at +-inf
     v = mean + std * n * (phi[:-1] - phi[1:])

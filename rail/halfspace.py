@@ -21,7 +21,6 @@ import functools
 from dataclasses import dataclass
 
 import numpy as np
-from scipy import integrate, special
 
 __all__ = [
     "ElasticMaterial",
@@ -294,6 +293,7 @@ def static_limit_beta_G(material: ElasticMaterial):
 
 def _integrand(beta, omega, r, material):
     """G(beta, omega) J0(beta r) beta, the integrand of eq (10)."""
+    from scipy import special  # here, not at the top: importing scipy costs jobs that do not use it about 0.7 s CPU
     return kernel_G(beta, omega, material) * special.j0(np.asarray(beta) * r) * beta
 
 
@@ -391,6 +391,7 @@ def large_beta_coefficient(omega, material: ElasticMaterial) -> float:
 
 def _int_j0_over_x2(y: float, numerics) -> float:
     """I(y) = int_y^inf J0(x) / x^2 dx = J0(y)/y - 1 + int_0^y J1(x)/x dx (by parts), y > 0."""
+    from scipy import integrate, special
     inner, _ = integrate.quad(
         lambda x: special.j1(x) / x if x > 0 else 0.5, 0.0, y, epsabs=0.0, epsrel=numerics.epsrel
     )
@@ -431,6 +432,7 @@ def boussinesq(r, material: ElasticMaterial, load=1.0):
 
 def _quad(f, a, b, numerics: HalfSpaceNumerics, scale: float):
     """Adaptive quadrature of a complex function; absolute tolerance epsrel * scale."""
+    from scipy import integrate
     val, _ = integrate.quad(
         f, a, b, complex_func=True, epsabs=numerics.epsrel * scale, epsrel=numerics.epsrel,
         limit=numerics.limit,
@@ -440,6 +442,7 @@ def _quad(f, a, b, numerics: HalfSpaceNumerics, scale: float):
 
 def _quad_re(f, a, b, numerics: HalfSpaceNumerics, scale: float):
     """Adaptive quadrature of a real function; absolute tolerance epsrel * scale."""
+    from scipy import integrate
     val, _ = integrate.quad(
         f, a, b, epsabs=numerics.epsrel * scale, epsrel=numerics.epsrel, limit=numerics.limit
     )
@@ -448,6 +451,7 @@ def _quad_re(f, a, b, numerics: HalfSpaceNumerics, scale: float):
 
 def _surface_displacement_scalar(r, omega, material, numerics):
     """One value of w(r) per unit load: eq (16) + Rayleigh residue (see surface_displacement)."""
+    from scipy import special
     b1, b2, bR = wavenumbers(omega, material)
     L = static_limit_beta_G(material)
 

@@ -38,7 +38,6 @@ import dataclasses
 from dataclasses import dataclass
 
 import numpy as np
-from scipy.special import j0, j1
 
 from .contact import ContactError, ContactMaterial, compliance
 
@@ -238,6 +237,8 @@ def approach_filter(beta, a):
     float or ndarray
         H [-].
     """
+    from scipy.special import j0  # here, not at the top: importing scipy costs jobs that do not use it about 0.7 s CPU
+
     return j0(np.abs(np.asarray(beta, dtype=float)) * a)
 
 
@@ -261,6 +262,8 @@ def half_length_filter(beta, a):
     float or ndarray
         [-].
     """
+    from scipy.special import j1
+
     z = np.abs(np.asarray(beta, dtype=float)) * a
     with np.errstate(divide="ignore", invalid="ignore"):
         return np.where(z > 1e-8, 2 * j1(z) / np.where(z > 1e-8, z, 1.0), 1.0 - z * z / 8)

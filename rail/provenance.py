@@ -21,8 +21,13 @@ PACKAGE = "rail"
 ROOT = Path(__file__).resolve().parent  # the rail package folder
 
 
+@functools.lru_cache(maxsize=None)
 def _module_file(dotted: str, root: Path) -> Path | None:
-    """The file of module ``rail.a.b`` (rail/a/b.py or rail/a/b/__init__.py), or None."""
+    """The file of module ``rail.a.b`` (rail/a/b.py or rail/a/b/__init__.py), or None.
+
+    Remembered per process: the workflow's start-up follows the imports of about 40 scripts, which
+    ask for the same modules about 20,000 times (a module file added while a process runs is not
+    seen by it)."""
     parts = dotted.split(".")[1:]
     base = root.joinpath(*parts)
     for cand in (base.with_suffix(".py"), base / "__init__.py"):

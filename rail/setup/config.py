@@ -24,8 +24,9 @@ class ConfigError(ValueError):
     """A configuration value is missing, unknown, of the wrong type or out of range."""
 
 
-class _UniqueKeyLoader(yaml.SafeLoader):
-    """A YAML loader that refuses a key given twice in one mapping (PyYAML keeps the last silently)."""
+class _UniqueKeyLoader(getattr(yaml, "CSafeLoader", yaml.SafeLoader)):
+    """A YAML loader that refuses a key given twice in one mapping (PyYAML keeps the last silently).
+    libyaml's parser where PyYAML has it (the Snakemake start-up reads every scenario file)."""
 
 
 def _construct_unique_mapping(loader, node, deep=False):

@@ -736,6 +736,28 @@ def growth_runtime(wildcards):
     return int(10 + 3 * seconds / 60)
 
 
+# Job priorities (Snakemake starts the ready job of highest priority first; a priority is not passed
+# on to the jobs a job needs). The figure set's longest chain is the first compile of the contact
+# march, then the four-wheel growth runs: compile first, then the tables (the most wheels first),
+# then the growth runs, longest first; figures and the half-space jobs fill the gaps.
+PRIORITY_KERNELS = 100
+PRIORITY_TABLES = 50
+
+
+def table_priority(wildcards):
+    """Priority of a receptance table job: after the kernels' compile, the tables of more wheels first."""
+    return PRIORITY_TABLES + min(len(table_offsets(wildcards)), PRIORITY_KERNELS - PRIORITY_TABLES - 1)
+
+
+def growth_priority(wildcards):
+    """Priority of a growth job: its estimated CPU seconds (growth_runtime's estimate), longest first,
+    below the tables it needs."""
+    scn = SCENARIO_OBJECTS[wildcards.scenario]
+    updates = scn.growth.passages / scn.growth.passages_per_update
+    seconds = 0.5 * updates * len(scn.wheels.positions) * scn.roughness.bays * (scn.contact_numerics.nodes / 61) ** 2
+    return 1 + min(int(seconds), PRIORITY_TABLES - 2)
+
+
 def kernels(which):
     """The marker of the compiled kernels a rule's script calls: 'march' (rail.contact, every
     growth and wear job) or 'tangent' (also rail.contact_tangent, the growth-rate spectrum)."""

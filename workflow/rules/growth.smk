@@ -9,6 +9,7 @@ rule growth:
         roughness=roughness_file,
     output:
         "results/growth/{scenario}/V{speed}.nc",
+    priority: growth_priority
     params:
         code=code("growth.py"),
         cfg=physics_config,

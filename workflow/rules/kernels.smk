@@ -8,6 +8,7 @@ rule compile_kernels:
         "results/cache/kernels_{which}.txt",
     wildcard_constraints:
         which="march|tangent",
+    priority: PRIORITY_KERNELS
     params:
         code=code("compile_kernels.py"),
     log:

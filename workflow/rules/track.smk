@@ -9,6 +9,7 @@ rule receptance:
         "results/receptance/{track}/V{speed}.nc",
     wildcard_constraints:
         speed="[^_/]+",
+    priority: table_priority
     params:
         code=code("receptance.py"),
         cfg=table_config,
