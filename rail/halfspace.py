@@ -17,6 +17,7 @@ Conventions
 
 from __future__ import annotations
 
+import cmath
 import functools
 from dataclasses import dataclass
 
@@ -449,17 +450,54 @@ def _quad_re(f, a, b, numerics: HalfSpaceNumerics, scale: float):
     return val
 
 
+def _kernel_G_point(omega, material: ElasticMaterial):
+    """G(beta, omega) of kernel_G for one real beta at a time, in Python's complex arithmetic: the
+    same formulas (_alpha's branch, _denominator's two forms) without numpy's cost per call, which
+    was most of the adaptive quadrature's time (it calls the integrand point by point). Agrees with
+    kernel_G to rounding (tests/test_halfspace.py)."""
+    if omega == 0.0:
+        L = static_limit_beta_G(material)
+        return lambda beta: L / beta + 0j
+    lam, mu = lame_constants(material)
+    c1, c2 = wave_speeds(material)
+    k1, k2 = complex(omega / c1), complex(omega / c2)
+    mu_c2 = complex(mu * c2**2)  # kernel_G's factors, in its order of operations
+    om2 = float(omega) ** 2
+    two_k2 = 2 * abs(k2)
+
+    def alpha(b, k):
+        a = cmath.sqrt(b**2 - k**2)
+        return -a if (a.real == 0 and a.imag < 0) else a
+
+    def G(beta):
+        b = complex(beta)
+        a1, a2 = alpha(b, k1), alpha(b, k2)
+        B = b**2
+        if b.real > two_k2:
+            num = 16 * B**3 * (k2**2 - k1**2) + 8 * B**2 * k2**2 * (2 * k1**2 - 3 * k2**2)
+            num = num + 8 * B * k2**6 - k2**8
+            D = num / (4 * a1 * a2 * B + (2 * B - k2**2) ** 2)
+        else:
+            D = 4 * a1 * a2 * B - (2 * B - k2**2) ** 2
+        return a1 * om2 / (mu_c2 * D)
+
+    return G
+
+
 def _surface_displacement_scalar(r, omega, material, numerics):
     """One value of w(r) per unit load: eq (16) + Rayleigh residue (see surface_displacement)."""
     from scipy import special
     b1, b2, bR = wavenumbers(omega, material)
     L = static_limit_beta_G(material)
+    G = _kernel_G_point(omega, material)
+    j0 = special.j0
 
-    def f(beta):
-        return complex(_integrand(beta, omega, r, material))
+    def f(beta):  # _integrand at one point
+        beta = float(beta)
+        return G(beta) * float(j0(beta * r)) * beta
 
-    def folded(beta):
-        return complex(folded_integrand(beta, omega, r, material))
+    def folded(beta):  # folded_integrand at one point
+        return f(beta) + f(2 * bR - beta)
 
     # First three integrals of eq (16): 0 < beta < beta_R, folded across the pole.
     if r == 0.0:
@@ -583,7 +621,7 @@ def point_receptance_imag(omega, material: ElasticMaterial, numerics=None):
     return out.reshape(np.shape(omega)) if np.ndim(omega) else float(out[0])
 
 
-def radiated_power(omega, material: ElasticMaterial, load=1.0, numerics=None):
+def radiated_power(omega, material: ElasticMaterial, load=1.0, numerics=None, receptance_imag=None):
     """Time-averaged power radiated into the half-space by a point load (report sec. 3, Fig. 5).
 
     The power done by the load, -1/2 P^2 omega Im w0(0) (``point_receptance_imag``).
@@ -598,6 +636,9 @@ def radiated_power(omega, material: ElasticMaterial, load=1.0, numerics=None):
         Load amplitude P [N]; default 1.
     numerics : HalfSpaceNumerics, optional
         Quadrature settings; default ``HalfSpaceNumerics()``.
+    receptance_imag : float or array_like, optional
+        Im w0(0) at ``omega`` [m/N] if already computed (``point_receptance_imag``; its quadrature
+        is the whole cost); computed here if not given.
 
     Returns
     -------
@@ -610,10 +651,19 @@ def radiated_power(omega, material: ElasticMaterial, load=1.0, numerics=None):
         If any omega < 0, or (for omega > 0) if the material is damped (``point_receptance_imag``).
     """
     om = np.asarray(omega, dtype=float)
-    return -0.5 * load**2 * om * point_receptance_imag(om, material, numerics)
+    im = point_receptance_imag(om, material, numerics) if receptance_imag is None else _given_receptance_imag(receptance_imag, om)
+    return -0.5 * load**2 * om * im
 
 
-def contact_loss_factor(omega, hertz_stiffness, material: ElasticMaterial, numerics=None):
+def _given_receptance_imag(receptance_imag, omega):
+    """A precomputed Im w0(0) [m/N], checked to have the shape of ``omega``."""
+    im = np.asarray(receptance_imag, dtype=float)
+    if im.shape != np.shape(omega):
+        raise ValueError(f"receptance_imag has shape {im.shape}; it must have the shape of omega, {np.shape(omega)}.")
+    return im
+
+
+def contact_loss_factor(omega, hertz_stiffness, material: ElasticMaterial, numerics=None, receptance_imag=None):
     """Loss factor of the Hertz contact spring, eta_H = -2 k_H Im w0(0) (report sec. 3, Fig. 6).
 
     The spring k_H (1 + i eta_H) dissipates the power radiated into two half-spaces (wheel
@@ -629,6 +679,8 @@ def contact_loss_factor(omega, hertz_stiffness, material: ElasticMaterial, numer
         The material of wheel and rail; must be undamped.
     numerics : HalfSpaceNumerics, optional
         Quadrature settings; default ``HalfSpaceNumerics()``.
+    receptance_imag : float or array_like, optional
+        Im w0(0) at ``omega`` [m/N] if already computed; computed here if not given.
 
     Returns
     -------
@@ -642,4 +694,6 @@ def contact_loss_factor(omega, hertz_stiffness, material: ElasticMaterial, numer
         material is damped.
     """
     _check_range("hertz_stiffness [N/m]", hertz_stiffness, 0.0, np.inf)
+    if receptance_imag is not None:
+        return -2.0 * hertz_stiffness * _given_receptance_imag(receptance_imag, np.asarray(omega, dtype=float))
     return -2.0 * hertz_stiffness * point_receptance_imag(omega, material, numerics)

@@ -86,9 +86,9 @@ def radiation(material: ElasticMaterial, fig: HalfSpaceFigureSettings, numerics:
     """Im w0(0), radiated power per unit load and the contact loss factor over frequency."""
     f = fig.frequencies
     omega = 2 * np.pi * f
-    im = halfspace.point_receptance_imag(omega, material, numerics)
-    power = halfspace.radiated_power(omega, material, 1.0, numerics)
-    eta = halfspace.contact_loss_factor(omega, fig.hertz_stiffness, material, numerics)
+    im = halfspace.point_receptance_imag(omega, material, numerics)  # the quadrature, once for the three
+    power = halfspace.radiated_power(omega, material, 1.0, numerics, receptance_imag=im)
+    eta = halfspace.contact_loss_factor(omega, fig.hertz_stiffness, material, numerics, receptance_imag=im)
     return xr.Dataset(
         {
             "receptance_imag": _var("frequency", im, "m/N", "imaginary part of the half-space driving-point receptance Im w0(0)"),
