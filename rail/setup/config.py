@@ -24,9 +24,10 @@ class ConfigError(ValueError):
     """A configuration value is missing, unknown, of the wrong type or out of range."""
 
 
-class _UniqueKeyLoader(getattr(yaml, "CSafeLoader", yaml.SafeLoader)):
+class _UniqueKeyLoader(yaml.SafeLoader):
     """A YAML loader that refuses a key given twice in one mapping (PyYAML keeps the last silently).
-    libyaml's parser where PyYAML has it (the Snakemake start-up reads every scenario file)."""
+    PyYAML's own parser, not libyaml's: it names the offending character of a syntax error (a tab:
+    "found character '\\t' that cannot start any token"), which libyaml's message leaves out."""
 
 
 def _construct_unique_mapping(loader, node, deep=False):
