@@ -521,7 +521,7 @@ def rate_spectrum(scn: Scenario, table, lines, eps: float = 1e-9, grid_phases: i
     if not (isinstance(grid_phases, (int, np.integer)) and grid_phases >= 1):
         raise ValueError(f"grid_phases = {grid_phases!r} is not allowed: it must be an integer >= 1.")
     if getattr(scn, "cell", None) is not None:
-        return _cell_rate_spectrum(scn, table, lines, eps, grid_phases)
+        return _cell_rate_spectrum(scn, table, lines, eps, grid_phases, progress=progress)
     tabs = (table,) if isinstance(table, MovingReceptance) else tuple(table)
     locked = np.where(lines % N == 0, 1, np.where((N % 2 == 0) & (lines % N == N // 2) & (N > 1), 2, 0))
     if N == 1:
@@ -625,7 +625,7 @@ def rate_spectrum(scn: Scenario, table, lines, eps: float = 1e-9, grid_phases: i
                         method=method if not fallbacks else f"{method}, probes at " + "; ".join(fallbacks), operator=operator)
 
 
-def _cell_rate_spectrum(scn: Scenario, table: MovingReceptance, lines, eps: float, grid_phases: int) -> RateSpectrum:
+def _cell_rate_spectrum(scn: Scenario, table: MovingReceptance, lines, eps: float, grid_phases: int, progress=None) -> RateSpectrum:
     """rate_spectrum on a track periodic over a cell of N bays whose supports differ (rail.cell).
 
     The smooth rail's state is periodic over the cell, not over one bay, so the Bloch classes that
@@ -635,7 +635,8 @@ def _cell_rate_spectrum(scn: Scenario, table: MovingReceptance, lines, eps: floa
     (_locked, the nonlinear march over the N bays), its eigenvalues the rate and the other rate,
     and the smooth rail's wear at the line its parametric source.  Two marches per line and grid
     phase.  The coupling of a line to the others (its sidebands j + m, every m) is not in the
-    diagonal rate; growth runs (rail.chain.grow) carry it.
+    diagonal rate; growth runs (rail.chain.grow) carry it. ``progress(text)``, if given, is told
+    after every line (these marches over the cell are the slow part: minutes per line).
     """
     N = scn.roughness.bays
     lines = np.asarray(lines, dtype=int)
@@ -651,7 +652,12 @@ def _cell_rate_spectrum(scn: Scenario, table: MovingReceptance, lines, eps: floa
         for n, j in enumerate(lines):
             Ms[p, n] = _locked(scn, table, int(j), eps, phase, Z0, W0)
             source[n] += 2 * abs(W0[J + int(j)]) / grid_phases
+            if progress is not None:
+                progress(f"{p * lines.size + n + 1} of {grid_phases * lines.size} lines (grid phase {p + 1} of {grid_phases}; "
+                         f"a cosine and a sine probe each, marched over the cell of {N} bays)")
         if p == 0:
+            if progress is not None:
+                progress("linearity check: a probe of 2 eps at the first line")
             M2 = _locked(scn, table, int(lines[0]), 2 * eps, phase, Z0, W0)
             changes.append(abs(_sorted_eigenvalues(M2)[0].real / _sorted_eigenvalues(Ms[0, 0])[0].real - 1))
     rate = np.zeros(lines.size, dtype=complex)

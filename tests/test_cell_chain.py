@@ -161,7 +161,12 @@ def test_cell_spectrum_on_a_uniform_cell_is_the_bloch_spectrum(cfg):
     scn = build.spectrum_scenario(m, "uniform_cell")
     scn = dataclasses.replace(scn, track_numerics=dataclasses.replace(scn.track_numerics, harmonics=16))
     lines = np.array([3, 8])  # a free line and a comb line of the uniform track
-    rc = gs.rate_spectrum(scn, chain.receptance_table(scn, V), lines)
+    told = []
+    rc = gs.rate_spectrum(scn, chain.receptance_table(scn, V), lines, progress=told.append)
+    # its progress lines count every line of every grid phase (this path was silent for minutes per line)
+    counted = [t.split(" lines (")[0] for t in told if " lines (grid phase" in t]
+    assert counted == [f"{i} of {2 * lines.size}" for i in range(1, 2 * lines.size + 1)]
+    assert sum(t.startswith("linearity check") for t in told) == 1
     s0 = dataclasses.replace(scn, cell=None)
     rb = gs.rate_spectrum(s0, chain.receptance_table(s0, V), lines, method="probe")
     assert np.allclose(rc.rate.real, rb.rate.real, rtol=1e-6, atol=0)
