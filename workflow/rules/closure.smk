@@ -61,7 +61,7 @@ rule closure_aggregate:
         cfg=default_physics("figures.wear.spectrum_max_wavenumber"),
         meta=closure_inputs()[1] if closure_values() else [],
     resources:
-        mem_mb=1000,
+        mem_mb=400,
         runtime=5,
     log:
         "logs/closure/aggregate.log",

@@ -191,7 +191,7 @@ rule uncertainty_ensemble:
     benchmark:
         "benchmarks/uncertainty/ensemble.tsv"
     resources:
-        mem_mb=500,
+        mem_mb=300,
         runtime=5,
     script:
         "../scripts/uncertainty_ensemble.py"

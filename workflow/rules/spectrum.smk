@@ -43,7 +43,7 @@ rule rate_spectrum_map:
     params:
         code=code("rate_spectrum_map.py"),
     resources:
-        mem_mb=500,
+        mem_mb=300,
         runtime=5,
     log:
         "logs/spectrum/{scenario}/map.log",

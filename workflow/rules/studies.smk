@@ -38,7 +38,7 @@ rule stability_table:
         cfg=default_physics(),
         expect={name: c["expect"] for name, c in STABILITY["cases"].items()},
     resources:
-        mem_mb=1000,
+        mem_mb=300,
         runtime=10,
     log:
         "logs/stability/table.log",
@@ -69,7 +69,7 @@ rule convergence_point:
     wildcard_constraints:
         setting="|".join(CONVERGENCE["settings"]),
     resources:
-        mem_mb=6200,
+        mem_mb=3200,
         runtime=30,
     log:
         "logs/convergence/{setting}_{value}.log",
@@ -93,7 +93,7 @@ rule convergence_aggregate:
         cfg=default_physics(),
         study=CONVERGENCE,
     resources:
-        mem_mb=1000,
+        mem_mb=300,
         runtime=5,
     log:
         "logs/convergence/aggregate.log",
