@@ -79,6 +79,11 @@ def test_default_target_builds_every_figure_and_only_the_receptances_they_need(r
         "compile_kernels": 1,  # the contact march, compiled once before the wear and growth jobs
         "all": 1,
     }
+    # a roughness input the period cannot hold in full is one note naming its scenarios, said once,
+    # not a Python warning with a line of rail's source under it
+    notes = [line for line in out.stderr.splitlines() if "example_limit_minus10.csv" in line]
+    assert len(notes) == 1 and notes[0].startswith("railgrowth: note (scenario short_wave_study, short_wave_study_report): ")
+    assert "RoughnessInputWarning" not in out.stderr and "return Roughness(" not in out.stderr
 
 
 @pytest.mark.parametrize(

@@ -1,6 +1,7 @@
 # Helpers that turn the configuration into target lists. Rules live in the other .smk files.
 
 import sys
+import warnings
 from pathlib import Path
 
 import numpy as np
@@ -9,6 +10,7 @@ from snakemake.utils import validate
 
 from rail.chain import wheel_offsets as wheel_offsets_of
 from rail.provenance import code_hash
+from rail.roughness import RoughnessInputWarning
 from rail.setup.build import PASSAGE_KEYS
 from rail.setup.build import scenario as build_scenario
 from rail.setup.build import fleet_classes as build_fleet_classes
@@ -125,8 +127,23 @@ for _name in FLEET_CLASSES:
 # by the function railgrowth and rail.app.api call too (rail.setup.inputs.check_inputs). A track's
 # measured decay rate, one CSV file (band_centre_Hz,decay_rate_dB_per_m), is measured.decay_rate or
 # config/measured/<scenario>_decay_rate.csv.
-for _name, _scn in SCENARIO_OBJECTS.items():
-    check_inputs(SCENARIOS[_name], _scn, _name, _SOURCES[_name])
+# A roughness input the period cannot hold in full (bands left out, a short record repeated) is said
+# here once per message, in one line naming the scenarios (their jobs say it in their logs too);
+# Python's display of the warning added a line of rail's source to it.
+with warnings.catch_warnings(record=True) as _caught:
+    warnings.simplefilter("always", RoughnessInputWarning)
+    _said = {}
+    for _name, _scn in SCENARIO_OBJECTS.items():
+        _before = len(_caught)
+        check_inputs(SCENARIOS[_name], _scn, _name, _SOURCES[_name])
+        for _w in _caught[_before:]:
+            if issubclass(_w.category, RoughnessInputWarning):
+                _said.setdefault(str(_w.message), []).append(_name)
+for _w in _caught:  # any other warning as Python shows it
+    if not issubclass(_w.category, RoughnessInputWarning):
+        warnings.warn_explicit(_w.message, _w.category, _w.filename, _w.lineno)
+for _text, _names in _said.items():
+    print(f"railgrowth: note (scenario {', '.join(_names)}): {_text}", file=sys.stderr)
 
 
 def checked_speed(scenario, label):
