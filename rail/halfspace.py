@@ -651,13 +651,15 @@ def radiated_power(omega, material: ElasticMaterial, load=1.0, numerics=None, re
         If any omega < 0, or (for omega > 0) if the material is damped (``point_receptance_imag``).
     """
     om = np.asarray(omega, dtype=float)
-    im = point_receptance_imag(om, material, numerics) if receptance_imag is None else _given_receptance_imag(receptance_imag, om)
-    return -0.5 * load**2 * om * im
+    return -0.5 * load**2 * om * _receptance_imag(om, material, numerics, receptance_imag)
 
 
-def _given_receptance_imag(receptance_imag, omega):
-    """A precomputed Im w0(0) [m/N], checked to have the shape of ``omega``."""
-    im = np.asarray(receptance_imag, dtype=float)
+def _receptance_imag(omega, material, numerics, given):
+    """Im w0(0) [m/N] at ``omega``: ``given`` (checked to have the shape of ``omega``) if not None,
+    else point_receptance_imag."""
+    if given is None:
+        return point_receptance_imag(omega, material, numerics)
+    im = np.asarray(given, dtype=float)
     if im.shape != np.shape(omega):
         raise ValueError(f"receptance_imag has shape {im.shape}; it must have the shape of omega, {np.shape(omega)}.")
     return im
@@ -694,6 +696,4 @@ def contact_loss_factor(omega, hertz_stiffness, material: ElasticMaterial, numer
         material is damped.
     """
     _check_range("hertz_stiffness [N/m]", hertz_stiffness, 0.0, np.inf)
-    if receptance_imag is not None:
-        return -2.0 * hertz_stiffness * _given_receptance_imag(receptance_imag, np.asarray(omega, dtype=float))
-    return -2.0 * hertz_stiffness * point_receptance_imag(omega, material, numerics)
+    return -2.0 * hertz_stiffness * _receptance_imag(omega, material, numerics, receptance_imag)

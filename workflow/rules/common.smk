@@ -747,10 +747,15 @@ def growth_runtime(wildcards):
     """Cluster runtime of a growth job (minutes), scaled from the job: 0.5 s CPU per update, wheel
     and bay at 61 contact nodes (README, one core), as the square of the nodes; three times that,
     plus 10 min for start-up and the tables' reading, so that a slow node does not kill it."""
-    scn = SCENARIO_OBJECTS[wildcards.scenario]
+    return int(10 + 3 * growth_seconds(wildcards.scenario) / 60)
+
+
+def growth_seconds(name):
+    """Estimated CPU seconds of a scenario's growth loop: 0.5 s per update, wheel and bay at 61
+    contact nodes (one core), as the square of the nodes."""
+    scn = SCENARIO_OBJECTS[name]
     updates = scn.growth.passages / scn.growth.passages_per_update
-    seconds = 0.5 * updates * len(scn.wheels.positions) * scn.roughness.bays * (scn.contact_numerics.nodes / 61) ** 2
-    return int(10 + 3 * seconds / 60)
+    return 0.5 * updates * len(scn.wheels.positions) * scn.roughness.bays * (scn.contact_numerics.nodes / 61) ** 2
 
 
 # Job priorities (Snakemake starts the ready job of highest priority first; a priority is not passed
@@ -767,12 +772,9 @@ def table_priority(wildcards):
 
 
 def growth_priority(wildcards):
-    """Priority of a growth job: its estimated CPU seconds (growth_runtime's estimate), longest first,
-    below the tables it needs."""
-    scn = SCENARIO_OBJECTS[wildcards.scenario]
-    updates = scn.growth.passages / scn.growth.passages_per_update
-    seconds = 0.5 * updates * len(scn.wheels.positions) * scn.roughness.bays * (scn.contact_numerics.nodes / 61) ** 2
-    return 1 + min(int(seconds), PRIORITY_TABLES - 2)
+    """Priority of a growth job: its estimated CPU seconds (growth_seconds), longest first, below the
+    tables it needs."""
+    return 1 + min(int(growth_seconds(wildcards.scenario)), PRIORITY_TABLES - 2)
 
 
 def kernels(which):
