@@ -21,7 +21,8 @@ import sys
 
 import numpy as np
 
-from . import growth, interaction, moving, normal, provenance, wear
+from . import growth, interaction, moving, provenance, wear
+from .contact import normal
 from .contact import ContactError, hertz_half_length
 from .interaction import ForceResult, Roughness
 from .moving import MovingReceptance
@@ -162,7 +163,7 @@ def solve_forces(scn: Scenario, table: MovingReceptance, roughness: Roughness) -
     """Normal force harmonics of every wheel of the scenario (eq 21, rail.interaction.solve_forces).
 
     With the normal contact 'nonhertzian' the contact spring is driven by the roughness the patch
-    sees, Z_j J0(beta_j a_0) (rail.normal.approach_filter, linearised about the static wheel load's
+    sees, Z_j J0(beta_j a_0) (rail.contact.normal.approach_filter, linearised about the static wheel load's
     Hertz patch a_0, contact_filter); with 'report' by the roughness at the wheel centre.
 
     Parameters
@@ -184,7 +185,7 @@ def solve_forces(scn: Scenario, table: MovingReceptance, roughness: Roughness) -
 
 def contact_filtered(scn: Scenario, roughness: Roughness) -> Roughness:
     """The roughness that drives the normal force: the contact filter J0(beta a_0) of the linearised
-    2D contact about the static Hertz patch a_0 (rail.normal.approach_filter) for the normal contact
+    2D contact about the static Hertz patch a_0 (rail.contact.normal.approach_filter) for the normal contact
     'nonhertzian'; the roughness itself for 'report'.
 
     Parameters
@@ -198,12 +199,10 @@ def contact_filtered(scn: Scenario, roughness: Roughness) -> Roughness:
     Roughness
         [m].
     """
-    if scn.contact_numerics.normal != "nonhertzian":
-        return roughness
     a0 = float(hertz_half_length(scn.wheels.static_load, scn.material.wheel_radius, scn.material))
     J = roughness.harmonics
     beta = 2 * np.pi * np.arange(-J, J + 1) / (roughness.bays * scn.L)
-    return Roughness(roughness.Z * normal.approach_filter(beta, a0), roughness.bays)
+    return Roughness(roughness.Z * scn.contact_numerics.normal.filter(beta, a0), roughness.bays)
 
 
 def passage_wear(scn: Scenario, forces: ForceResult, roughness: Roughness, wheel: int = 0,
@@ -445,7 +444,7 @@ def contact_shift(scn: Scenario, table: MovingReceptance, Z) -> ContactShift:
     """Where the contact patch sits relative to the wheel centre along the period, which the wear
     model neglects (docs/contact.md, "The move of the contact centre").
 
-    The single-zone 2D contact (rail.normal.patch_contact) centres the patch at c = R_w <r'>, the
+    The single-zone 2D contact (rail.contact.normal.patch_contact) centres the patch at c = R_w <r'>, the
     roughness slope averaged over the patch with the weight 1 / (pi sqrt(a^2 - s^2)) (c = R_w r'
     J0(beta a) for a small cosine). It is evaluated for every wheel with the forces of the
     roughness Z, on either normal-contact model (the report's keeps the patch on the wheel centre

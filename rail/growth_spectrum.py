@@ -25,7 +25,7 @@ from dataclasses import dataclass
 import numpy as np
 
 from . import chain, wear
-from .contact_tangent import work_tangent
+from .contact.tangent import work_tangent
 from .interaction import Roughness
 from .moving import MovingReceptance
 from .scenario import Scenario
@@ -133,7 +133,7 @@ def _linear_rates(scn, tabs, free, locked, eps, phase, max_columns=None, progres
     The smooth rail's state is periodic over one bay, so the derivative of the wear for roughness of
     the Bloch class r = j mod N is e^{i 2 pi r x / (N L)} times a bay-periodic function: one march of
     the smooth rail over one bay (with its spin-up), carrying the derivative along every probe at once
-    (rail.contact_tangent), gives every line. The normal contact's inputs along each probe (force,
+    (rail.contact.tangent), gives every line. The normal contact's inputs along each probe (force,
     half-length, pressure shape at every step) are the difference of the model's own inputs with
     and without a probe of amplitude eps over the N bays (one evaluation per batch of lines, as the
     probes of method 'probe' but without the march), split into the classes by a DFT over the bays.
@@ -164,7 +164,7 @@ def _linear_rates(scn, tabs, free, locked, eps, phase, max_columns=None, progres
     probes = _tangent_batches(free, locked, N)
     cols = []  # (probe, wheel) -> columns
     dP, da, dsh = [[] for _ in order], [[] for _ in order], [[] for _ in order]
-    nonh = nums.normal == "nonhertzian"
+    nonh = ref[0].shape is not None  # the normal contact gives a pressure shape: differentiate it too
     Z0N = np.zeros(2 * J + 1, dtype=complex)
     fN0 = chain.solve_forces(scn, tabs, Roughness(Z0N, N))
     base = []
@@ -498,7 +498,7 @@ def rate_spectrum(scn: Scenario, table, lines, eps: float = 1e-9, grid_phases: i
         measure the linearity [-] (on the first grid).
     method : str
         'linear' (default): every line from one march of the smooth rail over one bay carrying the
-        derivative of the contact along every probe (_linear_rates, rail.contact_tangent); the
+        derivative of the contact along every probe (_linear_rates, rail.contact.tangent); the
         linearity is then the change of the rate from the derivative to probes of 2 eps.
         'probe': the previous path, each line from the difference of two nonlinear marches over the
         N bays (one line per pair of classes per march, _batches), the reference of the tests;

@@ -1,7 +1,7 @@
 """Compile the numba kernels of the contact marches once (rule compile_kernels).
 
 The first call of a compiled march in a fresh checkout compiles it (about 30 s CPU for
-rail.contact's march, 25 s more for rail.contact_tangent's); numba keeps the result in its cache next
+rail.contact.march's march, 25 s more for rail.contact.tangent's); numba keeps the result in its cache next
 to the sources. Run once before parallel jobs, so that they load the cache instead of each compiling.
 """
 
@@ -9,14 +9,15 @@ from __future__ import annotations
 
 import numpy as np
 
-from . import contact, contact_tangent
+from . import contact
+from .contact import march, tangent
 
 __all__ = ["compile_kernels"]
 
 
-def compile_kernels(tangent: bool = False) -> list[str]:
+def compile_kernels(tangent_too: bool = False) -> list[str]:
     """Compile the contact marches once (or load them from numba's cache): a tiny rolling contact
-    through solve_tangential and (tangent=True) through rail.contact_tangent.work_tangent, with the
+    through solve_tangential and (tangent=True) through rail.contact.tangent.work_tangent, with the
     argument types of every production call (float64 arrays, the closure as an integer flag).
 
     The first call of the compiled march in a fresh checkout takes about 30 s CPU; the workflow runs
@@ -25,7 +26,7 @@ def compile_kernels(tangent: bool = False) -> list[str]:
 
     Parameters
     ----------
-    tangent : bool
+    tangent_too : bool
         Also the derivative march of the growth-rate spectrum (about 25 s CPU more).
 
     Returns
@@ -40,11 +41,11 @@ def compile_kernels(tangent: bool = False) -> list[str]:
     shape = np.ones((steps, 2 * M + 1))
     contact.solve_tangential(P, a, m, speed, delta, M, closure="default", shape=shape)
     d = np.ones((steps, 1))
-    if tangent:
-        contact_tangent.work_tangent(P, a, m, speed, delta, M, d * 1e3, d * 1e-5, dshape=np.zeros((steps, 2 * M + 1, 1)), shape=shape)
+    if tangent_too:
+        tangent.work_tangent(P, a, m, speed, delta, M, d * 1e3, d * 1e-5, dshape=np.zeros((steps, 2 * M + 1, 1)), shape=shape)
     out = []
-    for mod in (contact,) + ((contact_tangent,) if tangent else ()):
+    for mod in (march,) + ((tangent,) if tangent_too else ()):
         for name, obj in sorted(vars(mod).items()):
-            if hasattr(obj, "signatures") and obj.signatures:
+            if hasattr(obj, "signatures") and obj.signatures and obj.py_func.__module__ == mod.__name__:
                 out += [f"{mod.__name__}.{name}{tuple(str(t) for t in sig)}" for sig in obj.signatures]
     return out

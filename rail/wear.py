@@ -21,13 +21,13 @@ from dataclasses import dataclass
 
 import numpy as np
 
-from . import normal
-from .contact import ContactError, ContactMaterial, ContactNumerics, equivalent_radius, hertz_half_length, rolling_grid, solve_tangential
-from .interaction import ForceResult, Roughness, force_on_grid
+from .contact import ContactMaterial, ContactNumerics, solve_tangential
+from .contact.models import roughness_slope
+from .contact.passage import SPIN_UP_TRANSITS, MarchInputs, march_inputs
+from .interaction import ForceResult, Roughness
 
 __all__ = ["WearLaw", "WearResult", "MarchInputs", "march_inputs", "bay_wear", "wear_spectrum", "apply_wear", "roughness_slope", "SPIN_UP_TRANSITS"]
 
-SPIN_UP_TRANSITS = 20
 
 
 @dataclass(frozen=True)
@@ -75,7 +75,7 @@ class WearResult:
                   the report's regime; 1 with saturated creepage). Reported, not an error: the
                   traction is then mu_d p everywhere, which the model handles.
     min_shape : smallest pressure shape factor over the bay (normal contact 'nonhertzian'; 1 for
-                  Hertz): the roughness's share of the pressure at its worst, rail.normal.patch_contact
+                  Hertz): the roughness's share of the pressure at its worst, rail.contact.normal.patch_contact
     shift : largest abs(c) / a over the bay, the neglected move of the contact centre relative to
                   the wheel (normal contact 'nonhertzian'; 0 for the report's model) [-]
     """
@@ -215,155 +215,3 @@ def bay_wear(forces: ForceResult, wheel_index: int, roughness: Roughness, materi
         min_shape=min_shape,
         shift=shift,
     )
-
-
-@dataclass(frozen=True)
-class MarchInputs:
-    """What bay_wear hands the tangential march (solve_tangential) for one wheel over the period.
-
-    Attributes
-    ----------
-    P, a : (steps,) normal force [N] and half-length [m] at each step of the march
-    shape : (steps, 2M + 1) pressure shape factor (normal contact 'nonhertzian'), else None
-    delta : grid spacing [m]; Nx: spacings over the period; M: centre node; spin: spin-up steps
-             (step spin + k has the wheel at x_k = k delta)
-    min_shape, shift : as WearResult
-    """
-
-    P: np.ndarray
-    a: np.ndarray
-    shape: np.ndarray | None
-    delta: float
-    Nx: int
-    M: int
-    spin: int
-    min_shape: float
-    shift: float
-
-
-def march_inputs(forces: ForceResult, wheel_index: int, roughness: Roughness, material: ContactMaterial,
-                 numerics: ContactNumerics, grid_phase: float = 0.0, a_max: float | None = None,
-                 grid: tuple | None = None) -> MarchInputs:
-    """The contact grid and the normal contact (force, half-length, pressure shape) of every step of
-    bay_wear's march (eqs 22-24 or rail.normal.patch_contact).
-
-    Parameters
-    ----------
-    forces, wheel_index, roughness, material, numerics, grid_phase, a_max
-        As bay_wear (forces [N], roughness [m], a_max [m]; bay_wear checks them).
-    grid : tuple, optional
-        (delta [m], spacings per bay, centre node M, spin-up steps) of a one-bay march to use as is,
-        repeated over the N bays (the linearised spectrum holds the smooth rail's grid for its
-        probes: a probe must not move the grid). Default: chosen from the patch as bay_wear does.
-
-    Returns
-    -------
-    MarchInputs
-        Force [N], half-length [m] and pressure shape [-] at each step, grid spacing [m] and sizes.
-    """
-    L = forces.period  # the period N L of roughness and force
-    nodes = numerics.nodes
-    P_s = force_on_grid(forces, 512 * forces.bays)[wheel_index]  # at x = k L / (512 N)
-    nonhertzian = numerics.normal == "nonhertzian"
-    if nonhertzian:
-        hertz_half_length(P_s, material.wheel_radius, material)  # refuses a negative (lost) contact force
-        slope = roughness_slope(roughness, L)
-        a_s = normal.patch_contact(P_s, np.arange(P_s.size) * L / P_s.size, slope, material, np.zeros(1), strict=False).a
-        # (NaN where one zone does not hold: the grid is rebuilt below if the zones' hull outgrows it)
-        a_s = np.where(np.isfinite(a_s), a_s, np.nanmax(np.append(a_s, hertz_half_length(np.max(P_s), material.wheel_radius, material))))
-    else:
-        kap_s = _curvature_on_grid(roughness, 512 * forces.bays, L)
-        a_s = hertz_half_length(P_s, equivalent_radius(kap_s, material), material)
-    a_est = float(np.max(a_s)) * 1.02 if a_max is None else a_max
-    # The grid holds the largest patch, estimated from 512 N samples; where the patch at the grid's
-    # own points is larger (a half-length that changes fast between samples: a rail nearly as concave
-    # as the wheel, or a force that peaks between them), the grid is rebuilt for it.
-    for _attempt in range(3):
-        # the grid of one bay, repeated over the N bays of the period (so that a one-bay-periodic
-        # roughness gives the same wear with any N)
-        if grid is not None:
-            delta, Nx, M, spin = float(grid[0]), int(grid[1]) * forces.bays, int(grid[2]), int(grid[3])
-        else:
-            delta, Nx, M = rolling_grid(a_est, forces.L, nodes)
-            if grid_phase:
-                Nx += int(round(grid_phase * forces.L / max(float(np.mean(a_s)), 1e-300)))
-            if grid_phase or forces.bays > 1:
-                Nx *= forces.bays
-                delta = L / Nx
-                M = int(np.ceil(a_est / delta)) + 1
-            # spin-up from zero traction over SPIN_UP_TRANSITS patch transits (at most a bay) before the bay
-            spin = min(Nx, int(np.ceil(SPIN_UP_TRANSITS * 2 * a_est / delta)))
-        steps = spin + Nx + 2 * M + 1
-        x_wheel = (np.arange(steps) - spin) * delta  # wheel centre at each step; x = 0 at step `spin`
-        on_grid = (np.arange(steps) - spin) % Nx  # x_wheel mod L = on_grid L / Nx: exact grid points
-        P = force_on_grid(forces, Nx)[wheel_index][on_grid]
-        shape, min_shape, shift = None, 1.0, 0.0
-        if nonhertzian:
-            xi = (np.arange(2 * M + 1) - M) * delta
-            # one zone (exact), or several where the pressure would turn negative inside the patch (brute force)
-            pc = normal.passage_contact(P, x_wheel, slope, material, xi)
-            a, shape = pc.a, pc.shape
-            min_shape = float(pc.min_shape.min())
-            shift = float(np.max(np.abs(pc.shift) / a))
-        else:
-            kappa = _curvature_on_grid(roughness, Nx, L)[on_grid]
-            R = equivalent_radius(kappa, material)
-            a = hertz_half_length(P, R, material)
-        if a_max is not None or grid is not None or float(np.max(a)) < (M - 0.5) * delta:
-            break
-        a_est = 1.02 * float(np.max(a))
-    else:
-        raise ContactError(f"the patch half-length {float(np.max(a)) * 1e3:.3g} mm of wheel {wheel_index} keeps outgrowing its "
-                           "contact grid (the rail is nearly as concave as the wheel: multiple contact is near).")
-    if float(np.min(a)) < 2.5 * delta and nonhertzian:  # several zones: the hull spans crests far apart
-        raise ContactError(f"multiple contact: the contact of wheel {wheel_index} ranges from one zone of half-length "
-                           f"{float(np.min(a)) * 1e3:.3g} mm to zones over +-{float(np.max(a)) * 1e3:.3g} mm along the period (the "
-                           "wheel rides on separate roughness crests); one contact grid cannot resolve both (fewer than 2.5 "
-                           "spacings across the smallest).")
-    if float(np.min(a)) < 2.5 * delta:  # the patch changes length by more than the grid can hold along the period
-        raise ContactError(f"multiple contact is near: the patch half-length of wheel {wheel_index} ranges from "
-                           f"{float(np.min(a)) * 1e3:.3g} to {float(np.max(a)) * 1e3:.3g} mm along the period (the rail nearly as "
-                           "concave as the wheel); the report's local-curvature Hertz patch is far outside its validity there "
-                           "(contact.normal: nonhertzian sees the roughness under the patch).")
-    return MarchInputs(P=P, a=a, shape=shape, delta=delta, Nx=Nx, M=M, spin=spin, min_shape=min_shape, shift=shift)
-
-
-def roughness_slope(roughness: Roughness, period: float):
-    """The slope r'(x) of the roughness as a function of position (rail.normal.patch_contact).
-
-    r' is sampled by one inverse FFT on a grid of at least 64 points per shortest wavelength and
-    interpolated linearly (periodically): relative error at most (2 pi / 64)^2 / 8 = 1.2e-3 of the
-    shortest harmonic's slope, less for the longer ones.
-
-    Parameters
-    ----------
-    roughness : Roughness
-        Z_j, j = -J..J over the period [m].
-    period : float
-        N L [m].
-
-    Returns
-    -------
-    callable
-        x [m] (any shape) -> r'(x) [-].
-    """
-    J = roughness.harmonics
-    n = 1 << int(np.ceil(np.log2(max(64 * J, 64))))
-    j = np.arange(-J, J + 1)
-    acc = np.zeros(n, dtype=complex)
-    np.add.at(acc, j % n, 1j * j * (2 * np.pi / period) * roughness.Z)
-    values = np.real(np.fft.ifft(acc)) * n
-    grid = np.arange(n) * period / n
-    return lambda x: np.interp(x, grid, values, period=period)
-
-
-def _curvature_on_grid(roughness: Roughness, n: int, period: float):
-    """kappa = -z'' (eq 20) [1/m] at x_k = k P / n over the roughness period P [m], by one inverse
-    FFT (the coefficients folded into n bins: exact at these points, the same values as the direct sum
-    to rounding)."""
-    J = roughness.harmonics
-    j = np.arange(-J, J + 1)
-    beta = 2 * np.pi / period
-    acc = np.zeros(n, dtype=complex)
-    np.add.at(acc, j % n, (j * beta) ** 2 * roughness.Z)
-    return np.real(np.fft.ifft(acc)) * n

@@ -15,11 +15,12 @@ ROOT = Path(__file__).resolve().parents[1]
 RAIL = ROOT / "rail"
 SCRIPTS = sorted((ROOT / "workflow/scripts").glob("*.py"))
 LAYERS = {"physics": 0, "setup": 1, "studies": 2, "plotting": 3, "app": 4}
+PHYSICS_PACKAGES = {"contact"}  # packages of the physics layer (rail/contact/: the contact models)
 
 
 def _layer(path: Path) -> str:
     rel = path.relative_to(RAIL)
-    return rel.parts[0] if len(rel.parts) > 1 else "physics"
+    return rel.parts[0] if len(rel.parts) > 1 and rel.parts[0] not in PHYSICS_PACKAGES else "physics"
 
 
 def _rail_files():

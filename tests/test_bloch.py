@@ -9,6 +9,7 @@ from rail import contact as C
 from rail import interaction as I
 from rail import moving
 from rail import wear as W
+from rail.contact.models import curvature_on_grid
 
 V, K = 40.0, 16
 WHEEL = I.Wheels(1350.0, 0.575, 1e5, (0.0,))
@@ -136,7 +137,7 @@ def test_force_and_curvature_on_a_grid_by_fft_equal_the_direct_sums(random_force
     assert np.abs(direct - fast).max() < 1e-12 * np.ptp(direct)
     j = np.arange(-J, J + 1) * 2 * np.pi / F.period  # kappa = -z'' = sum (j beta)^2 Z_j e^{i j beta x} (eq 20), summed directly
     c1 = np.real(np.exp(1j * np.outer(x, j)) @ (j**2 * Z))
-    c2 = W._curvature_on_grid(rough, n, F.period)
+    c2 = curvature_on_grid(rough, n, F.period)
     assert np.abs(c1 - c2).max() < 1e-12 * np.abs(c1).max()
 
 

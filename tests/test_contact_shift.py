@@ -14,7 +14,7 @@ from model import scenario
 from rail import chain, halfspace, moving
 from rail import contact as C
 from rail import interaction as I
-from rail import normal as N
+from rail.contact import normal as N
 from rail import track as T
 from rail.studies import runs
 

@@ -18,6 +18,7 @@ from pathlib import Path
 import pytest
 
 import rail
+import rail.contact
 
 ROOT = Path(__file__).resolve().parents[1]
 README = ROOT / "README.md"
@@ -74,7 +75,9 @@ def test_the_modules_checked_include_the_app_and_every_physics_module():
     modules = rail_modules()
     physics = {f"rail.{m.name}" for m in pkgutil.iter_modules(rail.__path__) if not m.ispkg and not m.name.startswith("_")}
     assert {"rail.app", "rail.app.api", "rail.app.cli"} <= set(modules) and "rail._lazyjit" not in modules
-    assert physics <= set(modules) and {"rail.halfspace", "rail.track", "rail.contact", "rail.wear", "rail.growth"} <= physics
+    physics |= {f"rail.contact.{m.name}" for m in pkgutil.iter_modules(rail.contact.__path__) if not m.name.startswith("_")}
+    assert physics <= set(modules) and {"rail.halfspace", "rail.track", "rail.contact.march", "rail.wear", "rail.growth"} <= physics
+    assert "rail.contact" in modules
     assert public_names("rail.app.api") >= {"rail.app.api.load", "rail.app.api.growth", "rail.app.api.Study"}
     # a name a module imports is documented where it is defined: rail.chain imports Scenario and Track
     assert "rail.chain.Scenario" not in public_names("rail.chain") and "rail.scenario.Scenario" in public_names("rail.scenario")

@@ -1,5 +1,5 @@
 """Normal contact with several zones in the production chain (issue 31; docs/contact.md, "Several contact
-zones"): rail.normal.multizone_contact against the brute force on a fine grid, passage_contact equal to the
+zones"): rail.contact.normal.multizone_contact against the brute force on a fine grid, passage_contact equal to the
 single-zone solution where that holds, the tangential march with a pressure that vanishes inside the
 patch against the numpy reference and against an independent steady-rolling solver
 (tests/independent/steady_rolling.py, checked against Carter here), and the growth run that no longer
@@ -13,7 +13,7 @@ import pytest
 import reference.contact_numpy as RN
 from independent.steady_rolling import steady_rolling
 from rail import contact as C
-from rail import normal as N
+from rail.contact import normal as N
 
 R, V, P0 = 0.575, 40.0, 1.0e5
 MAT = C.ContactMaterial(2.1e11, 0.3, 0.008, R, 0.3, 0.3, -0.001)

@@ -1,4 +1,4 @@
-"""Normal contact with the roughness inside the patch (rail.normal, docs/contact.md): the brute-force
+"""Normal contact with the roughness inside the patch (rail.contact.normal, docs/contact.md): the brute-force
 influence-coefficient solver against Hertz and Westergaard, the contact filters against it, and the
 production single-zone solution against it."""
 
@@ -9,7 +9,7 @@ import pytest
 from scipy.special import j0
 
 from rail import contact as C
-from rail import normal as N
+from rail.contact import normal as N
 
 R, P0 = 0.46, 1.0e5
 

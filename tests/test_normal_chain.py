@@ -14,7 +14,7 @@ from rail import chain, halfspace, moving
 from rail import contact as C
 from rail import growth as G
 from rail import interaction as I
-from rail import normal as N
+from rail.contact import normal as N
 from rail import track as T
 from rail.app import api
 
@@ -101,19 +101,19 @@ def test_the_report_model_at_the_same_roughness_stops_on_multiple_contact():
     # the report's local-curvature Hertz patch at 30 um, 10 mm: z'' = 12 1/m exceeds 1/R_w = 1.7 1/m
     st = api.load("default", changes={"numerics": {"contact": {"nodes": 41}},
                                       "roughness": {"kind": "harmonic", "amplitude": 3e-5, "wavelength": 0.010}})
-    assert st.scenario.contact_numerics.normal == "report"
+    assert st.scenario.contact_numerics.normal.name == "report"
     ds = api.growth(st, speed=40.0, passages=20000, progress=io.StringIO())
     assert "multiple contact" in ds.attrs["stopped"]
 
 
 def test_config_yaml_is_the_report_and_a_scenario_file_starts_from_the_nonhertzian_contact(tmp_path):
-    assert api.load("default").scenario.contact_numerics.normal == "report"
-    assert api.load("class87").scenario.contact_numerics.normal == "report"  # a report study pins it
+    assert api.load("default").scenario.contact_numerics.normal.name == "report"
+    assert api.load("class87").scenario.contact_numerics.normal.name == "report"  # a report study pins it
     mine = tmp_path / "mine.yaml"
     mine.write_text("track:\n  pad:\n    stiffness: 1.5e+8\n")
-    assert api.load(str(mine)).scenario.contact_numerics.normal == "nonhertzian"
+    assert api.load(str(mine)).scenario.contact_numerics.normal.name == "nonhertzian"
     mine.write_text("contact:\n  normal: report\n")
-    assert api.load(str(mine)).scenario.contact_numerics.normal == "report"
+    assert api.load(str(mine)).scenario.contact_numerics.normal.name == "report"
 
 
 def test_the_command_line_writes_a_stopped_run_and_exits_3(tmp_path, capsys):
@@ -145,8 +145,10 @@ def test_a_patch_that_outgrows_its_estimate_gets_a_larger_grid_not_an_error(tabl
     s = _scn("report", nodes=41)
     forces = chain.solve_forces(s, table, rough)
     plain = chain.passage_wear(s, forces, rough)
-    curvature = W._curvature_on_grid
-    monkeypatch.setattr(W, "_curvature_on_grid", lambda r, n, p: curvature(r, n, p) * (0.5 if n == 512 else 1.0))
+    from rail.contact import models
+
+    curvature = models.curvature_on_grid
+    monkeypatch.setattr(models, "curvature_on_grid", lambda r, n, p: curvature(r, n, p) * (0.5 if n == 512 else 1.0))
     w = chain.passage_wear(s, forces, rough)
     assert np.all(np.isfinite(w.depth))
     assert w.a.max() == pytest.approx(plain.a.max(), rel=0.02)

@@ -212,7 +212,7 @@ def fleet_growth_dataset(classes, tables: dict, history, fleet: Fleet) -> xr.Dat
     ds["exponential_rate_per_year"] = ds["exponential_rate"] * fleet.axles_per_day * 365
     ds["exponential_rate_per_year"].attrs = {"units": "1/year", "long_name": "e-folding rate of the rms amplitude per year of traffic"}
     ds.attrs.update({**fleet.attributes(), "force_class": main.label, "speed_m_per_s": fleet.speeds.mean,
-                     "wheels": chain.fleet_wheels(classes), "normal_contact": scn.contact_numerics.normal})
+                     "wheels": chain.fleet_wheels(classes), "normal_contact": scn.contact_numerics.normal.name})
     if history.stopped:
         ds.attrs["stopped"] = history.stopped
     return ds

@@ -5,7 +5,7 @@ from __future__ import annotations
 import numpy as np
 import xarray as xr
 
-from ..contact import hertz_half_length
+from ..contact import ReportNormal, hertz_half_length, normal_contact
 from ..growth_spectrum import RateSpectrum, rate_spectrum, spectrum_lines
 from .datasets import _unit_of, _var
 
@@ -13,9 +13,8 @@ __all__ = ["spectrum_with_settings", "rate_spectrum_dataset", "spectrum_dataset_
 
 PASSAGES_PER_DB = 100000  # the dB growth is stated per this many train passages
 # The report's normal contact (point spring, Hertz patch with the local curvature) is taken as valid
-# for wavelengths above this many patch lengths 2 a_0: there its contact filter J0(beta a_0) is within
-# 0.22 dB of 1 (docs/contact.md)
-REPORT_VALID_PATCH_LENGTHS = 10
+# for wavelengths above this many patch lengths 2 a_0 (rail.contact.models.ReportNormal)
+REPORT_VALID_PATCH_LENGTHS = ReportNormal.valid_patch_lengths
 
 
 def spectrum_with_settings(scn, tables, settings: dict, progress=None) -> RateSpectrum:
@@ -30,7 +29,7 @@ def spectrum_with_settings(scn, tables, settings: dict, progress=None) -> RateSp
 
 
 def rate_spectrum_dataset(spectra: dict[float, RateSpectrum], L: float, wheels: int, contact_length: float | None = None,
-                          normal: str | None = None, traffic=None) -> xr.Dataset:
+                          normal=None, traffic=None) -> xr.Dataset:
     """One dataset of the growth-rate spectra of one scenario at several speeds.
 
     Parameters
@@ -43,9 +42,10 @@ def rate_spectrum_dataset(spectra: dict[float, RateSpectrum], L: float, wheels: 
         Wheels of the train [-] (the rates are per train passage).
     contact_length : float, optional
         2 a_0, the Hertz patch length under the static load [m] (marked on the figures).
-    normal : str, optional
-        The normal-contact model ('report': valid above about ten patch lengths, stated in the
-        attributes and shaded in the figure below that).
+    normal : str or rail.contact.NormalContact, optional
+        The normal-contact model or its name (one with a validity limit in patch lengths, the
+        report's: valid above about ten patch lengths, stated in the attributes and shaded in the
+        figure below that).
     traffic : rail.traffic.Traffic, optional
         For the growth per year and per MGT (growth_dB_per_year, growth_dB_per_MGT).
 
@@ -120,12 +120,12 @@ def rate_spectrum_dataset(spectra: dict[float, RateSpectrum], L: float, wheels: 
                            "growth_dB_per_1e5_axles: per 100,000 axle (wheel) passages",
                **(traffic.attributes() if traffic is not None else {}),
                **({"contact_length_m": float(contact_length)} if contact_length else {}),
-               **({"normal_contact": normal} if normal else {}),
+               **({"normal_contact": str(normal)} if normal is not None else {}),
                **({"report_model_valid_above_m": REPORT_VALID_PATCH_LENGTHS * float(contact_length),
                    "validity": f"the report's normal contact (point spring, local-curvature Hertz patch) holds for wavelengths above "
                                f"about {REPORT_VALID_PATCH_LENGTHS} patch lengths ({1e3 * REPORT_VALID_PATCH_LENGTHS * contact_length:.0f} mm); "
                                "below, use contact.normal: nonhertzian (docs/contact.md)"}
-                  if normal == "report" and contact_length else {})},
+                  if normal is not None and normal_contact(normal).valid_patch_lengths and contact_length else {})},
     )
 
 

@@ -48,7 +48,7 @@ def growth_dataset(scn: Scenario, table, history, speed: float, warn=None) -> xr
     ds = datasets.with_contact_shift(ds, [chain.contact_shift(scn, table, Z) for Z in history.Z], chain.SWEEP_ERROR_LIMIT)
     if "contact_shift_warning" in ds.attrs and warn is not None:
         print("warning: " + ds.attrs["contact_shift_warning"], file=warn, flush=True)
-    ds.attrs["normal_contact"] = scn.contact_numerics.normal
+    ds.attrs["normal_contact"] = scn.contact_numerics.normal.name
     stated = scn.roughness.statement(scn.L, scn.harmonics)  # what the initial roughness was read from, and how
     ds.attrs.update(stated)
     if warn is not None:

@@ -1,5 +1,5 @@
 """Benchmark (not a test): CPU cost of one wheel passage's contact when the contact splits into several
-zones (issue 31, rail.normal.passage_contact / multizone_contact), against the same passage on a rail whose
+zones (issue 31, rail.contact.normal.passage_contact / multizone_contact), against the same passage on a rail whose
 contact stays one zone.
 
 One passage of the growth loop is one rail.wear.bay_wear call: the normal contact at every step of the march
@@ -17,7 +17,8 @@ from pathlib import Path
 
 import numpy as np
 
-from rail import chain, interaction, normal, wear
+from rail import chain, interaction, wear
+from rail.contact import normal
 from rail.contact import solve_tangential
 from rail.setup import build, config
 

@@ -14,7 +14,7 @@ the perturbation test), brought up to the current scheme of the compiled loop (`
   over the Hertz ellipse, the deviation from it by the trapezoidal rule over the loaded time;
   particles that left the patch at -a during the step are counted in that step, with their mean
   slip velocity from the displacement at -a interpolated in time (the mirror image of the entry).
-* several contact zones (a pressure that is 0 at nodes inside the ellipse, rail.normal.multizone_contact):
+* several contact zones (a pressure that is 0 at nodes inside the ellipse, rail.contact.normal.multizone_contact):
   a particle in a gap carries no traction and does no work; one that re-enters a zone is a regular
   particle (its stick row continues its own displacement through the gap); one that leaves a zone into
   a gap gets its mean slip velocity over the step along its path, (u_n(t) - u_{n+1}(t - dt)) / dt + V gamma;

@@ -779,7 +779,7 @@ def growth_priority(wildcards):
 
 def kernels(which):
     """The marker of the compiled kernels a rule's script calls: 'march' (rail.contact, every
-    growth and wear job) or 'tangent' (also rail.contact_tangent, the growth-rate spectrum)."""
+    growth and wear job) or 'tangent' (also rail.contact.tangent, the growth-rate spectrum)."""
     # ancient: the marker's age never reruns a job (each job's own code hash does)
     return ancient(f"results/cache/kernels_{which}.txt")
 

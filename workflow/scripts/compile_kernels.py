@@ -4,7 +4,7 @@ from rail.kernels import compile_kernels
 
 
 def main(which, out_path):
-    lines = compile_kernels(tangent=(which == "tangent"))
+    lines = compile_kernels(tangent_too=(which == "tangent"))
     with open(out_path, "w") as f:
         f.write("\n".join(lines) + "\n")
 

@@ -39,28 +39,13 @@ from dataclasses import dataclass
 
 import numpy as np
 
-from .contact import ContactError, ContactMaterial, compliance
+from .hertz import ContactError, ContactMaterial, composite_modulus, compliance
 
 __all__ = ["composite_modulus", "influence_matrix", "NormalSolution", "solve_normal", "approach_filter",
            "half_length_filter", "PatchContact", "patch_contact", "CHEBYSHEV_NODES", "MultizoneContact",
            "multizone_contact", "passage_contact", "MULTIZONE_REFINE"]
 
 CHEBYSHEV_NODES = 32  # Chebyshev nodes across the patch in patch_contact (error: tests/test_normal.py)
-
-
-def composite_modulus(m: ContactMaterial) -> float:
-    """Composite plane-strain modulus E* = E / (2 (1 - nu^2)) of two steel bodies [Pa].
-
-    Parameters
-    ----------
-    m : ContactMaterial
-
-    Returns
-    -------
-    float
-        E* [Pa]; 2 / (pi E*) equals rail.contact.compliance(m).
-    """
-    return m.youngs_modulus / (2 * (1 - m.poisson_ratio**2))
 
 
 def _log_element(t0, t1):

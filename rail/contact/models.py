@@ -1,0 +1,205 @@
+"""The normal-contact models, as objects that know their filter and their patch (config key
+``contact.normal``).
+
+* ``ReportNormal`` ('report', sec. 4.2-4.3, eqs 22-24): a point spring on the roughness at the wheel
+  centre (the force sees the roughness unfiltered) and a Hertz patch whose radius follows the local
+  rail curvature, 1/R = 1/R_w + kappa.
+* ``NonHertzianNormal`` ('nonhertzian', rail.contact.normal): the roughness under the patch. The
+  force sees the roughness through the contact filter J0(beta a_0); the patch is the exact
+  single-zone 2D solution (or several zones by the brute force where one does not hold), its
+  pressure the Hertz ellipse times a shape factor.
+
+The rest of the package asks the model, never its name: ``filter`` (what the contact spring sees),
+``half_lengths`` (the patch along the period, to size the grid), ``patches`` (half-length, pressure
+shape and centre shift at each step of a passage) and ``multiple_contact`` (the error where one grid
+cannot hold the contact).
+
+Conventions: x along the rail in the direction of travel [m]; roughness r(x) positive upwards, given
+by its complex Fourier coefficients Z_j over the period N L (rail.interaction.Roughness); curvature
+kappa = -z'' [1/m]; forces in N.
+"""
+
+from __future__ import annotations
+
+from dataclasses import dataclass
+from typing import ClassVar
+
+import numpy as np
+
+from .hertz import ContactError, ContactMaterial, equivalent_radius, hertz_half_length
+
+__all__ = ["NormalContact", "ReportNormal", "NonHertzianNormal", "Patches", "NORMAL_MODELS", "normal_contact",
+           "roughness_slope", "curvature_on_grid"]
+
+
+def roughness_slope(roughness, period: float):
+    """The slope r'(x) of the roughness as a function of position (rail.contact.normal.patch_contact).
+
+    r' is sampled by one inverse FFT on a grid of at least 64 points per shortest wavelength and
+    interpolated linearly (periodically): relative error at most (2 pi / 64)^2 / 8 = 1.2e-3 of the
+    shortest harmonic's slope, less for the longer ones.
+
+    Parameters
+    ----------
+    roughness : rail.interaction.Roughness
+        Z_j, j = -J..J over the period [m].
+    period : float
+        N L [m].
+
+    Returns
+    -------
+    callable
+        x [m] (any shape) -> r'(x) [-].
+    """
+    J = roughness.harmonics
+    n = 1 << int(np.ceil(np.log2(max(64 * J, 64))))
+    j = np.arange(-J, J + 1)
+    acc = np.zeros(n, dtype=complex)
+    np.add.at(acc, j % n, 1j * j * (2 * np.pi / period) * roughness.Z)
+    values = np.real(np.fft.ifft(acc)) * n
+    grid = np.arange(n) * period / n
+    return lambda x: np.interp(x, grid, values, period=period)
+
+
+def curvature_on_grid(roughness, n: int, period: float):
+    """kappa = -z'' (eq 20) [1/m] at x_k = k P / n over the roughness period P [m], by one inverse
+    FFT (the coefficients folded into n bins: exact at these points, the same values as the direct sum
+    to rounding)."""
+    J = roughness.harmonics
+    j = np.arange(-J, J + 1)
+    beta = 2 * np.pi / period
+    acc = np.zeros(n, dtype=complex)
+    np.add.at(acc, j % n, (j * beta) ** 2 * roughness.Z)
+    return np.real(np.fft.ifft(acc)) * n
+
+
+@dataclass(frozen=True)
+class Patches:
+    """The normal contact at the steps of a passage.
+
+    Attributes
+    ----------
+    a : (steps,) half-length [m]
+    shape : (steps, nodes) pressure shape factor [-] (pressure = Hertz ellipse x shape), or None for
+            the Hertz ellipse itself
+    min_shape : smallest shape factor over the steps [-] (1 for Hertz; 0 where several zones)
+    shift : largest |c| / a, the patch centre's move relative to the wheel over its half-length [-]
+    """
+
+    a: np.ndarray
+    shape: np.ndarray | None
+    min_shape: float
+    shift: float
+
+
+class NormalContact:
+    """A normal-contact model (a frozen dataclass in each subclass). ``name`` is its config value."""
+
+    name: ClassVar[str] = ""
+    # the model holds for wavelengths above this many static patch lengths 2 a_0 (0: no such limit)
+    valid_patch_lengths: ClassVar[float] = 0
+
+    def __str__(self) -> str:
+        return self.name
+
+    def filter(self, beta, a0):
+        """What the contact spring sees of a roughness harmonic of wavenumber beta [rad/m] about the
+        static half-length a0 [m] [-]."""
+        raise NotImplementedError
+
+    def half_lengths(self, P, roughness, period: float, material: ContactMaterial):
+        """The half-length [m] at P.size equally spaced points x_k = k period / P.size of the period
+        (P [N] there), to size the contact grid."""
+        raise NotImplementedError
+
+    def patches(self, P, x_wheel, on_grid, Nx: int, roughness, period: float, material: ContactMaterial, xi) -> Patches:
+        """The contact at each step of a passage: P [N] and x_wheel [m] per step, on_grid the wheel's
+        grid point (x_wheel mod period = on_grid period / Nx), xi [m] the contact grid's nodes."""
+        raise NotImplementedError
+
+    def multiple_contact(self, wheel: int, a_min: float, a_max: float) -> ContactError:
+        """The error where the half-length along the period ranges too far for one grid."""
+        raise NotImplementedError
+
+
+@dataclass(frozen=True)
+class ReportNormal(NormalContact):
+    """The report's normal contact (eqs 22-24): the roughness at the wheel centre drives the spring;
+    a Hertz patch with the local curvature. Valid for wavelengths much longer than the patch."""
+
+    name: ClassVar[str] = "report"
+    # above ten patch lengths its filter 1 is within 0.22 dB of the 2D patch's J0(beta a_0) (docs/contact.md)
+    valid_patch_lengths: ClassVar[float] = 10
+
+    def filter(self, beta, a0):
+        return np.ones(np.shape(beta))
+
+    def half_lengths(self, P, roughness, period, material):
+        kappa = curvature_on_grid(roughness, np.size(P), period)
+        return hertz_half_length(P, equivalent_radius(kappa, material), material)
+
+    def patches(self, P, x_wheel, on_grid, Nx, roughness, period, material, xi):
+        kappa = curvature_on_grid(roughness, Nx, period)[on_grid]
+        a = hertz_half_length(P, equivalent_radius(kappa, material), material)
+        return Patches(a=a, shape=None, min_shape=1.0, shift=0.0)
+
+    def multiple_contact(self, wheel, a_min, a_max):
+        return ContactError(f"multiple contact is near: the patch half-length of wheel {wheel} ranges from "
+                            f"{a_min * 1e3:.3g} to {a_max * 1e3:.3g} mm along the period (the rail nearly as "
+                            "concave as the wheel); the report's local-curvature Hertz patch is far outside its validity there "
+                            "(contact.normal: nonhertzian sees the roughness under the patch).")
+
+
+@dataclass(frozen=True)
+class NonHertzianNormal(NormalContact):
+    """The roughness under the patch (rail.contact.normal): the force through J0(beta a_0), the
+    exact single-zone 2D pressure, several zones by the brute force where one does not hold."""
+
+    name: ClassVar[str] = "nonhertzian"
+
+    def filter(self, beta, a0):
+        from .normal import approach_filter
+        return approach_filter(beta, a0)
+
+    def half_lengths(self, P, roughness, period, material):
+        from .normal import patch_contact
+        hertz_half_length(P, material.wheel_radius, material)  # refuses a negative (lost) contact force
+        slope = roughness_slope(roughness, period)
+        a = patch_contact(P, np.arange(np.size(P)) * period / np.size(P), slope, material, np.zeros(1), strict=False).a
+        # NaN where one zone does not hold: the grid is rebuilt if the zones' hull outgrows it
+        return np.where(np.isfinite(a), a, np.nanmax(np.append(a, hertz_half_length(np.max(P), material.wheel_radius, material))))
+
+    def patches(self, P, x_wheel, on_grid, Nx, roughness, period, material, xi):
+        from .normal import passage_contact
+        # one zone (exact), or several where the pressure would turn negative inside the patch (brute force)
+        pc = passage_contact(P, x_wheel, roughness_slope(roughness, period), material, xi)
+        return Patches(a=pc.a, shape=pc.shape, min_shape=float(pc.min_shape.min()), shift=float(np.max(np.abs(pc.shift) / pc.a)))
+
+    def multiple_contact(self, wheel, a_min, a_max):
+        return ContactError(f"multiple contact: the contact of wheel {wheel} ranges from one zone of half-length "
+                            f"{a_min * 1e3:.3g} mm to zones over +-{a_max * 1e3:.3g} mm along the period (the "
+                            "wheel rides on separate roughness crests); one contact grid cannot resolve both (fewer than 2.5 "
+                            "spacings across the smallest).")
+
+
+_MODELS = {cls.name: cls for cls in (ReportNormal, NonHertzianNormal)}
+NORMAL_MODELS = tuple(_MODELS)
+
+
+def normal_contact(model) -> NormalContact:
+    """The normal-contact model named ``model`` (config key contact.normal), or ``model`` itself.
+
+    Parameters
+    ----------
+    model : str or NormalContact
+        'report' or 'nonhertzian' [-].
+
+    Returns
+    -------
+    NormalContact
+    """
+    if isinstance(model, NormalContact):
+        return model
+    if not isinstance(model, str) or model not in _MODELS:
+        raise ValueError(f"contact.normal = {model!r} is not allowed: it must be one of {list(NORMAL_MODELS)}.")
+    return _MODELS[model]()
