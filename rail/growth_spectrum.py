@@ -163,8 +163,9 @@ def _linear_rates(scn, tabs, free, locked, eps, phase, max_columns=None, progres
         return Z
     probes = _tangent_batches(free, locked, N)
     cols = []  # (probe, wheel) -> columns
-    dP, da, dsh = [[] for _ in order], [[] for _ in order], [[] for _ in order]
+    dP, da, dsh, ddt = [[] for _ in order], [[] for _ in order], [[] for _ in order], [[] for _ in order]
     nonh = ref[0].shape is not None  # the normal contact gives a pressure shape: differentiate it too
+    path = ref[0].dt is not None  # the patch's true path: its step times vary with the roughness too
     Z0N = np.zeros(2 * J + 1, dtype=complex)
     fN0 = chain.solve_forces(scn, tabs, Roughness(Z0N, N))
     base = []
@@ -195,7 +196,8 @@ def _linear_rates(scn, tabs, free, locked, eps, phase, max_columns=None, progres
             nx1, nxN = mi1.Nx, b0.Nx
             pos = (np.arange(mi1.spin + nx1 + 2 * mi1.M + 1) - mi1.spin)[None, :] + nx1 * np.arange(N)[:, None]
             F = {}
-            for name, arr, arr0 in (("P", mi.P, b0.P), ("a", mi.a, b0.a)) + ((("shape", mi.shape, b0.shape),) if nonh else ()):
+            for name, arr, arr0 in (("P", mi.P, b0.P), ("a", mi.a, b0.a)) + ((("shape", mi.shape, b0.shape),) if nonh else ()) + (
+                    (("dt", mi.dt, b0.dt),) if path else ()):
                 d = arr[mi.spin + pos % nxN] - arr0[b0.spin + pos % nxN]
                 F[name] = np.fft.fft(d, axis=0) / N  # class r: F[r]
             for j, kind in batch:
@@ -209,6 +211,8 @@ def _linear_rates(scn, tabs, free, locked, eps, phase, max_columns=None, progres
                     da[w_i].append(part(F["a"][r]) * scale)
                     if nonh:
                         dsh[w_i].append(part(F["shape"][r]) * scale)
+                    if path:
+                        ddt[w_i].append(part(F["dt"][r]) * scale)
     if progress is not None:
         progress(len(probes), len(probes))
     ncol = len(cols)
@@ -228,8 +232,9 @@ def _linear_rates(scn, tabs, free, locked, eps, phase, max_columns=None, progres
             dPc = np.array(dP[w_i][sl]).T
             dac = np.array(da[w_i][sl]).T
             dshc = np.moveaxis(np.array(dsh[w_i][sl]), 0, -1) if nonh else None
+            ddtc = np.array(ddt[w_i][sl]).T if path else None
             _, dwork = work_tangent(mi1.P, mi1.a, chain.wheel_material(scn, l), tabs[0].speed, mi1.delta, mi1.M, dPc, dac, dshc, closure=nums.closure,
-                                    closure_scale=nums.closure_scale, shape=mi1.shape)
+                                    closure_scale=nums.closure_scale, shape=mi1.shape, dt=mi1.dt, ddt=ddtc)
             gw[:, sl] += kd * dwork[mi1.spin + mi1.M + np.arange(mi1.Nx)]
     def coef(c, jj, imag=None):  # W_jj per unit probe from the bay-0 derivatives of columns c (+ i imag)
         total = 0.0

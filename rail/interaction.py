@@ -547,8 +547,9 @@ def force_history(result: ForceResult, x, tail: bool = True, tail_harmonics: int
     return out
 
 
-def force_on_grid(result: ForceResult, n: int, tail: bool = True, tail_harmonics: int | None = None):
-    """force_history at the n uniform positions x_k = k N L / n of the period, by one FFT per wheel.
+def force_on_grid(result: ForceResult, n: int, tail: bool = True, tail_harmonics: int | None = None, derivative: int = 0):
+    """force_history at the n uniform positions x_k = k N L / n of the period, by one FFT per wheel
+    (or its derivative d^m P / dx^m along the rail, m = ``derivative``).
 
     At these points every harmonic e^{i j beta0 x / N} equals e^{i 2 pi (j mod n) k / n}, so the
     coefficients (with the 1/p^2 tail) are folded into n bins and summed exactly by an inverse FFT:
@@ -562,11 +563,14 @@ def force_on_grid(result: ForceResult, n: int, tail: bool = True, tail_harmonics
         Number of positions over the period [-].
     tail, tail_harmonics
         As force_history.
+    derivative : int
+        m >= 0: the m-th derivative in the wheel's position (each harmonic times (i p beta0 / N)^m; at a
+        support, where the slope of the force jumps, the series gives the mean of the two sides).
 
     Returns
     -------
     ndarray, shape (wheels, n)
-        Contact force [N] with the wheel at x_k = k N L / n.
+        Contact force [N] (its m-th derivative [N/m^m]) with the wheel at x_k = k N L / n.
     """
     J, N = result.harmonics, result.bays
     K = J // N
@@ -575,10 +579,17 @@ def force_on_grid(result: ForceResult, n: int, tail: bool = True, tail_harmonics
     q, T = force_tail(result, tail_harmonics) if tail and K > 0 else (None, None)
     for l, a in enumerate(result.positions):
         acc = np.zeros(n, dtype=complex)
-        np.add.at(acc, j % n, result.P[l] * np.exp(-1j * j * result.beta0 / N * a))
-        if q is not None:
-            np.add.at(acc, q % n, T[l])
-            np.add.at(acc, (-q) % n, np.conj(T[l]))
+        if derivative:
+            dj, dq = (1j * j * result.beta0 / N) ** derivative, (1j * q * result.beta0 / N) ** derivative if q is not None else None
+            np.add.at(acc, j % n, dj * result.P[l] * np.exp(-1j * j * result.beta0 / N * a))
+            if q is not None:
+                np.add.at(acc, q % n, dq * T[l])
+                np.add.at(acc, (-q) % n, np.conj(dq * T[l]))
+        else:
+            np.add.at(acc, j % n, result.P[l] * np.exp(-1j * j * result.beta0 / N * a))
+            if q is not None:
+                np.add.at(acc, q % n, T[l])
+                np.add.at(acc, (-q) % n, np.conj(T[l]))
         out[l] = np.real(np.fft.ifft(acc)) * n
     return out
 

@@ -187,7 +187,7 @@ def bay_wear(forces: ForceResult, wheel_index: int, roughness: Roughness, materi
     mi = march_inputs(forces, wheel_index, roughness, material, numerics, grid_phase, a_max)
     P, a, shape, delta, Nx, M, spin = mi.P, mi.a, mi.shape, mi.delta, mi.Nx, mi.M, mi.spin
     min_shape, shift = mi.min_shape, mi.shift
-    sol = solve_tangential(P, a, material, speed, delta, M, closure=closure, closure_scale=closure_scale, shape=shape)
+    sol = solve_tangential(P, a, material, speed, delta, M, closure=closure, closure_scale=closure_scale, shape=shape, dt=mi.dt)
     # particle j is at x = (j - M - spin) Delta; the bay's points x_k = k Delta are j = spin + M + k
     j = spin + M + np.arange(Nx)
     depth = wear_law.depth(sol.work[j])

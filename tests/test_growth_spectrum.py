@@ -371,16 +371,18 @@ def test_spectrum_of_a_train_of_four_wheels_is_plotted_and_summarised_per_axle_p
     assert float(row[4]) == pytest.approx(per_train.max(), abs=0.005) and float(row[5]) == pytest.approx(per_train.max() / 4, abs=0.005)
 
 
-@pytest.mark.parametrize("normal", ["report", "nonhertzian"])
-def test_linear_method_matches_the_probes_of_the_nonlinear_march(setup, normal):
+@pytest.mark.parametrize("normal,path", [("report", "wheel"), ("nonhertzian", "wheel"), ("nonhertzian", "patch"),
+                                         ("report", "patch")])
+def test_linear_method_matches_the_probes_of_the_nonlinear_march(setup, normal, path):
     """The spectrum's default path (the tangent of the contact march about the smooth rail, one bay)
     against the independent probes of the nonlinear march over the N bays (method 'probe'): free
     lines of both classes of a pair, a comb and a half-comb line, long and short wavelengths. The
     two differ by the probes' O(eps) nonlinearity and the tangent's difference of the influence
     matrix (measured: at most 3e-4 of |R| on this track); a wrong derivative term gives tens of
-    percent (a step of 1e-6 in that difference instead of 1e-9 gave errors of order 1)."""
+    percent (a step of 1e-6 in that difference instead of 1e-9 gave errors of order 1). On the patch's
+    true path the tangent carries the derivative of the step times too (rail.contact.tangent, ddt)."""
     scn, tabs = setup
-    scn = dataclasses.replace(scn, contact_numerics=dataclasses.replace(scn.contact_numerics, normal=normal))
+    scn = dataclasses.replace(scn, contact_numerics=dataclasses.replace(scn.contact_numerics, normal=normal, path=path))
     lines = [5, 7, 6, 4, 13, 30, 41, 90]
     fast = GS.rate_spectrum(scn, tabs, lines, grid_phases=1, check_lines=2, method="linear")
     ref = GS.rate_spectrum(scn, tabs, lines, grid_phases=1, check_lines=2, method="probe")

@@ -50,7 +50,7 @@ from .numerics import CLOSURES, THETA_EDGE, rolling_grid
 from .steps import (_advance, _all_finite, _enter_particles, _exit_slip, _pressure, _restore_rows, _shape_mean,
                     _shift_particles, _step_work, _stick_solve)
 
-__all__ = ["TangentialSolution", "solve_tangential", "checkerboard_measure", "CHECKERBOARD_LIMIT", "perturbation_growth"]
+__all__ = ["TangentialSolution", "solve_tangential", "step_times", "checkerboard_measure", "CHECKERBOARD_LIMIT", "perturbation_growth"]
 
 
 @dataclass(frozen=True)
@@ -123,14 +123,13 @@ CHECKERBOARD_LIMIT = 0.25
 
 
 @njit(cache=True)
-def _march(P, a, shape, xi, Mom, mu, ws, k, delta, M, speed, g, mu_d, mu_s, half_width, closure, closure_scale,
+def _march(P, a, shape, xi, Mom, mu, ws, k, delta, M, speed, dts, gds, g, mu_d, mu_s, half_width, closure, closure_scale,
            report_coef, q0, max_iter, checkerboard_limit):
     """The time loop of solve_tangential (compiled): each step is the sequence of rail.contact.steps.
     Returns the histories and a status (code, step, value): 0 ok, 1 no convergence of the stick/slip
     iteration, 2 not finite, 3 the report's closure diverged (value: the checkerboard measure)."""
     nn = xi.size
     steps = P.size
-    dt = delta / speed
     b2 = 2 * half_width
     sg = 0.0 if g == 0 else (1.0 if g > 0 else -1.0)
     q_hist = np.zeros((steps, nn))
@@ -171,6 +170,7 @@ def _march(P, a, shape, xi, Mom, mu, ws, k, delta, M, speed, g, mu_d, mu_s, half
     p0_prev = _pressure(P[0], a[0], xi, shape[0], half_width, p_prev, inside_prev)
     for i in range(steps):
         ai = a[i]
+        dt, gd = dts[i], gds[i]  # the step's length in time and its rigid slip
         if ai != a_built:  # the basis depends on a(t) only
             _closure_matrix(ai, Mom, mu, xi, k, delta, M, closure, closure_scale, report_coef, C, r_edge, w,
                             r_trail, AT, r_a, wu, ws)
@@ -178,9 +178,9 @@ def _march(P, a, shape, xi, Mom, mu, ws, k, delta, M, speed, g, mu_d, mu_s, half
         E = C[:nn]
         p0 = _pressure(P[i], ai, xi, shape[i], half_width, p, inside)
         _shift_particles(stick, sign, stick_prev, sign_prev, sg)
-        _enter_particles(xi, delta, a_prev, ai, g, u_old, u_edge_old, C, r_edge, p, inside, stick, sign, sg, h, enter,
+        _enter_particles(xi, delta, a_prev, ai, gd, u_old, u_edge_old, C, r_edge, p, inside, stick, sign, sg, h, enter,
                          theta, saved)
-        converged, it, _ = _stick_solve(E, h, p, inside, stick, sign, qn, s, S, g, speed, delta, dt, mu_d, mu_s, max_iter)
+        converged, it, _ = _stick_solve(E, h, p, inside, stick, sign, qn, s, S, g, speed, gd, dt, mu_d, mu_s, max_iter)
         _restore_rows(C, saved, enter)
         if not converged:
             status[0], status[1] = 1, i
@@ -245,7 +245,7 @@ def _checkerboard_nb(q, stick, inside, p0, mu):
 
 
 def solve_tangential(P, a, m: ContactMaterial, speed: float, delta: float, M: int, closure: str = "default",
-                     closure_scale: float = 1.0, q0=None, max_iter: int = 200, shape=None) -> TangentialSolution:
+                     closure_scale: float = 1.0, q0=None, max_iter: int = 200, shape=None, dt=None) -> TangentialSolution:
     """Time-step the unsteady 2D rolling contact over len(P) steps of Delta = V dt (eqs 26-33).
 
     Parameters
@@ -273,6 +273,11 @@ def solve_tangential(P, a, m: ContactMaterial, speed: float, delta: float, M: in
         Non-Hertzian pressure: p = P / (pi a b) sqrt(1 - xi^2/a^2) shape at the nodes (rail.contact.normal
         .patch_contact: smooth and > 0 in the patch; .multizone_contact: 0 in the gaps between contact
         zones, where a particle carries no traction and does no work) [-]; default 1 (the Hertz ellipse, eq 22).
+    dt : ndarray, shape (len(P),), optional
+        The time of each step [s]: the patch moves Delta over the rail in each step, the wheel at speed
+        V (the rigid slip of a step is gamma V dt). Default Delta / V: the patch moves with the wheel.
+        On the patch's true path (rail.contact.passage) the wheel travels V dt while its patch moves
+        Delta, so dt = Delta / (V (1 + dc/dx)).
 
     Returns
     -------
@@ -323,8 +328,9 @@ def solve_tangential(P, a, m: ContactMaterial, speed: float, delta: float, M: in
     Mom, mu = chebyshev_hat_moments(nn)  # Toeplitz Chebyshev moments of the hats (cached)
     q_init = np.zeros(nn) if q0 is None else np.array(q0, dtype=float)
     report_coef = report_rigid_compliance(m)  # 1/sigma per unit a, eq 33
+    dts, gds = step_times(P.size, delta, speed, m.creepage, dt)
     q, s, Q, work, power, stick_count, total_iter, status = _march(
-        P, a, shape, xi, Mom, mu, _basis_workspace(nn), k, delta, M, float(speed), float(m.creepage), float(m.friction_dynamic),
+        P, a, shape, xi, Mom, mu, _basis_workspace(nn), k, delta, M, float(speed), dts, gds, float(m.creepage), float(m.friction_dynamic),
         float(m.friction_static), float(m.half_width), 0 if closure == "default" else 1, float(closure_scale),
         report_coef, q_init, int(max_iter), CHECKERBOARD_LIMIT)
     code, i = int(status[0]), int(status[1])
@@ -340,6 +346,36 @@ def solve_tangential(P, a, m: ContactMaterial, speed: float, delta: float, M: in
             "(docs/paper-discrepancies.md); use contact.closure: default."
         )
     return TangentialSolution(q, s, xi, a, P, Q, work, power, delta, int(total_iter), stick_count)
+
+
+def step_times(steps: int, delta: float, speed: float, creepage: float, dt=None):
+    """The time of each step and its rigid slip gamma V dt (the march's dts, gds).
+
+    Parameters
+    ----------
+    steps : int
+        Steps of the march [-].
+    delta, speed, creepage : float
+        Grid spacing [m], rolling speed V [m/s], creepage gamma [-].
+    dt : ndarray, optional
+        The step times [s], finite and > 0; default Delta / V at every step.
+
+    Returns
+    -------
+    dts : ndarray
+        [s]
+    gds : ndarray
+        gamma V dt [m], written gamma Delta (dt / (Delta / V)) so that it is gamma Delta to the last bit
+        where dt = Delta / V.
+    """
+    dt0 = delta / speed
+    if dt is None:
+        dts = np.full(steps, dt0)
+    else:
+        dts = np.ascontiguousarray(dt, dtype=float)
+        if dts.shape != (steps,) or not (np.all(np.isfinite(dts)) and np.all(dts > 0)):
+            raise ValueError(f"dt must hold one finite time > 0 per step ({steps}); got shape {dts.shape}.")
+    return dts, creepage * delta * (dts / dt0)
 
 
 def perturbation_growth(m: ContactMaterial, P: float, speed: float, nodes: int, closure: str = "default",

@@ -84,12 +84,15 @@ class Patches:
             the Hertz ellipse itself
     min_shape : smallest shape factor over the steps [-] (1 for Hertz; 0 where several zones)
     shift : largest |c| / a, the patch centre's move relative to the wheel over its half-length [-]
+    centre : (steps,) c, the patch centre relative to the wheel centre, positive ahead [m] (the
+            report's model: the rigid wheel's tangent point R_w r'(x); the 2D patch: R_w <r'>)
     """
 
     a: np.ndarray
     shape: np.ndarray | None
     min_shape: float
     shift: float
+    centre: np.ndarray
 
 
 class NormalContact:
@@ -141,7 +144,8 @@ class ReportNormal(NormalContact):
     def patches(self, P, x_wheel, on_grid, Nx, roughness, period, material, xi):
         kappa = curvature_on_grid(roughness, Nx, period)[on_grid]
         a = hertz_half_length(P, equivalent_radius(kappa, material), material)
-        return Patches(a=a, shape=None, min_shape=1.0, shift=0.0)
+        centre = material.wheel_radius * roughness_slope(roughness, period)(x_wheel)  # the tangent point (eqs 22-24 keep it at 0)
+        return Patches(a=a, shape=None, min_shape=1.0, shift=0.0, centre=centre)
 
     def multiple_contact(self, wheel, a_min, a_max):
         return ContactError(f"multiple contact is near: the patch half-length of wheel {wheel} ranges from "
@@ -173,7 +177,8 @@ class NonHertzianNormal(NormalContact):
         from .normal import passage_contact
         # one zone (exact), or several where the pressure would turn negative inside the patch (brute force)
         pc = passage_contact(P, x_wheel, roughness_slope(roughness, period), material, xi)
-        return Patches(a=pc.a, shape=pc.shape, min_shape=float(pc.min_shape.min()), shift=float(np.max(np.abs(pc.shift) / pc.a)))
+        return Patches(a=pc.a, shape=pc.shape, min_shape=float(pc.min_shape.min()), shift=float(np.max(np.abs(pc.shift) / pc.a)),
+                       centre=pc.shift)
 
     def multiple_contact(self, wheel, a_min, a_max):
         return ContactError(f"multiple contact: the contact of wheel {wheel} ranges from one zone of half-length "

@@ -10,7 +10,7 @@ import numpy as np
 
 from .models import NORMAL_MODELS, NormalContact, normal_contact
 
-__all__ = ["ContactNumerics", "MIN_NODES", "CLOSURES", "NORMAL_MODELS", "THETA_EDGE", "rolling_grid"]
+__all__ = ["ContactNumerics", "MIN_NODES", "CLOSURES", "NORMAL_MODELS", "WEAR_PATHS", "THETA_EDGE", "rolling_grid"]
 
 
 # A particle that reaches the leading edge within THETA_EDGE dt of the end of a step counts as
@@ -23,6 +23,10 @@ __all__ = ["ContactNumerics", "MIN_NODES", "CLOSURES", "NORMAL_MODELS", "THETA_E
 THETA_EDGE = 1e-10
 MIN_NODES = 11  # fewest grid nodes across the patch (the schema's bound on numerics.contact.nodes; tested equal)
 CLOSURES = ("default", "report")
+# where the wear is deposited: 'wheel' (the report's: the patch centred under the wheel, moving at its
+# speed V) or 'patch' (the patch's true path: centred c(x_w) from the wheel, sweeping the rail at
+# V (1 + dc/dx); rail.contact.passage, docs/contact.md)
+WEAR_PATHS = ("wheel", "patch")
 
 
 @dataclass(frozen=True)
@@ -40,12 +44,16 @@ class ContactNumerics:
                     patch with the local rail curvature, eqs 22-24) or 'nonhertzian' (the roughness
                     under the patch: the force through the contact filter J0(beta a), the exact
                     single-zone 2D pressure; rail.contact.normal, docs/contact.md)
+    path : where the wear is deposited (config key contact.wear_path): 'wheel' (the report's: the
+                    patch under the wheel centre, moving at V) or 'patch' (its true path, centred
+                    c(x_w) ahead of the wheel: rail.contact.passage, docs/contact.md)
     """
 
     nodes: int
     closure: str
     closure_scale: float
     normal: NormalContact | str = "report"
+    path: str = "wheel"
 
     def __post_init__(self):
         if not isinstance(self.nodes, (int, np.integer)) or self.nodes < MIN_NODES:
@@ -54,6 +62,8 @@ class ContactNumerics:
             raise ValueError(f"contact.closure = {self.closure!r} is not allowed: it must be one of {list(CLOSURES)}.")
         if not (np.isfinite(self.closure_scale) and self.closure_scale > 0):
             raise ValueError(f"contact.closure_scale = {self.closure_scale!r} is not allowed: it must be > 0.")
+        if not isinstance(self.path, str) or self.path not in WEAR_PATHS:
+            raise ValueError(f"contact.wear_path = {self.path!r} is not allowed: it must be one of {list(WEAR_PATHS)}.")
         object.__setattr__(self, "normal", normal_contact(self.normal))  # the model object (a name is looked up)
 
 

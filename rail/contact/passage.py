@@ -34,6 +34,9 @@ class MarchInputs:
     delta : grid spacing [m]; Nx: spacings over the period; M: centre node; spin: spin-up steps
              (step spin + k has the wheel at x_k = k delta)
     min_shape, shift : as WearResult
+    dt : (steps,) the time of each step [s] on the patch's true path (the wheel travels V dt while the
+         patch moves delta over the rail), else None (delta / V)
+    x_wheel : (steps,) the wheel centre at each step [m] (the patch centre is at (i - spin) delta)
     """
 
     P: np.ndarray
@@ -45,6 +48,8 @@ class MarchInputs:
     spin: int
     min_shape: float
     shift: float
+    dt: np.ndarray | None = None
+    x_wheel: np.ndarray | None = None
 
 
 def march_inputs(forces: ForceResult, wheel_index: int, roughness: Roughness, material: ContactMaterial,
@@ -95,7 +100,11 @@ def march_inputs(forces: ForceResult, wheel_index: int, roughness: Roughness, ma
         x_wheel = (np.arange(steps) - spin) * delta  # wheel centre at each step; x = 0 at step `spin`
         on_grid = (np.arange(steps) - spin) % Nx  # x_wheel mod L = on_grid L / Nx: exact grid points
         P = force_on_grid(forces, Nx)[wheel_index][on_grid]
-        patch = model.patches(P, x_wheel, on_grid, Nx, roughness, L, material, (np.arange(2 * M + 1) - M) * delta)
+        xi = (np.arange(2 * M + 1) - M) * delta
+        patch = model.patches(P, x_wheel, on_grid, Nx, roughness, L, material, xi)
+        dt = None
+        if numerics.path == "patch":
+            P, x_wheel, patch, dt = true_path(forces, wheel_index, roughness, material, model, x_wheel, on_grid, Nx, P, patch, xi)
         a = patch.a
         if a_max is not None or grid is not None or float(np.max(a)) < (M - 0.5) * delta:
             break
@@ -105,4 +114,54 @@ def march_inputs(forces: ForceResult, wheel_index: int, roughness: Roughness, ma
                            "contact grid (the rail is nearly as concave as the wheel: multiple contact is near).")
     if float(np.min(a)) < 2.5 * delta:  # the patch changes length by more than one grid can hold along the period
         raise model.multiple_contact(wheel_index, float(np.min(a)), float(np.max(a)))
-    return MarchInputs(P=P, a=a, shape=patch.shape, delta=delta, Nx=Nx, M=M, spin=spin, min_shape=patch.min_shape, shift=patch.shift)
+    return MarchInputs(P=P, a=a, shape=patch.shape, delta=delta, Nx=Nx, M=M, spin=spin, min_shape=patch.min_shape, shift=patch.shift,
+                       dt=dt, x_wheel=x_wheel)
+
+
+def true_path(forces: ForceResult, wheel_index: int, roughness: Roughness, material: ContactMaterial, model, x_patch, on_grid,
+              Nx: int, P_patch, patch, xi):
+    """The passage on the patch's true path: the patch centre steps uniformly over the rail (x_p = i delta),
+    the wheel centre is where its patch is centred there, x_w + c(x_w) = x_p, and each step lasts the
+    wheel's travel over V.
+
+    The centre c is the normal contact's own (rail.contact.models: R_w r' for the report's model, the
+    single- or multi-zone 2D solution's for the non-Hertzian one). x_w follows by two evaluations of c
+    (x_w = x_p - c(x_p - c(x_p)): an error of second order in the roughness). The force is the wheel's
+    at x_w, P(x_p) - c P'(x_p) (the force's slope from its harmonics; the shift c is microns, the
+    spacing a fraction of a millimetre); the half-length and pressure shape are the contact's with the
+    wheel at x_w (the report's curvature is taken at the patch, x_p: the difference is of second order).
+    The step time is dt_i = (x_w,i - x_w,i-1) / V = delta (1 - dc/dx) / V to first order: the patch lingers
+    where c decreases (on crests) and hurries where it increases.
+
+    Parameters
+    ----------
+    forces, wheel_index, roughness, material, model
+        As march_inputs (model: the normal-contact model).
+    x_patch, on_grid, Nx : the patch centre's positions [m] at the steps, their grid index, spacings per period
+    P_patch, patch : the force [N] and the contact (rail.contact.models.Patches) with the wheel at x_patch
+    xi : the contact grid's nodes [m]
+
+    Returns
+    -------
+    P : (steps,) [N]; x_wheel : (steps,) [m]; patch : Patches with the wheel at x_wheel; dt : (steps,) [s]
+
+    Raises
+    ------
+    ContactError
+        Where the patch's path folds back (dc/dx <= -1: the wheel would move its patch backwards).
+    """
+    L, delta = forces.period, float(x_patch[1] - x_patch[0])
+    slope = force_on_grid(forces, Nx, derivative=1)[wheel_index][on_grid]  # dP/dx at x_p [N/m]
+    x_w = x_patch - patch.centre  # the first estimate
+    P = P_patch - patch.centre * slope
+    patch = model.patches(P, x_w, on_grid, Nx, roughness, L, material, xi)
+    x_w = x_patch - patch.centre
+    # the wheel one step before the first (its patch at x_p - delta), from the contact's centre there
+    before = model.patches(P[:1], x_w[:1] - delta, on_grid[:1], Nx, roughness, L, material, xi)
+    travel = np.diff(np.concatenate([x_w[:1] - delta - (before.centre - patch.centre[:1]), x_w]))
+    if np.any(travel <= 0):
+        i = int(np.argmin(travel))
+        raise ContactError(f"the contact patch of wheel {wheel_index} moves backwards over the rail at x = {x_patch[i]:.4f} m "
+                           f"(its centre moves {1 - travel[i] / delta:.3g} of the wheel's step the other way: dc/dx <= -1): "
+                           "the roughness is far too large for one contact patch.")
+    return P, x_w, patch, travel / forces.speed

@@ -76,17 +76,19 @@ def _entry_fraction(xi_n, delta, a_prev, ai):
 
 
 @njit(cache=True)
-def _enter_particles(xi, delta, a_prev, ai, g, u_old, u_edge_old, C, r_edge, p, inside, stick, sign, sg, h, enter,
+def _enter_particles(xi, delta, a_prev, ai, gd, u_old, u_edge_old, C, r_edge, p, inside, stick, sign, sg, h, enter,
                      theta, saved):
     """Particle entry (in place): the right-hand sides h of the stick equations and the rows of the
     particles that entered during the step. Returns how many entered (their original rows in saved).
 
-    Regular particle: u_n(t) = u_{n+1}(t - dt) - gamma Delta (exact along its path). A particle that
+    gd = gamma V dt is the rigid slip over the step (gamma Delta when the patch moves with the wheel,
+    Delta = V dt; the patch's true path moves it by Delta over the rail in a step of its own length
+    dt, rail.contact.passage). Regular particle: u_n(t) = u_{n+1}(t - dt) - gd (exact along its path). A particle that
     was at or beyond the leading edge a(t - dt) entered at t_e = t - (1 - theta) dt, where its path
     meets the edge (eta = xi / a linear in time); it has stuck since, from the edge displacement at
-    t_e, interpolated between the steps: u_n(t) = u_a(t_e) - gamma (1 - theta) Delta,
+    t_e, interpolated between the steps: u_n(t) = u_a(t_e) - (1 - theta) gd,
     u_a(t_e) = theta u_a(t) + (1 - theta) u_a(t - dt). Divided by 1 - theta, its row
-    (E_n - theta r_a) / (1 - theta) q = u_a(t - dt) - gamma Delta tends to the slip-free condition at
+    (E_n - theta r_a) / (1 - theta) q = u_a(t - dt) - gd tends to the slip-free condition at
     the edge as the particle nears it (theta -> 1); with the square-root basis the displacement
     gradient there is finite. (An extrapolation of u_a from the two previous steps leaves a neutral
     mode when the edge is just past a node.) A particle that reaches the edge within THETA_EDGE dt of
@@ -96,7 +98,7 @@ def _enter_particles(xi, delta, a_prev, ai, g, u_old, u_edge_old, C, r_edge, p, 
     nn = xi.size
     nent = 0
     for n in range(nn):
-        h[n] = u_old[n + 1] - g * delta
+        h[n] = u_old[n + 1] - gd
         enter[n] = False
         if inside[n] and xi[n] + delta >= a_prev:
             th0, _, _ = _entry_fraction(xi[n], delta, a_prev, ai)
@@ -112,7 +114,7 @@ def _enter_particles(xi, delta, a_prev, ai, g, u_old, u_edge_old, C, r_edge, p, 
                 saved[nent, c] = C[n, c]
                 C[n, c] = (C[n, c] - th * r_edge[c]) * inv
             nent += 1
-            h[n] = u_edge_old - g * delta
+            h[n] = u_edge_old - gd
             stick[n] = True
             if sign[n] == 0:
                 sign[n] = -sg
@@ -133,9 +135,9 @@ def _restore_rows(C, saved, enter):
 
 
 @njit(cache=True)
-def _stick_solve(E, h, p, inside, stick, sign, qn, s, S, g, speed, delta, dt, mu_d, mu_s, max_iter):
+def _stick_solve(E, h, p, inside, stick, sign, qn, s, S, g, speed, gd, dt, mu_d, mu_s, max_iter):
     """The stick solve of one step (in place): E q = h on the stick nodes, q = mu_d p sign on the slip
-    nodes, and the slip velocity s = V gamma + (E q - h - gamma Delta) / dt, exact along each path
+    nodes, and the slip velocity s = V gamma + (E q - h - gd) / dt, exact along each path
     (for an entering particle: its mean slip velocity since it entered). An active-set iteration
     moves nodes where |q| > mu_s p to slip and nodes whose slip opposes their traction to stick.
 
@@ -171,7 +173,7 @@ def _stick_solve(E, h, p, inside, stick, sign, qn, s, S, g, speed, delta, dt, mu
                 qn[S[r]] = x[r]
         Eq = E @ qn
         for n in range(nn):
-            s[n] = g * speed + (Eq[n] - h[n] - g * delta) / dt
+            s[n] = g * speed + (Eq[n] - h[n] - gd) / dt
         changed = False
         for n in range(nn):
             if not inside[n]:

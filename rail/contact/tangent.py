@@ -24,6 +24,7 @@ import numpy as np
 from .._lazyjit import njit
 from .basis import _basis_workspace, _closure_matrix, _influence_arrays, chebyshev_hat_moments
 from .hertz import ContactError, ContactMaterial, compliance, report_rigid_compliance
+from .march import step_times
 from .steps import (_advance, _all_finite, _enter_particles, _entry_fraction, _exit_fraction, _exit_slip, _pressure,
                     _restore_rows, _shape_mean, _shift_particles, _stick_solve, _work_terms)
 
@@ -95,9 +96,10 @@ def _d_closure_matrix(ai, Mom, mu, xi, k, delta, M, closure, closure_scale, repo
 
 @njit(cache=True)
 def _d_enter_particles(xi, delta, a_prev, ai, da_prev, dai, du_old, du_edge_old, was_inside, inside, enter, theta, dp, dh,
-                       dtheta):
-    """The derivative of _enter_particles (in place): the right-hand sides dh, the entry fraction
-    dtheta (0 where it is clipped); a particle not yet loaded (THETA_EDGE) carries no pressure (dp 0)."""
+                       dtheta, dgd):
+    """The derivative of _enter_particles (in place): the right-hand sides dh (dgd: of the step's rigid
+    slip), the entry fraction dtheta (0 where it is clipped); a particle not yet loaded (THETA_EDGE)
+    carries no pressure (dp 0)."""
     nc = dh.shape[1]
     for n in range(xi.size):
         if was_inside[n] and not inside[n]:
@@ -106,7 +108,7 @@ def _d_enter_particles(xi, delta, a_prev, ai, da_prev, dai, du_old, du_edge_old,
         if enter[n]:
             th0, num, den = _entry_fraction(xi[n], delta, a_prev, ai)
             for c in range(nc):
-                dh[n, c] = du_edge_old[c]
+                dh[n, c] = du_edge_old[c] - dgd[c]
                 if th0 == theta[n]:
                     de0 = -(xi[n] + delta) / a_prev ** 2 * da_prev[c]
                     de1 = -xi[n] / ai ** 2 * dai[c]
@@ -115,14 +117,15 @@ def _d_enter_particles(xi, delta, a_prev, ai, da_prev, dai, du_old, du_edge_old,
                     dtheta[n, c] = 0.0
         else:
             for c in range(nc):
-                dh[n, c] = du_old[n + 1, c]
+                dh[n, c] = du_old[n + 1, c] - dgd[c]
 
 
 @njit(cache=True)
 def _d_stick_solve(E, C, Cd, r_edge, r_edge_d, qn, dai, enter, theta, dtheta, inside, stick, sign, dp, dh, S, ns, mu_d, dt,
-                   dEq, dqn, ds):
+                   dEq, dqn, ds, s, gV, ddt, dgd):
     """The tangent of _stick_solve with its stick set S[:ns] held (in place): dE q (the rows of the
-    entering particles as modified, C still holding them), the tractions dqn and the slip velocities ds."""
+    entering particles as modified, C still holding them), the tractions dqn and the slip velocities ds
+    (s = gV + (E q - h - gd) / dt, with the derivatives ddt, dgd of the step's time and rigid slip)."""
     nn = qn.size
     nc = dqn.shape[1]
     vq = Cd[:nn] @ qn
@@ -158,7 +161,7 @@ def _d_stick_solve(E, C, Cd, r_edge, r_edge_d, qn, dai, enter, theta, dtheta, in
     for n in range(nn):
         if inside[n] and not stick[n]:
             for c in range(nc):
-                ds[n, c] = (dEq[n, c] + Edq[n, c] - dh[n, c]) / dt
+                ds[n, c] = (dEq[n, c] + Edq[n, c] - dh[n, c] - dgd[c]) / dt - (s[n] - gV) / dt * ddt[c]
         else:
             for c in range(nc):
                 ds[n, c] = 0.0
@@ -166,15 +169,15 @@ def _d_stick_solve(E, C, Cd, r_edge, r_edge_d, qn, dai, enter, theta, dtheta, in
 
 @njit(cache=True)
 def _d_exit_slip(xi, a_prev, ai, da_prev, dai, dt, u_old, du_old, du_new, u_trail_old, u_trail_new, du_trail_old,
-                 du_trail_new, how, ds_exit):
-    """The derivative of _exit_slip (in place), by its cases ``how``."""
+                 du_trail_new, how, ds_exit, s_exit, gV, ddt):
+    """The derivative of _exit_slip (in place), by its cases ``how`` (ddt: of the step's time)."""
     nc = ds_exit.shape[1]
     for n in range(xi.size - 1):
         for c in range(nc):
             ds_exit[n, c] = 0.0
         if how[n] == 2:  # left a zone into a gap: along its path
             for c in range(nc):
-                ds_exit[n, c] = (du_new[n, c] - du_old[n + 1, c]) / dt
+                ds_exit[n, c] = (du_new[n, c] - du_old[n + 1, c]) / dt - (s_exit[n] - gV) / dt * ddt[c]
         elif how[n] == 1:  # left at -a after phi dt
             phi0, num, den, _ = _exit_fraction(xi, n, a_prev, ai)
             phi = min(max(phi0, 0.0), 1.0)
@@ -187,14 +190,16 @@ def _d_exit_slip(xi, a_prev, ai, da_prev, dai, dt, u_old, du_old, du_new, u_trai
                 else:
                     dphi = 0.0
                 du_exit = (dphi * (u_trail_new - u_trail_old) + (1.0 - phi) * du_trail_old[c] + phi * du_trail_new[c])
-                ds_exit[n, c] = (du_exit - du_old[n + 1, c]) / (phi * dt) - (u_exit - u_old[n + 1]) * dphi / (phi * phi * dt)
+                ds_exit[n, c] = ((du_exit - du_old[n + 1, c]) / (phi * dt) - (u_exit - u_old[n + 1]) * dphi / (phi * phi * dt)
+                                 - (s_exit[n] - gV) / dt * ddt[c])
 
 
 @njit(cache=True)
 def _d_step_work(n, i, xi, delta, a_prev, ai, da_prev, dai, p0m, dp0_prev, dp0, dt, mu_d, qn, dqn, q, dq, p, dp, p_prev,
-                 dp_prev, s, ds, s_exit, ds_exit, inside, inside_prev, shape, dshape, has_dshape, work, dwork):
+                 dp_prev, s, ds, s_exit, ds_exit, inside, inside_prev, shape, dshape, has_dshape, work, dwork, ddt):
     """The step work on the particle now at node n (rail.contact.steps._work_terms) added to work[i + n],
-    and its derivative to dwork[i + n] (in place)."""
+    and its derivative to dwork[i + n] (in place; Y, the traction's time integral, is proportional to
+    the step's time: ddt adds Y ddt / dt)."""
     nn = xi.size
     nc = dwork.shape[1]
     fm = _shape_mean(shape, i, n)
@@ -223,21 +228,20 @@ def _d_step_work(n, i, xi, delta, a_prev, ai, da_prev, dai, p0m, dp0_prev, dp0, 
             dlo = 0.0
         dd_new = dqn[n, c] - sig * mu_d * dp[n, c] if inside[n] else 0.0
         dd_old = dq[n + 1, c] - sig * mu_d * dp_prev[n + 1, c] if was else 0.0
-        dY = sig * mu_d * dipw + 0.5 * (dd_old + dd_new) * loaded + 0.5 * (d_old + d_new) * dlo
+        dY = sig * mu_d * dipw + 0.5 * (dd_old + dd_new) * loaded + 0.5 * (d_old + d_new) * dlo + Y / dt * ddt[c]
         dsbar = ds[n, c] if inside[n] else ds_exit[n, c]
         dwork[i + n, c] += sx * (dsbar * Y + sbar * dY)
 
 
 @njit(cache=True)
-def _march_tangent(P, a, shape, dP, da, dshape, has_dshape, xi, Mom, mu, ws, ws2, ws3, k, delta, M, speed, g, mu_d, mu_s,
-                   half_width, closure, closure_scale, report_coef, max_iter):
+def _march_tangent(P, a, shape, dP, da, dshape, has_dshape, xi, Mom, mu, ws, ws2, ws3, k, delta, M, speed, dts, gds, ddts, g, mu_d,
+                   mu_s, half_width, closure, closure_scale, report_coef, max_iter):
     """The march of rail.contact.march._march (its steps, rail.contact.steps) from zero traction and,
     with it, the derivative of every step along the columns of dP, da, dshape, the stick/slip sets
     held. Returns (work, dwork, status): status as _march's (0 ok, 1 no convergence, 2 not finite)."""
     nn = xi.size
     steps = P.size
     nc = dP.shape[1]
-    dt = delta / speed
     sg = 0.0 if g == 0 else (1.0 if g > 0 else -1.0)
     work = np.zeros(steps + nn)
     dwork = np.zeros((steps + nn, nc))
@@ -297,22 +301,25 @@ def _march_tangent(P, a, shape, dP, da, dshape, has_dshape, xi, Mom, mu, ws, ws2
                               r_a3, wu3, ws3, Cd, r_edge_d, r_trail_d)
             a_built = ai
         dai = da[i]
+        dt, gd = dts[i], gds[i]  # the step's length in time and its rigid slip
+        ddt = ddts[i]
+        dgd = gd / dt * ddt
         E = C[:nn]
         p0 = _pressure(P[i], ai, xi, shape[i], half_width, p, inside)
         dp0 = p0 * (dP[i] / P[i] - dai / ai)
         _d_pressure(p0, dp0, ai, dai, xi, shape[i], dshape[i] if has_dshape else dshape[0], has_dshape, dp)
         _shift_particles(stick, sign, stick_prev, sign_prev, sg)
         was_inside[:] = inside
-        _enter_particles(xi, delta, a_prev, ai, g, u_old, u_edge_old, C, r_edge, p, inside, stick, sign, sg, h, enter,
+        _enter_particles(xi, delta, a_prev, ai, gd, u_old, u_edge_old, C, r_edge, p, inside, stick, sign, sg, h, enter,
                          theta, saved)
         _d_enter_particles(xi, delta, a_prev, ai, da_prev, dai, du_old, du_edge_old, was_inside, inside, enter, theta, dp, dh,
-                           dtheta)
-        converged, _, ns = _stick_solve(E, h, p, inside, stick, sign, qn, s, S, g, speed, delta, dt, mu_d, mu_s, max_iter)
+                           dtheta, dgd)
+        converged, _, ns = _stick_solve(E, h, p, inside, stick, sign, qn, s, S, g, speed, gd, dt, mu_d, mu_s, max_iter)
         if not converged:
             status[0], status[1] = 1, i
             break
         _d_stick_solve(E, C, Cd, r_edge, r_edge_d, qn, dai, enter, theta, dtheta, inside, stick, sign, dp, dh, S, ns, mu_d,
-                       dt, dEq, dqn, ds)
+                       dt, dEq, dqn, ds, s, g * speed, ddt, dgd)
         _restore_rows(C, saved, enter)
         if not _all_finite(qn):
             status[0], status[1] = 2, i
@@ -330,11 +337,11 @@ def _march_tangent(P, a, shape, dP, da, dshape, has_dshape, xi, Mom, mu, ws, ws2
                 du_new[r, c] += vC[r] * dai[c]
         _exit_slip(xi, a_prev, ai, g, speed, dt, u_old, u_new, u_trail_old, u_trail_new, inside_prev, inside, s_exit, how)
         _d_exit_slip(xi, a_prev, ai, da_prev, dai, dt, u_old, du_old, du_new, u_trail_old, u_trail_new, du_trail_old,
-                     du_trail_new, how, ds_exit)
+                     du_trail_new, how, ds_exit, s_exit, g * speed, ddt)
         p0m = 0.5 * (p0_prev + p0)
         for n in range(nn):
             _d_step_work(n, i, xi, delta, a_prev, ai, da_prev, dai, p0m, dp0_prev, dp0, dt, mu_d, qn, dqn, q, dq, p, dp, p_prev,
-                         dp_prev, s, ds, s_exit, ds_exit, inside, inside_prev, shape, dshape, has_dshape, work, dwork)
+                         dp_prev, s, ds, s_exit, ds_exit, inside, inside_prev, shape, dshape, has_dshape, work, dwork, ddt)
         # the state and its derivative
         _advance(q, qn, p_prev, p, inside_prev, inside, stick_prev, sign_prev, stick, sign)
         dq[:] = dqn
@@ -353,17 +360,19 @@ def _march_tangent(P, a, shape, dP, da, dshape, has_dshape, xi, Mom, mu, ws, ws2
 
 
 def work_tangent(P, a, m: ContactMaterial, speed: float, delta: float, M: int, dP, da, dshape=None, closure: str = "default",
-                 closure_scale: float = 1.0, shape=None, max_iter: int = 200):
+                 closure_scale: float = 1.0, shape=None, max_iter: int = 200, dt=None, ddt=None):
     """The frictional work of solve_tangential from zero traction and its derivative along input directions.
 
     Parameters
     ----------
-    P, a, shape, m, speed, delta, M, closure, closure_scale, max_iter
+    P, a, shape, m, speed, delta, M, closure, closure_scale, max_iter, dt
         As rail.contact.solve_tangential (the reference march).
     dP, da : ndarray, shape (len(P), nc)
         Directions of the force [N] and the half-length [m] at each step (nc real columns).
     dshape : ndarray, shape (len(P), 2M + 1, nc), optional
         Direction of the pressure shape factor (default: none).
+    ddt : ndarray, shape (len(P), nc), optional
+        Direction of the step times [s] (the patch's true path, rail.contact.passage; default: none).
 
     Returns
     -------
@@ -386,9 +395,13 @@ def work_tangent(P, a, m: ContactMaterial, speed: float, delta: float, M: int, d
         raise ValueError("work_tangent needs a loaded patch inside the grid at every step.")
     xi = (np.arange(nn) - M) * delta
     Mom, mu = chebyshev_hat_moments(nn)
+    dts, gds = step_times(P.size, delta, speed, m.creepage, dt)
+    ddts = np.zeros(dP.shape) if ddt is None else np.ascontiguousarray(ddt, dtype=float)
+    if ddts.shape != dP.shape:
+        raise ValueError(f"ddt must have the shape of dP {dP.shape}; got {ddts.shape}.")
     work, dwork, status = _march_tangent(
         P, a, shape, dP, da, dshape, has, xi, Mom, mu, _basis_workspace(nn), _basis_workspace(nn), _basis_workspace(nn), compliance(m), delta, M,
-        float(speed), float(m.creepage), float(m.friction_dynamic), float(m.friction_static), float(m.half_width),
+        float(speed), dts, gds, ddts, float(m.creepage), float(m.friction_dynamic), float(m.friction_static), float(m.half_width),
         0 if closure == "default" else 1, float(closure_scale), report_rigid_compliance(m), int(max_iter))
     if int(status[0]) != 0:
         raise ContactError(f"the tangent march failed at step {int(status[1])} (code {int(status[0])}).")

@@ -334,10 +334,11 @@ def resolve(defaults: dict, schema: dict, scenario: dict | None = None, source: 
 
 
 # What every scenario file starts from on top of config/config.yaml: config.yaml reproduces the report
-# (its normal contact, eqs 22-24), a user's scenario gets the normal contact of the field's practice,
-# which sees the roughness under the patch (docs/contact.md), and a growth-rate spectrum down to the
+# (its normal contact, eqs 22-24, and its wear under the wheel centre), a user's scenario gets the normal
+# contact of the field's practice, which sees the roughness under the patch, the wear where that patch
+# really is (docs/contact.md), and a growth-rate spectrum down to the
 # shortest wavelength L / K; a file that sets a key keeps its own.
-SCENARIO_FILE_DEFAULTS = {"contact": {"normal": "nonhertzian"}, "figures": {"rate_spectrum": {"shortest": 0.0}}}
+SCENARIO_FILE_DEFAULTS = {"contact": {"normal": "nonhertzian", "wear_path": "patch"}, "figures": {"rate_spectrum": {"shortest": 0.0}}}
 
 
 def resolve_scenario_file(defaults: dict, schema: dict, scenario: dict | None, source: str) -> dict:

@@ -364,10 +364,13 @@ def growth(history, track, speed: float, n_wheels: int, points: int = 601, bays:
     )
 
 
-def with_contact_shift(ds: xr.Dataset, shifts, limit: float) -> xr.Dataset:
-    """The growth dataset ``ds`` with the neglected move of the contact centre at each saved state
-    (rail.chain.ContactShift, one per passage) and, where its sweep error exceeds ``limit`` [-], the
-    attribute ``contact_shift_warning`` (docs/contact.md, "The move of the contact centre")."""
+def with_contact_shift(ds: xr.Dataset, shifts, limit: float, modelled: bool = False) -> xr.Dataset:
+    """The growth dataset ``ds`` with the move of the contact centre at each saved state
+    (rail.chain.ContactShift, one per passage) and, where it is neglected (the wear under the wheel
+    centre, contact.wear_path: wheel) and its sweep error exceeds ``limit`` [-], the attribute
+    ``contact_shift_warning`` (docs/contact.md, "The move of the contact centre"). ``modelled``: the
+    wear is on the patch's true path (contact.wear_path: patch), the move is in the model: reported,
+    not flagged."""
     c = np.array([s.shift for s in shifts])
     ratio = np.array([s.ratio for s in shifts])
     sweep = np.array([s.sweep for s in shifts])
@@ -379,6 +382,13 @@ def with_contact_shift(ds: xr.Dataset, shifts, limit: float) -> xr.Dataset:
         contact_shift_sweep=_var("passage", sweep, "1", "largest |dc/dx|: the wear depth the neglected move of the contact centre "
                                  "leaves out, relative to the mean wear (beta |c| for a harmonic)"),
     )
+    if modelled:
+        for name in ("contact_shift", "contact_shift_ratio", "contact_shift_sweep"):
+            ds[name].attrs["long_name"] = ds[name].attrs["long_name"].replace("the neglected move", "the move") + (
+                " (in the model: the wear on the patch's true path)")
+        ds.attrs["wear_path"] = "patch: the wear where the contact patch is, its centre c(x_w) from the wheel (docs/contact.md)"
+        return ds
+    ds.attrs["wear_path"] = "wheel: the wear under the wheel centre (the report's); the move of the contact centre is neglected"
     ds.attrs["contact_shift_sweep_limit"] = float(limit)
     over = np.flatnonzero(sweep > limit)
     if over.size:

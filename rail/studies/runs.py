@@ -45,7 +45,8 @@ def growth_dataset(scn: Scenario, table, history, speed: float, warn=None) -> xr
         return interaction.force_history(chain.solve_forces(scn, table, interaction.Roughness(Z, bays)), x)
 
     ds = datasets.growth(history, scn.track, speed, len(scn.wheels.positions), bays=bays, force=force)
-    ds = datasets.with_contact_shift(ds, [chain.contact_shift(scn, table, Z) for Z in history.Z], chain.SWEEP_ERROR_LIMIT)
+    ds = datasets.with_contact_shift(ds, [chain.contact_shift(scn, table, Z) for Z in history.Z], chain.SWEEP_ERROR_LIMIT,
+                                     modelled=scn.contact_numerics.path == "patch")
     if "contact_shift_warning" in ds.attrs and warn is not None:
         print("warning: " + ds.attrs["contact_shift_warning"], file=warn, flush=True)
     ds.attrs["normal_contact"] = scn.contact_numerics.normal.name
