@@ -371,3 +371,38 @@ def test_a_scenarios_spectrum_file_states_its_traffic_and_its_rates_per_year_and
     rows = _rows(E.spectrum_csv_text(back))
     np.testing.assert_allclose([float(r["growth_dB_per_MGT"]) for r in rows], d / 1e5 * 1e6 / axle_t, rtol=1e-3, atol=1e-9)
     back.close()
+
+
+@pytest.mark.parametrize("path", ["wheel", "patch"])
+def test_every_export_states_the_wear_path_and_a_raised_validity_flag_in_its_header(path):
+    # issue 42: the validity is read where the numbers are read: the band, narrow-band, rolling-noise
+    # and spectrum CSVs carry the wear path (and, on the wheel's path, the contact-centre flag when raised)
+    from rail.growth_spectrum import RateSpectrum
+    from rail.studies.rate_spectrum import rate_spectrum_dataset
+    from rail.studies.validity import WEAR_PATH_TEXT, validity_text
+
+    n = np.arange(0, 50001, 10000)
+    g = _growth(n, {12: 1e-7 * n / 1e4})
+    g.attrs["wear_path"] = WEAR_PATH_TEXT[path]
+    flag = "the neglected move of the contact centre leaves out 5.7 % of the mean wear from 0 passages on"
+    if path == "wheel":
+        g.attrs["contact_shift_warning"] = flag
+    expected = "true path" if path == "patch" else "OUTSIDE VALIDITY: " + flag
+    ds = B.bands_dataset(g, L, B.third_octave_bands(), 1)
+    level, reasons = E.rolling_noise_levels(np.zeros(129, complex), L)
+    lines = np.arange(24, 61, 12)
+    rate = np.full(lines.size, -1e-6 + 0j)
+    sp = RateSpectrum(4 * L / lines, lines, np.zeros(lines.size, int), rate, rate, np.zeros(lines.size), np.zeros(lines.size),
+                      np.zeros(lines.size), 1e-4, 1e-9, 4, 1)
+    J = 64
+    narrow = g.assign(level=(("passage", "harmonic"), np.full((len(n), J), 10.0)), growth_dB_per_1e5_axles=("harmonic", np.full(J, 1.0)),
+                      amplitude_growth_um_per_1e5_axles=("harmonic", np.full(J, 1.0))).assign_coords(harmonic=np.arange(1, J + 1))
+    texts = {"bands": B.band_csv_text(ds), "narrow": E.narrow_band_csv_text(narrow, L, Traffic(1000.0, 10.0)),
+             "rolling noise": E.rolling_noise_csv_text(level, reasons, L, L / 64, 40.0, "test", validity=validity_text(g.attrs)),
+             "spectrum": E.spectrum_csv_text(rate_spectrum_dataset({40.0: sp}, L, 4, wear_path=path))}
+    for name, text in texts.items():
+        head = [x for x in text.splitlines() if x.startswith("# validity: ")]
+        assert len(head) == 1, name
+        assert ("true path" if path == "patch" else "wear under the wheel centre") in head[0], name
+        if name != "spectrum":  # a spectrum about the smooth rail has no flag to raise
+            assert expected in head[0], name

@@ -78,7 +78,7 @@ def main(argv=None) -> int:
         if args.command == "check":
             print(f"ok: scenario '{study.name}' is valid ({len(study.scenario.speeds)} speed(s), "
                   f"{len(study.scenario.wheels.positions)} wheel(s), roughness period {study.scenario.roughness.bays} bay(s), "
-                  f"normal contact {study.scenario.contact_numerics.normal}).")
+                  f"normal contact {study.scenario.contact_numerics.normal}, wear path {study.scenario.contact_numerics.path}).")
             return 0
         if args.command == "run":
             if not (args.speed > 0 and args.speed < float("inf")):
@@ -101,6 +101,10 @@ def main(argv=None) -> int:
         print(f"railgrowth: {e.filename or ''}: {e.strerror or e}", file=sys.stderr)
         return 2
     write_netcdf(ds, out)
+    from ..studies.validity import validity_text
+
+    if validity_text(ds.attrs):
+        print(f"validity: {validity_text(ds.attrs)}")
     if ds.attrs.get("stopped"):
         print(f"wrote {out} (partial: {ds.attrs['stopped']})")
         return 3

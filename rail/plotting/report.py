@@ -332,6 +332,7 @@ def band_spectra(ds: xr.Dataset):
     _band_rate_panel(a3, lam, ds["amplitude_growth_um_per_1e5_axles"].values, ds["amplitude_growth_um_per_1e5_axles_error"].values,
                      res, law, a1.get_xlim(), "amplitude growth (µm rms per 100,000 axle passages)",
                      "amplitude growth rate: ranks the linearly growing bands")
+    text.validity_note(fig, ds.attrs)
     return fig
 
 
@@ -536,4 +537,5 @@ def scenario_overview(ds: xr.Dataset, default: xr.Dataset | None = None, name: s
                      "the states up to there are shown", fontsize=10, color="firebrick")
     else:
         fig.suptitle(title, fontsize=10)
+    text.validity_note(fig, ds.attrs)
     return fig

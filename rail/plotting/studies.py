@@ -151,6 +151,7 @@ def rate_spectrum_figure(ds: xr.Dataset):
         ax.set_xlabel("wavelength (mm)")
         _wavelength_axis(ax, lam_edges)
         _mark_contact(ds, (ax,), lam_edges)
+        text.validity_note(fig, ds.attrs)
         return fig
     norm, ticks = _growth_norm(g.values)
     V = ds["speed"].values
@@ -162,6 +163,7 @@ def rate_spectrum_figure(ds: xr.Dataset):
     for a in (ax, bx):
         _wavelength_axis(a, lam_edges)
     _mark_contact(ds, (ax, bx), lam_edges)
+    text.validity_note(fig, ds.attrs)
     return fig
 
 

@@ -71,3 +71,24 @@ def number(x, significant: int = 3) -> str:
         m, e = "1", e + 1
     power = f"10{str(e).translate(_SUPERSCRIPT)}"
     return power if m == "1" else f"{m}×{power}"
+
+
+def validity_note(fig, attrs) -> None:
+    """A note at the foot of a figure saying where its result leaves the model or how the wear was
+    placed (issue 42): in red when the contact-centre flag is raised (attribute contact_shift_warning),
+    in grey when the wear is on the patch's true path; nothing for the report's model within its range,
+    so that the report's figures are unchanged.
+
+    Parameters
+    ----------
+    fig : matplotlib Figure
+    attrs : mapping
+        The plotted dataset's attributes (wear_path, contact_shift_warning).
+    """
+    warning = attrs.get("contact_shift_warning")
+    if warning:
+        fig.text(0.005, 0.003, "outside validity: " + " ".join(str(warning).split())[:180], fontsize=6.5, color="firebrick",
+                 ha="left", va="bottom")
+    elif str(attrs.get("wear_path", "")).startswith("patch"):
+        fig.text(0.995, 0.003, "wear on the contact patch's true path (docs/contact.md)", fontsize=6.5, color="0.4",
+                 ha="right", va="bottom")

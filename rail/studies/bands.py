@@ -34,6 +34,7 @@ import numpy as np
 
 from ..growth import DB_PER_NEPER, BandGrowth, band_growth
 from ..roughness import NOMINAL_WAVELENGTHS_M, nominal_band
+from .validity import VALIDITY_ATTRS, validity_text
 
 __all__ = ["NOMINAL_WAVELENGTHS_M", "ThirdOctaveBands", "third_octave_bands", "band_mean_square", "band_levels",
            "BandGrowth", "band_growth", "grinding_interval", "empty_band_reasons", "bands_dataset", "grinding_interval_text", "band_csv_text", "write_band_csv", "sweep_band_map", "readable_count"]
@@ -359,6 +360,7 @@ def bands_dataset(growth, L: float, bands: ThirdOctaveBands, min_lines: int, lim
         },
         attrs={
             **gi_attrs,
+            **{k: growth.attrs[k] for k in VALIDITY_ATTRS if k in growth.attrs},  # the run's validity (rail.studies.validity)
             "axles_per_day": float(per_day) if per_day else float("nan"),
             **({k: v for k, v in traffic.attributes().items() if k != "axles_per_day"} if traffic is not None else {}),
             "rate_convention": f"level growth in dB {per_1e5} (a wheel passage on the rail is an axle passage), per year and per MGT "
@@ -427,6 +429,7 @@ def band_csv_text(ds) -> str:
                                                              if "axle_load_t" in a else ""),
             "# empty cell: the band has no level there (reason in the column empty_reason)"]
     head.append("# grinding interval: " + a["grinding_interval_text"])
+    head.append("# validity: " + (validity_text(a) or "not stated"))
     head.append("# " + "; ".join(f"{k}={a[k]:.6g}" if np.isfinite(a[k]) else f"{k}=" for k in
                                  ("grinding_interval_passages", "grinding_interval_years", "grinding_interval_MGT", "grinding_interval_band_m"))
                 + " (axle passages, years, MGT, band in m; empty: no finite interval, see above)")

@@ -17,6 +17,7 @@ from ..growth import band_growth, levels_dB
 from ..interaction import Roughness, force_history
 from ..moving import MovingReceptance
 from ..setup.build import HalfSpaceFigureSettings
+from .validity import WEAR_PATH_TEXT
 
 __all__ = ["fig02", "fig03", "fig04", "radiation", "fig05", "fig06", "receptance_table", "read_receptance_table", "fig08", "fig22", "wear_case", "fig09", "fig10_11", "fig_wear", "fig_wear_spectrum", "growth", "growth_figure", "sweep"]
 
@@ -386,9 +387,9 @@ def with_contact_shift(ds: xr.Dataset, shifts, limit: float, modelled: bool = Fa
         for name in ("contact_shift", "contact_shift_ratio", "contact_shift_sweep"):
             ds[name].attrs["long_name"] = ds[name].attrs["long_name"].replace("the neglected move", "the move") + (
                 " (in the model: the wear on the patch's true path)")
-        ds.attrs["wear_path"] = "patch: the wear where the contact patch is, its centre c(x_w) from the wheel (docs/contact.md)"
+        ds.attrs["wear_path"] = WEAR_PATH_TEXT["patch"]
         return ds
-    ds.attrs["wear_path"] = "wheel: the wear under the wheel centre (the report's); the move of the contact centre is neglected"
+    ds.attrs["wear_path"] = WEAR_PATH_TEXT["wheel"]
     ds.attrs["contact_shift_sweep_limit"] = float(limit)
     over = np.flatnonzero(sweep > limit)
     if over.size:

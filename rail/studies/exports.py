@@ -14,6 +14,7 @@ import numpy as np
 from ..roughness import NOMINAL_WAVELENGTHS_M
 from ..traffic import AXLES_PER_RATE, DB_PER_NEPER, Traffic
 from .bands import ThirdOctaveBands, band_mean_square, empty_band_reasons
+from .validity import validity_text
 
 __all__ = ["ROLLING_NOISE_WAVELENGTHS_M", "rolling_noise_bands", "rolling_noise_levels", "combined_roughness",
            "wheel_levels_on_bands", "rolling_noise_csv_text", "narrow_band_csv_text", "spectrum_csv_text", "spectrum_rates"]
@@ -135,7 +136,7 @@ def _quoted(text: str) -> str:
 
 
 def rolling_noise_csv_text(level, reasons, period: float, shortest: float, speed: float, state: str,
-                           wheel_dB=None, wheel_source: str = "", grinding: str = "") -> str:
+                           wheel_dB=None, wheel_source: str = "", grinding: str = "", validity: str = "") -> str:
     """The roughness export for rolling-noise tools: one row per one-third-octave wavelength band
     from 2000 mm to 0.8 mm, the first two columns (wavelength in mm, L_r in dB re 1 µm) the form
     CNOSSOS-EU (Table G-1) and TWINS (roughness level per third-octave wavelength band) take.
@@ -159,6 +160,8 @@ def rolling_noise_csv_text(level, reasons, period: float, shortest: float, speed
         Where the wheel roughness comes from (stated in the header).
     grinding : str
         The grinding interval with its band (rail.studies.bands.grinding_interval_text), for the header.
+    validity : str
+        The result's validity (rail.studies.datasets.validity_text of its growth run), for the header.
 
     Returns
     -------
@@ -178,6 +181,7 @@ def rolling_noise_csv_text(level, reasons, period: float, shortest: float, speed
         + "; other bands empty (reason in empty_reason)",
         f"# frequency_Hz = V / centre wavelength at V = {speed:g} m/s",
         f"# grinding interval: {grinding or 'not computed for this roughness'}",
+        f"# validity: {validity or 'not stated'}",
     ]
     cols = ["wavelength_mm", "rail_roughness_dB_re_1um"]
     if wheel_dB is not None:
@@ -237,7 +241,8 @@ def narrow_band_csv_text(growth, L: float, traffic: Traffic | None = None, grind
             + (f"; per year and per MGT with {traffic.axles_per_day:g} axles/day and axle load {traffic.axle_load_t:.4g} t"
                if traffic is not None else "; no traffic given"),
             "# empty growth rate: the line has no roughness, or its straight-line fit ends at zero amplitude",
-            f"# grinding interval (one-third-octave bands against the limit): {grinding or 'not computed'}"]
+            f"# grinding interval (one-third-octave bands against the limit): {grinding or 'not computed'}",
+            f"# validity: {validity_text(growth.attrs) or 'not stated'}"]
     cols = ["line_j", "wavelength_m", "frequency_Hz"] + [f"level_dB_re_1um_at_{int(p)}_axle_passages" for p in n]
     cols += ["growth_dB_per_1e5_axles"] + (["growth_dB_per_year", "growth_dB_per_MGT"] if traffic is not None else [])
     cols += ["amplitude_growth_um_per_1e5_axles"]
@@ -302,7 +307,8 @@ def spectrum_csv_text(ds) -> str:
             "# frequency_Hz = speed / wavelength; growth_rate_per_train = -Re R, relative amplitude growth per train passage",
             "# locked: 0 free line, 1 on the one-bay comb L/k, 2 on the half-comb 2L/(2k+1)",
             "# grinding interval: none here (the spectrum is the growth rate of a small roughness, not a roughness against a "
-            "limit); see the band export of a growth run, V<speed>_bands.csv"]
+            "limit); see the band export of a growth run, V<speed>_bands.csv",
+            f"# validity: {validity_text(a) or 'not stated'}"]
     cols = ["speed_m_per_s", "wavelength_m", "frequency_Hz"] + rate_cols + ["growth_rate_per_train", "locked"]
     rows = [",".join(cols)]
     lam = ds["wavelength"].values

@@ -16,6 +16,7 @@ from ..traffic import Traffic
 from . import datasets
 from .datasets import _var
 from .rate_spectrum import PASSAGES_PER_DB
+from .validity import WEAR_PATH_TEXT
 
 __all__ = ["fleet_spectrum_dataset", "fleet_growth_dataset", "tables_by_speed", "spectrum_arrays", "spectrum_from_arrays",
            "class_key", "DB_PER_NEPER"]
@@ -212,7 +213,8 @@ def fleet_growth_dataset(classes, tables: dict, history, fleet: Fleet) -> xr.Dat
     ds["exponential_rate_per_year"] = ds["exponential_rate"] * fleet.axles_per_day * 365
     ds["exponential_rate_per_year"].attrs = {"units": "1/year", "long_name": "e-folding rate of the rms amplitude per year of traffic"}
     ds.attrs.update({**fleet.attributes(), "force_class": main.label, "speed_m_per_s": fleet.speeds.mean,
-                     "wheels": chain.fleet_wheels(classes), "normal_contact": scn.contact_numerics.normal.name})
+                     "wheels": chain.fleet_wheels(classes), "normal_contact": scn.contact_numerics.normal.name,
+                     "wear_path": WEAR_PATH_TEXT[scn.contact_numerics.path]})
     if history.stopped:
         ds.attrs["stopped"] = history.stopped
     return ds

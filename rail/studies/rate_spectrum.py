@@ -8,6 +8,7 @@ import xarray as xr
 from ..contact import ReportNormal, hertz_half_length, normal_contact
 from ..growth_spectrum import RateSpectrum, rate_spectrum, spectrum_lines
 from .datasets import _unit_of, _var
+from .validity import WEAR_PATH_TEXT
 
 __all__ = ["spectrum_with_settings", "rate_spectrum_dataset", "spectrum_dataset_of", "REPORT_VALID_PATCH_LENGTHS", "sweep_rate_spectrum", "growing_bands", "summary_markdown", "PASSAGES_PER_DB"]
 
@@ -29,7 +30,7 @@ def spectrum_with_settings(scn, tables, settings: dict, progress=None) -> RateSp
 
 
 def rate_spectrum_dataset(spectra: dict[float, RateSpectrum], L: float, wheels: int, contact_length: float | None = None,
-                          normal=None, traffic=None) -> xr.Dataset:
+                          normal=None, traffic=None, wear_path: str | None = None) -> xr.Dataset:
     """One dataset of the growth-rate spectra of one scenario at several speeds.
 
     Parameters
@@ -46,6 +47,8 @@ def rate_spectrum_dataset(spectra: dict[float, RateSpectrum], L: float, wheels: 
         The normal-contact model or its name (one with a validity limit in patch lengths, the
         report's: valid above about ten patch lengths, stated in the attributes and shaded in the
         figure below that).
+    wear_path : str, optional
+        Where the wear is deposited: 'wheel' or 'patch' (contact.wear_path), stated in the attributes.
     traffic : rail.traffic.Traffic, optional
         For the growth per year and per MGT (growth_dB_per_year, growth_dB_per_MGT).
 
@@ -121,6 +124,7 @@ def rate_spectrum_dataset(spectra: dict[float, RateSpectrum], L: float, wheels: 
                **(traffic.attributes() if traffic is not None else {}),
                **({"contact_length_m": float(contact_length)} if contact_length else {}),
                **({"normal_contact": str(normal)} if normal is not None else {}),
+               **({"wear_path": WEAR_PATH_TEXT[wear_path]} if wear_path else {}),
                **({"report_model_valid_above_m": REPORT_VALID_PATCH_LENGTHS * float(contact_length),
                    "validity": f"the report's normal contact (point spring, local-curvature Hertz patch) holds for wavelengths above "
                                f"about {REPORT_VALID_PATCH_LENGTHS} patch lengths ({1e3 * REPORT_VALID_PATCH_LENGTHS * contact_length:.0f} mm); "
@@ -146,7 +150,8 @@ def spectrum_dataset_of(spectra: dict[float, RateSpectrum], scn) -> xr.Dataset:
 
     a0 = float(hertz_half_length(scn.wheels.static_load, scn.material.wheel_radius, scn.material))
     traffic = traffic_of(scn) if scn.axles_per_day else None
-    return rate_spectrum_dataset(spectra, scn.L, len(scn.wheels.positions), 2 * a0, scn.contact_numerics.normal, traffic)
+    return rate_spectrum_dataset(spectra, scn.L, len(scn.wheels.positions), 2 * a0, scn.contact_numerics.normal, traffic,
+                                 wear_path=scn.contact_numerics.path)
 
 
 def growing_bands(wavelength, growth_rate):

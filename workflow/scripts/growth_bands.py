@@ -6,6 +6,7 @@ from rail.plotting import report
 from rail.roughness import read_limit_spectrum, read_third_octave_spectrum
 from rail.setup import build, io
 from rail.studies import bands, exports
+from rail.studies.validity import validity_text
 from rail.traffic import traffic_of
 
 
@@ -31,7 +32,7 @@ def main(config, name, growth_path, out):
         f.write(exports.rolling_noise_csv_text(level, reasons, period, period / ((Z.size - 1) // 2), float(ds.attrs["speed_m_per_s"]),
                                                f"scenario {name} after {bands.readable_count(growth['passage'].values[-1])} axle passages "
                                                "(the last save of the growth run)", wheel_dB=wheel_dB, wheel_source=wheel or "",
-                                               grinding=ds.attrs["grinding_interval_text"]))
+                                               grinding=ds.attrs["grinding_interval_text"], validity=validity_text(growth.attrs)))
     report.band_spectra(ds).savefig(out["figure"], dpi=150)
 
 

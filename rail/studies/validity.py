@@ -1,0 +1,42 @@
+"""The validity of a result, stated where it is read: one line from a dataset's attributes for every
+export's header, the run summary and the figures (issue 42; docs/contact.md)."""
+
+from __future__ import annotations
+
+__all__ = ["VALIDITY_ATTRS", "WEAR_PATH_TEXT", "validity_text"]
+
+VALIDITY_ATTRS = ("wear_path", "contact_shift_warning", "normal_contact", "validity")
+# the attribute wear_path of every result, by contact.wear_path
+WEAR_PATH_TEXT = {"patch": "patch: the wear where the contact patch is, its centre c(x_w) from the wheel (docs/contact.md)",
+                  "wheel": "wheel: the wear under the wheel centre (the report's); the move of the contact centre is neglected"}
+
+
+def validity_text(attrs) -> str:
+    """One line stating the validity of a result from its attributes (a growth, band or spectrum
+    dataset's): where the wear is deposited, the contact-centre flag if raised, the normal contact's
+    wavelength limit (docs/contact.md). Every export's header and the run summary carry it.
+
+    Parameters
+    ----------
+    attrs : mapping
+        The dataset's attributes (wear_path, contact_shift_warning, normal_contact, validity).
+
+    Returns
+    -------
+    str
+        '' where the attributes say nothing.
+    """
+    parts = []
+    path = str(attrs.get("wear_path", ""))
+    if path.startswith("patch"):
+        parts.append("wear on the contact patch's true path (its centre's move modelled)")
+    elif path.startswith("wheel"):
+        parts.append("wear under the wheel centre (the report's model): the contact centre's move, a wear term of about "
+                     "1.8 w R_w beta^2 per unit roughness for long waves, is left out (contact.wear_path: patch models it)")
+    if attrs.get("contact_shift_warning"):
+        parts.append("OUTSIDE VALIDITY: " + str(attrs["contact_shift_warning"]))
+    if attrs.get("validity"):
+        parts.append(str(attrs["validity"]))
+    elif attrs.get("normal_contact"):
+        parts.append(f"normal contact {attrs['normal_contact']}")
+    return "; ".join(parts)
