@@ -83,7 +83,7 @@ class Patches:
     shape : (steps, nodes) pressure shape factor [-] (pressure = Hertz ellipse x shape), or None for
             the Hertz ellipse itself
     min_shape : smallest shape factor over the steps [-] (1 for Hertz; 0 where several zones)
-    shift : largest |c| / a, the patch centre's move relative to the wheel over its half-length [-]
+    shift : largest abs(c) / a, the patch centre's move relative to the wheel over its half-length [-]
     centre : (steps,) c, the patch centre relative to the wheel centre, positive ahead [m] (the
             report's model: the rigid wheel's tangent point R_w r'(x); the 2D patch: R_w <r'>)
     """

@@ -10,7 +10,7 @@ both call these, in this order, so that the derivative differentiates the very s
    step sticks from the edge displacement at its entry time (its row of the influence matrix
    modified in place; ``_restore_rows`` undoes it).
 4. ``_stick_solve``: the stick solve, an active-set iteration on the small complementarity problem
-   of the step (stick: s = 0, |q| <= mu_s p; slip: q = -mu_d p sign(s)).
+   of the step (stick: s = 0, abs(q) <= mu_s p; slip: q = -mu_d p sign(s)).
 5. ``_exit_slip``: the slip update of the particles that left the patch (or a contact zone) during
    the step: their mean slip velocity over their loaded time.
 6. ``_work_terms`` / ``_step_work``: the step work, the frictional work per unit area on each
@@ -139,7 +139,7 @@ def _stick_solve(E, h, p, inside, stick, sign, qn, s, S, g, speed, gd, dt, mu_d,
     """The stick solve of one step (in place): E q = h on the stick nodes, q = mu_d p sign on the slip
     nodes, and the slip velocity s = V gamma + (E q - h - gd) / dt, exact along each path
     (for an entering particle: its mean slip velocity since it entered). An active-set iteration
-    moves nodes where |q| > mu_s p to slip and nodes whose slip opposes their traction to stick.
+    moves nodes where abs(q) > mu_s p to slip and nodes whose slip opposes their traction to stick.
 
     Returns (converged, iterations, ns): S[:ns] are the stick nodes of the last iteration.
     """
