@@ -217,7 +217,7 @@ def simulate(m: ContactMaterial, P: float, V: float, rail, h: float, steps: int,
              phi: float = 0.0, window: float = 1.6, mode: str = "exact", a_ref: float | None = None,
              closure: str = "fixed", L: float | None = None, profile: str = "circle", warmup: int = 0,
              x_start: float = 0.0, entry: str = "extrapolate", record_last: bool = False,
-             max_iter: int = 200) -> Result:
+             tangential: bool = True, creep_factor=None, max_iter: int = 200) -> Result:
     """Roll the wheel over the rail for ``steps`` steps of V dt = advance h (see the module docstring).
 
     Parameters
@@ -243,6 +243,8 @@ def simulate(m: ContactMaterial, P: float, V: float, rail, h: float, steps: int,
         (the fraction theta of the step at which the leading edge, linear in time between the steps,
         passes it), from its displacement there, extrapolated from its free motion over the two previous
         steps; 'step': it sticks over the whole step (first order in dt)
+    tangential : False: the normal contact only (work and force stay 0)
+    creep_factor : optional callable x_w -> factor on the rigid creepage at that step (a diagnostic)
     """
     t0 = time.process_time()
     R = m.wheel_radius
@@ -316,6 +318,8 @@ def simulate(m: ContactMaterial, P: float, V: float, rail, h: float, steps: int,
         out["a_moment"][n] = a_mom
         out["centre"][n] = xrel[0] + 0.5 * (lo_e + hi_e) * h
         out["a_zone"][n] = 0.5 * (hi_e - lo_e) * h
+        if not tangential:
+            continue
         # --- tangential contact in the rail frame --------------------------------------------------------
         if closure == "moment":
             lnL = math.log(0.5 * a_mom * E_2PI)
@@ -342,6 +346,8 @@ def simulate(m: ContactMaterial, P: float, V: float, rail, h: float, steps: int,
             th = np.clip((xs[C[e]] - x_lead_prev) / dx, 0.0, 1.0) if dx > 0 else np.zeros(e.size)
             up[e] += th * (u_prev[gC[e]] - u_prev2[gC[e]])
             tau_l[e] = 1.0 - th
+        if creep_factor is not None:
+            gam = m.creepage * float(creep_factor(xw))
         b = up - gam * V * dt * tau_l  # stick: zero slip over the loaded time
         st = stick[gC].copy()
         sg = sgn[gC].copy()
@@ -462,12 +468,15 @@ class Measurement:
 def measure(m: ContactMaterial, P: float, lam_over_2a: float, *, per_a: float = 50, rwkb2: float = 1e-3,
             mode: str = "exact", closure: str = "fixed", warmup_transits: float = 8.0, periods: int | None = None,
             dither: bool = True, period: int | None = None, phi: float = 0.0, V: float = 40.0, entry: str = "extrapolate",
-            profile: str = "circle") -> Measurement:
+            profile: str = "circle", creepage_modulation: bool = False) -> Measurement:
     """First harmonic of the frictional work on r = Delta cos(beta x), lambda = lam_over_2a 2 a_0.
 
     rwkb2 = R_w Delta beta^2 sets the amplitude (1e-3: the linear regime). The harmonic is taken over
     ``periods`` wavelengths (default: at least 8 a_0 and one wavelength) of particles that entered the
-    patch after ``warmup_transits`` transits 2 a_0 of a cold start."""
+    patch after ``warmup_transits`` transits 2 a_0 of a cold start. creepage_modulation: the rigid creepage
+    becomes gamma / (1 + dc/dx) at each step, dc/dx from the closed form c = R_w r' J0(beta a0) (a diagnostic
+    for mode 'centred': the patch held under the wheel, moving at V, but with the effective creepage of the
+    moving patch, rigid slip over its sweep speed)."""
     a0 = hertz_a(m, P)
     lam = lam_over_2a * 2 * a0
     beta = 2 * math.pi / lam
@@ -480,8 +489,13 @@ def measure(m: ContactMaterial, P: float, lam_over_2a: float, *, per_a: float = 
     warm_cells = int(math.ceil(warmup_transits * 2 * a0 / h))
     lead = int(math.ceil(2.2 * a0 / h))  # cells from the wheel to behind the trailing edge and margin
     steps = int(math.ceil((warm_cells + n_win + lead + 4) / adv)) + 2
-    r = simulate(m, P, V, Cosine(delta, beta), h, steps, advance=adv, phi=phi, mode=mode, closure=closure,
-                 warmup=int(warm_cells / adv), entry=entry, profile=profile)
+    rail = Cosine(delta, beta)
+    cf = None
+    if creepage_modulation:
+        jz = float(j0(beta * a0))
+        cf = lambda x: 1.0 / (1.0 - m.wheel_radius * beta**2 * jz * float(rail.height(x)))  # noqa: E731 1/(1 + R_w r'' J0)
+    r = simulate(m, P, V, rail, h, steps, advance=adv, phi=phi, mode=mode, closure=closure,
+                 warmup=int(warm_cells / adv), entry=entry, profile=profile, creep_factor=cf)
     idx = np.flatnonzero(r.passed)
     sel = idx[:n_win]
     if sel.size < n_win or sel[-1] - sel[0] != n_win - 1:
@@ -537,3 +551,34 @@ def production_centred(m: ContactMaterial, P: float, lam_over_2a: float, *, node
         Hs.append(harmonic(W, x, beta) / (delta_r * Wm * m.wheel_radius * beta**2))
         Ws.append(Wm)
     return complex(np.mean(Hs)), float(np.mean(Ws)), time.process_time() - t0
+
+
+def normal_response(m: ContactMaterial, P: float, lam_over_2a: float, *, per_a: float = 50, rwkb2: float = 1e-3,
+                    period: int | None = None, mode: str = "exact", phi: float = 0.0, profile: str = "circle"):
+    """The brute-force normal contact alone along a dithered passage over whole wavelengths.
+
+    Returns harmonics at beta (fitted over the wheel positions), each normalised by its closed form:
+    zone midpoint / (R_w i beta Delta J0(beta a0)) (the single-zone shift c = R_w r' J0), pressure centroid /
+    (R_w i beta Delta (J0 + J2)) (the centroid of the exact single-zone pressure: the shift plus the first
+    moment of its shape), half-length / (-Delta a0 R_w beta^2 J1(beta a0) / (beta a0)) (the curvature filter
+    2 J1 / (beta a) of rail.normal.half_length_filter), as complex numbers (1 = the closed form)."""
+    from scipy.special import j1, jv
+
+    a0 = hertz_a(m, P)
+    lam = lam_over_2a * 2 * a0
+    beta = 2 * math.pi / lam
+    delta = rwkb2 / (m.wheel_radius * beta**2)
+    h, n_lam, K = lattice(lam, a0, per_a, period)
+    adv = (K + 1) / K
+    periods = max(1, int(math.ceil(4 * a0 / lam)))
+    steps = int(math.ceil(periods * n_lam / adv)) + 1
+    r = simulate(m, P, 40.0, Cosine(delta, beta), h, steps, advance=adv, phi=phi, mode=mode, tangential=False,
+                 profile=profile)
+    xw = r.x_wheel
+    ks = np.flatnonzero(xw - xw[0] < periods * lam)
+    z = beta * a0
+    Rw = m.wheel_radius
+    mid = fit_harmonic(r.centre[ks], xw[ks], beta) / (Rw * 1j * beta * delta * j0(z))
+    cen = fit_harmonic(r.centroid[ks], xw[ks], beta) / (Rw * 1j * beta * delta * (j0(z) + jv(2, z)))
+    ahm = fit_harmonic(r.a_zone[ks], xw[ks], beta) / (-delta * a0 * Rw * beta**2 * j1(z) / z)
+    return mid, cen, ahm, r
