@@ -466,7 +466,7 @@ class Measurement:
 
 
 def measure(m: ContactMaterial, P: float, lam_over_2a: float, *, per_a: float = 50, rwkb2: float = 1e-3,
-            mode: str = "exact", closure: str = "fixed", warmup_transits: float = 8.0, periods: int | None = None,
+            mode: str = "exact", closure: str = "zone", warmup_transits: float = 8.0, periods: int | None = None,
             dither: bool = True, period: int | None = None, phi: float = 0.0, V: float = 40.0, entry: str = "extrapolate",
             profile: str = "circle", creepage_modulation: bool = False) -> Measurement:
     """First harmonic of the frictional work on r = Delta cos(beta x), lambda = lam_over_2a 2 a_0.

@@ -42,9 +42,9 @@ def test_hertz_half_length_is_rails():
     assert rw.hertz_a(MAT, P) == pytest.approx(float(hertz_half_length(P, MAT.wheel_radius, MAT)), rel=1e-13)
 
 
-@pytest.mark.parametrize("amplitude", [2e-7, 3e-6])
+@pytest.mark.parametrize("amplitude", [2e-7, 1e-5])
 def test_normal_solver_equals_rails_brute_force(amplitude):
-    # one zone (small cosine) and several zones (3 um at lambda = a: the wheel bridges troughs), the same
+    # one zone (small cosine) and three zones (10 um at lambda = a: the wheel bridges troughs), the same
     # grid and gap: the own active set with cached Toeplitz inverses against rail.normal.solve_normal
     h = A0 / 40
     x = np.arange(-70, 71) * h
@@ -57,18 +57,19 @@ def test_normal_solver_equals_rails_brute_force(amplitude):
     A = row[np.abs(i[:, None] - i[None, :])]
     p, _, active = rw.normal_contact(gap, Pw, compliance(MAT), h, A, rw._ToeplitzInverse(row), gap < gap.min() + 1e-6,
                                      1e-20)
-    assert ref.zones == (1 if amplitude < 1e-6 else ref.zones) and (amplitude < 1e-6 or ref.zones > 1)
+    assert ref.zones == (1 if amplitude < 1e-6 else 3)
     np.testing.assert_allclose(p, ref.p, rtol=0, atol=1e-9 * ref.p.max())
 
 
 def test_smooth_rail_every_particle_does_the_same_work_and_the_work_is_the_power():
     # wheel one cell per step: every particle sees the same discrete history (no grid-tied noise at all);
     # the work (trapezoidal traction x the step's mean slip, exit step included) equals |gamma| Q / (2b),
-    # the frictional power over the sweep speed (measured 2e-5 at 25 cells per a)
+    # the frictional power over the sweep speed (measured 2e-5 at 25 cells per a). The start-up transient
+    # from zero traction decays slowly (1e-6 of the work after 10 transits, 2e-9 after 20)
     h = A0 / 25
-    r = rw.simulate(MAT, P, V, rw.Smooth(), h, int(14 * A0 / h), phi=0.3, warmup=int(10 * A0 / h))
+    r = rw.simulate(MAT, P, V, rw.Smooth(), h, int(44 * A0 / h), phi=0.3, warmup=int(40 * A0 / h))
     w = r.work[r.passed]
-    assert w.std() < 1e-9 * w.mean()
+    assert w.std() < 1e-8 * w.mean()
     assert w.mean() == pytest.approx(abs(MAT.creepage) * r.force[-1] / (2 * MAT.half_width), rel=1e-4)
 
 
@@ -106,26 +107,30 @@ def test_smooth_rail_carter_convergence_study():
     assert abs(errs[-1]) < 1.5e-3
 
 
-@pytest.mark.parametrize("lam_over_2a", [1.5, 5.0, 20.0])
+@pytest.mark.parametrize("lam_over_2a", [2.0, 5.0, 20.0])
 def test_patch_centre_follows_the_slope_through_J0(lam_over_2a):
-    # small cosine (R_w Delta beta^2 = 1e-3), 50 cells per a, dither K + 1 <= 25. The zone midpoint (edges
-    # extrapolated from p^2 linear) averaged over the dither phases against c = R_w r' J0(beta a): measured
-    # 1.000, 1.000, 1.000 (1.5, 5, 20) and 0.97 at lambda / 2a = 0.7, where the pressure ripple near the edges
-    # biases the extrapolation (the centroid below has no such estimator). The pressure centroid against the
-    # exact single-zone centroid R_w r' (J0 + J2): within 1.5 % (a first-order grid error), any wavelength.
+    # small cosine (R_w Delta beta^2 = 1e-3), 50 cells per a, dither K + 1 <= 25, the harmonic over the wheel
+    # positions. The zone midpoint (edges extrapolated from p^2 linear over the 2nd and 3rd elements inside)
+    # averaged over the dither phases against c = R_w r' J0(beta a): measured 1.004, 0.994, 1.000 (2, 5, 20;
+    # 1.002, 1.000, 1.000 at 100 cells per a). Without the phase average a single position gives 0.77 at
+    # any grid (tests nothing but the estimator's gain at one sub-cell offset: the reason for the dither).
+    # The pressure centroid against the exact single-zone centroid R_w r' (J0 + J2) (the shift plus the
+    # first moment of the shape, Chebyshev U_1): 1.0000 (5e-5). The zone half-length against the curvature
+    # filter: 1.011, 1.003, 0.997.
     mid, cen, ahm, _ = rw.normal_response(MAT, P, lam_over_2a)
     assert abs(mid - 1) < 0.01
-    assert abs(cen - 1) < 0.015
-    assert abs(ahm - 1) < 0.03  # the half-length filter 2 J1(beta a) / (beta a)
+    assert abs(cen - 1) < 0.002
+    assert abs(ahm - 1) < 0.015  # the half-length filter 2 J1(beta a) / (beta a)
 
 
-@pytest.mark.parametrize("lam_over_2a", [0.7, 1.0])
-def test_pressure_centroid_short_waves(lam_over_2a):
-    # J0 < 0 here: the patch moves against the slope; the centroid (J0 + J2) is checked, and the sign of
-    # the midpoint's move
+@pytest.mark.parametrize("lam_over_2a", [0.7, 1.0, 1.5])
+def test_patch_centre_short_waves(lam_over_2a):
+    # J0 < 0 at 0.7 and 1: the patch moves against the slope. The centroid identity holds to 2.3e-3 (50 cells
+    # per a); the midpoint estimator is biased by the pressure ripple near the edges (0.967, 0.948, 1.068;
+    # 0.965, 0.969, 0.999 at 100 cells per a), so only its sign and size are checked here
     mid, cen, _, _ = rw.normal_response(MAT, P, lam_over_2a)
-    assert abs(cen - 1) < 0.02
-    assert abs(mid - 1) < 0.05
+    assert abs(cen - 1) < 0.005
+    assert abs(mid - 1) < 0.08
 
 
 def test_patch_centre_matches_rails_patch_contact_shift():
@@ -191,13 +196,14 @@ def test_centred_mode_reproduces_the_production_model():
 def test_centre_move_effect_does_not_depend_on_the_closure():
     # the absolute harmonic does (the 2D kernel's rigid term: fixed L against l(a(t))), the difference of the
     # exact and the centred patch does not (measured 1e-4 at lambda / 2a = 0.7, 5, 20)
+    # (measured at 50 cells per a: 1.5e-3, against 0.45 of the centred harmonic)
     lo = 5.0
     d = {}
     for cl in ("zone", "fixed"):
-        e = rw.measure(MAT, P, lo, per_a=25, mode="exact", closure=cl)
-        c = rw.measure(MAT, P, lo, per_a=25, mode="centred", closure=cl)
+        e = rw.measure(MAT, P, lo, per_a=50, mode="exact", closure=cl)
+        c = rw.measure(MAT, P, lo, per_a=50, mode="centred", closure=cl)
         d[cl] = (e.H - c.H, c.H)
-    assert abs(d["zone"][0] - d["fixed"][0]) < 0.005
+    assert abs(d["zone"][0] - d["fixed"][0]) < 0.01
     assert abs(d["zone"][1] - d["fixed"][1]) > 0.2  # the closure itself matters for the absolute harmonic
 
 
@@ -212,3 +218,39 @@ def test_centre_move_effect_converges_in_grid_and_amplitude(lam_over_2a):
         c = rw.measure(MAT, P, lam_over_2a, per_a=per_a, rwkb2=rk, mode="centred")
         out.append(e.H - c.H)
     assert max(abs(out[i] - out[j]) for i in range(3) for j in range(i)) < 0.035
+
+
+def _offset_mean(lo, per_a=50, offsets=2, **kw):
+    """Work harmonic averaged over interleaved wheel offsets phi = j / (offsets K) (finer grid-phase average)."""
+    K = rw.lattice(lo * 2 * A0, A0, per_a)[2]
+    return sum(rw.measure(MAT, P, lo, per_a=per_a, phi=j / (offsets * K), **kw).H for j in range(offsets)) / offsets
+
+
+@pytest.mark.parametrize("lam_over_2a", [1.0, pytest.param(3.0, marks=pytest.mark.slow),
+                                         pytest.param(10.0, marks=pytest.mark.slow)])
+def test_the_centre_move_acts_as_an_effective_creepage(lam_over_2a):
+    # The patch moving at V (1 + dc/dx) over the rail with the rigid slip gamma V is, in time rescaled by the
+    # sweep speed, the centred patch with the creepage gamma / (1 + dc/dx) (eq 26's transport term): the
+    # sweep and the transport speed are one mechanism. The centred patch with that creepage (dc/dx from the
+    # closed form R_w r'' J0(beta a)) against the exact rolling, exact - centred in units of W-bar R_w beta^2:
+    # measured 0.001-0.018 apart over lambda / 2a = 0.7-20 (50 cells per a, two offsets), where the
+    # difference itself is 0.07-1.8 (one offset leaves up to 0.04 of grid-phase residue).
+    e = _offset_mean(lam_over_2a, mode="exact")
+    c = _offset_mean(lam_over_2a, mode="centred")
+    cc = _offset_mean(lam_over_2a, mode="centred", creepage_modulation=True)
+    assert abs((e - c) - (cc - c)) < 0.025
+
+
+@pytest.mark.slow
+def test_the_closed_form_misses_the_creepage_and_the_transient():
+    # lambda / 2a = 20: exact - centred = 1.82 J0 (the closed form -w-bar dc/dx gives J0: the frictional power
+    # is not constant, Q follows the effective creepage, d ln Q / d ln gamma = 0.82); lambda / 2a = 0.7: the
+    # closed form -0.32, the rolling +0.10 - 0.08i (the transient tangential response to the creepage
+    # modulation), 50 cells per a
+    out = {}
+    for lo in (0.7, 20.0):
+        e = rw.measure(MAT, P, lo, per_a=50, mode="exact")
+        c = rw.measure(MAT, P, lo, per_a=50, mode="centred")
+        out[lo] = (e.H - c.H) / j0(math.pi / lo)
+    assert abs(out[20.0] - 1.82) < 0.04
+    assert out[0.7].real < -0.2  # opposite sign to the closed form's J0 < 0 harmonic
