@@ -52,7 +52,8 @@ def main(argv=None):
     ap.add_argument("--warmup", type=float, default=8.0, help="warm-up transits 2 a0")
     ap.add_argument("--production", type=int, default=0, help="also the production model at this many nodes (0: no)")
     ap.add_argument("--offsets", type=int, default=1,
-                    help="average over this many interleaved wheel offsets phi = j / (offsets K) (finer grid-phase average)")
+                    help="average over this many interleaved wheel offsets phi = j / (offsets K) "
+                         "(finer grid-phase average)")
     ap.add_argument("--creepage-modulation", action="store_true",
                     help="also the centred patch with the moving patch's effective creepage gamma / (1 + dc/dx)")
     ap.add_argument("--out", type=Path, default=None, help="append JSON lines here")
@@ -65,7 +66,8 @@ def main(argv=None):
         for mode in modes:
             rs = []
             for j in range(args.offsets):
-                K = rw.lattice(lo * 2 * rw.hertz_a(MATERIAL, LOAD), rw.hertz_a(MATERIAL, LOAD), args.per_a, args.period)[2]
+                a0 = rw.hertz_a(MATERIAL, LOAD)
+                K = rw.lattice(lo * 2 * a0, a0, args.per_a, args.period)[2]
                 rs.append(rw.measure(MATERIAL, LOAD, lo, per_a=args.per_a, rwkb2=args.rwkb2, mode=mode.split("_")[0],
                                      closure=args.closure, period=args.period, warmup_transits=args.warmup,
                                      phi=j / (args.offsets * K), creepage_modulation=mode == "centred_creep"))
@@ -80,15 +82,16 @@ def main(argv=None):
         if args.production:
             t = time.process_time()
             H, W, _ = rw.production_centred(MATERIAL, LOAD, lo, nodes=args.production, rwkb2=args.rwkb2)
-            row["production"] = dict(H=c2(H), mean_work=W, nodes=args.production, seconds=round(time.process_time() - t, 2))
+            row["production"] = dict(H=c2(H), mean_work=W, nodes=args.production,
+                                     seconds=round(time.process_time() - t, 2))
         He = complex(*row["exact"]["H"])
         Hc = complex(*row["centred"]["H"])
         d = He - Hc
         print(f"lambda/2a {lo:5.2f}  a/h {row['a_over_h']:6.1f}  exact {He.real:+.4f}{He.imag:+.4f}i  centred "
               f"{Hc.real:+.4f}{Hc.imag:+.4f}i  difference {d.real:+.4f}{d.imag:+.4f}i  J0 {row['J0']:+.4f}"
-              + (f"  centred+creepage {row['centred_creep']['H'][0] - Hc.real:+.4f}{row['centred_creep']['H'][1] - Hc.imag:+.4f}i (minus centred)"
+              + (f"  centred+creepage minus centred {complex(*row['centred_creep']['H']) - Hc:+.4f}"
                  if args.creepage_modulation else "")
-              + (f"  production {row['production']['H'][0]:+.4f}{row['production']['H'][1]:+.4f}i" if args.production else "")
+              + (f"  production {complex(*row['production']['H']):+.4f}" if args.production else "")
               + f"  ({row['exact']['seconds'] + row['centred']['seconds']:.0f} s)", flush=True)
         if args.out:
             args.out.parent.mkdir(parents=True, exist_ok=True)

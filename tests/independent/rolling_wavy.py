@@ -255,7 +255,8 @@ def simulate(m: ContactMaterial, P: float, V: float, rail, h: float, steps: int,
         a_ref = a_h
     if L is None:
         L = 0.5 * a_h * E_2PI
-    if mode not in ("exact", "centred") or closure not in ("fixed", "moment", "zone") or profile not in ("circle", "parabola"):
+    if mode not in ("exact", "centred") or closure not in ("fixed", "moment", "zone") \
+            or profile not in ("circle", "parabola"):
         raise ValueError((mode, closure, profile))
     gam, mu_d, mu_s = m.creepage, m.friction_dynamic, m.friction_static
     dt = advance * h / V
@@ -467,8 +468,8 @@ class Measurement:
 
 def measure(m: ContactMaterial, P: float, lam_over_2a: float, *, per_a: float = 50, rwkb2: float = 1e-3,
             mode: str = "exact", closure: str = "zone", warmup_transits: float = 8.0, periods: int | None = None,
-            dither: bool = True, period: int | None = None, phi: float = 0.0, V: float = 40.0, entry: str = "extrapolate",
-            profile: str = "circle", creepage_modulation: bool = False) -> Measurement:
+            dither: bool = True, period: int | None = None, phi: float = 0.0, V: float = 40.0,
+            entry: str = "extrapolate", profile: str = "circle", creepage_modulation: bool = False) -> Measurement:
     """First harmonic of the frictional work on r = Delta cos(beta x), lambda = lam_over_2a 2 a_0.
 
     rwkb2 = R_w Delta beta^2 sets the amplitude (1e-3: the linear regime). The harmonic is taken over
@@ -493,7 +494,8 @@ def measure(m: ContactMaterial, P: float, lam_over_2a: float, *, per_a: float = 
     cf = None
     if creepage_modulation:
         jz = float(j0(beta * a0))
-        cf = lambda x: 1.0 / (1.0 - m.wheel_radius * beta**2 * jz * float(rail.height(x)))  # noqa: E731 1/(1 + R_w r'' J0)
+        def cf(x):  # 1 / (1 + dc/dx), dc/dx = R_w r'' J0(beta a0)
+            return 1.0 / (1.0 - m.wheel_radius * beta**2 * jz * float(rail.height(x)))
     r = simulate(m, P, V, rail, h, steps, advance=adv, phi=phi, mode=mode, closure=closure,
                  warmup=int(warm_cells / adv), entry=entry, profile=profile, creep_factor=cf)
     idx = np.flatnonzero(r.passed)
