@@ -525,7 +525,7 @@ def production_centred(m: ContactMaterial, P: float, lam_over_2a: float, *, node
     default closure), constant load. Averaged over ``grids`` grid spacings whose a / Delta sweeps one unit
     (the production's own averaging of its grid-tied error). Returns (H, W-bar, seconds)."""
     from rail.contact import solve_tangential
-    from rail.normal import patch_contact
+    from rail.contact.normal import patch_contact
 
     t0 = time.process_time()
     a0 = hertz_a(m, P)

@@ -15,7 +15,7 @@ import pytest
 from scipy.special import j0
 
 from independent import rolling_wavy as rw
-from rail import normal as N
+from rail.contact import normal as N
 from rail.contact import ContactMaterial, carter, compliance, hertz_half_length, hertz_pressure
 
 MAT = ContactMaterial(2.1e11, 0.3, 0.008, 0.575, 0.3, 0.3, -0.001)
