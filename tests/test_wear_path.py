@@ -30,7 +30,7 @@ def _scn(normal, path):
 
 
 def _carter_exponent():
-    """e = d ln Q / d ln gamma of Carter's steady solution at the static load (rail.contact.carter, an
+    """e = d ln Q / d ln gamma of Carter's steady solution at the static load (rail.contact.steady.carter, an
     analytic formula independent of the march): 2 (1 - x) x / (1 - (1 - x)^2), x = |gamma| / (pi k mu p0)."""
     def Q(g):
         return abs(C.carter(np.zeros(1), 1e5, dataclasses.replace(MATERIAL, creepage=g), 40.0, R)[2])

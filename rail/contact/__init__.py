@@ -1,7 +1,7 @@
 """Wheel/rail contact (report sec. 3-4.3): a package named by model.
 
 * ``hertz``: the contact material, the one compliance, the Hertz patch (eqs 22-24).
-* ``carter``: Carter's steady rolling solution, the analytic limit of the march.
+* ``steady``: Carter's steady rolling solution (``carter``), the analytic limit of the march.
 * ``normal``: the normal contact that sees the roughness in the patch (brute force, exact single
   zone, several zones) and its contact filters.
 * ``models``: the normal-contact models as objects (``ReportNormal``, ``NonHertzianNormal``), each
@@ -20,7 +20,7 @@ are imported on use (they import rail.interaction and its track models).
 from __future__ import annotations
 
 from .basis import _basis_matrix, _basis_workspace, _closure_matrix, chebyshev_hat_moments  # noqa: F401 (kernels, as before)
-from .carter import carter
+from .steady import carter
 from .hertz import (ContactError, ContactMaterial, composite_modulus, compliance, equivalent_radius, hertz_half_length,
                     hertz_pressure, report_rigid_compliance)
 from .march import (CHECKERBOARD_LIMIT, TangentialSolution, _march, checkerboard_measure,  # noqa: F401

@@ -16,7 +16,6 @@ from ..traffic import Traffic
 from . import datasets
 from .datasets import _var
 from .rate_spectrum import PASSAGES_PER_DB
-from .validity import WEAR_PATH_TEXT
 
 __all__ = ["fleet_spectrum_dataset", "fleet_growth_dataset", "tables_by_speed", "spectrum_arrays", "spectrum_from_arrays",
            "class_key", "DB_PER_NEPER"]
@@ -212,9 +211,12 @@ def fleet_growth_dataset(classes, tables: dict, history, fleet: Fleet) -> xr.Dat
     ds["exponential_rate"].attrs["long_name"] += " (per axle passage of the traffic)"
     ds["exponential_rate_per_year"] = ds["exponential_rate"] * fleet.axles_per_day * 365
     ds["exponential_rate_per_year"].attrs = {"units": "1/year", "long_name": "e-folding rate of the rms amplitude per year of traffic"}
+    # the move of the contact centre, for the heaviest-weighted class: reported, and flagged where it is
+    # neglected (contact.wear_path: wheel) beyond rail.chain.SWEEP_ERROR_LIMIT, as for one train
+    ds = datasets.with_contact_shift(ds, [chain.contact_shift(scn, table, Z) for Z in history.Z], chain.SWEEP_ERROR_LIMIT,
+                                     modelled=scn.contact_numerics.path == "patch")
     ds.attrs.update({**fleet.attributes(), "force_class": main.label, "speed_m_per_s": fleet.speeds.mean,
-                     "wheels": chain.fleet_wheels(classes), "normal_contact": scn.contact_numerics.normal.name,
-                     "wear_path": WEAR_PATH_TEXT[scn.contact_numerics.path]})
+                     "wheels": chain.fleet_wheels(classes), "normal_contact": scn.contact_numerics.normal.name})
     if history.stopped:
         ds.attrs["stopped"] = history.stopped
     return ds

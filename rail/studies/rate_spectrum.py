@@ -8,7 +8,7 @@ import xarray as xr
 from ..contact import ReportNormal, hertz_half_length, normal_contact
 from ..growth_spectrum import RateSpectrum, rate_spectrum, spectrum_lines
 from .datasets import _unit_of, _var
-from .validity import WEAR_PATH_TEXT
+from .validity import WEAR_PATH_TEXT, validity_text
 
 __all__ = ["spectrum_with_settings", "rate_spectrum_dataset", "spectrum_dataset_of", "REPORT_VALID_PATCH_LENGTHS", "sweep_rate_spectrum", "growing_bands", "summary_markdown", "PASSAGES_PER_DB"]
 
@@ -182,7 +182,8 @@ def growing_bands(wavelength, growth_rate):
 
 
 def summary_markdown(ds: xr.Dataset) -> str:
-    """Where the rate is positive, per speed, and the fastest-growing wavelength (a Markdown table)."""
+    """Where the rate is positive, per speed, and the fastest-growing wavelength (a Markdown table),
+    then the result's validity (rail.studies.validity) in one line."""
     rows = ["| speed (m/s) | wavelengths that grow (mm) | fastest (mm) | its growth (dB per 100,000 train passages) "
             "| its growth (dB per 100,000 axle passages) |",
             "|---|---|---|---|---|"]
@@ -193,7 +194,8 @@ def summary_markdown(ds: xr.Dataset) -> str:
         rows.append(f"| {v:g} | {text} | {1e3 * float(ds['fastest_wavelength'].values[i]):.3g} | "
                     f"{float(ds['fastest_growth_dB_per_1e5_trains'].values[i]):+.2f} | "
                     f"{float(ds['growth_dB_per_1e5_axles'].values[i][np.argmax(ds['growth_rate'].values[i])]):+.2f} |")
-    return "\n".join(rows) + "\n"
+    validity = validity_text(ds.attrs)
+    return "\n".join(rows) + "\n" + (f"\nValidity: {validity}\n" if validity else "")
 
 
 def sweep_rate_spectrum(points: list, keys, values, indices) -> xr.Dataset:
