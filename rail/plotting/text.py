@@ -74,7 +74,7 @@ def number(x, significant: int = 3) -> str:
 
 
 def validity_note(fig, attrs) -> None:
-    """A note at the foot of a figure saying where its result leaves the model or how the wear was
+    """A note in a top corner of a figure saying where its result leaves the model or how the wear was
     placed (issue 42): in red when the contact-centre flag is raised (attribute contact_shift_warning),
     in grey when the wear is on the patch's true path; nothing for the report's model within its range,
     so that the report's figures are unchanged.
@@ -87,8 +87,8 @@ def validity_note(fig, attrs) -> None:
     """
     warning = attrs.get("contact_shift_warning")
     if warning:
-        fig.text(0.005, 0.003, "outside validity: " + " ".join(str(warning).split())[:180], fontsize=6.5, color="firebrick",
-                 ha="left", va="bottom")
+        fig.text(0.003, 0.998, "outside validity: " + " ".join(str(warning).split())[:120] + "...", fontsize=6.5,
+                 color="firebrick", ha="left", va="top")
     elif str(attrs.get("wear_path", "")).startswith("patch"):
-        fig.text(0.995, 0.003, "wear on the contact patch's true path (docs/contact.md)", fontsize=6.5, color="0.4",
-                 ha="right", va="bottom")
+        fig.text(0.997, 0.998, "wear on the contact patch's true path (docs/contact.md)", fontsize=6.5, color="0.4",
+                 ha="right", va="top")
