@@ -38,7 +38,6 @@ number of stick and slip zones.
 
 from __future__ import annotations
 
-import math
 from dataclasses import dataclass
 
 import numpy as np
@@ -46,7 +45,7 @@ import numpy as np
 from .._lazyjit import njit
 from .basis import _basis_workspace, _closure_matrix, _influence_arrays, chebyshev_hat_moments
 from .hertz import ContactError, ContactMaterial, compliance, hertz_half_length, report_rigid_compliance
-from .numerics import CLOSURES, THETA_EDGE, rolling_grid
+from .numerics import CLOSURES, rolling_grid
 from .steps import (_advance, _all_finite, _enter_particles, _exit_slip, _pressure, _restore_rows, _shape_mean,
                     _shift_particles, _step_work, _stick_solve)
 

@@ -156,9 +156,10 @@ def true_path(forces: ForceResult, wheel_index: int, roughness: Roughness, mater
     P = P_patch - patch.centre * slope
     patch = model.patches(P, x_w, on_grid, Nx, roughness, L, material, xi)
     x_w = x_patch - patch.centre
-    # the wheel one step before the first (its patch at x_p - delta), from the contact's centre there
-    before = model.patches(P[:1], x_w[:1] - delta, on_grid[:1], Nx, roughness, L, material, xi)
-    travel = np.diff(np.concatenate([x_w[:1] - delta - (before.centre - patch.centre[:1]), x_w]))
+    # the wheel one step before the first: its patch one grid point back, where the passage (longer than
+    # the period) has the contact's centre already (c is periodic over the period)
+    c_before = patch.centre[np.flatnonzero(on_grid == (on_grid[0] - 1) % Nx)[0]]
+    travel = np.diff(np.concatenate([x_patch[:1] - delta - c_before, x_w]))
     if np.any(travel <= 0):
         i = int(np.argmin(travel))
         raise ContactError(f"the contact patch of wheel {wheel_index} moves backwards over the rail at x = {x_patch[i]:.4f} m "

@@ -292,7 +292,7 @@ def _march_tangent(P, a, shape, dP, da, dshape, has_dshape, xi, Mom, mu, ws, ws2
     inside_prev = np.zeros(nn, dtype=np.bool_)
     p0_prev = _pressure(P[0], a[0], xi, shape[0], half_width, p_prev, inside_prev)
     dp0_prev = p0_prev * (dP[0] / P[0] - da[0] / a[0])
-    _d_pressure(p0_prev, dp0_prev, a[0], da[0], xi, shape[0], dshape[0] if has_dshape else dshape[0], has_dshape, dp_prev)
+    _d_pressure(p0_prev, dp0_prev, a[0], da[0], xi, shape[0], dshape[0], has_dshape, dp_prev)
     for i in range(steps):
         ai = a[i]
         if ai != a_built:
