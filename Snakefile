@@ -30,7 +30,7 @@ include: "workflow/rules/common.smk"
 # A one-off configuration (--configfile or --config that changes config/config.yaml) writes under its
 # own folder, runs/<name>-<hash of the differing values>/ (results, logs, report), and never over
 # the default results.
-ONE_OFF = one_off_run_dir(workflow.overwrite_configfiles)
+ONE_OFF = one_off_run_dir(config, workflow.overwrite_configfiles)
 if ONE_OFF is not None:
     workflow.workdir(str(ONE_OFF))
 
@@ -79,7 +79,7 @@ REPORTING = any(a == "--report" or a.startswith("--report=") for a in sys.argv) 
 
 rule all:
     input:
-        paper_figures(),
+        PLAN.paper_figures(),
     default_target: not REPORTING
 
 

@@ -133,7 +133,7 @@ def _study(root):
 
 def test_traffic_study_cases_are_fleets_at_the_stated_spreads_about_the_mean_speed(root):
     from rail.fleet import speed_classes
-    from rail.studies.fleet import traffic_cases
+    from rail.setup.study_files import traffic_cases
 
     study = _study(root)
     cases = traffic_cases(study)
@@ -157,7 +157,7 @@ def test_traffic_study_cases_are_fleets_at_the_stated_spreads_about_the_mean_spe
     ("drives", {"driven": {"class87": -0.001}}, r"drives\.driven = .* is not allowed: give one creepage for each vehicle"),
 ])
 def test_a_bad_traffic_study_is_refused_naming_key_and_range(root, key, value, message):
-    from rail.studies.fleet import traffic_cases
+    from rail.setup.study_files import traffic_cases
 
     study = _study(root)
     study[key] = value

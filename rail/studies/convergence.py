@@ -33,7 +33,7 @@ from ..interaction import Roughness, force_history
 from ..scenario import Scenario
 from .datasets import _var
 
-__all__ = ["check_study", "force_quantity", "wear_quantity", "growth_quantity", "force_error", "harmonic_error", "level_error_dB",
+__all__ = ["force_quantity", "wear_quantity", "growth_quantity", "force_error", "harmonic_error", "level_error_dB",
            "pareto_front", "with_setting", "default_settings", "convergence_dataset", "convergence_rows"]
 
 WITHIN_DB = 40.0  # harmonics within this many dB of the largest are judged
@@ -83,40 +83,6 @@ def with_setting(scn: Scenario, setting: str, value: float) -> Scenario:
         g = dataclasses.replace(scn.growth, passages_per_update=int(value), save_every=scn.growth.passages)
         return dataclasses.replace(scn, growth=g)
     raise ValueError(f"convergence setting {setting!r} is not known: it must be one of harmonics, rtol, nodes, nodes_growth, passages_per_update.")
-
-
-def check_study(study: dict, source: str = "config/convergence.yaml") -> None:
-    """Check the convergence study's file before any job: a speed, and per known setting a quantity
-    (force, wear or growth), values and a reference that are finite numbers > 0 (integers for the
-    counts), and the wear frequencies finite > 0. Raises ValueError, one line naming file and key."""
-    def positive(key, v, whole=False):
-        ok = isinstance(v, (int, float)) and not isinstance(v, bool) and np.isfinite(v) and v > 0
-        if not ok or (whole and float(v) != int(v)):
-            kind = "a whole number > 0" if whole else "a finite number > 0"
-            raise ValueError(f"{source}: {key} = {v!r} is not allowed: it must be {kind}.")
-
-    if not isinstance(study, dict) or not isinstance(study.get("settings"), dict):
-        raise ValueError(f"{source}: the file must map 'speed', 'settings' and 'wear_frequencies'.")
-    positive("speed", study.get("speed"))
-    whole = {"harmonics", "nodes", "nodes_growth", "passages_per_update"}
-    for name, st in study["settings"].items():
-        if name not in whole | {"rtol"}:
-            raise ValueError(f"{source}: settings.{name} is not known: the settings are harmonics, rtol, nodes, nodes_growth, "
-                             "passages_per_update.")
-        if not isinstance(st, dict) or st.get("quantity") not in ("force", "wear", "growth"):
-            raise ValueError(f"{source}: settings.{name}.quantity = {(st or {}).get('quantity')!r} is not allowed: it must be one "
-                             "of force, wear, growth.")
-        values = st.get("values")
-        if not isinstance(values, list) or not values:
-            raise ValueError(f"{source}: settings.{name}.values = {values!r} is not allowed: it must be a non-empty list.")
-        for i, v in enumerate(values):
-            positive(f"settings.{name}.values[{i}]", v, name in whole)
-        positive(f"settings.{name}.reference", st.get("reference"), name in whole)
-    freqs = study.get("wear_frequencies")
-    if not isinstance(freqs, list) or not freqs:
-        raise ValueError(f"{source}: wear_frequencies = {freqs!r} is not allowed: it must be a non-empty list of Hz.")
-    for i, f in enumerate(freqs):
-        positive(f"wear_frequencies[{i}]", f)
 
 
 def default_settings(scn: Scenario) -> dict:

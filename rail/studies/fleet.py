@@ -18,7 +18,7 @@ from .datasets import _var
 from .rate_spectrum import PASSAGES_PER_DB
 
 __all__ = ["fleet_spectrum_dataset", "fleet_growth_dataset", "tables_by_speed", "spectrum_arrays", "spectrum_from_arrays",
-           "class_key", "DB_PER_NEPER"]
+           "DB_PER_NEPER"]
 
 DB_PER_NEPER = 20 * np.log10(np.e)  # dB of amplitude per unit of ln(amplitude)
 
@@ -85,29 +85,6 @@ def spectrum_from_arrays(arrays) -> "RateSpectrum":
         kw[f.name] = (str(v) if f.name == "method" else int(v) if f.name in ("bays", "grid_phases")
                       else float(v) if v.ndim == 0 else v)
     return RateSpectrum(**kw)
-
-
-def class_key(fleet_class, settings: dict) -> str:
-    """A name for one class's spectrum that is the same in every fleet holding the class: a hash of its
-    scenario (vehicle, speed, track, contact, ...; not its name) and the spectrum's settings.
-
-    Parameters
-    ----------
-    fleet_class : rail.fleet.FleetClass
-    settings : dict
-        figures.rate_spectrum (shortest, longest, per_octave, eps, grid_phases, bays) [m, -].
-
-    Returns
-    -------
-    str
-        16 hexadecimal digits.
-    """
-    import hashlib
-    import json
-
-    scn = dataclasses.replace(fleet_class.scenario, name="")
-    text = repr(scn) + json.dumps({k: settings[k] for k in sorted(settings) if k != "speeds"}, sort_keys=True, default=str)
-    return hashlib.sha256(text.encode()).hexdigest()[:16]
 
 
 def fleet_spectrum_dataset(fs: FleetRateSpectrum, fleet: Fleet) -> xr.Dataset:
@@ -220,84 +197,6 @@ def fleet_growth_dataset(classes, tables: dict, history, fleet: Fleet) -> xr.Dat
     if history.stopped:
         ds.attrs["stopped"] = history.stopped
     return ds
-
-
-# The traffic study (config/traffic_study.yaml, README "Traffic"): cases of one fleet at a spread of
-# speeds with the locomotive driven or braked, compared by their growth-rate spectra.
-
-TRAFFIC_KEYS = ("speed", "spreads", "distribution", "classes", "vehicles", "drives", "spectrum")
-
-
-def _study_error(key, value, rule):
-    return ValueError(f"config/traffic_study.yaml: {key} = {value!r} is not allowed: {rule}.")
-
-
-def traffic_cases(study: dict) -> dict:
-    """The scenario mappings of the traffic study, one per (drive, spread): the keys a scenario file
-    would hold (``fleet`` and ``figures.rate_spectrum``), named ``traffic_study-<drive>-s<percent>``.
-
-    Parameters
-    ----------
-    study : dict
-        config/traffic_study.yaml: speed [m/s], spreads [-] (uniform on speed (1 -+ s)), distribution
-        ('uniform' or 'normal': a normal of standard deviation s speed / sqrt(3), the uniform's),
-        classes [-], vehicles (name, positions [m], static_load [N], unsprung_mass [kg], share [-]),
-        drives ({drive: {vehicle: creepage [-]}}), spectrum (figures.rate_spectrum keys).
-
-    Returns
-    -------
-    dict
-        {name: scenario mapping}, drives outer, spreads inner, in the file's order.
-
-    Raises
-    ------
-    ValueError
-        Naming the key, value and valid range (the fleet's own checks follow when each scenario is built).
-    """
-    missing = [k for k in TRAFFIC_KEYS if k not in study]
-    extra = [k for k in study if k not in TRAFFIC_KEYS]
-    if missing or extra:
-        raise ValueError(f"config/traffic_study.yaml: keys {missing} missing, {extra} unknown: it holds exactly {list(TRAFFIC_KEYS)}.")
-    V = study["speed"]
-    if isinstance(V, bool) or not isinstance(V, (int, float)) or not (np.isfinite(V) and V > 0):
-        raise _study_error("speed", V, "it must be a finite number > 0 m/s")
-    spreads = study["spreads"]
-    if not isinstance(spreads, list) or not spreads:
-        raise _study_error("spreads", spreads, "give a non-empty list of speed spreads in [0, 0.5)")
-    for i, s in enumerate(spreads):
-        if isinstance(s, bool) or not isinstance(s, (int, float)) or not (np.isfinite(s) and 0 <= s < 0.5):
-            raise _study_error(f"spreads[{i}]", s, "it must be a number in [0, 0.5)")
-    if len({round(100 * float(s), 6) for s in spreads}) != len(spreads):
-        raise _study_error("spreads", spreads, "each spread must be given once (to 1e-6 %)")
-    if study["distribution"] not in ("uniform", "normal"):
-        raise _study_error("distribution", study["distribution"], "it must be 'uniform' or 'normal'")
-    n = study["classes"]
-    if isinstance(n, bool) or not isinstance(n, int) or not 1 <= n <= 50:
-        raise _study_error("classes", n, "it must be an integer in [1, 50]")
-    vehicles = study["vehicles"]
-    names = [v.get("name") for v in vehicles] if isinstance(vehicles, list) else []
-    if not names:
-        raise _study_error("vehicles", vehicles, "give a list of vehicles (name, positions, static_load, unsprung_mass, share)")
-    drives = study["drives"]
-    if not isinstance(drives, dict) or not drives:
-        raise _study_error("drives", drives, "give {drive: {vehicle: creepage}}")
-    for d, creep in drives.items():
-        if not isinstance(creep, dict) or sorted(creep) != sorted(names):
-            raise _study_error(f"drives.{d}", creep, f"give one creepage for each vehicle, {names}")
-    out = {}
-    for d, creep in drives.items():
-        for s in spreads:
-            s = float(s)
-            if s == 0:
-                speeds = {"values": [float(V)], "weights": [1.0]}
-            elif study["distribution"] == "uniform":
-                speeds = {"distribution": "uniform", "low": V * (1 - s), "high": V * (1 + s), "classes": n}
-            else:
-                speeds = {"distribution": "normal", "mean": float(V), "std": V * s / np.sqrt(3), "classes": n}
-            fleet = {"vehicles": [{**v, "creepage": [float(creep[v["name"]])] * len(v["positions"])} for v in vehicles],
-                     "speeds": speeds}
-            out[f"traffic_study-{d}-s{100 * s:g}"] = {"fleet": fleet, "figures": {"rate_spectrum": dict(study["spectrum"])}}
-    return out
 
 
 def band_rates(wavelength, rate, bands) -> np.ndarray:

@@ -5,9 +5,6 @@
 # differs from the default gets its own under results/tracks/<scenario>/.
 
 
-include: "characterisation_common.smk"
-
-
 rule track_receptance:
     """Point receptance above a sleeper and at mid-span, with the characteristic frequencies."""
     output:
@@ -140,4 +137,4 @@ use rule track_decay_rate as track_decay_rate_scenario with:
 rule track_characterisation:
     """Named target: receptance, moving-load receptance and decay rate of every track in use."""
     input:
-        characterisation_targets(),
+        PLAN.characterisation_targets(),

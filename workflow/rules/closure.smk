@@ -33,8 +33,8 @@ rule closure_wellposedness:
     params:
         code=code("closure_wellposedness.py"),
         cfg=default_physics("figures.wear.speed"),
-        values=closure_values(),
-        nodes=CLOSURE["wellposedness_nodes"],
+        values=PLAN.closure_values(),
+        nodes=PLAN.closure["wellposedness_nodes"],
     resources:
         mem_mb=900,
         runtime=15,
@@ -49,7 +49,7 @@ rule closure_wellposedness:
 rule closure_aggregate:
     """The closure study's dataset, spectra figures and conclusions table."""
     input:
-        closure_inputs()[0] if closure_values() else [],
+        PLAN.closure_inputs()[0] if PLAN.closure_values() else [],
     output:
         data="results/closure/closure.nc",
         spectra=report("results/closure/spectra.png", caption="../report/closure.rst", category="Closure sensitivity study"),
@@ -59,7 +59,7 @@ rule closure_aggregate:
     params:
         code=code("closure_aggregate.py"),
         cfg=default_physics("figures.wear.spectrum_max_wavenumber"),
-        meta=closure_inputs()[1] if closure_values() else [],
+        meta=PLAN.closure_inputs()[1] if PLAN.closure_values() else [],
     resources:
         mem_mb=400,
         runtime=5,
@@ -74,4 +74,4 @@ rule closure_aggregate:
 rule closure_study:
     """Named target: the closure sensitivity study."""
     input:
-        closure_targets(),
+        PLAN.closure_targets(),

@@ -15,6 +15,8 @@ rule fleet_receptance:
         code=code("receptance.py"),
         cfg=fleet_track_config,
         offsets=fleet_offsets,
+        speed=fleet_table_speed,
+        bays=table_bays,
     message:
         "fleet receptance table: track {wildcards.track}, V = {wildcards.speed} m/s, offsets {params.offsets} m"
     log:
@@ -57,7 +59,7 @@ rule fleet_growth:
     params:
         code=code("fleet_growth.py"),
         cfg=physics_config,
-        speeds=fleet_table_speeds,
+        speeds=lambda w: PLAN.fleet_speeds(w.scenario),
         checkpoint="results/checkpoints/{scenario}_fleet.npz",
     log:
         "logs/fleet/{scenario}/growth.log",
@@ -65,7 +67,7 @@ rule fleet_growth:
         "benchmarks/fleet/{scenario}/growth.tsv"
     resources:
         mem_mb=1000,
-        runtime=fleet_growth_runtime,
+        runtime=growth_runtime,
     script:
         "../scripts/fleet_growth.py"
 
@@ -121,7 +123,7 @@ rule traffic_study_summary:
     """The traffic study's cases side by side: growth-rate spectrum per case, one-third-octave band rates,
     what the pinned-pinned and the fastest-growing bands do across the spreads and drives."""
     input:
-        traffic_study_inputs,
+        PLAN.traffic_study_inputs(),
     output:
         data="results/traffic_study/traffic_study.nc",
         figure=report("results/traffic_study/spectra.png", caption="../report/traffic_study.rst", category="Traffic (fleet)"),
@@ -129,7 +131,7 @@ rule traffic_study_summary:
     params:
         code=code("traffic_study.py"),
         cfg={},  # drawn from the spectra alone, each of which records its configuration
-        cases=traffic_study_cases,
+        cases=PLAN.traffic_study_labels(),
     log:
         "logs/traffic_study/summary.log",
     benchmark:
@@ -162,7 +164,7 @@ rule uncertainty_member:
     params:
         code=code("uncertainty_member.py"),
         cfg=uncertainty_member_config,
-        speed=lambda w: UNCERTAINTY["speed"],
+        speed=PLAN.uncertainty.get("speed"),
     log:
         "logs/uncertainty/m{member}.log",
     benchmark:
@@ -177,15 +179,15 @@ rule uncertainty_member:
 rule uncertainty_ensemble:
     """The ensemble's band spectrum: per one-third-octave band, the median over the members and the stated interval."""
     input:
-        uncertainty_members,
+        PLAN.uncertainty_members(),
     output:
         data="results/uncertainty/ensemble.nc",
         figure=report("results/uncertainty/band_interval.png", caption="../report/uncertainty.rst", category="Traffic (fleet)"),
     params:
         code=code("uncertainty_ensemble.py"),
         cfg={},  # drawn from the members alone, each of which records its configuration
-        draws=lambda w: UNCERTAINTY["draws"],
-        interval=lambda w: UNCERTAINTY["interval"],
+        draws=PLAN.uncertainty.get("draws"),
+        interval=PLAN.uncertainty.get("interval"),
     log:
         "logs/uncertainty/ensemble.log",
     benchmark:

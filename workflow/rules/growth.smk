@@ -13,6 +13,7 @@ rule growth:
     params:
         code=code("growth.py"),
         cfg=physics_config,
+        speed=target_speed,
         checkpoint="results/checkpoints/{scenario}_V{speed}.npz",
     log:
         "logs/growth/{scenario}/V{speed}.log",
@@ -89,13 +90,13 @@ rule scenario_overview:
         "../scripts/growth_figure.py"
 
 
-for _study_name in study_names():
+for _study_name in PLAN.study_names():
 
     rule:
         name:
             f"study_{_study_name}"
         input:
-            study_targets(_study_name),
+            PLAN.study_targets(_study_name),
 
 
 rule growth_bands:
@@ -133,21 +134,22 @@ rule bands:
     """Named target: the band view of the default growth runs and of the scenarios with a
     roughness period of N > 1 bays."""
     input:
-        band_targets(),
+        PLAN.band_targets(),
 
 
 rule any_wavelength:
     """Named target: every scenario whose roughness is periodic over N > 1 bays (narrow-band figures)
     and every such sweep (ensembles)."""
     input:
-        any_wavelength_targets(),
+        PLAN.any_wavelength_targets(),
 
 
 rule growth_figures:
     """Figs 20, 21, 23-27 from the growth runs, in one job (a job's start-up, 3 s CPU, is several
     times the drawing of one figure)."""
     input:
-        growth_figures_runs,
+        # evaluated only when the figures are planned: the scenarios they name may be absent otherwise
+        lambda w: PLAN.growth_figures_runs(),
     output:
         data=expand("results/data/fig{nn}.nc", nn=GROWTH_FIGURES),
         figure=[
@@ -156,7 +158,7 @@ rule growth_figures:
         ],
     params:
         code=code("growth_figure.py"),
-        runs=growth_figures_labelled,
+        runs=lambda w: PLAN.growth_figures_labelled(),
         cfg=config_part(GROWTH_FIGURE_KEYS),
     resources:
         mem_mb=400,

@@ -2,8 +2,7 @@
 # "A cell of N bays"). Named target irregular_track (README): the cases config/scenarios/irregular_<kind>.yaml
 # each beside the uniform track (irregular_uniform.yaml), and the random-track ensemble (irregular_random.yaml).
 
-IRREGULAR_SPEED = "40"
-IRREGULAR_CASES = [n for n in ("irregular_voided", "irregular_spacing", "irregular_stiff_pad", "irregular_dampers") if n in SCENARIOS]
+IRREGULAR_CASES = PLAN.irregular_cases()  # speed: rail.setup.plan.IRREGULAR_SPEED
 
 
 rule irregular_case:
@@ -40,17 +39,17 @@ rule irregular_summary:
     input:
         cases=expand(f"results/growth/{{case}}/V{IRREGULAR_SPEED}.nc", case=IRREGULAR_CASES),
         uniform=f"results/growth/irregular_uniform/V{IRREGULAR_SPEED}.nc",
-        random=lambda w: [f"results/growth/{p['name']}/V{IRREGULAR_SPEED}.nc" for p in SWEEPS.get("irregular_random", {"points": []})["points"]],
+        random=[f"results/growth/{name}/V{IRREGULAR_SPEED}.nc" for name in PLAN.irregular_random_points()],
     output:
         data="results/irregular/summary.nc",
         figure=report("results/irregular/summary.png", caption="../report/irregular_summary.rst", category="Irregular track"),
         table="results/irregular/summary.md",
     params:
         code=code("irregular_summary.py"),
-        cfg=lambda w: {p["name"]: config_part(("track",), SCENARIOS[p["name"]]) for p in SWEEPS.get("irregular_random", {"points": []})["points"]},
-        case_cfg=lambda w: {c: config_part(("track",), SCENARIOS[c]) for c in IRREGULAR_CASES},
+        cfg={name: config_part(("track",), SCENARIOS[name]) for name in PLAN.irregular_random_points()},
+        case_cfg={c: config_part(("track",), SCENARIOS[c]) for c in IRREGULAR_CASES},
         uniform_cfg=lambda w: config_part(("track", "numerics.track"), SCENARIOS["irregular_uniform"]),
-        spreads=lambda w: {p["name"]: SCENARIOS[p["name"]]["track"]["cell"]["random"].get("spacing", 0.0) for p in SWEEPS.get("irregular_random", {"points": []})["points"]},
+        spreads={name: SCENARIOS[name]["track"]["cell"]["random"].get("spacing", 0.0) for name in PLAN.irregular_random_points()},
         speed=float(IRREGULAR_SPEED),
     log:
         "logs/irregular/summary.log",
@@ -66,5 +65,4 @@ rule irregular_summary:
 rule irregular_track:
     """Named target: the irregular-track study (issue 34)."""
     input:
-        expand("results/irregular/{case}.png", case=IRREGULAR_CASES),
-        "results/irregular/summary.png",
+        PLAN.irregular_targets(),

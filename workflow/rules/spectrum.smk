@@ -17,6 +17,7 @@ rule rate_spectrum_speed:
     params:
         code=code("rate_spectrum.py"),
         cfg=scenario_config,
+        speed=target_speed,
     log:
         "logs/spectrum/{scenario}/V{speed}.log",
     benchmark:
@@ -87,7 +88,7 @@ rule rate_spectrum_sweeps:
     """Named target: the growth-rate spectrum over every sweep study whose swept keys change it
     (not those sweeping only roughness.*: the spectrum is about the smooth rail)."""
     input:
-        rate_spectrum_sweep_targets(),
+        PLAN.rate_spectrum_sweep_targets(),
 
 
 rule short_wave:
@@ -95,4 +96,4 @@ rule short_wave:
     the default track with the non-Hertzian normal contact from L / K to 0.6 m at every speed, and the
     broadband study from a limit-like spectrum with both normal-contact models."""
     input:
-        short_wave_targets(),
+        PLAN.short_wave_targets(),

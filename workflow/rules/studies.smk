@@ -11,9 +11,9 @@ rule stability_case:
     params:
         code=code("stability_case.py"),
         cfg=config,  # every case resolves its overrides onto the whole configuration
-        case=lambda w: {**STABILITY["defaults"], **STABILITY["cases"][w.case]},
+        case=lambda w: {**PLAN.stability["defaults"], **PLAN.stability["cases"][w.case]},
     wildcard_constraints:
-        case="|".join(STABILITY["cases"]),
+        case="|".join(PLAN.stability["cases"]),
     resources:
         mem_mb=1800,
         runtime=15,
@@ -28,7 +28,7 @@ rule stability_case:
 rule stability_table:
     """Outcome table of the stability suite (netCDF, markdown and HTML for the report)."""
     input:
-        expand("results/stability/cases/{case}.json", case=list(STABILITY["cases"])),
+        expand("results/stability/cases/{case}.json", case=list(PLAN.stability["cases"])),
     output:
         data="results/stability/outcomes.nc",
         table="results/stability/outcomes.md",
@@ -36,7 +36,7 @@ rule stability_table:
     params:
         code=code("stability_table.py"),
         cfg=default_physics(),
-        expect={name: c["expect"] for name, c in STABILITY["cases"].items()},
+        expect={name: c["expect"] for name, c in PLAN.stability["cases"].items()},
     resources:
         mem_mb=300,
         runtime=10,
@@ -64,10 +64,10 @@ rule convergence_point:
     params:
         code=code("convergence_point.py"),
         cfg=default_physics("figures.wear.amplitude"),
-        study=CONVERGENCE,
-        value=lambda w: CONVERGENCE_VALUES[(w.setting, w.value)],
+        study=PLAN.convergence,
+        value=lambda w: PLAN.convergence_values[(w.setting, w.value)],
     wildcard_constraints:
-        setting="|".join(CONVERGENCE["settings"]),
+        setting="|".join(PLAN.convergence["settings"]),
     resources:
         mem_mb=3200,
         runtime=30,
@@ -82,7 +82,7 @@ rule convergence_point:
 rule convergence_aggregate:
     """Error against CPU time for every setting: dataset, log-log figure and summary table."""
     input:
-        [f"results/convergence/points/{s}/{v}.nc" for s, v in convergence_points()],
+        PLAN.convergence_points(),
     output:
         data="results/convergence/convergence.nc",
         figure=report("results/convergence/error_vs_time.png", caption="../report/convergence.rst", category="Numerical studies"),
@@ -91,7 +91,7 @@ rule convergence_aggregate:
     params:
         code=code("convergence_aggregate.py"),
         cfg=default_physics(),
-        study=CONVERGENCE,
+        study=PLAN.convergence,
     resources:
         mem_mb=300,
         runtime=5,

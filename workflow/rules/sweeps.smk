@@ -52,4 +52,4 @@ rule sweep_bands:
 rule sweeps:
     """Named target: every sweep study in config/scenarios/."""
     input:
-        sweep_targets(),
+        PLAN.sweep_targets(),

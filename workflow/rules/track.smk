@@ -14,6 +14,8 @@ rule receptance:
         code=code("receptance.py"),
         cfg=table_config,
         offsets=table_offsets,
+        speed=table_speed,
+        bays=table_bays,
     message:
         "receptance table {output}: V = {wildcards.speed} m/s, offsets {params.offsets} m"
     log:
@@ -39,6 +41,8 @@ rule receptance_bloch:
         code=code("receptance.py"),
         cfg=table_config,
         offsets=table_offsets,
+        speed=table_speed,
+        bays=table_bays,
     message:
         "receptance tables {output}: V = {wildcards.speed} m/s, N = {wildcards.bays} bays, offsets {params.offsets} m"
     log:
@@ -55,4 +59,4 @@ rule receptance_bloch:
 rule receptances:
     """Named target: the receptance tables of the default scenario at every configured speed."""
     input:
-        receptance_tables(),
+        PLAN.receptance_tables(),

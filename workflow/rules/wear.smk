@@ -60,7 +60,7 @@ rule wear_figures:
     """Figs 9-19 from the wear cases, in one job (a job's start-up, 3 s CPU, is six times the drawing
     of one figure). Each figure's dataset records the configuration it reads (wear_figure_config)."""
     input:
-        wear_figure_cases(),
+        PLAN.wear_figure_cases(),
     output:
         data=expand("results/data/fig{nn}.nc", nn=WEAR_FIGURES),
         figure=[
@@ -69,8 +69,8 @@ rule wear_figures:
         ],
     params:
         code=code("wear_figure.py"),
-        cases={nn: wear_case_file(nn) for nn in WEAR_FIGURES},
-        cfg={nn: wear_figure_config(nn) for nn in WEAR_FIGURES},
+        cases={nn: PLAN.wear_case_file(nn) for nn in WEAR_FIGURES},
+        cfg={nn: PLAN.wear_figure_config(nn) for nn in WEAR_FIGURES},
     resources:
         mem_mb=500,
         runtime=5,

@@ -24,4 +24,4 @@ if __name__ == "__main__":
     sys.stderr = log
     w = snakemake.wildcards  # noqa: F821
     progress = Tee(log, f"growth {w.scenario} V{w.speed}")  # the log, and the terminal if it is one
-    main(snakemake.params.cfg, w.scenario, snakemake.input.table, float(w.speed), snakemake.params.checkpoint, snakemake.output[0], progress)  # noqa: F821
+    main(snakemake.params.cfg, w.scenario, snakemake.input.table, snakemake.params.speed, snakemake.params.checkpoint, snakemake.output[0], progress)  # noqa: F821

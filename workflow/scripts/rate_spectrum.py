@@ -29,5 +29,5 @@ if __name__ == "__main__":
     sys.stderr = log
     w = snakemake.wildcards  # noqa: F821
     tee = Tee(log, f"spectrum {w.scenario} V{w.speed}")  # the log, and the terminal if there is one
-    main(snakemake.params.cfg, w.scenario, snakemake.input.table, float(w.speed), snakemake.output[0], tee)  # noqa: F821
+    main(snakemake.params.cfg, w.scenario, snakemake.input.table, snakemake.params.speed, snakemake.output[0], tee)  # noqa: F821
     tee.close()

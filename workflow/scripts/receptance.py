@@ -29,6 +29,6 @@ if __name__ == "__main__":
     tee = Tee(log, label)  # progress lines into the log, and a bar on the terminal if there is one
     print(f"{label}: {len(snakemake.params.offsets)} offsets, harmonics K = {snakemake.params.cfg['numerics']['track']['harmonics']}",  # noqa: F821
           file=tee, flush=True)
-    main(snakemake.params.cfg, float(w.speed), snakemake.params.offsets, int(w.get("bays", 1)), snakemake.output[0],  # noqa: F821
+    main(snakemake.params.cfg, snakemake.params.speed, snakemake.params.offsets, snakemake.params.bays, snakemake.output[0],  # noqa: F821
          progress_lines(tee))
     tee.close()

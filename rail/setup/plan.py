@@ -1,0 +1,767 @@
+"""The workflow's plan: every scenario, sweep, traffic case, fleet class, receptance table and study set
+that the configuration and the files of config/ define, and every target list built from them.
+
+``plan(config, schema)`` reads config/scenarios/, config/traffic_study.yaml, config/uncertainty.yaml,
+config/stability.yaml, config/convergence.yaml and config/closure.yaml, resolves and validates each
+scenario, builds it once (rail.setup.build.scenario: the checks that need physics stop here, naming
+the file) and returns a frozen Plan. Nothing here imports snakemake: workflow/rules/common.smk only
+maps wildcards to the Plan's answers, and tests/test_plan.py checks the Plan without Snakemake.
+
+Conventions
+-----------
+- A speed becomes a file-name label in one way, ``speed_label`` (``fleet_speed_label`` for a fleet
+  class, exact); a target's label becomes a speed again only here (``Plan.target_speed``), checked
+  like a configured speed, and rules hand that speed to their scripts as a parameter.
+- Scenario names: 'default' (config/config.yaml), a scenario file's stem, ``<study>-p<n>`` for the
+  points of a sweep, ``traffic_study-<drive>-s<percent>`` for the traffic study's cases.
+- Paths are relative to the project folder (``root``), as the workflow's targets are.
+"""
+
+from __future__ import annotations
+
+import functools
+import warnings
+from dataclasses import dataclass, field
+from pathlib import Path
+from types import MappingProxyType
+
+import numpy as np
+
+from .. import uncertainty as unc
+from ..chain import wheel_offsets
+from ..roughness import RoughnessInputWarning
+from .build import PASSAGE_KEYS, fleet_classes, scenario, spectrum_scenario
+from .config import ConfigError, check_scenario_names, expand_sweep, load_yaml, resolve_scenario_file, scenario_files, validate_config
+from .inputs import check_inputs, check_speed
+from .study_files import check_convergence_study, class_key, traffic_cases
+from .tables import table_key
+
+__all__ = ["Plan", "Sweep", "SweepPoint", "Table", "plan", "speed_label", "fleet_speed_label", "config_part", "physics_part",
+           "HALFSPACE_KEYS", "FORCE_KEYS", "WEAR_CASE_KEYS", "GROWTH_FIGURE_KEYS", "HALFSPACE_FIGURES", "FORCE_FIGURES",
+           "WEAR_FIGURES", "GROWTH_FIGURES", "CLOSURE_STUDIES", "IRREGULAR_SPEED", "CHARACTERISATION", "REPORT_SUFFIXES",
+           "PRIORITY_KERNELS", "PRIORITY_TABLES", "DEFAULT_SOURCE", "known_value", "wear_frequency_label",
+           "closure_label", "track_part"]
+
+DEFAULT_SOURCE = "configuration (config/config.yaml and --config/--configfile)"
+
+# What each report figure reads of the configuration (its rule's params.cfg). A figure drawn from
+# another job's result carries that job's keys too, so that it records all it was computed from.
+HALFSPACE_KEYS = ("material", "contact.hertz_stiffness", "numerics.halfspace", "figures.halfspace")
+FORCE_KEYS = tuple(k for k in PASSAGE_KEYS if k != "wear")  # the forces of one passage (rail.chain.solve_forces)
+WEAR_CASE_KEYS = PASSAGE_KEYS + ("figures.wear.speed", "figures.wear.amplitude")
+GROWTH_FIGURE_KEYS = ("figures.growth", "figures.wear.spectrum_max_wavenumber")
+
+# Report figures produced so far, by section of the report.
+HALFSPACE_FIGURES = ["02", "03", "04", "05", "06"]
+FORCE_FIGURES = ["08", "22"]
+WEAR_FIGURES = [f"{n:02d}" for n in range(9, 20)]
+GROWTH_FIGURES = ["20", "21", "23", "24", "25", "26", "27"]
+
+# Closure sensitivity study (named target closure_study): three sweep files over contact.closure_scale,
+# single wheel at two speeds, softer railpad and four wheels.
+CLOSURE_STUDIES = {"run": "closure", "soft": "closure_soft_pad", "four": "closure_class87"}
+# Irregular track (issue 34): the cases config/scenarios/irregular_<kind>.yaml beside irregular_uniform.yaml.
+IRREGULAR_SPEED = "40"
+IRREGULAR_NAMES = ("irregular_voided", "irregular_spacing", "irregular_stiff_pad", "irregular_dampers")
+# The three characterisation results of a track: data results/.../<name>.nc, figure <name>.png.
+CHARACTERISATION = ["track_receptance", "moving_receptance", "track_decay_rate"]
+# Suffixes of the outputs a report shows (figures, CSV exports, markdown and HTML tables).
+REPORT_SUFFIXES = (".png", ".csv", ".md", ".html")
+# Job priorities: the contact march's compile first, then the tables (the most wheels first), then
+# the growth runs, longest first.
+PRIORITY_KERNELS = 100
+PRIORITY_TABLES = 50
+
+
+def speed_label(v) -> str:
+    """Speed in a file name: 40.0 -> '40', 37.5 -> '37.5'.
+
+    Parameters
+    ----------
+    v : float
+        Speed [m/s].
+
+    Returns
+    -------
+    str
+    """
+    return f"{float(v):g}"
+
+
+def fleet_speed_label(v) -> str:
+    """A fleet class's speed in a file name, exact: float(label) == v (40.0 -> '40', 33.6 -> '33.6').
+    The classes of a distribution need not be round numbers, and a table must be at the class's speed."""
+    text = repr(float(v))
+    return text[:-2] if text.endswith(".0") else text
+
+
+def wear_frequency_label(f) -> str:
+    """Excitation frequency in a file name: 533.333 -> '533'."""
+    return f"{float(f):.0f}"
+
+
+def closure_label(s) -> str:
+    """Closure value in a file name: 0.01 -> '0.01'."""
+    return f"{float(s):g}"
+
+
+def config_part(keys, cfg: dict) -> dict:
+    """The part of a configuration under the dotted keys, nested as there: what a job is handed as
+    params.cfg (params are a rerun trigger, and each result records the configuration it read)."""
+    out = {}
+    for key in keys:
+        *parents, leaf = key.split(".")
+        src, dst = cfg, out
+        for p in parents:
+            src, dst = src[p], dst.setdefault(p, {})
+        dst[leaf] = src[leaf]
+    return out
+
+
+def physics_part(cfg: dict) -> dict:
+    """A configuration without the figure settings, site measurements and half-space quadrature (which
+    no growth computation reads: the contact damping has its own, Fig. 6)."""
+    out = {k: v for k, v in cfg.items() if k not in ("figures", "measured", "numerics")}
+    return {**out, "numerics": {k: v for k, v in cfg["numerics"].items() if k != "halfspace"}}
+
+
+def track_part(cfg: dict) -> dict:
+    """The track and track numerics of a configuration: all a receptance table depends on."""
+    return {"track": cfg["track"], "numerics": {"track": cfg["numerics"]["track"]}}
+
+
+def _offsets(scenarios) -> list[float]:
+    """Offsets d between every ordered pair of wheels of the scenarios (0 first) [m]."""
+    return sorted({d for s in scenarios for d in wheel_offsets(s)}, key=lambda d: (abs(d), d))
+
+
+@dataclass(frozen=True)
+class SweepPoint:
+    """One grid point of a sweep study: its scenario name, grid index and speed [m/s]."""
+
+    name: str
+    index: tuple
+    speed: float
+
+
+@dataclass(frozen=True)
+class Sweep:
+    """A sweep study (a scenario file with ``sweep:``): swept keys, their values, the points in grid order."""
+
+    keys: list
+    values: list
+    points: tuple
+
+    def values_of(self, key: str) -> list:
+        """The swept values of one key."""
+        return self.values[self.keys.index(key)]
+
+
+@dataclass(frozen=True)
+class Table:
+    """A shared receptance table (issue 36), named by its content: the first scenario holding it, its
+    wheel offsets [m] and every scenario it serves."""
+
+    scenario: str
+    offsets: list
+    scenarios: list = field(default_factory=list)
+
+
+@dataclass(frozen=True, eq=False)
+class Plan:
+    """Everything the workflow runs, decided at start-up. Mappings are read-only views."""
+
+    config: dict
+    schema: dict
+    scenarios: MappingProxyType          # {name: resolved configuration}
+    sources: MappingProxyType            # {name: where it comes from, for messages}
+    scenario_files: MappingProxyType     # {name: path} of config/scenarios/
+    sweeps: MappingProxyType             # {study: Sweep}
+    traffic_cases: MappingProxyType      # {case name: scenario mapping}
+    traffic_study: dict | None           # config/traffic_study.yaml
+    objects: MappingProxyType            # {name: rail.scenario.Scenario}
+    fleet_classes: MappingProxyType      # {fleet scenario: (FleetClass, ...)}
+    fleet_spectrum_keys: MappingProxyType  # {fleet scenario: [class spectrum key per class]}
+    fleet_spectrum_jobs: MappingProxyType  # {key: (first scenario holding it, class index)}
+    tables: MappingProxyType             # {table key: Table}
+    scenario_table: MappingProxyType     # {scenario: table key}
+    fleet_tables: MappingProxyType       # {table key: Table} of the fleets
+    fleet_table: MappingProxyType        # {fleet scenario: table key}
+    uncertainty: MappingProxyType        # members, speed, interval, draws (empty without config/uncertainty.yaml)
+    stability: dict
+    convergence: dict
+    convergence_values: MappingProxyType  # {(setting, value label): value}
+    closure: dict
+    notes: tuple                         # one line per roughness-input note, naming the scenarios
+
+    # -- scenarios ---------------------------------------------------------------------------
+
+    @property
+    def sweep_points(self) -> dict:
+        """{point name: study} of every sweep point."""
+        return {p.name: study for study, sw in self.sweeps.items() for p in sw.points}
+
+    def require(self, name: str) -> dict:
+        """A scenario's configuration, or one line naming the scenarios that exist."""
+        if name not in self.scenarios:
+            raise ConfigError(f"target names the scenario '{name}', which is not defined: the scenarios are "
+                              f"{', '.join(sorted(self.scenarios))} (config/scenarios/<name>.yaml).")
+        return self.scenarios[name]
+
+    @functools.lru_cache(maxsize=None)  # noqa: B019 - a Plan lives as long as the workflow
+    def target_speed(self, name: str, label: str) -> float:
+        """The speed [m/s] a target's file name gives ('V40' -> 40.0), checked like a configured speed: a
+        finite number > 0 at which the scenario's harmonics reach the pinned-pinned frequency. The one
+        place where a speed label becomes a number again."""
+        cfg = self.require(name)
+        try:
+            V = float(label)
+        except ValueError:
+            raise ConfigError(f"target speed V{label} is not a number in m/s.") from None
+        return check_speed(cfg, V, f"scenario {name}", f"target speed V{label}")
+
+    def target_bays(self, label: str) -> int:
+        """The roughness period N of a target's file name ('N8' -> 8), within the schema's bounds of a
+        configured period (roughness.bays, figures.rate_spectrum.bays)."""
+        vmax = self.schema["properties"]["figures"]["properties"]["rate_spectrum"]["properties"]["bays"]["maximum"]
+        N = int(label)
+        if not 2 <= N <= vmax:
+            raise ConfigError(f"target period N{label} is not allowed: it must lie in [2, {vmax}] bays (as roughness.bays and "
+                              "figures.rate_spectrum.bays in the configuration).")
+        return N
+
+    def track_part(self, name: str) -> dict:
+        """The track and track numerics of a scenario: all its receptance tables depend on."""
+        return track_part(self.scenarios[name])
+
+    def track_name(self, name: str) -> str:
+        """Tracks are shared: a scenario uses the track of the first scenario ('default' first, then in
+        file order) whose track and track numerics equal its own."""
+        key = track_part(self.scenarios[name])
+        return next(other for other, cfg in self.scenarios.items() if track_part(cfg) == key)
+
+    def not_a_fleet(self, name: str, what: str) -> None:
+        """Refuse a one-train target (growth or spectrum per speed) of a scenario with a fleet."""
+        if name in self.fleet_classes:
+            raise ConfigError(f"scenario '{name}' has a fleet: its {what} per speed would run one train and leave the fleet out; "
+                              f"build results/fleet/{name}/growth.nc or results/fleet/{name}/rate_spectrum.nc (study_{name}).")
+
+    def growth_seconds(self, name: str) -> float:
+        """Estimated CPU seconds of a scenario's growth loop: 0.5 s per update, wheel and bay at 61
+        contact nodes (one core), as the square of the nodes; a fleet rolls every class's axles."""
+        scn = self.objects[name]
+        wheels = (sum(len(c.scenario.wheels.positions) for c in self.fleet_classes[name]) if name in self.fleet_classes
+                  else len(scn.wheels.positions))
+        updates = scn.growth.passages / scn.growth.passages_per_update
+        return 0.5 * updates * wheels * scn.roughness.bays * (scn.contact_numerics.nodes / 61) ** 2
+
+    def has_default_run(self, speed: float) -> bool:
+        """Whether the default scenario runs at this speed (a growth run to compare with)."""
+        return float(speed) in [float(v) for v in self.config["speeds"]]
+
+    # -- receptance tables ---------------------------------------------------------------------
+
+    def table_file(self, name: str, speed, bays=1) -> str:
+        """The receptance table of scenario ``name`` at a speed (a label such as '40', or m/s), and for a
+        roughness (or spectrum) period of N > 1 bays its Bloch tables (a track cell: the cell's table)."""
+        label = speed if isinstance(speed, str) else speed_label(speed)
+        suffix = "" if int(bays) == 1 else f"_N{int(bays)}"
+        return f"results/receptance/{self.scenario_table[name]}/V{label}{suffix}.nc"
+
+    def table(self, key: str, speed: str, bays: str | None = None) -> Table:
+        """The table a receptance target names, its speed and period checked as those of the scenarios it
+        serves; a scenario's name in the key's place is refused with the content-named path."""
+        if key in self.tables:
+            t = self.tables[key]
+            self.target_speed(t.scenario, speed)
+            if bays is not None:
+                self.target_bays(bays)
+            return t
+        if key in self.scenarios:
+            self.target_speed(key, speed)
+            if bays is not None:
+                self.target_bays(bays)
+            if key in self.scenario_table:
+                raise ConfigError(f"receptance tables are named by their content, not by a scenario: the table of scenario "
+                                  f"'{key}' at V{speed} is {self.table_file(key, speed, bays or 1)} (docs/workflow.md).")
+        known = "; ".join(f"{k} ({', '.join(v.scenarios[:3])})" for k, v in self.tables.items())
+        raise ConfigError(f"target names the receptance table '{key}', which no scenario uses: the tables are {known}.")
+
+    def fleet_speeds(self, name: str) -> list[float]:
+        """The distinct class speeds of a fleet scenario [m/s], increasing."""
+        return sorted({c.speed for c in self.fleet_classes[name]})
+
+    def fleet_table_file(self, name: str, speed: float, bays: int) -> str:
+        """The shared receptance table of a fleet scenario at one class speed (N > 1 bays: its Bloch tables)."""
+        suffix = "" if bays == 1 else f"_N{bays}"
+        return f"results/receptance/{self.fleet_table[name]}/fleet_V{fleet_speed_label(speed)}{suffix}.nc"
+
+    def fleet_table_of(self, key: str, speed: str, bays: str | None = None) -> tuple[Table, float]:
+        """The fleet table a target names and its class speed [m/s] (the label must be the exact label of
+        a class speed of a fleet it serves); a scenario's name in the key's place is refused."""
+        if key not in self.fleet_tables:
+            if key in self.fleet_table:
+                raise ConfigError(f"fleet receptance tables are named by their content, not by a scenario: those of fleet '{key}' are "
+                                  f"{self.fleet_table_file(key, self.fleet_speeds(key)[0], int(bays or 1))} and the other class "
+                                  "speeds (docs/workflow.md).")
+            known = "; ".join(f"{k} ({', '.join(v.scenarios[:3])})" for k, v in self.fleet_tables.items()) or "none"
+            raise ConfigError(f"target names the fleet receptance table '{key}', which no fleet scenario uses: the fleet tables are {known}.")
+        t = self.fleet_tables[key]
+        if bays is not None:
+            self.target_bays(bays)
+        speeds = {fleet_speed_label(v): v for name in t.scenarios for v in self.fleet_speeds(name)}
+        if speed not in speeds:
+            raise ConfigError(f"target names a fleet table '{key}' (fleets {', '.join(t.scenarios)}) at V{speed}, which is no class "
+                              f"speed of those fleets: the speeds are {', '.join(sorted(speeds, key=float)) or 'none'} m/s.")
+        return t, speeds[speed]
+
+    def fleet_class_owner(self, key: str) -> tuple[str, int]:
+        """(scenario, class index) of a class spectrum job."""
+        if key not in self.fleet_spectrum_jobs:
+            raise ConfigError(f"target names the fleet class spectrum {key}, which no fleet scenario holds.")
+        return self.fleet_spectrum_jobs[key]
+
+    # -- target lists ----------------------------------------------------------------------------
+
+    def paper_figures(self) -> list[str]:
+        """Every report figure, its picture and its plotted data, and the 3-D growth plot of section 5."""
+        nns = HALFSPACE_FIGURES + FORCE_FIGURES + WEAR_FIGURES + GROWTH_FIGURES
+        return ([f"results/figures/fig{nn}.png" for nn in nns] + [f"results/data/fig{nn}.nc" for nn in nns]
+                + ["results/growth/default/V40_3d.png"])
+
+    def receptance_tables(self) -> list[str]:
+        """Receptance tables of the default track at every configured speed."""
+        return [self.table_file("default", v) for v in self.config["speeds"]]
+
+    def study_names(self) -> list[str]:
+        """The scenario files and sweep studies of config/scenarios/ (each a target study_<name>)."""
+        points = self.sweep_points
+        return [n for n in self.scenarios if n not in points and n not in self.traffic_cases and n != "default"] + sorted(self.sweeps)
+
+    def run_file(self, name: str, speed) -> str:
+        """A growth run of a scenario at a speed [m/s]."""
+        return f"results/growth/{name}/V{speed_label(speed)}.nc"
+
+    def study_targets(self, name: str) -> list[str]:
+        """What study_<name> builds: per speed of the scenario (or per point of the sweep), the growth
+        run's overview, band view and 3-D plot; for a sweep also its dataset and maps; for a fleet its
+        growth and growth-rate spectrum."""
+        if name in self.fleet_classes:
+            return [f"results/fleet/{name}/growth.nc", f"results/fleet/{name}/rate_spectrum.nc", f"results/fleet/{name}/rate_spectrum.png"]
+        if name in self.sweeps:
+            runs = [(p.name, p.speed) for p in self.sweeps[name].points]
+            extra = [f"results/sweeps/{name}.nc", f"results/sweeps/{name}.png"]
+        else:
+            runs = [(name, v) for v in self.objects[name].speeds]
+            extra = []
+        out = []
+        for scen, v in runs:
+            base = f"results/growth/{scen}/V{speed_label(v)}"
+            out += [f"{base}_overview.png", f"{base}_bands.png", f"{base}_3d.png"]
+        return out + extra
+
+    def short_wave_targets(self) -> list[str]:
+        """The named target short_wave (issue 31): nonhertzian's growth-rate spectrum and the studies
+        short_wave_study and short_wave_study_report, of those scenario files that exist."""
+        out = ["results/spectrum/nonhertzian/rate_spectrum.png"] if "nonhertzian" in self.scenarios else []
+        for name in ("short_wave_study", "short_wave_study_report"):
+            if name in self.scenarios:
+                out += self.study_targets(name)
+        return out
+
+    def _periodic(self) -> list[str]:
+        """Scenarios with a roughness period of N > 1 bays, neither sweep points nor fleets."""
+        points = self.sweep_points
+        return [n for n, scn in self.objects.items() if scn.roughness.bays > 1 and n not in points and n not in self.fleet_classes]
+
+    def any_wavelength_targets(self) -> list[str]:
+        """Narrow-band figures of the scenarios with a roughness period of N > 1 bays (not sweep points),
+        and the aggregated datasets of the sweeps over such scenarios."""
+        out = [f"results/growth/{n}/V{speed_label(self.objects[n].speeds[0])}_narrowband.png" for n in self._periodic()]
+        for study, sw in self.sweeps.items():
+            if any(self.objects[p.name].roughness.bays > 1 for p in sw.points):
+                out += [f"results/sweeps/{study}.nc", f"results/sweeps/{study}.png"]
+        return out
+
+    def band_targets(self) -> list[str]:
+        """Band views of the default runs at every configured speed and of the scenarios with a roughness
+        period of N > 1 bays; the band map of every sweep over speed (not the closure study's)."""
+        out = [f"results/growth/default/V{speed_label(v)}_bands.csv" for v in self.config["speeds"]]
+        out += [f"results/growth/{n}/V{speed_label(self.objects[n].speeds[0])}_bands.csv" for n in self._periodic()]
+        out += [f"results/sweeps/{study}_bands.png" for study, sw in self.sweeps.items()
+                if "speed" in sw.keys and study not in CLOSURE_STUDIES.values()]
+        return out
+
+    def sweep_targets(self) -> list[str]:
+        """Aggregated dataset and map figure of every sweep study."""
+        return [f"results/sweeps/{s}.{ext}" for ext in ("nc", "png") for s in sorted(self.sweeps)]
+
+    def sweep_runs(self, study: str) -> list[str]:
+        """Growth runs of every point of a sweep study, in grid order."""
+        return [self.run_file(p.name, p.speed) for p in self.sweeps[study].points]
+
+    def rate_spectrum_sweep_targets(self) -> list[str]:
+        """Spectrum maps of the sweep studies whose swept keys change the smooth rail's spectrum."""
+        studies = [s for s, sw in self.sweeps.items() if any(not k.startswith("roughness.") for k in sw.keys)]
+        return [f"results/spectrum_sweeps/{s}.{ext}" for ext in ("nc", "png") for s in sorted(studies)]
+
+    def growth_figure_inputs(self, nn: str) -> dict:
+        """The growth runs behind one of Figs 20, 21, 23-27 (nn = '20', ...), as {label: file}."""
+        g = self.config["figures"]["growth"]
+        v = [speed_label(x) for x in g["speeds"]]
+
+        def run(scen, V):
+            return f"results/growth/{scen}/V{V}.nc"
+
+        n = int(nn)
+        if n in (20, 21):
+            return {f"{v[n - 20]} m/s": run("default", v[n - 20])}
+        if n == 23:
+            return {f"{x} m/s": run("default", x) for x in v}
+        if n in (24, 25):
+            cfg = self.scenarios[g["pad_scenario"]]
+            return {f"railpad {self.config['track']['pad']['stiffness']:.2g} N/m": run("default", "40"),
+                    f"railpad {cfg['track']['pad']['stiffness']:.2g} N/m": run(g["pad_scenario"], "40")}
+        V = v[n - 26]
+        wheels = len(self.scenarios[g["wheels_scenario"]]["wheels"]["positions"])
+        return {"single wheel": run("default", V), f"{wheels} wheels": run(g["wheels_scenario"], V)}
+
+    def growth_figures_labelled(self) -> dict:
+        """The growth runs behind every one of Figs 20, 21, 23-27, as {nn: {label: file}}."""
+        return {nn: self.growth_figure_inputs(nn) for nn in GROWTH_FIGURES}
+
+    def growth_figures_runs(self) -> list[str]:
+        """Every growth run Figs 20, 21, 23-27 are drawn from, each once."""
+        return sorted({path for runs in self.growth_figures_labelled().values() for path in runs.values()})
+
+    def wear_case_file(self, nn: str) -> str:
+        """The wear case behind a figure of Figs 9-19 (Figs 9-11 use the second frequency, 1000 Hz)."""
+        s = self.config["figures"]["wear"]
+        n = int(nn)
+        index = 1 if n <= 11 else (n - 12) // 2
+        return f"results/wear/default/V{speed_label(s['speed'])}_f{wear_frequency_label(s['frequencies'][index])}.nc"
+
+    def wear_figure_cases(self) -> list[str]:
+        """Every wear case Figs 9-19 are drawn from, each once."""
+        return sorted({self.wear_case_file(nn) for nn in WEAR_FIGURES})
+
+    def wear_figure_config(self, nn: str) -> dict:
+        """What a figure of Figs 9-19 reads: its wear case's keys, and for a wear spectrum (Figs 13, 15,
+        17, 19) its wavenumber range."""
+        n = int(nn)
+        return config_part(WEAR_CASE_KEYS + (("figures.wear.spectrum_max_wavenumber",) if n >= 13 and n % 2 else ()), self.config)
+
+    def wear_frequencies(self) -> dict:
+        """{label: frequency [Hz]} of the configured wear cases."""
+        return {wear_frequency_label(f): float(f) for f in self.config["figures"]["wear"]["frequencies"]}
+
+    # -- the named studies -----------------------------------------------------------------------
+
+    def closure_values(self) -> list[float]:
+        """The closure values s of the study, the same in each of its sweep files ([] without them)."""
+        found = {}
+        for study in CLOSURE_STUDIES.values():
+            if study not in self.sweeps or "contact.closure_scale" not in self.sweeps[study].keys:
+                return []
+            found[study] = [float(x) for x in self.sweeps[study].values_of("contact.closure_scale")]
+        values = next(iter(found.values()))
+        if any(v != values for v in found.values()):
+            raise ValueError(f"the closure study's sweep files must use the same contact.closure_scale values: {found}")
+        return values
+
+    def closure_inputs(self) -> tuple[list[str], list]:
+        """Every file the closure study aggregates, and what each is: ([paths], [[kind, s, speed or Hz]])."""
+        paths, meta = [], []
+        for tag, study in CLOSURE_STUDIES.items():
+            sw = self.sweeps[study]
+            ki = sw.keys.index("contact.closure_scale")
+            for p in sw.points:
+                paths.append(self.run_file(p.name, p.speed))
+                meta.append([tag, float(sw.values[ki][p.index[ki]]), float(p.speed)])
+        for s in self.closure_values():
+            for label, f in self.wear_frequencies().items():
+                paths.append(f"results/closure/wear/s{closure_label(s)}_f{label}.nc")
+                meta.append(["wear", s, f])
+        paths.append("results/closure/wellposedness.nc")
+        meta.append(["wellposed", 0.0, 0.0])
+        return paths, meta
+
+    def closure_targets(self) -> list[str]:
+        """Outputs of the closure study (empty when its sweep files are absent)."""
+        if not self.closure_values():
+            return []
+        return [f"results/closure/{n}" for n in ("closure.nc", "spectra.png", "wear_spectra.png", "conclusions.md", "conclusions.html")]
+
+    def closure_wear_config(self, label: str) -> dict:
+        """What a wear case reads of the default configuration, with the closure value its label names."""
+        s = known_value({closure_label(x): x for x in self.closure_values()}, label, "closure value s",
+                        "contact.closure_scale of config/scenarios/closure*.yaml")
+        return config_part(WEAR_CASE_KEYS, {**self.config, "contact": {**self.config["contact"], "closure_scale": s}})
+
+    def characterised_tracks(self) -> list[str]:
+        """Scenarios whose track differs from the default's and from every earlier one's: each track is
+        characterised once, under results/tracks/<scenario>/."""
+        return [name for name in self.scenarios if name != "default" and self.track_name(name) == name]
+
+    def characterisation_targets(self) -> list[str]:
+        """Data and figures of every characterisation result of every track in use."""
+        default = [f"results/{kind}/{name}.{ext}" for kind, ext in (("data", "nc"), ("figures", "png")) for name in CHARACTERISATION]
+        return default + [f"results/tracks/{t}/{name}.{ext}" for t in self.characterised_tracks() for name in CHARACTERISATION
+                          for ext in ("nc", "png")]
+
+    def irregular_cases(self) -> list[str]:
+        """The irregular-track cases that exist, each beside irregular_uniform."""
+        return [n for n in IRREGULAR_NAMES if n in self.scenarios]
+
+    def irregular_random_points(self) -> list[str]:
+        """The random-track ensemble's scenarios (the points of sweep irregular_random)."""
+        return [p.name for p in self.sweeps["irregular_random"].points] if "irregular_random" in self.sweeps else []
+
+    def irregular_targets(self) -> list[str]:
+        """The named target irregular_track: each case's figure and the summary."""
+        return [f"results/irregular/{c}.png" for c in self.irregular_cases()] + ["results/irregular/summary.png"]
+
+    def traffic_study_inputs(self) -> list[str]:
+        """The fleet spectra of the traffic study's cases, in the file's order (drives outer, spreads inner)."""
+        return [f"results/fleet/{name}/rate_spectrum.nc" for name in self.traffic_cases]
+
+    def traffic_study_labels(self) -> list:
+        """[drive, spread] of every case, in the order of traffic_study_inputs."""
+        study = self.traffic_study or {"drives": [], "spreads": []}
+        return [[d, float(s)] for d in study["drives"] for s in study["spreads"]]
+
+    def convergence_table(self, setting: str) -> dict:
+        """The receptance table a contact or growth point uses (the default track at the study's speed)."""
+        if self.convergence["settings"][setting]["quantity"] == "force":
+            return {}
+        return {"table": self.table_file("default", self.convergence["speed"])}
+
+    def uncertainty_members(self) -> list[str]:
+        """Every ensemble member's spectrum, in member order."""
+        return [f"results/uncertainty/members/m{m}.nc" for m in range(len(self.uncertainty.get("members", [])))]
+
+    def uncertainty_member(self, label: str) -> dict:
+        """The configuration of one ensemble member (its draws applied): physics and spectrum settings."""
+        members = self.uncertainty.get("members", [])
+        m = int(label)
+        if not 0 <= m < len(members):
+            raise ConfigError(f"target names the ensemble member m{label}, which config/uncertainty.yaml does not "
+                              f"hold: the members are m0 .. m{len(members) - 1}.")
+        cfg = members[m]["cfg"]
+        return {**physics_part(cfg), "figures": {"rate_spectrum": cfg["figures"]["rate_spectrum"]}}
+
+    def convergence_points(self) -> list[str]:
+        """Every point of the convergence study, references included."""
+        return [f"results/convergence/points/{s}/{v}.nc" for s, v in self.convergence_values]
+
+    def report_candidates(self) -> list[str]:
+        """What the HTML report shows of the named studies and every scenario's study, if built (the
+        workflow adds the per-scenario files it finds on disk)."""
+        found = [t for name in self.study_names() for t in self.study_targets(name)]
+        return found + self.closure_targets() + self.sweep_targets() + self.rate_spectrum_sweep_targets() + self.any_wavelength_targets() + [
+            "results/stability/outcomes.html", "results/convergence/error_vs_time.png", "results/convergence/summary.html",
+            "results/traffic_study/spectra.png", "results/uncertainty/band_interval.png"]
+
+
+def known_value(known: dict, label: str, what: str, key: str):
+    """The value a target's file-name label names, or one line saying which labels exist."""
+    if label not in known:
+        raise ConfigError(f"target names the {what}{label}, which is not configured: the labels are "
+                          f"{', '.join(sorted(known))} ({key}).")
+    return known[label]
+
+
+# -- building the plan ---------------------------------------------------------------------------
+
+
+def plan(config: dict, schema: dict, root=".") -> Plan:
+    """The workflow's plan from a validated configuration (with the schema's defaults) and the files
+    of ``root``/config/.
+
+    Parameters
+    ----------
+    config : dict
+        The resolved, validated configuration (config/config.yaml with --config/--configfile).
+    schema : dict
+        config/schema/config.schema.yaml.
+    root : path
+        The project folder (paths in messages and targets are relative to it).
+
+    Returns
+    -------
+    Plan
+
+    Raises
+    ------
+    ConfigError
+        One line per problem, naming the file, the key and what is allowed.
+    """
+    root = Path(root)
+    scenarios, sources, sweeps, files = _scenarios(config, schema, root)
+    traffic_file = root / "config/traffic_study.yaml"
+    traffic_study = load_yaml(traffic_file) if traffic_file.exists() else None
+    cases = _traffic_cases(config, schema, traffic_study, traffic_file, scenarios, sources)
+    check_scenario_names({name: str(p) for name, p in files.items()},
+                         {p.name: str(files[study]) for study, sw in sweeps.items() for p in sw.points})
+    objects = {name: scenario(cfg, name, sources[name]) for name, cfg in scenarios.items()}
+    classes = _fleet_classes(scenarios, sources, sweeps, objects)
+    spectrum_keys, spectrum_jobs = {}, {}
+    for name in classes:
+        settings = scenarios[name]["figures"]["rate_spectrum"]
+        keys = [class_key(c, settings) for c in fleet_classes(scenarios[name], spectrum_scenario(scenarios[name], name, sources[name]))]
+        spectrum_keys[name] = keys
+        for i, k in enumerate(keys):
+            spectrum_jobs.setdefault(k, (name, i))
+    notes = _input_notes(scenarios, sources, objects)
+    tables, scenario_table = {}, {}
+    for name in scenarios:
+        if name in classes:  # a fleet's tables hold every vehicle's offsets
+            continue
+        offsets = _offsets([objects[name]])
+        key = table_key(track_part(scenarios[name]), offsets)
+        scenario_table[name] = key
+        tables.setdefault(key, Table(name, offsets)).scenarios.append(name)
+    fleet_tables, fleet_table = {}, {}
+    for name in classes:
+        offsets = _offsets([c.scenario for c in classes[name]])
+        key = table_key(track_part(scenarios[name]), offsets)
+        fleet_table[name] = key
+        fleet_tables.setdefault(key, Table(name, offsets)).scenarios.append(name)
+    convergence = load_yaml(root / "config/convergence.yaml")
+    try:  # NaN, a negative or a misspelt setting stop here, naming the key (not as a KeyError in a job)
+        check_convergence_study(convergence)
+    except ValueError as e:
+        raise ConfigError(str(e)) from None
+    ro = MappingProxyType
+    return Plan(
+        config=config, schema=schema, scenarios=ro(scenarios), sources=ro(sources), scenario_files=ro(files), sweeps=ro(sweeps),
+        traffic_cases=ro(cases), traffic_study=traffic_study, objects=ro(objects), fleet_classes=ro(classes),
+        fleet_spectrum_keys=ro(spectrum_keys), fleet_spectrum_jobs=ro(spectrum_jobs), tables=ro(tables),
+        scenario_table=ro(scenario_table), fleet_tables=ro(fleet_tables), fleet_table=ro(fleet_table),
+        uncertainty=ro(_uncertainty(config, schema, root / "config/uncertainty.yaml")),
+        stability=load_yaml(root / "config/stability.yaml"), convergence=convergence,
+        convergence_values=ro({(name, f"{float(v):g}"): float(v) for name, s in convergence["settings"].items()
+                               for v in s["values"] + [s["reference"]]}),
+        closure=load_yaml(root / "config/closure.yaml"), notes=tuple(notes))
+
+
+def _scenarios(config: dict, schema: dict, root: Path):
+    """Scenarios of config/scenarios/<name>.yaml (only the keys that differ from the defaults), each
+    resolved and validated (errors name its file); "default" is the configuration itself. A file with
+    a top-level "sweep:" is a study: one scenario per grid point, named <study>-p<n>."""
+    scenarios, sources, sweeps = {"default": config}, {"default": DEFAULT_SOURCE}, {}
+    files = scenario_files(root / "config/scenarios")
+    for path in files.values():
+        scen = load_yaml(path)
+        if "sweep" not in scen:
+            scenarios[path.stem] = resolve_scenario_file(config, schema, scen, source=str(path))
+            sources[path.stem] = str(path)
+            continue
+        keys, values, points = expand_sweep(config, schema, scen, str(path))
+        swept = []
+        for n, (index, assignment, cfg) in enumerate(points):
+            name = f"{path.stem}-p{n}"
+            scenarios[name] = cfg
+            sources[name] = f"{path} (sweep point {', '.join(f'{k} = {v}' for k, v in assignment.items())})"
+            speed = assignment["speed"] if "speed" in assignment else cfg["speeds"][0]
+            swept.append(SweepPoint(name, tuple(index), speed))
+        sweeps[path.stem] = Sweep(keys, values, tuple(swept))
+    return scenarios, sources, sweeps, files
+
+
+def _traffic_cases(config, schema, study, path, scenarios, sources) -> dict:
+    """The traffic study's cases (one fleet scenario per (drive, spread)), resolved and validated as
+    scenario files and added to the scenarios."""
+    if study is None:
+        return {}
+    try:
+        cases = traffic_cases(study)
+    except ValueError as e:
+        raise ConfigError(f"invalid configuration:\n  {e}") from None
+    for name, scen in cases.items():
+        if name in scenarios:
+            raise ConfigError(f"invalid configuration:\n  config/scenarios/{name}.yaml: the name is a case of the traffic study "
+                              "(config/traffic_study.yaml): rename the file.")
+        scenarios[name] = resolve_scenario_file(config, schema, scen, source=f"{path} (case {name})")
+        sources[name] = f"{path} (case {name})"
+    return cases
+
+
+def _fleet_classes(scenarios, sources, sweeps, objects) -> dict:
+    """The (vehicle, speed) classes of every fleet scenario, so that a speed the harmonics cannot serve
+    or a roughness tied to one speed stops here; every problem in one message."""
+    out, problems = {}, []
+    points = {p.name for sw in sweeps.values() for p in sw.points}
+    for name, cfg in scenarios.items():
+        if "fleet" not in cfg:
+            continue
+        src = sources[name]
+        r = cfg["roughness"]
+        if name in points:
+            problems.append(f"{src}: a sweep of a fleet scenario is not run by the workflow (its points' growth rules run "
+                            "one train at one speed); give each case its own scenario file.")
+        elif cfg["track"].get("cell") is not None:
+            problems.append(f"{src}: fleet with track.cell is not run by the workflow (its tables are the cell's, "
+                            "not one per speed shared by the vehicles); run it with rail.app.api.")
+        elif r.get("kind") == "harmonic" and r.get("wavelength") is None:
+            problems.append(f"{src}: roughness.frequency = {r.get('frequency')!r} Hz sets the wavelength at one speed: "
+                            "under a fleet at several speeds give roughness.wavelength (m) instead.")
+        else:
+            try:
+                classes = fleet_classes(cfg, objects[name])
+                for c in classes:
+                    check_speed(cfg, c.speed, f"{src}: fleet class {c.label}")
+            except ConfigError as e:
+                problems.append(str(e).replace("invalid configuration:\n  ", f"{src}: "))
+                continue
+            out[name] = classes
+    if problems:
+        raise ConfigError("invalid configuration:\n  " + "\n  ".join(problems))
+    return out
+
+
+def _input_notes(scenarios, sources, objects) -> list[str]:
+    """Every input file read and checked (its errors name the file and line; rail.setup.inputs), and the
+    notes of a roughness input the period cannot hold in full, one line per message naming the
+    scenarios. Any other warning is passed on as Python shows it."""
+    with warnings.catch_warnings(record=True) as caught:
+        warnings.simplefilter("always", RoughnessInputWarning)
+        said = {}
+        for name, scn in objects.items():
+            before = len(caught)
+            check_inputs(scenarios[name], scn, name, sources[name])
+            for w in caught[before:]:
+                if issubclass(w.category, RoughnessInputWarning):
+                    said.setdefault(str(w.message), []).append(name)
+    for w in caught:
+        if not issubclass(w.category, RoughnessInputWarning):
+            warnings.warn_explicit(w.message, w.category, w.filename, w.lineno)
+    return [f"railgrowth: note (scenario {', '.join(names)}): {text}" for text, names in said.items()]
+
+
+def _uncertainty(config: dict, schema: dict, path: Path) -> dict:
+    """The uncertainty ensemble (config/uncertainty.yaml, rail.uncertainty): the members'
+    configurations, drawn with the seed and validated (a draw outside a key's range names the member
+    and the key); {} without the file."""
+    if not path.exists():
+        return {}
+    u = load_yaml(path)
+    try:
+        draws = unc.sample(u["parameters"], u["members"], u["seed"])
+        unc.band_statistics(np.zeros((1, 1)), u["interval"])  # the interval's quantiles checked
+    except (ValueError, KeyError) as e:
+        raise ConfigError(f"invalid configuration:\n  {path}: {e}") from None
+    members = []
+    for m in range(int(u["members"])):
+        vals = {k: float(v[m]) for k, v in draws.items()}
+        try:
+            cfg = unc.member_config(config, vals)
+        except ValueError as e:
+            raise ConfigError(f"invalid configuration:\n  {path}: {e}") from None
+        cfg["figures"]["rate_spectrum"].update(u["spectrum"])
+        src = f"{path} (member {m}: {', '.join(f'{k} = {v:.6g}' for k, v in vals.items())})"
+        cfg = validate_config(cfg, schema, source=src)
+        spectrum_scenario(cfg, f"uncertainty-m{m}", src)  # physics constraints, naming the member
+        members.append({"cfg": cfg, "values": vals})
+    return {"members": members, "speed": float(u["speed"]), "interval": list(u["interval"]),
+            "draws": {k: [float(x) for x in v] for k, v in draws.items()}}

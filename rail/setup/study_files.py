@@ -1,0 +1,146 @@
+"""The study files of config/ that are not scenarios: the traffic study (traffic_study.yaml), the
+convergence study (convergence.yaml), and the name of a fleet class's spectrum job. Read at start-up by
+the plan (rail.setup.plan), before any job runs; each problem is one line naming the file and key."""
+
+from __future__ import annotations
+
+import dataclasses
+
+import numpy as np
+
+__all__ = ["TRAFFIC_KEYS", "traffic_cases", "class_key", "check_convergence_study"]
+
+
+# The traffic study (config/traffic_study.yaml, README "Traffic"): cases of one fleet at a spread of
+# speeds with the locomotive driven or braked, compared by their growth-rate spectra.
+
+TRAFFIC_KEYS = ("speed", "spreads", "distribution", "classes", "vehicles", "drives", "spectrum")
+
+
+def _study_error(key, value, rule):
+    return ValueError(f"config/traffic_study.yaml: {key} = {value!r} is not allowed: {rule}.")
+
+
+def traffic_cases(study: dict) -> dict:
+    """The scenario mappings of the traffic study, one per (drive, spread): the keys a scenario file
+    would hold (``fleet`` and ``figures.rate_spectrum``), named ``traffic_study-<drive>-s<percent>``.
+
+    Parameters
+    ----------
+    study : dict
+        config/traffic_study.yaml: speed [m/s], spreads [-] (uniform on speed (1 -+ s)), distribution
+        ('uniform' or 'normal': a normal of standard deviation s speed / sqrt(3), the uniform's),
+        classes [-], vehicles (name, positions [m], static_load [N], unsprung_mass [kg], share [-]),
+        drives ({drive: {vehicle: creepage [-]}}), spectrum (figures.rate_spectrum keys).
+
+    Returns
+    -------
+    dict
+        {name: scenario mapping}, drives outer, spreads inner, in the file's order.
+
+    Raises
+    ------
+    ValueError
+        Naming the key, value and valid range (the fleet's own checks follow when each scenario is built).
+    """
+    missing = [k for k in TRAFFIC_KEYS if k not in study]
+    extra = [k for k in study if k not in TRAFFIC_KEYS]
+    if missing or extra:
+        raise ValueError(f"config/traffic_study.yaml: keys {missing} missing, {extra} unknown: it holds exactly {list(TRAFFIC_KEYS)}.")
+    V = study["speed"]
+    if isinstance(V, bool) or not isinstance(V, (int, float)) or not (np.isfinite(V) and V > 0):
+        raise _study_error("speed", V, "it must be a finite number > 0 m/s")
+    spreads = study["spreads"]
+    if not isinstance(spreads, list) or not spreads:
+        raise _study_error("spreads", spreads, "give a non-empty list of speed spreads in [0, 0.5)")
+    for i, s in enumerate(spreads):
+        if isinstance(s, bool) or not isinstance(s, (int, float)) or not (np.isfinite(s) and 0 <= s < 0.5):
+            raise _study_error(f"spreads[{i}]", s, "it must be a number in [0, 0.5)")
+    if len({round(100 * float(s), 6) for s in spreads}) != len(spreads):
+        raise _study_error("spreads", spreads, "each spread must be given once (to 1e-6 %)")
+    if study["distribution"] not in ("uniform", "normal"):
+        raise _study_error("distribution", study["distribution"], "it must be 'uniform' or 'normal'")
+    n = study["classes"]
+    if isinstance(n, bool) or not isinstance(n, int) or not 1 <= n <= 50:
+        raise _study_error("classes", n, "it must be an integer in [1, 50]")
+    vehicles = study["vehicles"]
+    names = [v.get("name") for v in vehicles] if isinstance(vehicles, list) else []
+    if not names:
+        raise _study_error("vehicles", vehicles, "give a list of vehicles (name, positions, static_load, unsprung_mass, share)")
+    drives = study["drives"]
+    if not isinstance(drives, dict) or not drives:
+        raise _study_error("drives", drives, "give {drive: {vehicle: creepage}}")
+    for d, creep in drives.items():
+        if not isinstance(creep, dict) or sorted(creep) != sorted(names):
+            raise _study_error(f"drives.{d}", creep, f"give one creepage for each vehicle, {names}")
+    out = {}
+    for d, creep in drives.items():
+        for s in spreads:
+            s = float(s)
+            if s == 0:
+                speeds = {"values": [float(V)], "weights": [1.0]}
+            elif study["distribution"] == "uniform":
+                speeds = {"distribution": "uniform", "low": V * (1 - s), "high": V * (1 + s), "classes": n}
+            else:
+                speeds = {"distribution": "normal", "mean": float(V), "std": V * s / np.sqrt(3), "classes": n}
+            fleet = {"vehicles": [{**v, "creepage": [float(creep[v["name"]])] * len(v["positions"])} for v in vehicles],
+                     "speeds": speeds}
+            out[f"traffic_study-{d}-s{100 * s:g}"] = {"fleet": fleet, "figures": {"rate_spectrum": dict(study["spectrum"])}}
+    return out
+
+
+def class_key(fleet_class, settings: dict) -> str:
+    """A name for one class's spectrum that is the same in every fleet holding the class: a hash of its
+    scenario (vehicle, speed, track, contact, ...; not its name) and the spectrum's settings.
+
+    Parameters
+    ----------
+    fleet_class : rail.fleet.FleetClass
+    settings : dict
+        figures.rate_spectrum (shortest, longest, per_octave, eps, grid_phases, bays) [m, -].
+
+    Returns
+    -------
+    str
+        16 hexadecimal digits.
+    """
+    import hashlib
+    import json
+
+    scn = dataclasses.replace(fleet_class.scenario, name="")
+    text = repr(scn) + json.dumps({k: settings[k] for k in sorted(settings) if k != "speeds"}, sort_keys=True, default=str)
+    return hashlib.sha256(text.encode()).hexdigest()[:16]
+
+
+def check_convergence_study(study: dict, source: str = "config/convergence.yaml") -> None:
+    """Check the convergence study's file before any job: a speed, and per known setting a quantity
+    (force, wear or growth), values and a reference that are finite numbers > 0 (integers for the
+    counts), and the wear frequencies finite > 0. Raises ValueError, one line naming file and key."""
+    def positive(key, v, whole=False):
+        ok = isinstance(v, (int, float)) and not isinstance(v, bool) and np.isfinite(v) and v > 0
+        if not ok or (whole and float(v) != int(v)):
+            kind = "a whole number > 0" if whole else "a finite number > 0"
+            raise ValueError(f"{source}: {key} = {v!r} is not allowed: it must be {kind}.")
+
+    if not isinstance(study, dict) or not isinstance(study.get("settings"), dict):
+        raise ValueError(f"{source}: the file must map 'speed', 'settings' and 'wear_frequencies'.")
+    positive("speed", study.get("speed"))
+    whole = {"harmonics", "nodes", "nodes_growth", "passages_per_update"}
+    for name, st in study["settings"].items():
+        if name not in whole | {"rtol"}:
+            raise ValueError(f"{source}: settings.{name} is not known: the settings are harmonics, rtol, nodes, nodes_growth, "
+                             "passages_per_update.")
+        if not isinstance(st, dict) or st.get("quantity") not in ("force", "wear", "growth"):
+            raise ValueError(f"{source}: settings.{name}.quantity = {(st or {}).get('quantity')!r} is not allowed: it must be one "
+                             "of force, wear, growth.")
+        values = st.get("values")
+        if not isinstance(values, list) or not values:
+            raise ValueError(f"{source}: settings.{name}.values = {values!r} is not allowed: it must be a non-empty list.")
+        for i, v in enumerate(values):
+            positive(f"settings.{name}.values[{i}]", v, name in whole)
+        positive(f"settings.{name}.reference", st.get("reference"), name in whole)
+    freqs = study.get("wear_frequencies")
+    if not isinstance(freqs, list) or not freqs:
+        raise ValueError(f"{source}: wear_frequencies = {freqs!r} is not allowed: it must be a non-empty list of Hz.")
+    for i, f in enumerate(freqs):
+        positive(f"wear_frequencies[{i}]", f)
