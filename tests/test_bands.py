@@ -139,7 +139,7 @@ def test_sweep_band_map_puts_each_runs_band_growth_on_the_grid():
             Z[:, J + j] = Z[:, J - j] = (1e-7 + r * n / 1e5) * np.sqrt(2) / 2
             runs.append(xr.Dataset({"Z_real": (("passage", "h"), Z.real), "Z_imag": (("passage", "h"), Z.imag)}, coords={"passage": n}))
             idx.append((a_i, b_i))
-    ds = B.sweep_band_map(runs, ["speed", "track.pad.stiffness"], [[20.0, 40.0], [3.5e8, 1e8]], idx, L, tob)
+    ds = B.sweep_band_map(runs, ["speed", "track.pad.stiffness"], [[20.0, 40.0], [3.5e8, 1e8]], idx, ["m/s", "N/m"], L, tob)
     b50 = int(np.nonzero(tob.nominal == 0.05)[0][0])
     np.testing.assert_allclose(ds["amplitude_growth_um_per_1e5_axles"].values[:, :, b50], [[1.0, 3.0], [2.0, 4.0]], rtol=1e-9)
     # linear growth 0.1 um + r per 1e5: at 50,000 passages 20 log10(e) r / (0.1 um + r / 2) dB per 1e5

@@ -315,7 +315,7 @@ def test_sweep_rate_spectrum_puts_every_point_on_the_grid():
                               np.zeros(3), np.zeros(3), np.zeros(3), 1e-4, 1e-9, 48, 2)
             points.append(rate_spectrum_dataset({40.0: sp}, 0.6, 1))
             indices.append((i, j))
-    ds = sweep_rate_spectrum(points, ["track.pad.stiffness", "speed"], [[1e8, 3.5e8], [20.0, 40.0, 60.0]], indices)
+    ds = sweep_rate_spectrum(points, ["track.pad.stiffness", "speed"], [[1e8, 3.5e8], [20.0, 40.0, 60.0]], indices, ["N/m", "m/s"])
     assert ds["growth_dB_per_1e5_trains"].dims == ("track_pad_stiffness", "speed", "wavelength")
     for p, (i, j) in zip(points, indices):
         np.testing.assert_array_equal(ds["growth_dB_per_1e5_trains"].values[i, j], p["growth_dB_per_1e5_trains"].values[0])
@@ -342,7 +342,7 @@ def test_spectrum_figures_draw_the_lines_they_are_given(tmp_path):
     lo, hi = fig.axes[0].get_xlim()
     assert 35 < lo < 40 and 100 < hi < 110  # mm
     fig.savefig(tmp_path / "s.png")
-    sweep = sweep_rate_spectrum([ds.isel(speed=[i]) for i in range(2)], ["speed"], [[20.0, 40.0]], [(0,), (1,)])
+    sweep = sweep_rate_spectrum([ds.isel(speed=[i]) for i in range(2)], ["speed"], [[20.0, 40.0]], [(0,), (1,)], ["m/s"])
     plots.rate_spectrum_sweep_figure(sweep).savefig(tmp_path / "m.png")
     assert (tmp_path / "m.png").stat().st_size > 5000
 

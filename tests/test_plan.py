@@ -136,3 +136,21 @@ def test_no_workflow_function_parses_a_speed_back_from_a_label():
                     offenders.append(f"{f.relative_to(ROOT)}:{n}: {line.strip()}")
     assert not offenders, "\n".join(offenders)
     assert len((ROOT / "workflow/rules/common.smk").read_text().splitlines()) < 300
+
+
+def test_every_sweep_coordinate_carries_the_unit_the_schema_states(P):
+    # issue 46: the unit table of rail.studies.datasets gave a swept relative spread
+    # (track.cell.random.spacing) "m" and any other leaf "see config/schema"; the units now come from the schema
+    from rail.setup.config import schema_unit
+    from rail.studies.datasets import sweep_coords
+
+    rnd = P.sweeps["irregular_random"]
+    assert rnd.units[rnd.keys.index("track.cell.random.spacing")] == "1"
+    assert P.schema["properties"]["track"]["properties"]["cell"]["properties"]["random"]["properties"]["spacing"]["unit"] == "-"
+    for study, sw in P.sweeps.items():
+        dims, coords = sweep_coords(sw.keys, sw.values, sw.units)
+        assert [coords[d][2]["units"] for d in dims] == [schema_unit(P.schema, k) for k in sw.keys], study
+    assert schema_unit(P.schema, "speed") == "m/s" and schema_unit(P.schema, "track.pad.stiffness") == "N/m"
+    assert schema_unit(P.schema, "track.rail.loss_factor") == "1"  # through the schema's $defs
+    with pytest.raises(KeyError, match="track.pad.nosuch: not a key"):
+        schema_unit(P.schema, "track.pad.nosuch")

@@ -393,3 +393,37 @@ def expand_sweep(defaults: dict, schema: dict, scenario: dict, source: str):
         cfg = resolve_scenario_file(defaults, schema, override, source=f"{source} (sweep point {label})")
         points.append((index, assignment, cfg))
     return keys, values, points
+
+
+def schema_unit(schema: dict, key: str) -> str:
+    """The unit the schema states for a configuration key, as result files write it: "-" (dimensionless)
+    becomes "1" (CF); 'speed' (a sweep over the train speed) is the unit of speeds' items.
+
+    Parameters
+    ----------
+    schema : dict
+        config/schema/config.schema.yaml.
+    key : str
+        A dotted key ('track.pad.stiffness') or 'speed'.
+
+    Returns
+    -------
+    str
+        e.g. 'N/m', 'm/s', '1'.
+
+    Raises
+    ------
+    KeyError
+        If the schema has no such key, or states no unit for it.
+    """
+    node = schema["properties"]["speeds"]["items"] if key == "speed" else schema
+    for part in ([] if key == "speed" else key.split(".")):
+        props = node.get("properties", {})
+        if part not in props:
+            raise KeyError(f"{key}: not a key of config/schema/config.schema.yaml")
+        node = props[part]
+    if "$ref" in node:  # a shared definition: its own keys, then the definition's
+        node = {**schema["$defs"][node["$ref"].split("/")[-1]], **{k: v for k, v in node.items() if k != "$ref"}}
+    if "unit" not in node:
+        raise KeyError(f"{key}: config/schema/config.schema.yaml states no unit for it")
+    return "1" if node["unit"] == "-" else str(node["unit"])

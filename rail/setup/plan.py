@@ -31,7 +31,8 @@ from .. import uncertainty as unc
 from ..chain import wheel_offsets
 from ..roughness import RoughnessInputWarning
 from .build import PASSAGE_KEYS, fleet_classes, scenario, spectrum_scenario
-from .config import ConfigError, check_scenario_names, expand_sweep, load_yaml, resolve_scenario_file, scenario_files, validate_config
+from .config import (ConfigError, check_scenario_names, expand_sweep, load_yaml, resolve_scenario_file, scenario_files, schema_unit,
+                     validate_config)
 from .inputs import check_inputs, check_speed
 from .study_files import check_convergence_study, class_key, traffic_cases
 from .tables import table_key
@@ -151,6 +152,7 @@ class Sweep:
     keys: list
     values: list
     points: tuple
+    units: list  # of each key, as the schema states it (rail.setup.config.schema_unit)
 
     def values_of(self, key: str) -> list:
         """The swept values of one key."""
@@ -665,7 +667,7 @@ def _scenarios(config: dict, schema: dict, root: Path):
             sources[name] = f"{path} (sweep point {', '.join(f'{k} = {v}' for k, v in assignment.items())})"
             speed = assignment["speed"] if "speed" in assignment else cfg["speeds"][0]
             swept.append(SweepPoint(name, tuple(index), speed))
-        sweeps[path.stem] = Sweep(keys, values, tuple(swept))
+        sweeps[path.stem] = Sweep(keys, values, tuple(swept), [schema_unit(schema, k) for k in keys])
     return scenarios, sources, sweeps, files
 
 

@@ -460,7 +460,7 @@ def write_band_csv(ds, path) -> None:
         f.write(band_csv_text(ds))
 
 
-def sweep_band_map(runs, keys, values, indices, L: float, bands: ThirdOctaveBands, min_lines: int = 1):
+def sweep_band_map(runs, keys, values, indices, units, L: float, bands: ThirdOctaveBands, min_lines: int = 1):
     """Band growth over the grid of a sweep study: a dimension per swept key and one for the band.
 
     Parameters
@@ -469,6 +469,8 @@ def sweep_band_map(runs, keys, values, indices, L: float, bands: ThirdOctaveBand
         Growth results of the grid points (rail.studies.datasets.growth), in the order of indices.
     keys, values, indices
         Swept keys, their values, and each run's grid index (rail.setup.config.expand_sweep).
+    units : sequence of str
+        The unit of each key, as the schema states it (rail.setup.config.schema_unit).
     L : float
         Sleeper spacing [m].
     bands : ThirdOctaveBands
@@ -484,9 +486,9 @@ def sweep_band_map(runs, keys, values, indices, L: float, bands: ThirdOctaveBand
     """
     import xarray as xr
 
-    from .datasets import _unit_of, _var
+    from .datasets import _var, sweep_coords
 
-    dims = tuple(k.replace(".", "_") for k in keys)
+    dims, coords = sweep_coords(keys, values, units)
     shape = tuple(len(v) for v in values) + (len(bands.centre),)
     rate, err, final, dB = np.full(shape, np.nan), np.full(shape, np.nan), np.full(shape, np.nan), np.full(shape, np.nan)
     law = np.full(shape, "", dtype=object)
@@ -498,7 +500,6 @@ def sweep_band_map(runs, keys, values, indices, L: float, bands: ThirdOctaveBand
         rate[tuple(idx)], err[tuple(idx)], law[tuple(idx)] = g.linear_rate * 1e6, g.linear_error * 1e6, g.law
         dB[tuple(idx)] = g.dB_rate
         final[tuple(idx)] = np.where(ms[-1] > 0, 10 * np.log10(np.where(ms[-1] > 0, ms[-1], 1.0) / 1e-12), np.nan)
-    coords = {d: (d, np.asarray(v), {"units": _unit_of(k), "long_name": f"swept parameter {k}"}) for d, k, v in zip(dims, keys, values)}
     coords["nominal_wavelength"] = _var("band", bands.nominal, "m", "EN 15610 nominal centre wavelength of the band")
     full = dims + ("band",)
     return xr.Dataset(

@@ -435,9 +435,32 @@ def growth_figure(runs: dict, kind: str, k_max_rad_per_m: float = 525.0) -> xr.D
     )
 
 
-def sweep(runs, keys, values, indices) -> xr.Dataset:
-    """A sweep study: growth results on the grid of swept keys (one dimension per key)."""
+def sweep_coords(keys, values, units) -> tuple[tuple, dict]:
+    """The grid of a sweep study: one dimension per swept key (dots become underscores) and its
+    coordinate, with the key's unit as the schema states it (rail.setup.config.schema_unit).
+
+    Parameters
+    ----------
+    keys : sequence of str
+        Swept keys (dotted config keys or 'speed').
+    values : sequence of sequence
+        Values of each key [the key's unit].
+    units : sequence of str
+        The unit of each key.
+
+    Returns
+    -------
+    (dims, coords)
+        Dimension names and {dim: (dim, values, attrs)}.
+    """
     dims = tuple(k.replace(".", "_") for k in keys)
+    return dims, {d: (d, np.asarray(v), {"units": u, "long_name": f"swept parameter {k}"}) for d, k, v, u in zip(dims, keys, values, units)}
+
+
+def sweep(runs, keys, values, indices, units) -> xr.Dataset:
+    """A sweep study: growth results on the grid of swept keys (one dimension per key, in the units
+    of ``units``, one per key)."""
+    dims, coords = sweep_coords(keys, values, units)
     shape = tuple(len(v) for v in values)
     first = runs[0]
     K = first.sizes["harmonic"]
@@ -449,7 +472,6 @@ def sweep(runs, keys, values, indices) -> xr.Dataset:
     overall = 10 * np.log10(np.sum(10 ** (level / 10), axis=-1))
     fastest = np.nanargmax(rate, axis=-1)
     wavelength = 2 * np.pi / first["wavenumber"].values[fastest]
-    coords = {d: (d, np.asarray(v), {"units": _unit_of(k), "long_name": f"swept parameter {k}"}) for d, k, v in zip(dims, keys, values)}
     coords["harmonic"] = _var("harmonic", first["harmonic"].values, "1", first["harmonic"].attrs.get("long_name", "harmonic k of the sleeper bay"))
     coords["wavenumber"] = _var("harmonic", first["wavenumber"].values, "rad/m", first["wavenumber"].attrs.get("long_name", "wavenumber k beta0"))
     return xr.Dataset(
@@ -463,11 +485,3 @@ def sweep(runs, keys, values, indices) -> xr.Dataset:
         coords=coords,
         attrs={"swept_keys": list(keys), "passages": int(first["passage"].values[-1])},
     )
-
-
-_UNITS = {"speed": "m/s", "stiffness": "N/m", "loss_factor": "1", "creepage": "1", "friction_dynamic": "1", "friction_static": "1", "mass": "kg", "spacing": "m", "closure_scale": "1", "static_load": "N", "seed": "1", "bays": "1"}
-
-
-def _unit_of(key: str) -> str:
-    return _UNITS.get(key.split(".")[-1], "see config/schema")
-

@@ -7,7 +7,7 @@ import xarray as xr
 
 from ..contact import ReportNormal, hertz_half_length, normal_contact
 from ..growth_spectrum import RateSpectrum, rate_spectrum, spectrum_lines
-from .datasets import _unit_of, _var
+from .datasets import _var, sweep_coords
 from .validity import WEAR_PATH_TEXT, validity_text
 
 __all__ = ["spectrum_with_settings", "rate_spectrum_dataset", "spectrum_dataset_of", "REPORT_VALID_PATCH_LENGTHS", "sweep_rate_spectrum", "growing_bands", "summary_markdown", "PASSAGES_PER_DB"]
@@ -198,7 +198,7 @@ def summary_markdown(ds: xr.Dataset) -> str:
     return "\n".join(rows) + "\n" + (f"\nValidity: {validity}\n" if validity else "")
 
 
-def sweep_rate_spectrum(points: list, keys, values, indices) -> xr.Dataset:
+def sweep_rate_spectrum(points: list, keys, values, indices, units) -> xr.Dataset:
     """The growth-rate spectra of a sweep study's points on its grid (one dimension per swept key).
 
     Parameters
@@ -211,6 +211,8 @@ def sweep_rate_spectrum(points: list, keys, values, indices) -> xr.Dataset:
         Values of each key.
     indices : sequence of sequence of int
         Grid index of each point.
+    units : sequence of str
+        The unit of each key, as the schema states it (rail.setup.config.schema_unit).
 
     Returns
     -------
@@ -218,7 +220,7 @@ def sweep_rate_spectrum(points: list, keys, values, indices) -> xr.Dataset:
         growth_dB_per_1e5_trains, growth_dB_per_1e5_axles, growth_rate and drift over (swept keys...,
         wavelength); the fastest-growing wavelength and its growth per 100,000 train passages per grid point.
     """
-    dims = tuple(k.replace(".", "_") for k in keys)
+    dims, coords = sweep_coords(keys, values, units)
     shape = tuple(len(v) for v in values)
     first = points[0]
     lam = first["wavelength"].values
@@ -229,7 +231,6 @@ def sweep_rate_spectrum(points: list, keys, values, indices) -> xr.Dataset:
         for name in out:
             out[name][tuple(idx)] = ds[name].values[0]
     g = out["growth_dB_per_1e5_trains"]
-    coords = {d: (d, np.asarray(v), {"units": _unit_of(k), "long_name": f"swept parameter {k}"}) for d, k, v in zip(dims, keys, values)}
     coords["wavelength"] = first["wavelength"]
     coords["locked"] = first["locked"]
     return xr.Dataset(

@@ -201,6 +201,10 @@ def sweep_indices(wildcards):
     return [list(p.index) for p in PLAN.sweeps[wildcards.study].points]
 
 
+def sweep_units(wildcards):
+    return PLAN.sweeps[wildcards.study].units
+
+
 # Track characterisation (workflow/rules/characterisation.smk).
 
 def characterised_track_pattern():

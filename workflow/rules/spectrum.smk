@@ -73,6 +73,7 @@ rule rate_spectrum_sweep:
         swept=sweep_keys,
         grid=sweep_values,
         indices=sweep_indices,
+        units=sweep_units,
     resources:
         mem_mb=500,
         runtime=5,

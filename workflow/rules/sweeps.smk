@@ -14,6 +14,7 @@ rule sweep_aggregate:
         swept=sweep_keys,
         grid=sweep_values,
         indices=sweep_indices,
+        units=sweep_units,
     resources:
         mem_mb=400,
         runtime=5,
@@ -38,6 +39,7 @@ rule sweep_bands:
         swept=sweep_keys,
         grid=sweep_values,
         indices=sweep_indices,
+        units=sweep_units,
     resources:
         mem_mb=400,
         runtime=5,

@@ -29,9 +29,9 @@ def main(cfgs, case_cfgs, spreads, uniform_cfg, speed, cases, uniform_path, rand
     n = len(rows)
     ds = xr.Dataset(
         {
-            "pp_level_dB": _var("case", np.array([r[3]["pp_level_dB"] for r in rows]), "dB re 1 µm",
+            "pp_level_dB": _var("case", np.array([r[3]["pp_level_dB"] for r in rows]), "dB re 1 um",
                                 "level of the one-third-octave band holding the pinned-pinned wavelength after the run"),
-            "loudest_level_dB": _var("case", np.array([r[3]["loudest_level_dB"] for r in rows]), "dB re 1 µm", "level of the loudest band (20 mm - 1 m)"),
+            "loudest_level_dB": _var("case", np.array([r[3]["loudest_level_dB"] for r in rows]), "dB re 1 um", "level of the loudest band (20 mm - 1 m)"),
             "loudest_band_m": _var("case", np.array([r[3]["loudest_band_m"] for r in rows]), "m", "nominal centre of the loudest band"),
         },
         coords={"case": _var("case", np.array([r[0] for r in rows]), "1", "scenario"),
