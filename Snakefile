@@ -50,28 +50,6 @@ include: "workflow/rules/irregular.smk"
 include: "workflow/rules/fleet.smk"
 
 
-# Light jobs (figures and aggregations of seconds) run on the submitting host, not as cluster jobs.
-localrules:
-    fig08,
-    fig22,
-    growth_3d,
-    growth_narrowband,
-    scenario_overview,
-    growth_bands,
-    growth_figures,
-    radiation_figures,
-    rate_spectrum_map,
-    rate_spectrum_sweep,
-    closure_aggregate,
-    stability_table,
-    convergence_aggregate,
-    sweep_aggregate,
-    sweep_bands,
-    wear_figures,
-    traffic_study_summary,
-    uncertainty_ensemble,
-
-
 # `snakemake --report report.html` (without a target) reports what is built: report_all is then the
 # default target. With --report-after-run the run itself builds the figure set as usual.
 REPORTING = any(a == "--report" or a.startswith("--report=") for a in sys.argv) and "--report-after-run" not in sys.argv

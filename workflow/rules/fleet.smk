@@ -122,6 +122,7 @@ rule fleet_rate_spectrum:
 rule traffic_study_summary:
     """The traffic study's cases side by side: growth-rate spectrum per case, one-third-octave band rates,
     what the pinned-pinned and the fastest-growing bands do across the spreads and drives."""
+    localrule: True
     input:
         PLAN.traffic_study_inputs(),
     output:
@@ -178,6 +179,7 @@ rule uncertainty_member:
 
 rule uncertainty_ensemble:
     """The ensemble's band spectrum: per one-third-octave band, the median over the members and the stated interval."""
+    localrule: True
     input:
         PLAN.uncertainty_members(),
     output:

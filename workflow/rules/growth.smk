@@ -29,6 +29,7 @@ rule growth:
 rule growth_3d:
     """The three-dimensional plot of section 5: level over passages and wavenumber (the default
     scenario, as the report draws it) or wavelength (log, mm; any other scenario)."""
+    localrule: True
     input:
         "results/growth/{scenario}/V{speed}.nc",
     output:
@@ -51,6 +52,7 @@ rule growth_3d:
 rule growth_narrowband:
     """Growth over a roughness period of N bays: narrow-band spectrum beside the one-bay comb, and
     the profiles over the N bays."""
+    localrule: True
     input:
         "results/growth/{scenario}/V{speed}.nc",
     output:
@@ -72,6 +74,7 @@ rule scenario_overview:
     """Any scenario's growth run on one page, every saved passage count: narrow-band spectrum against
     wavelength beside the default's (or a note why there is none), the change in level, profiles and
     the contact force along the period."""
+    localrule: True
     input:
         unpack(scenario_overview_inputs),
     output:
@@ -103,6 +106,7 @@ rule growth_bands:
     """One-third-octave band levels of a growth run at every saved passage count, growth per band,
     the grinding interval against the limit spectrum; CSV exports of the bands, the narrow-band levels
     and the roughness for rolling-noise tools (docs/exports.md)."""
+    localrule: True
     input:
         "results/growth/{scenario}/V{speed}.nc",
         band_limit_file,
@@ -147,6 +151,7 @@ rule any_wavelength:
 rule growth_figures:
     """Figs 20, 21, 23-27 from the growth runs, in one job (a job's start-up, 3 s CPU, is several
     times the drawing of one figure)."""
+    localrule: True
     input:
         # evaluated only when the figures are planned: the scenarios they name may be absent otherwise
         lambda w: PLAN.growth_figures_runs(),

@@ -45,6 +45,7 @@ rule halfspace_radiation:
 
 rule radiation_figures:
     """Figs 5-6: radiated power and contact-spring loss factor against frequency (one job for both)."""
+    localrule: True
     input:
         "results/halfspace/radiation.nc",
     output:

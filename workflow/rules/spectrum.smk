@@ -31,6 +31,7 @@ rule rate_spectrum_speed:
 
 rule rate_spectrum_map:
     """The spectra of a scenario over its speeds: dataset and speed x wavelength map (one speed: the line alone)."""
+    localrule: True
     input:
         rate_spectrum_speeds,
     output:
@@ -62,6 +63,7 @@ rule rate_spectrum:
 
 rule rate_spectrum_sweep:
     """The spectra of a sweep study's points (each at its speed) on the study's grid."""
+    localrule: True
     input:
         rate_spectrum_sweep_points,
     output:

@@ -3,6 +3,7 @@
 
 rule sweep_aggregate:
     """One dataset with a dimension per swept key, and a map of the fastest growth over the grid."""
+    localrule: True
     input:
         sweep_runs,
     output:
@@ -28,6 +29,7 @@ rule sweep_aggregate:
 
 rule sweep_bands:
     """Growth rate per one-third-octave band over the grid of a sweep study (map over band and key)."""
+    localrule: True
     input:
         sweep_runs,
     output:
