@@ -507,7 +507,9 @@ def rate_spectrum(scn: Scenario, table, lines, eps: float = 1e-9, grid_phases: i
         linearity is then the change of the rate from the derivative to probes of 2 eps.
         'probe': the previous path, each line from the difference of two nonlinear marches over the
         N bays (one line per pair of classes per march, _batches), the reference of the tests;
-        about seven times the cost at the default resolution.
+        about seven times the cost at the default resolution. With the wheelset's dynamic creepage or falling
+        friction (scn.material.longitudinal, friction_decay) 'linear' falls back to 'probe', and the
+        method says so.
     progress : callable, optional
         Called with one line of text as the work proceeds ("<i> of <n> probe batches, grid phase
         <p> of <P>"; method 'linear'); default None, silent.
@@ -541,6 +543,10 @@ def rate_spectrum(scn: Scenario, table, lines, eps: float = 1e-9, grid_phases: i
     fallbacks = []  # grid phases where method 'linear' fell back to the probes (GridMismatch)
     if method not in ("linear", "probe"):
         raise ValueError(f"method = {method!r} is not allowed: it must be 'linear' or 'probe'.")
+    forced = ""
+    if method == "linear" and (scn.material.longitudinal is not None or scn.material.friction_decay > 0):
+        # the tangent march (rail.contact.tangent) differentiates the report's march: no u_bar, step friction
+        method, forced = "probe", " (the tangent march has no dynamic creepage or falling friction)"
     for p, phase in enumerate(np.arange(grid_phases) / grid_phases):
         linear = method == "linear"
         if linear:
@@ -627,7 +633,7 @@ def rate_spectrum(scn: Scenario, table, lines, eps: float = 1e-9, grid_phases: i
     return RateSpectrum(wavelength=N * scn.L / lines, line=lines, locked=locked, rate=rate, rate_other=other,
                         source=source, grid_spread=spread, sideband=sideband, linearity=float(max(changes)), eps=float(eps), bays=N,
                         grid_phases=int(grid_phases),
-                        method=method if not fallbacks else f"{method}, probes at " + "; ".join(fallbacks), operator=operator)
+                        method=(method + forced) if not fallbacks else f"{method}, probes at " + "; ".join(fallbacks), operator=operator)
 
 
 def _cell_rate_spectrum(scn: Scenario, table: MovingReceptance, lines, eps: float, grid_phases: int, progress=None) -> RateSpectrum:

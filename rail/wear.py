@@ -17,11 +17,14 @@ The change of the traction state over the bay is returned as a measure of period
 
 from __future__ import annotations
 
+import dataclasses
 from dataclasses import dataclass
 
 import numpy as np
 
-from .contact import ContactMaterial, ContactNumerics, solve_tangential
+from .contact import ContactMaterial, ContactNumerics, carter, solve_tangential
+from .contact.creep import carter_creep_slope, periodic_response, precondition
+from .contact.hertz import ContactError
 from .contact.models import roughness_slope
 from .contact.passage import SPIN_UP_TRANSITS, MarchInputs, march_inputs
 from .interaction import ForceResult, Roughness
@@ -78,6 +81,8 @@ class WearResult:
                   Hertz): the roughness's share of the pressure at its worst, rail.contact.normal.patch_contact
     shift : largest abs(c) / a over the bay, the neglected move of the contact centre relative to
                   the wheel (normal contact 'nonhertzian'; 0 for the report's model) [-]
+    creepage_dynamic : rms over the bay of the dynamic creepage (d u_bar / dt) / V of the wheelset's
+                  rotation (rail.contact.creep; 0 for the report's fixed creepage) [-]
     """
 
     x: np.ndarray
@@ -93,6 +98,7 @@ class WearResult:
     full_slip: float = 0.0
     min_shape: float = 1.0
     shift: float = 0.0
+    creepage_dynamic: float = 0.0
 
 
 def wear_spectrum(depth, K: int):
@@ -183,11 +189,10 @@ def bay_wear(forces: ForceResult, wheel_index: int, roughness: Roughness, materi
         raise ValueError(f"the roughness has {roughness.harmonics} harmonics and the forces {forces.harmonics}: the wear would "
                          f"be computed for the roughness's harmonics only; give both the receptance table's K.")
     speed, L = forces.speed, forces.period  # L: the period N L of roughness and force
-    closure, closure_scale = numerics.closure, numerics.closure_scale
     mi = march_inputs(forces, wheel_index, roughness, material, numerics, grid_phase, a_max)
     P, a, shape, delta, Nx, M, spin = mi.P, mi.a, mi.shape, mi.delta, mi.Nx, mi.M, mi.spin
     min_shape, shift = mi.min_shape, mi.shift
-    sol = solve_tangential(P, a, material, speed, delta, M, closure=closure, closure_scale=closure_scale, shape=shape, dt=mi.dt)
+    sol, _ = march_with_creepage(mi, material, speed, numerics)
     # particle j is at x = (j - M - spin) Delta; the bay's points x_k = k Delta are j = spin + M + k
     j = spin + M + np.arange(Nx)
     depth = wear_law.depth(sol.work[j])
@@ -214,4 +219,71 @@ def bay_wear(forces: ForceResult, wheel_index: int, roughness: Roughness, materi
         full_slip=full_slip,
         min_shape=min_shape,
         shift=shift,
+        creepage_dynamic=_dynamic_creepage(sol, i, speed, delta, mi.dt),
     )
+
+
+def march_with_creepage(mi: MarchInputs, material: ContactMaterial, speed: float, numerics: ContactNumerics,
+                        tol: float = 1e-5, max_iter: int = 12):
+    """The tangential march of a passage with the wheelset's dynamic creepage (material.longitudinal,
+    rail.contact.creep) in its periodic steady state over the period; without it, the march as it is.
+
+    u_bar over the period (its periodic part p and a mean slip rate v_bar: the torque balance) is found by
+    Newton steps: march with u_bar given (rail.contact.solve_tangential's ubar), the modes' periodic
+    response to the march's Q - Q_ref (creep.periodic_response), the residual preconditioned by the
+    quasi-steady contact (creep.precondition; Carter's creep slope) and v_bar from the mean traction,
+    until the step is below ``tol`` of the creep velocity |gamma| V. A lightly damped torsion near the
+    sleeper-passing frequency would ring for tens of bays in a time march from rest; the periodic form
+    has no such transient. Q_ref is the modes' own, or Carter's steady traction at the period's mean load.
+
+    Returns
+    -------
+    (TangentialSolution, info) : info None without u_bar, else a dict of the Newton steps made
+        ('iterations'), the last step's size ('residual', of |gamma| V) and Q_ref [N] ('reference_force').
+    """
+    modes = material.longitudinal
+    kw = dict(closure=numerics.closure, closure_scale=numerics.closure_scale, shape=mi.shape, dt=mi.dt)
+    if modes is None:
+        return solve_tangential(mi.P, mi.a, material, speed, mi.delta, mi.M, **kw), None
+    bare = dataclasses.replace(material, longitudinal=None)
+    period = slice(mi.spin, mi.spin + mi.Nx)
+    steps = mi.P.size
+    dt_all = np.full(steps, mi.delta / speed) if mi.dt is None else np.asarray(mi.dt, dtype=float)
+    dtp = dt_all[period]
+    T = float(np.sum(dtp))
+    Pm = float(np.mean(mi.P[period]))
+    q_ref = modes.reference_force
+    if q_ref is None:
+        q_ref = float(carter(0.0, Pm, material, speed, material.wheel_radius)[2])
+    slope = carter_creep_slope(Pm, material) / speed  # dQ / d(u_bar rate) [N s/m]
+    rigid = any(o == 0 for o in modes.omega)
+    idx = (np.arange(steps) - mi.spin) % mi.Nx
+    t_all = np.cumsum(dt_all)
+    p, vbar = np.zeros(mi.Nx), 0.0
+    scale = max(abs(material.creepage) * speed, 1e-12)
+    size = np.inf
+    for it in range(1, max_iter + 1):
+        sol = solve_tangential(mi.P, mi.a, bare, speed, mi.delta, mi.M, ubar=p[idx] + vbar * t_all, **kw)
+        Q = sol.Q[period]
+        target, Fm = periodic_response(0.5 * (np.roll(Q, 1) + Q) - q_ref, dtp, modes)
+        r = target - p
+        dp = precondition(r - np.mean(r), T, modes, slope)
+        dv = -Fm / slope if (rigid and slope != 0) else 0.0
+        size = max(float(np.max(np.abs(np.diff(np.concatenate([dp[-1:], dp])) / dtp))), abs(dv)) / scale
+        if size < tol:
+            break
+        p, vbar = p + dp, vbar + dv
+    else:
+        raise ContactError(f"the dynamic creepage of the wheelset ({modes.label}) did not settle to a periodic state in "
+                           f"{max_iter} Newton steps (last step {size:.2g} of the creep velocity): the coupled torsion is "
+                           "unstable or too close to resonance for the quasi-steady preconditioner.")
+    return sol, {"iterations": it, "residual": size, "reference_force": q_ref}
+
+
+def _dynamic_creepage(sol, i, speed: float, delta: float, dt) -> float:
+    """The rms over the bay of the dynamic creepage (d u_bar / dt) / V [-] (0 without u_bar)."""
+    if sol.ubar is None:
+        return 0.0
+    steps = np.full(sol.ubar.size, delta / speed) if dt is None else dt
+    rate = np.diff(sol.ubar, prepend=0.0) / steps
+    return float(np.sqrt(np.mean(rate[i] ** 2)) / speed)

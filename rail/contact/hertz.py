@@ -36,6 +36,11 @@ class ContactMaterial:
     friction_dynamic : mu_d, -
     friction_static  : mu_s, -, >= mu_d
     creepage         : gamma_1, - (eq 25; negative for a driving wheel)
+    friction_decay   : s_0, m/s, >= 0: friction falling with the slip velocity, mu(s) = mu_d + (mu_s - mu_d)
+                       exp(-|s| / s_0) (rail.contact.creep); 0 (default): the report's step, mu_d in slip
+    longitudinal     : rail.contact.creep.LongitudinalModes or None: the longitudinal receptance at the
+                       contact that makes u_bar of eq 26 (the wheelset's rotation, rail.wheelset); None
+                       (default): u_bar = 0, the report's rigid wheel on a rail without longitudinal flexibility
     """
 
     youngs_modulus: float
@@ -45,8 +50,13 @@ class ContactMaterial:
     friction_dynamic: float
     friction_static: float
     creepage: float
+    friction_decay: float = 0.0
+    longitudinal: object = None
 
     def __post_init__(self):
+        if not (np.isfinite(self.friction_decay) and 0 <= self.friction_decay <= 100):
+            raise ValueError(f"contact.friction_decay = {self.friction_decay!r} m/s is not allowed: it must be a finite number "
+                             "in [0, 100] (0: the report's step from mu_s to mu_d).")
         if self.friction_static < self.friction_dynamic:
             raise ValueError(
                 f"contact.friction_static = {self.friction_static} is not allowed: it must be >= "

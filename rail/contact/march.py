@@ -43,6 +43,8 @@ from dataclasses import dataclass
 import numpy as np
 
 from .._lazyjit import njit
+from .creep import LongitudinalModes, _advance_modes
+from .steady import carter
 from .basis import _basis_workspace, _closure_matrix, _influence_arrays, chebyshev_hat_moments
 from .hertz import ContactError, ContactMaterial, compliance, hertz_half_length, report_rigid_compliance
 from .numerics import CLOSURES, rolling_grid
@@ -68,6 +70,8 @@ class TangentialSolution:
     delta : grid spacing = V dt, m
     stick_nodes : (steps,) number of stick nodes in the patch; 0 while loaded means full slip
               (saturated creepage or fast unloading: no stick zone, the traction is mu_d p)
+    ubar : (steps,) the global relative displacement u_bar of eq 26 at each step [m] (rail.contact.creep),
+              None when there is none (the report's rigid wheel)
     """
 
     q: np.ndarray
@@ -81,6 +85,7 @@ class TangentialSolution:
     delta: float
     iterations: int
     stick_nodes: np.ndarray
+    ubar: np.ndarray | None = None
 
 
 def checkerboard_measure(q, stick, p0, mu):
@@ -123,8 +128,12 @@ CHECKERBOARD_LIMIT = 0.25
 
 @njit(cache=True)
 def _march(P, a, shape, xi, Mom, mu, ws, k, delta, M, speed, dts, gds, g, mu_d, mu_s, half_width, closure, closure_scale,
-           report_coef, q0, max_iter, checkerboard_limit):
+           report_coef, q0, max_iter, checkerboard_limit, dus, om, ze, cp, q_ref, decay, settle, xm0, vm0):
     """The time loop of solve_tangential (compiled): each step is the sequence of rail.contact.steps.
+    dus: the given change of u_bar in each step [m]; om, ze, cp: the modes of the longitudinal
+    receptance at the contact (rail.contact.creep; empty: none), driven by Q - q_ref [N] extrapolated
+    from the two steps before, from step ``settle`` on (before it the traction builds up from zero, which
+    is no force on the wheelset: its torque holds q_ref); decay: s_0 of the falling friction [m/s] (0: the step law).
     Returns the histories and a status (code, step, value): 0 ok, 1 no convergence of the stick/slip
     iteration, 2 not finite, 3 the report's closure diverged (value: the checkerboard measure)."""
     nn = xi.size
@@ -154,7 +163,14 @@ def _march(P, a, shape, xi, Mom, mu, ws, k, delta, M, speed, dts, gds, g, mu_d, 
     sign = np.empty(nn)
     p = np.empty(nn)
     h = np.empty(nn)
-    s = np.empty(nn)
+    s = np.zeros(nn)
+    mus = np.empty(nn)
+    ubar = np.zeros(steps)
+    xm = xm0.copy()  # the modes' state [m, m/s]
+    vm = vm0.copy()
+    Q_last = q_ref
+    Q_last2 = q_ref
+    ub = 0.0
     qn = np.zeros(nn)
     dw = np.empty(nn)
     S = np.empty(nn, dtype=np.int64)
@@ -169,7 +185,14 @@ def _march(P, a, shape, xi, Mom, mu, ws, k, delta, M, speed, dts, gds, g, mu_d, 
     p0_prev = _pressure(P[0], a[0], xi, shape[0], half_width, p_prev, inside_prev)
     for i in range(steps):
         ai = a[i]
-        dt, gd = dts[i], gds[i]  # the step's length in time and its rigid slip
+        dt = dts[i]  # the step's length in time
+        dub = dus[i]  # the change of u_bar over the step: given, and from the modes under the last step's force
+        if om.size > 0 and i >= settle:
+            # the force over the step extrapolated from the two steps before (second order in the step)
+            dub += _advance_modes(xm, vm, om, ze, cp, 1.5 * Q_last - 0.5 * Q_last2 - q_ref, dt)
+        ub += dub
+        ubar[i] = ub
+        gd = gds[i] + dub  # the step's rigid slip gamma V dt and the change of u_bar
         if ai != a_built:  # the basis depends on a(t) only
             _closure_matrix(ai, Mom, mu, xi, k, delta, M, closure, closure_scale, report_coef, C, r_edge, w,
                             r_trail, AT, r_a, wu, ws)
@@ -179,7 +202,8 @@ def _march(P, a, shape, xi, Mom, mu, ws, k, delta, M, speed, dts, gds, g, mu_d, 
         _shift_particles(stick, sign, stick_prev, sign_prev, sg)
         _enter_particles(xi, delta, a_prev, ai, gd, u_old, u_edge_old, C, r_edge, p, inside, stick, sign, sg, h, enter,
                          theta, saved)
-        converged, it, _ = _stick_solve(E, h, p, inside, stick, sign, qn, s, S, g, speed, gd, dt, mu_d, mu_s, max_iter)
+        converged, it, _ = _stick_solve(E, h, p, inside, stick, sign, qn, s, S, g, speed, gd, dt, mu_d, mu_s, max_iter, dub,
+                                        decay, mus)
         _restore_rows(C, saved, enter)
         if not converged:
             status[0], status[1] = 1, i
@@ -203,12 +227,14 @@ def _march(P, a, shape, xi, Mom, mu, ws, k, delta, M, speed, dts, gds, g, mu_d, 
         q_hist[i] = qn
         s_hist[i] = s
         Q_hist[i] = b2 * np.dot(w, qn)
+        Q_last2 = Q_last
+        Q_last = Q_hist[i]
         # Frictional work in this step on the particle now at node n (particle index i + n): its
         # step-averaged traction times its slip over the step; the particles that left the patch
         # during the step by their mean slip velocity over their loaded time (_exit_slip).
         u_trail_new = np.dot(r_trail, qn)
         u_new = C @ qn
-        _exit_slip(xi, a_prev, ai, g, speed, dt, u_old, u_new, u_trail_old, u_trail_new, inside_prev, inside, s_exit, how)
+        _exit_slip(xi, a_prev, ai, g, speed, dt, u_old, u_new, u_trail_old, u_trail_new, inside_prev, inside, s_exit, how, dub)
         p0m = 0.5 * (p0_prev + p0)
         for n in range(nn):
             dw[n] = _step_work(n, xi, delta, a_prev, ai, p0m, dt, mu_d, qn, q, p, p_prev, s, s_exit, inside, inside_prev,
@@ -224,7 +250,7 @@ def _march(P, a, shape, xi, Mom, mu, ws, k, delta, M, speed, dts, gds, g, mu_d, 
         p0_prev = p0
         u_edge_old = np.dot(r_edge, qn)
         u_old = u_new
-    return q_hist, s_hist, Q_hist, work, power, stick_count, total_iter, status
+    return q_hist, s_hist, Q_hist, work, power, stick_count, total_iter, status, ubar
 
 @njit(cache=True)
 def _checkerboard_nb(q, stick, inside, p0, mu):
@@ -244,7 +270,7 @@ def _checkerboard_nb(q, stick, inside, p0, mu):
 
 
 def solve_tangential(P, a, m: ContactMaterial, speed: float, delta: float, M: int, closure: str = "default",
-                     closure_scale: float = 1.0, q0=None, max_iter: int = 200, shape=None, dt=None) -> TangentialSolution:
+                     closure_scale: float = 1.0, q0=None, max_iter: int = 200, shape=None, dt=None, ubar=None, modal_state=None) -> TangentialSolution:
     """Time-step the unsteady 2D rolling contact over len(P) steps of Delta = V dt (eqs 26-33).
 
     Parameters
@@ -267,7 +293,8 @@ def solve_tangential(P, a, m: ContactMaterial, speed: float, delta: float, M: in
     q0 : ndarray, optional
         Initial traction at the nodes [Pa] (default 0).
     max_iter : int
-        Largest number of active-set iterations per step.
+        Largest number of active-set iterations per step (at least 2000 with falling friction, whose
+        slip-node friction is iterated with the active set).
     shape : ndarray, shape (len(P), 2M + 1), optional
         Non-Hertzian pressure: p = P / (pi a b) sqrt(1 - xi^2/a^2) shape at the nodes (rail.contact.normal
         .patch_contact: smooth and > 0 in the patch; .multizone_contact: 0 in the gaps between contact
@@ -277,6 +304,17 @@ def solve_tangential(P, a, m: ContactMaterial, speed: float, delta: float, M: in
         V (the rigid slip of a step is gamma V dt). Default Delta / V: the patch moves with the wheel.
         On the patch's true path (rail.contact.passage) the wheel travels V dt while its patch moves
         Delta, so dt = Delta / (V (1 + dc/dx)).
+    ubar : ndarray, shape (len(P),), optional
+        A given global relative displacement u_bar [m] at each step (eq 26; rail.contact.creep), added to
+        that of m.longitudinal's modes; its change over a step enters the step's slip. Default 0.
+    modal_state : tuple of ndarray, optional
+        (x [m], v [m/s]) of m.longitudinal's modes before the first step (for example the periodic state,
+        rail.contact.creep.periodic_response); default at rest.
+
+    The material's ``longitudinal`` modes (rail.contact.creep.LongitudinalModes), when given, are driven
+    by Q - Q_ref (Q of the step before; Q_ref the modes' reference_force, or Carter's steady traction
+    at the mean of P with the wheel radius); its ``friction_decay`` s_0 > 0 makes the slip nodes'
+    friction fall with the slip velocity.
 
     Returns
     -------
@@ -328,10 +366,12 @@ def solve_tangential(P, a, m: ContactMaterial, speed: float, delta: float, M: in
     q_init = np.zeros(nn) if q0 is None else np.array(q0, dtype=float)
     report_coef = report_rigid_compliance(m)  # 1/sigma per unit a, eq 33
     dts, gds = step_times(P.size, delta, speed, m.creepage, dt)
-    q, s, Q, work, power, stick_count, total_iter, status = _march(
+    dus, om, ze, cp, q_ref = _creep_inputs(m, P, speed, ubar)
+    q, s, Q, work, power, stick_count, total_iter, status, ub = _march(
         P, a, shape, xi, Mom, mu, _basis_workspace(nn), k, delta, M, float(speed), dts, gds, float(m.creepage), float(m.friction_dynamic),
         float(m.friction_static), float(m.half_width), 0 if closure == "default" else 1, float(closure_scale),
-        report_coef, q_init, int(max_iter), CHECKERBOARD_LIMIT)
+        report_coef, q_init, int(max_iter if m.friction_decay == 0 else max(max_iter, 2000)), CHECKERBOARD_LIMIT, dus, om, ze, cp, q_ref, float(m.friction_decay),
+        _settle_steps(a, delta, q0), *_modal_state(modal_state, om.size))
     code, i = int(status[0]), int(status[1])
     if code == 1:
         raise ContactError(f"the stick/slip iteration did not converge at step {i} (a = {a[i]:.4g} m).")
@@ -344,7 +384,71 @@ def solve_tangential(P, a, m: ContactMaterial, speed: float, delta: float, M: in
             "The report's closure u(0,t) = q(0,t)/sigma (eqs 32-33) is ill-posed for unsteady rolling "
             "(docs/paper-discrepancies.md); use contact.closure: default."
         )
-    return TangentialSolution(q, s, xi, a, P, Q, work, power, delta, int(total_iter), stick_count)
+    if m.friction_decay > 0 and Q.size > 4:
+        _check_falling_friction(Q, m)
+    dynamic = m.longitudinal is not None or ubar is not None
+    return TangentialSolution(q, s, xi, a, P, Q, work, power, delta, int(total_iter), stick_count, ub if dynamic else None)
+
+
+# the largest step-to-step second difference of Q (after the first half of the march), relative to max |Q|,
+# that falling friction may leave: the step law's is 0.006 (a load varying by 10 % over 41 steps); a falling
+# law steeper than the march resolves ((mu_s - mu_d) / s_0 = 0.5 s/m at 0.2 % creepage) alternates by 0.13
+FALLING_FRICTION_ALTERNATION = 0.05
+
+
+def _check_falling_friction(Q, m: ContactMaterial):
+    """Raise ContactError where the traction alternates from step to step under friction falling with the
+    slip velocity (a fixed point of the law the march does not resolve)."""
+    tail = Q[Q.size // 2:]
+    alt = float(np.max(np.abs(np.diff(tail, 2)))) / max(float(np.max(np.abs(Q))), 1e-300)
+    if alt > FALLING_FRICTION_ALTERNATION:
+        raise ContactError(
+            f"with friction falling with the slip velocity (contact.friction_decay = {m.friction_decay:g} m/s, mu_s = "
+            f"{m.friction_static:g}, mu_d = {m.friction_dynamic:g}) the traction alternates from step to step by {alt:.2g} of its "
+            f"largest (limit {FALLING_FRICTION_ALTERNATION}): the law's slope (mu_s - mu_d) / s_0 = "
+            f"{(m.friction_static - m.friction_dynamic) / m.friction_decay:.3g} s/m is steeper than the march resolves; use a "
+            "larger contact.friction_decay (0.5 m/s and above ran smoothly at 0.1 difference of friction).")
+
+
+def _modal_state(state, modes: int):
+    """(x, v) of the modes before the first step as float64 arrays (at rest without a state)."""
+    if state is None:
+        return np.zeros(modes), np.zeros(modes)
+    x, v = (np.ascontiguousarray(s, dtype=float) for s in state)
+    if x.shape != (modes,) or v.shape != (modes,) or not (np.all(np.isfinite(x)) and np.all(np.isfinite(v))):
+        raise ValueError(f"modal_state must be two finite arrays of {modes} values (the modes' x [m] and v [m/s]).")
+    return x, v
+
+
+def _settle_steps(a, delta: float, q0) -> int:
+    """Steps before the wheelset's modes feel the traction: one patch transit when the march starts from
+    zero traction (the traction building up is not a force on the wheelset), else 0."""
+    if q0 is not None or a.size == 0:
+        return 0
+    return int(np.ceil(2 * float(a[0]) / delta)) + 1
+
+
+def _creep_inputs(m: ContactMaterial, P, speed: float, ubar):
+    """The march's inputs of dynamic creepage (rail.contact.creep): the given change of u_bar per step
+    [m], the modes (omega [rad/s], zeta [-], c [1/kg]; empty without) and Q_ref [N]."""
+    if ubar is None:
+        dus = np.zeros(P.size)
+    else:
+        ub = np.ascontiguousarray(ubar, dtype=float)
+        if ub.shape != P.shape or not np.all(np.isfinite(ub)):
+            raise ValueError(f"ubar must hold one finite displacement [m] per step ({P.size}); got shape {ub.shape}.")
+        dus = np.diff(ub, prepend=ub[:1])  # the change over each step (none in the first)
+    modes = m.longitudinal
+    if modes is None:
+        e = np.zeros(0)
+        return dus, e, e, e, 0.0
+    if not isinstance(modes, LongitudinalModes):
+        raise TypeError(f"ContactMaterial.longitudinal must be a rail.contact.creep.LongitudinalModes or None, not {type(modes).__name__}.")
+    om, ze, cp = modes.arrays()
+    q_ref = modes.reference_force
+    if q_ref is None:
+        q_ref = carter(0.0, float(np.mean(P)), m, speed, m.wheel_radius)[2] if P.size else 0.0
+    return dus, om, ze, cp, float(q_ref)
 
 
 def step_times(steps: int, delta: float, speed: float, creepage: float, dt=None):

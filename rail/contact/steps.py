@@ -135,11 +135,17 @@ def _restore_rows(C, saved, enter):
 
 
 @njit(cache=True)
-def _stick_solve(E, h, p, inside, stick, sign, qn, s, S, g, speed, gd, dt, mu_d, mu_s, max_iter):
+def _stick_solve(E, h, p, inside, stick, sign, qn, s, S, g, speed, gd, dt, mu_d, mu_s, max_iter, dub, decay, mus):
     """The stick solve of one step (in place): E q = h on the stick nodes, q = mu_d p sign on the slip
     nodes, and the slip velocity s = V gamma + (E q - h - gd) / dt, exact along each path
     (for an entering particle: its mean slip velocity since it entered). An active-set iteration
     moves nodes where abs(q) > mu_s p to slip and nodes whose slip opposes their traction to stick.
+
+    dub : the step's change of the global relative displacement u_bar [m] (rail.contact.creep; in gd
+    already, gd = gamma V dt + dub): the slip velocity gains dub / dt. decay : s_0 [m/s] of the falling
+    friction mu(s) = mu_d + (mu_s - mu_d) exp(-|s| / s_0) on the slip nodes (0: mu_d, the report's);
+    mus : (nodes,) workspace, the slip nodes' friction, iterated with the active set to a fixed point
+    (under-relaxed by half after four passes).
 
     Returns (converged, iterations, ns): S[:ns] are the stick nodes of the last iteration.
     """
@@ -147,11 +153,15 @@ def _stick_solve(E, h, p, inside, stick, sign, qn, s, S, g, speed, gd, dt, mu_d,
     converged = False
     it = 0
     ns = 0
+    falling = decay > 0.0
+    if falling:
+        for n in range(nn):
+            mus[n] = mu_d + (mu_s - mu_d) * math.exp(-abs(s[n]) / decay)
     while it < max_iter:
         ns = 0
         for n in range(nn):
             if inside[n] and not stick[n]:
-                qn[n] = mu_d * p[n] * sign[n]
+                qn[n] = (mus[n] if falling else mu_d) * p[n] * sign[n]
             else:
                 qn[n] = 0.0
             if stick[n]:
@@ -173,7 +183,7 @@ def _stick_solve(E, h, p, inside, stick, sign, qn, s, S, g, speed, gd, dt, mu_d,
                 qn[S[r]] = x[r]
         Eq = E @ qn
         for n in range(nn):
-            s[n] = g * speed + (Eq[n] - h[n] - gd) / dt
+            s[n] = g * speed + dub / dt + (Eq[n] - h[n] - gd) / dt
         changed = False
         for n in range(nn):
             if not inside[n]:
@@ -187,6 +197,12 @@ def _stick_solve(E, h, p, inside, stick, sign, qn, s, S, g, speed, gd, dt, mu_d,
             elif s[n] * sign[n] > 0:  # q = -mu p sign(s) violated: the particle sticks
                 stick[n] = True
                 changed = True
+            elif falling:  # the slip node's friction at its new slip velocity
+                mu_new = mu_d + (mu_s - mu_d) * math.exp(-abs(s[n]) / decay)
+                if abs(mu_new - mus[n]) > 1e-12 * mu_d:
+                    changed = True
+                    # under-relaxed after the first passes: the falling law's fixed point alternates otherwise
+                    mus[n] = mu_new if it < 4 else 0.5 * (mus[n] + mu_new)
         it += 1
         if not changed:
             converged = True
@@ -213,13 +229,14 @@ def _exit_fraction(xi, n, a_prev, ai):
 
 
 @njit(cache=True)
-def _exit_slip(xi, a_prev, ai, g, speed, dt, u_old, u_new, u_trail_old, u_trail_new, inside_prev, inside, s_exit, how):
+def _exit_slip(xi, a_prev, ai, g, speed, dt, u_old, u_new, u_trail_old, u_trail_new, inside_prev, inside, s_exit, how, dub):
     """The slip update of the particles that left the loaded region during the step (in place):
     s_exit[n] their mean slip velocity over their loaded time; how[n] 0 (did not leave, or left at the
     start of the step: no loaded time), 1 (left the patch at -a after phi dt: the displacement at -a
     at that time interpolated between the steps, the mirror image of the entry) or 2 (left a contact
     zone inside the patch into a gap, rail.contact.normal.multizone_contact: its mean slip velocity
-    over the step along its path, first order in the step)."""
+    over the step along its path, first order in the step). dub: the step's change of u_bar [m]
+    (rail.contact.creep), at a uniform rate over the step."""
     nn = xi.size
     for n in range(nn - 1):
         s_exit[n] = 0.0
@@ -227,14 +244,14 @@ def _exit_slip(xi, a_prev, ai, g, speed, dt, u_old, u_new, u_trail_old, u_trail_
         if inside_prev[n + 1] and not inside[n]:
             phi0, _, _, eta1 = _exit_fraction(xi, n, a_prev, ai)
             if 1.0 - eta1 * eta1 > 0.0:  # the ellipse is loaded here but the pressure is 0: a gap
-                s_exit[n] = g * speed + (u_new[n] - u_old[n + 1]) / dt
+                s_exit[n] = g * speed + dub / dt + (u_new[n] - u_old[n + 1]) / dt
                 how[n] = 2
                 continue
             phi = min(max(phi0, 0.0), 1.0)
             if phi < THETA_EDGE:  # left at the start of the step: no loaded time, no work
                 continue
             u_exit = (1.0 - phi) * u_trail_old + phi * u_trail_new
-            s_exit[n] = g * speed + (u_exit - u_old[n + 1]) / (phi * dt)
+            s_exit[n] = g * speed + dub / dt + (u_exit - u_old[n + 1]) / (phi * dt)
             how[n] = 1
 
 

@@ -278,6 +278,7 @@ def _march_tangent(P, a, shape, dP, da, dshape, has_dshape, xi, Mom, mu, ws, ws2
     qn = np.zeros(nn)
     dqn = np.zeros((nn, nc))
     S = np.empty(nn, dtype=np.int64)
+    mus = np.empty(nn)  # the falling friction's workspace (unused: the tangent is of the step law)
     theta = np.zeros(nn)
     dtheta = np.zeros((nn, nc))
     enter = np.zeros(nn, dtype=np.bool_)
@@ -314,7 +315,7 @@ def _march_tangent(P, a, shape, dP, da, dshape, has_dshape, xi, Mom, mu, ws, ws2
                          theta, saved)
         _d_enter_particles(xi, delta, a_prev, ai, da_prev, dai, du_old, du_edge_old, was_inside, inside, enter, theta, dp, dh,
                            dtheta, dgd)
-        converged, _, ns = _stick_solve(E, h, p, inside, stick, sign, qn, s, S, g, speed, gd, dt, mu_d, mu_s, max_iter)
+        converged, _, ns = _stick_solve(E, h, p, inside, stick, sign, qn, s, S, g, speed, gd, dt, mu_d, mu_s, max_iter, 0.0, 0.0, mus)
         if not converged:
             status[0], status[1] = 1, i
             break
@@ -335,7 +336,7 @@ def _march_tangent(P, a, shape, dP, da, dshape, has_dshape, xi, Mom, mu, ws, ws2
         for r in range(nn + 1):
             for c in range(nc):
                 du_new[r, c] += vC[r] * dai[c]
-        _exit_slip(xi, a_prev, ai, g, speed, dt, u_old, u_new, u_trail_old, u_trail_new, inside_prev, inside, s_exit, how)
+        _exit_slip(xi, a_prev, ai, g, speed, dt, u_old, u_new, u_trail_old, u_trail_new, inside_prev, inside, s_exit, how, 0.0)
         _d_exit_slip(xi, a_prev, ai, da_prev, dai, dt, u_old, du_old, du_new, u_trail_old, u_trail_new, du_trail_old,
                      du_trail_new, how, ds_exit, s_exit, g * speed, ddt)
         p0m = 0.5 * (p0_prev + p0)

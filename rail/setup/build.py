@@ -26,6 +26,7 @@ from ..roughness import SPIKE_THRESHOLD, read_profile_record, record_bays
 from ..scenario import InitialRoughness, Scenario, TrackNumerics
 from ..track import Ballast, Pad, Rail, Sleeper, Track, damping_problem, min_harmonics, pinned_pinned_frequency
 from ..wear import WearLaw
+from ..wheelset import Wheelset, wheelset_modes
 from .config import ConfigError, configured_speeds
 
 MAX_ROUGHNESS_BAYS = 64  # the schema's bound on roughness.bays (config/schema: roughness.bays.maximum)
@@ -160,7 +161,20 @@ def _material(cfg: dict) -> ContactMaterial:
         friction_dynamic=float(c["friction_dynamic"]),
         friction_static=float(c["friction_static"]),
         creepage=float(c["creepage"]),
+        friction_decay=float(c.get("friction_decay", 0.0)),
+        longitudinal=_longitudinal(cfg),
     )
+
+
+def _longitudinal(cfg: dict):
+    """The wheelset's tread receptance in modal form (rail.wheelset), None for the report's fixed creepage."""
+    w = cfg.get("wheelset")
+    if not w or w.get("model", "fixed_creepage") == "fixed_creepage":
+        return None
+    keys = ("wheel_inertia", "centre_inertia", "axle_stiffness", "motor_inertia", "coupling_stiffness", "damping")
+    ws = Wheelset(model=str(w["model"]), radius=float(cfg["wheels"]["radius"]), other_wheel=str(w.get("other_wheel", "in_phase")),
+                  **{k: float(w[k]) for k in keys if k in w})
+    return wheelset_modes(ws)
 
 
 def _roughness(cfg: dict, source: str = "config") -> InitialRoughness:
