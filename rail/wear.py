@@ -236,6 +236,21 @@ def march_with_creepage(mi: MarchInputs, material: ContactMaterial, speed: float
     sleeper-passing frequency would ring for tens of bays in a time march from rest; the periodic form
     has no such transient. Q_ref is the modes' own, or Carter's steady traction at the period's mean load.
 
+    Parameters
+    ----------
+    mi : MarchInputs
+        The passage's inputs (march_inputs): force [N], half-length [m], grid, step times [s].
+    material : ContactMaterial
+        With ``longitudinal`` (rail.contact.creep.LongitudinalModes) or None.
+    speed : float
+        V [m/s].
+    numerics : ContactNumerics
+        The closure.
+    tol : float
+        The Newton step at which to stop, relative to the creep velocity |gamma| V [-].
+    max_iter : int
+        The most Newton steps (marches) [-].
+
     Returns
     -------
     (TangentialSolution, info) : info None without u_bar, else a dict of the Newton steps made

@@ -148,7 +148,19 @@ def wheelset_modes(ws: Wheelset, reference_force: float | None = None) -> Longit
 def tread_receptance(ws: Wheelset, omega):
     """H(omega) [m/N] at the tread of wheel A by a direct solve of the chain (the modal form's check):
     R_w^2 e_A^T (K - omega^2 J + i omega C)^-1 (e_A + s e_B), with C the modal damping matrix
-    J Phi diag(2 zeta omega_r) Phi^T J of the elastic modes (omega [rad/s], not 0)."""
+    J Phi diag(2 zeta omega_r) Phi^T J of the elastic modes.
+
+    Parameters
+    ----------
+    ws : Wheelset
+    omega : float or ndarray
+        Angular frequencies [rad/s], not 0.
+
+    Returns
+    -------
+    ndarray of complex
+        H(omega) [m/N].
+    """
     J, K = ws.matrices()
     lam, phi = linalg.eigh(K, J)
     om = np.sqrt(np.clip(np.where(np.abs(lam) < 1e-9 * lam.max(), 0.0, lam), 0.0, None))

@@ -157,7 +157,13 @@ def _smk_function(name):
 
 
 def test_workflow_states_the_missing_default_on_the_figure_and_in_the_log(tmp_path, capsys):
-    note = _smk_function("scenario_overview_note")
+    from rail.setup.plan import Plan
+    P = SimpleNamespace(config={"speeds": [20.0, 40.0, 60.0, 80.0]})  # the plan's note needs only the speeds
+    P.has_default_run = lambda v: Plan.has_default_run(P, v)
+
+    def note(w):
+        return Plan.overview_note(P, w.scenario, float(w.speed))
+
     assert note(SimpleNamespace(scenario="x45", speed="45")).startswith("no default run at 45 m/s (the default scenario runs at 20, 40, 60, 80 m/s)")
     assert note(SimpleNamespace(scenario="x40", speed="40")) == ""  # the default runs there: the comparison is drawn
     assert note(SimpleNamespace(scenario="default", speed="45")) == ""

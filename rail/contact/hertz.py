@@ -53,6 +53,15 @@ class ContactMaterial:
     friction_decay: float = 0.0
     longitudinal: object = None
 
+    def __repr__(self):
+        # the report's fields always; the dynamic-creepage ones only where set, so that the repr (and the
+        # keys hashed from it, rail.setup.study_files.class_key) of every earlier material is unchanged
+        base = ", ".join(f"{k}={getattr(self, k)!r}" for k in ("youngs_modulus", "poisson_ratio", "half_width", "wheel_radius",
+                                                             "friction_dynamic", "friction_static", "creepage"))
+        extra = "".join(f", {k}={getattr(self, k)!r}" for k, off in (("friction_decay", 0.0), ("longitudinal", None))
+                        if getattr(self, k) != off)
+        return f"ContactMaterial({base}{extra})"
+
     def __post_init__(self):
         if not (np.isfinite(self.friction_decay) and 0 <= self.friction_decay <= 100):
             raise ValueError(f"contact.friction_decay = {self.friction_decay!r} m/s is not allowed: it must be a finite number "

@@ -261,6 +261,13 @@ class Plan:
         """Whether the default scenario runs at this speed (a growth run to compare with)."""
         return float(speed) in [float(v) for v in self.config["speeds"]]
 
+    def overview_note(self, scenario: str, speed: float) -> str:
+        """Why a scenario's overview at a speed [m/s] has no default comparison, or "" when it has one."""
+        if scenario == "default" or self.has_default_run(speed):
+            return ""
+        runs = ", ".join(speed_label(v) for v in self.config["speeds"])
+        return f"no default run at {speed_label(speed)} m/s (the default scenario runs at {runs} m/s): no comparison with the default"
+
     # -- receptance tables ---------------------------------------------------------------------
 
     def table_file(self, name: str, speed, bays=1) -> str:
@@ -365,7 +372,10 @@ class Plan:
     def short_wave_targets(self) -> list[str]:
         """The named target short_wave (issue 31): nonhertzian's growth-rate spectrum and the studies
         short_wave_study and short_wave_study_report, of those scenario files that exist."""
-        out = ["results/spectrum/nonhertzian/rate_spectrum.png"] if "nonhertzian" in self.scenarios else []
+        out = []
+        for name in ("nonhertzian",):  # the scenario file of that name (not a question of the normal model)
+            if name in self.scenarios:
+                out.append(f"results/spectrum/{name}/rate_spectrum.png")
         for name in ("short_wave_study", "short_wave_study_report"):
             if name in self.scenarios:
                 out += self.study_targets(name)

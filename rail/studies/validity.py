@@ -5,7 +5,7 @@ from __future__ import annotations
 
 __all__ = ["VALIDITY_ATTRS", "WEAR_PATH_TEXT", "validity_text"]
 
-VALIDITY_ATTRS = ("wear_path", "contact_shift_warning", "normal_contact", "validity")
+VALIDITY_ATTRS = ("wear_path", "contact_shift_warning", "normal_contact", "validity", "creepage_model")
 # the attribute wear_path of every result, by contact.wear_path
 WEAR_PATH_TEXT = {"patch": "patch: the wear where the contact patch is, its centre c(x_w) from the wheel (docs/contact.md)",
                   "wheel": "wheel: the wear under the wheel centre (the report's); the move of the contact centre is neglected"}
@@ -14,7 +14,7 @@ WEAR_PATH_TEXT = {"patch": "patch: the wear where the contact patch is, its cent
 def validity_text(attrs) -> str:
     """One line stating the validity of a result from its attributes (a growth, band or spectrum
     dataset's): where the wear is deposited, the contact-centre flag if raised, the normal contact's
-    wavelength limit (docs/contact.md). Every export's header and the run summary carry it.
+    wavelength limit (docs/contact.md), and the dynamic creepage where modelled (docs/dynamic-creepage.md). Every export's header and the run summary carry it.
 
     Parameters
     ----------
@@ -35,6 +35,8 @@ def validity_text(attrs) -> str:
                      "1.8 w R_w beta^2 per unit roughness for long waves, is left out (contact.wear_path: patch models it)")
     if attrs.get("contact_shift_warning"):
         parts.append("OUTSIDE VALIDITY: " + str(attrs["contact_shift_warning"]))
+    if attrs.get("creepage_model"):
+        parts.append(str(attrs["creepage_model"]))
     if attrs.get("validity"):
         parts.append(str(attrs["validity"]))
     elif attrs.get("normal_contact"):

@@ -138,10 +138,7 @@ def scenario_overview_inputs(wildcards):
 
 def scenario_overview_note(wildcards):
     """Why the overview has no default comparison, or "" when it has one."""
-    if wildcards.scenario == "default" or PLAN.has_default_run(V := target_speed(wildcards)):
-        return ""
-    runs = ", ".join(speed_label(v) for v in config["speeds"])
-    return f"no default run at {speed_label(V)} m/s (the default scenario runs at {runs} m/s): no comparison with the default"
+    return "" if wildcards.scenario == "default" else PLAN.overview_note(wildcards.scenario, target_speed(wildcards))
 
 
 def growth_3d_axis(wildcards):

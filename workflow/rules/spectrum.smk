@@ -100,3 +100,12 @@ rule short_wave:
     broadband study from a limit-like spectrum with both normal-contact models."""
     input:
         PLAN.short_wave_targets(),
+
+
+rule dynamic_creepage:
+    """Named target (issue 43): the growth-rate spectrum at 30 and 50 m/s, 26-75 mm, with the report's
+    fixed creepage and with the wheelset's dynamic creepage (rigid spin, trailer in phase and independent,
+    motored): the scenario files dyn_*.yaml (docs/dynamic-creepage.md, docs/field.md)."""
+    input:
+        [f"results/spectrum/{n}/rate_spectrum.png" for n in ("dyn_fixed", "dyn_rigid", "dyn_trailer", "dyn_trailer_independent", "dyn_driven")
+         if n in PLAN.scenarios],
