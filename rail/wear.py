@@ -232,7 +232,7 @@ def march_with_creepage(mi: MarchInputs, material: ContactMaterial, speed: float
     Newton steps: march with u_bar given (rail.contact.solve_tangential's ubar), the modes' periodic
     response to the march's Q - Q_ref (creep.periodic_response), the residual preconditioned by the
     quasi-steady contact (creep.precondition; Carter's creep slope) and v_bar from the mean traction,
-    until the step is below ``tol`` of the creep velocity |gamma| V. A lightly damped torsion near the
+    until the step is below ``tol`` of the creep velocity abs(gamma) V. A lightly damped torsion near the
     sleeper-passing frequency would ring for tens of bays in a time march from rest; the periodic form
     has no such transient. Q_ref is the modes' own, or Carter's steady traction at the period's mean load.
 
@@ -247,14 +247,14 @@ def march_with_creepage(mi: MarchInputs, material: ContactMaterial, speed: float
     numerics : ContactNumerics
         The closure.
     tol : float
-        The Newton step at which to stop, relative to the creep velocity |gamma| V [-].
+        The Newton step at which to stop, relative to the creep velocity abs(gamma) V [-].
     max_iter : int
         The most Newton steps (marches) [-].
 
     Returns
     -------
     (TangentialSolution, info) : info None without u_bar, else a dict of the Newton steps made
-        ('iterations'), the last step's size ('residual', of |gamma| V) and Q_ref [N] ('reference_force').
+        ('iterations'), the last step's size ('residual', of abs(gamma) V) and Q_ref [N] ('reference_force').
     """
     modes = material.longitudinal
     kw = dict(closure=numerics.closure, closure_scale=numerics.closure_scale, shape=mi.shape, dt=mi.dt)

@@ -207,3 +207,14 @@ def test_modes_and_friction_decay_refuse_nonsense():
         dataclasses.replace(M0, friction_decay=-1.0)
     with pytest.raises(ValueError, match="friction_decay"):
         dataclasses.replace(M0, friction_decay=float("nan"))
+
+
+def test_results_state_the_creepage_model_in_their_validity_line():
+    from rail.studies.validity import creepage_model_text, validity_text
+    assert creepage_model_text(M0) == ""  # the report's model: nothing added, every earlier header unchanged
+    m = dataclasses.replace(M0, friction_static=0.4, friction_decay=0.5,
+                            longitudinal=wheelset_modes(Wheelset("torsional", 0.46)))
+    text = creepage_model_text(m)
+    assert "dynamic creepage from the torsional wheelset (trailer, other wheel in_phase)" in text
+    assert "rail's longitudinal flexibility is not modelled" in text and "s_0 = 0.5 m/s" in text
+    assert text in validity_text({"creepage_model": text, "wear_path": "patch: ..."})

@@ -26,7 +26,7 @@ own time scale (m_r / dQ/dV_slip, about 0.5 ms for a 150 kg tread mass at 0.1 % 
 steps or more, so the lag is far inside the stability limit (tested against the closed-form
 transfer function, tests/test_creep.py).
 
-Friction that falls with the slip velocity (option): mu(s) = mu_d + (mu_s - mu_d) exp(-|s| / s_0),
+Friction that falls with the slip velocity (option): mu(s) = mu_d + (mu_s - mu_d) exp(-abs(s) / s_0),
 from mu_s at rest to mu_d in gross slip; s_0 -> 0 is the report's step (mu_s in stick, mu_d in slip).
 """
 
@@ -107,7 +107,7 @@ def modal_receptance(omega, omega_r, zeta_r, c_r):
 
 
 def friction_coefficient(slip_velocity, mu_s: float, mu_d: float, decay: float):
-    """mu(s) = mu_d + (mu_s - mu_d) exp(-|s| / s_0) [-] (decay = s_0 [m/s] > 0); decay = 0: mu_d (the
+    """mu(s) = mu_d + (mu_s - mu_d) exp(-abs(s) / s_0) [-] (decay = s_0 [m/s] > 0); decay = 0: mu_d (the
     report's step law in slip)."""
     s = np.abs(np.asarray(slip_velocity, dtype=float))
     if decay == 0:

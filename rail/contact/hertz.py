@@ -36,11 +36,8 @@ class ContactMaterial:
     friction_dynamic : mu_d, -
     friction_static  : mu_s, -, >= mu_d
     creepage         : gamma_1, - (eq 25; negative for a driving wheel)
-    friction_decay   : s_0, m/s, >= 0: friction falling with the slip velocity, mu(s) = mu_d + (mu_s - mu_d)
-                       exp(-|s| / s_0) (rail.contact.creep); 0 (default): the report's step, mu_d in slip
-    longitudinal     : rail.contact.creep.LongitudinalModes or None: the longitudinal receptance at the
-                       contact that makes u_bar of eq 26 (the wheelset's rotation, rail.wheelset); None
-                       (default): u_bar = 0, the report's rigid wheel on a rail without longitudinal flexibility
+    friction_decay   : s_0, m/s, >= 0: friction falling with the slip velocity (rail.contact.creep); 0 (default): the report's step
+    longitudinal     : rail.contact.creep.LongitudinalModes or None (default): the wheelset's rotation, u_bar of eq 26 (rail.wheelset)
     """
 
     youngs_modulus: float

@@ -143,7 +143,7 @@ def _stick_solve(E, h, p, inside, stick, sign, qn, s, S, g, speed, gd, dt, mu_d,
 
     dub : the step's change of the global relative displacement u_bar [m] (rail.contact.creep; in gd
     already, gd = gamma V dt + dub): the slip velocity gains dub / dt. decay : s_0 [m/s] of the falling
-    friction mu(s) = mu_d + (mu_s - mu_d) exp(-|s| / s_0) on the slip nodes (0: mu_d, the report's);
+    friction mu(s) = mu_d + (mu_s - mu_d) exp(-abs(s) / s_0) on the slip nodes (0: mu_d, the report's);
     mus : (nodes,) workspace, the slip nodes' friction, iterated with the active set to a fixed point
     (under-relaxed by half after four passes).
 

@@ -10,6 +10,7 @@ import numpy as np
 import xarray as xr
 
 from .. import chain, interaction
+from .validity import creepage_model_text
 from ..fleet import Fleet
 from ..growth_spectrum import FleetRateSpectrum
 from ..traffic import Traffic
@@ -194,6 +195,8 @@ def fleet_growth_dataset(classes, tables: dict, history, fleet: Fleet) -> xr.Dat
                                      modelled=scn.contact_numerics.path == "patch")
     ds.attrs.update({**fleet.attributes(), "force_class": main.label, "speed_m_per_s": fleet.speeds.mean,
                      "wheels": chain.fleet_wheels(classes), "normal_contact": scn.contact_numerics.normal.name})
+    if creepage_model_text(scn.material):  # every class shares the wheelset and the friction law
+        ds.attrs["creepage_model"] = creepage_model_text(scn.material)
     if history.stopped:
         ds.attrs["stopped"] = history.stopped
     return ds

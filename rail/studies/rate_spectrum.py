@@ -8,9 +8,9 @@ import xarray as xr
 from ..contact import ReportNormal, hertz_half_length, normal_contact
 from ..growth_spectrum import RateSpectrum, rate_spectrum, spectrum_lines
 from .datasets import _var, sweep_coords
-from .validity import WEAR_PATH_TEXT, validity_text
+from .validity import WEAR_PATH_TEXT, creepage_model_text, validity_text
 
-__all__ = ["spectrum_with_settings", "rate_spectrum_dataset", "spectrum_dataset_of", "REPORT_VALID_PATCH_LENGTHS", "sweep_rate_spectrum", "growing_bands", "summary_markdown", "PASSAGES_PER_DB", "creepage_model_text"]
+__all__ = ["spectrum_with_settings", "rate_spectrum_dataset", "spectrum_dataset_of", "REPORT_VALID_PATCH_LENGTHS", "sweep_rate_spectrum", "growing_bands", "summary_markdown", "PASSAGES_PER_DB"]
 
 PASSAGES_PER_DB = 100000  # the dB growth is stated per this many train passages
 # The report's normal contact (point spring, Hertz patch with the local curvature) is taken as valid
@@ -157,19 +157,6 @@ def spectrum_dataset_of(spectra: dict[float, RateSpectrum], scn) -> xr.Dataset:
         ds.attrs["creepage_model"] = creep
     return ds
 
-
-def creepage_model_text(material) -> str:
-    """What the contact's creepage and friction are beyond the report's (a fixed creepage, mu_s / mu_d step):
-    the wheelset's modes (rail.wheelset) and falling friction, with what is still left out; '' for the report's."""
-    parts = []
-    if material.longitudinal is not None:
-        modes = material.longitudinal
-        freqs = ", ".join(f"{o / (2 * np.pi):.0f}" for o in modes.omega)
-        parts.append(f"dynamic creepage from the {modes.label or 'wheelset'} (modes at {freqs} Hz; the rail's longitudinal "
-                     "flexibility is not modelled)")
-    if material.friction_decay > 0:
-        parts.append(f"friction falling with slip, s_0 = {material.friction_decay:g} m/s")
-    return "; ".join(parts)
 
 
 def growing_bands(wavelength, growth_rate):

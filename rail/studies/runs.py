@@ -8,6 +8,7 @@ import xarray as xr
 from .. import chain, interaction
 from ..scenario import Scenario
 from . import datasets
+from .validity import creepage_model_text
 
 __all__ = ["growth_dataset"]
 
@@ -50,6 +51,8 @@ def growth_dataset(scn: Scenario, table, history, speed: float, warn=None) -> xr
     if "contact_shift_warning" in ds.attrs and warn is not None:
         print("warning: " + ds.attrs["contact_shift_warning"], file=warn, flush=True)
     ds.attrs["normal_contact"] = scn.contact_numerics.normal.name
+    if creepage_model_text(scn.material):
+        ds.attrs["creepage_model"] = creepage_model_text(scn.material)
     stated = scn.roughness.statement(scn.L, scn.harmonics)  # what the initial roughness was read from, and how
     ds.attrs.update(stated)
     if warn is not None:

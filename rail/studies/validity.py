@@ -3,7 +3,9 @@ export's header, the run summary and the figures (issue 42; docs/contact.md)."""
 
 from __future__ import annotations
 
-__all__ = ["VALIDITY_ATTRS", "WEAR_PATH_TEXT", "validity_text"]
+import numpy as np
+
+__all__ = ["VALIDITY_ATTRS", "WEAR_PATH_TEXT", "validity_text", "creepage_model_text"]
 
 VALIDITY_ATTRS = ("wear_path", "contact_shift_warning", "normal_contact", "validity", "creepage_model")
 # the attribute wear_path of every result, by contact.wear_path
@@ -41,4 +43,28 @@ def validity_text(attrs) -> str:
         parts.append(str(attrs["validity"]))
     elif attrs.get("normal_contact"):
         parts.append(f"normal contact {attrs['normal_contact']}")
+    return "; ".join(parts)
+
+
+def creepage_model_text(material) -> str:
+    """What the contact's creepage and friction are beyond the report's (a fixed creepage, mu_s / mu_d step):
+    the wheelset's modes (rail.wheelset) and falling friction, with what is still left out.
+
+    Parameters
+    ----------
+    material : rail.contact.ContactMaterial
+
+    Returns
+    -------
+    str
+        The creepage_model attribute of a result [-]; '' for the report's model.
+    """
+    parts = []
+    if material.longitudinal is not None:
+        modes = material.longitudinal
+        freqs = ", ".join(f"{o / (2 * np.pi):.0f}" for o in modes.omega)
+        parts.append(f"dynamic creepage from the {modes.label or 'wheelset'} (modes at {freqs} Hz; the rail's longitudinal "
+                     "flexibility is not modelled)")
+    if material.friction_decay > 0:
+        parts.append(f"friction falling with slip, s_0 = {material.friction_decay:g} m/s")
     return "; ".join(parts)
