@@ -23,7 +23,8 @@ from dataclasses import dataclass
 
 import numpy as np
 
-from .track import Ballast, Pad, Sleeper, Track, _damped, _nonnegative, _positive, free_receptance, free_receptance_poles
+from .track import (Ballast, Pad, Sleeper, Track, damped_stiffness, free_receptance, free_receptance_poles, require_nonnegative,
+                    require_positive)
 
 __all__ = ["Support", "RailDamper", "TrackCell", "RandomSupports", "make_cell", "point_stiffness", "cell_lattice_sum", "cell_lattice_sums_excluding",
            "cell_stationary_receptance"]
@@ -45,8 +46,8 @@ class Support:
     ballast: Ballast
 
     def __post_init__(self):
-        _nonnegative("support.position", self.position)
-        _nonnegative("support.sleeper_mass", self.sleeper_mass)
+        require_nonnegative("support.position", self.position)
+        require_nonnegative("support.sleeper_mass", self.sleeper_mass)
 
 
 @dataclass(frozen=True, slots=True)
@@ -70,11 +71,11 @@ class RailDamper:
     viscous_damping: float = 0.0
 
     def __post_init__(self):
-        _nonnegative("damper.position", self.position)
-        _positive("damper.mass", self.mass)
-        _positive("damper.stiffness", self.stiffness)
-        _nonnegative("damper.loss_factor", self.loss_factor)
-        _nonnegative("damper.viscous_damping", self.viscous_damping)
+        require_nonnegative("damper.position", self.position)
+        require_positive("damper.mass", self.mass)
+        require_positive("damper.stiffness", self.stiffness)
+        require_nonnegative("damper.loss_factor", self.loss_factor)
+        require_nonnegative("damper.viscous_damping", self.viscous_damping)
 
 
 @dataclass(frozen=True)
@@ -96,7 +97,7 @@ class TrackCell:
     dampers: tuple = ()
 
     def __post_init__(self):
-        _positive("track.cell.period", self.period)
+        require_positive("track.cell.period", self.period)
         if len(self.supports) < 1:
             raise ValueError("track.cell.supports is empty: a cell needs at least one support.")
         pos = np.array([s.position for s in self.supports], dtype=float)
@@ -189,11 +190,11 @@ def point_stiffness(cell: TrackCell, omega) -> np.ndarray:
     model = cell.track.damping
     out = []
     for s in cell.supports:
-        kp = _damped(s.pad.stiffness, s.pad.loss_factor, s.pad.viscous_damping, omega, model)
-        kbm = _damped(s.ballast.stiffness, s.ballast.loss_factor, s.ballast.viscous_damping, omega, model) - s.sleeper_mass * omega**2
+        kp = damped_stiffness(s.pad.stiffness, s.pad.loss_factor, s.pad.viscous_damping, omega, model)
+        kbm = damped_stiffness(s.ballast.stiffness, s.ballast.loss_factor, s.ballast.viscous_damping, omega, model) - s.sleeper_mass * omega**2
         out.append(kp * kbm / (kp + kbm))
     for d in cell.dampers:
-        kd = _damped(d.stiffness, d.loss_factor, d.viscous_damping, omega, model)
+        kd = damped_stiffness(d.stiffness, d.loss_factor, d.viscous_damping, omega, model)
         m = -d.mass * omega**2
         out.append(kd * m / (kd + m))
     return np.stack(np.broadcast_arrays(*out), axis=-1)

@@ -26,6 +26,9 @@ __all__ = [
     "Sleeper",
     "Ballast",
     "Track",
+    "require_positive",
+    "require_nonnegative",
+    "damped_stiffness",
     "rail_stiffnesses",
     "support_stiffness",
     "free_receptance",
@@ -40,12 +43,48 @@ __all__ = [
 ]
 
 
-def _positive(name, value):
+def require_positive(name: str, value: float) -> None:
+    """Refuse a parameter that is not finite and > 0, with the one-line error of the schema.
+
+    Parameters
+    ----------
+    name : str
+        The parameter's configuration key, as the error names it (``track.pad.stiffness``).
+    value : float
+        The value [in the parameter's own unit].
+
+    Returns
+    -------
+    None
+
+    Raises
+    ------
+    ValueError
+        ``<name> = <value> is not allowed: it must be > 0 (valid range (0, inf)).``
+    """
     if not (np.isfinite(value) and value > 0):
         raise ValueError(f"{name} = {value!r} is not allowed: it must be > 0 (valid range (0, inf)).")
 
 
-def _nonnegative(name, value):
+def require_nonnegative(name: str, value: float) -> None:
+    """Refuse a parameter that is not finite and >= 0, with the one-line error of the schema.
+
+    Parameters
+    ----------
+    name : str
+        The parameter's configuration key, as the error names it (``track.pad.loss_factor``).
+    value : float
+        The value [in the parameter's own unit].
+
+    Returns
+    -------
+    None
+
+    Raises
+    ------
+    ValueError
+        ``<name> = <value> is not allowed: it must be >= 0 (valid range [0, inf)).``
+    """
     if not (np.isfinite(value) and value >= 0):
         raise ValueError(f"{name} = {value!r} is not allowed: it must be >= 0 (valid range [0, inf)).")
 
@@ -75,9 +114,9 @@ class Rail:
 
     def __post_init__(self):
         for name in ("youngs_modulus", "shear_modulus", "density", "area", "second_moment_of_area", "shear_coefficient"):
-            _positive(f"track.rail.{name}", getattr(self, name))
-        _nonnegative("track.rail.loss_factor", self.loss_factor)
-        _nonnegative("track.rail.damping_time", self.damping_time)
+            require_positive(f"track.rail.{name}", getattr(self, name))
+        require_nonnegative("track.rail.loss_factor", self.loss_factor)
+        require_nonnegative("track.rail.damping_time", self.damping_time)
 
 
 @dataclass(frozen=True, slots=True)
@@ -89,9 +128,9 @@ class Pad:
     viscous_damping: float = 0.0
 
     def __post_init__(self):
-        _positive("track.pad.stiffness", self.stiffness)
-        _nonnegative("track.pad.loss_factor", self.loss_factor)
-        _nonnegative("track.pad.viscous_damping", self.viscous_damping)
+        require_positive("track.pad.stiffness", self.stiffness)
+        require_nonnegative("track.pad.loss_factor", self.loss_factor)
+        require_nonnegative("track.pad.viscous_damping", self.viscous_damping)
 
 
 @dataclass(frozen=True, slots=True)
@@ -102,8 +141,8 @@ class Sleeper:
     spacing: float
 
     def __post_init__(self):
-        _nonnegative("track.sleeper.mass", self.mass)
-        _positive("track.sleeper.spacing", self.spacing)
+        require_nonnegative("track.sleeper.mass", self.mass)
+        require_positive("track.sleeper.spacing", self.spacing)
 
 
 @dataclass(frozen=True, slots=True)
@@ -115,9 +154,9 @@ class Ballast:
     viscous_damping: float = 0.0
 
     def __post_init__(self):
-        _positive("track.ballast.stiffness", self.stiffness)
-        _nonnegative("track.ballast.loss_factor", self.loss_factor)
-        _nonnegative("track.ballast.viscous_damping", self.viscous_damping)
+        require_positive("track.ballast.stiffness", self.stiffness)
+        require_nonnegative("track.ballast.loss_factor", self.loss_factor)
+        require_nonnegative("track.ballast.viscous_damping", self.viscous_damping)
 
 
 @dataclass(frozen=True, slots=True)
@@ -213,8 +252,29 @@ def damping_problem(track: Track) -> str | None:
     return None
 
 
-def _damped(k, eta, c, omega, model):
-    """Complex stiffness: k (1 + i eta sign(omega)) (hysteretic) or k + i omega c (viscous)."""
+def damped_stiffness(k, eta, c, omega, model: str):
+    """Complex stiffness of a damped spring: k (1 + i eta sign(omega)) (hysteretic) or k + i omega c (viscous).
+
+    The damping rule of every support element (pad, ballast, damper; module docstring, Conventions).
+
+    Parameters
+    ----------
+    k : float
+        Stiffness [N/m].
+    eta : float
+        Loss factor, used by the hysteretic model [-].
+    c : float
+        Viscous damping coefficient, used by the viscous model [N s/m].
+    omega : float or ndarray
+        Angular frequency [rad/s].
+    model : str
+        ``"hysteretic"`` or ``"viscous"`` (``Track.damping``).
+
+    Returns
+    -------
+    complex ndarray
+        The complex stiffness at each omega [N/m].
+    """
     omega = np.asarray(omega, dtype=float)
     if model == "hysteretic":
         return k * (1 + 1j * eta * np.sign(omega))
@@ -269,8 +329,8 @@ def support_stiffness(track: Track, omega):
         K_s [N/m], shape of ``omega``.
     """
     omega = np.asarray(omega, dtype=float)
-    kp = _damped(track.pad.stiffness, track.pad.loss_factor, track.pad.viscous_damping, omega, track.damping)
-    kb = _damped(track.ballast.stiffness, track.ballast.loss_factor, track.ballast.viscous_damping, omega, track.damping)
+    kp = damped_stiffness(track.pad.stiffness, track.pad.loss_factor, track.pad.viscous_damping, omega, track.damping)
+    kb = damped_stiffness(track.ballast.stiffness, track.ballast.loss_factor, track.ballast.viscous_damping, omega, track.damping)
     kbm = kb - track.sleeper.mass * omega**2
     return kp * kbm / (kp + kbm)
 

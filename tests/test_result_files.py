@@ -16,11 +16,13 @@ ROOT = Path(__file__).resolve().parents[1]
 
 
 def _unit_literals():
-    """The units argument of every _var(...) call in rail/ that is a plain string."""
+    """The units argument of every data_var(...) call (rail.setup.io.data_var) in rail/ and the
+    workflow's scripts that is a plain string."""
     found = set()
-    for path in (ROOT / "rail").rglob("*.py"):
+    for path in [*(ROOT / "rail").rglob("*.py"), *(ROOT / "workflow/scripts").glob("*.py")]:
         for node in ast.walk(ast.parse(path.read_text())):
-            if isinstance(node, ast.Call) and getattr(node.func, "id", None) == "_var" and len(node.args) >= 3:
+            f = node.func if isinstance(node, ast.Call) else None
+            if f is not None and (getattr(f, "id", None) or getattr(f, "attr", None)) == "data_var" and len(node.args) >= 3:
                 arg = node.args[2]
                 if isinstance(arg, ast.Constant) and isinstance(arg.value, str):
                     found.add(arg.value)

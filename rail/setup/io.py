@@ -19,7 +19,34 @@ import yaml
 
 from .. import __version__
 
-__all__ = ["package_versions", "cf_units", "code_version", "finalize", "write_netcdf", "open_intermediate", "UnreadableIntermediateError"]
+__all__ = ["data_var", "package_versions", "cf_units", "code_version", "finalize", "write_netcdf", "open_intermediate", "UnreadableIntermediateError"]
+
+def data_var(dims, data, units: str, long_name: str, **extra) -> tuple:
+    """One variable or coordinate of a result dataset, with its units and long name attached.
+
+    The form xarray takes for ``xr.Dataset(data_vars=..., coords=...)``; every result dataset of
+    rail.studies builds its variables with it, so that ``finalize`` finds ``units`` on each.
+
+    Parameters
+    ----------
+    dims : str or tuple of str
+        The dimension names.
+    data : array_like
+        The values, in ``units``.
+    units : str
+        The unit (``"m/N"``, ``"dB"``, ``"1"``; ``cf_units`` maps it for netCDF readers).
+    long_name : str
+        What the variable is, in words.
+    **extra
+        Further attributes (for example ``position_scheme``).
+
+    Returns
+    -------
+    tuple
+        ``(dims, ndarray, attrs)`` with ``attrs = {"units": units, "long_name": long_name, **extra}``.
+    """
+    return (dims, np.asarray(data), {"units": units, "long_name": long_name, **extra})
+
 
 _PACKAGES = ("numpy", "scipy", "numba", "xarray", "netCDF4", "pandas", "matplotlib", "snakemake")
 

@@ -277,7 +277,7 @@ def bands_dataset(growth, L: float, bands: ThirdOctaveBands, min_lines: int, lim
     import xarray as xr
 
     from ..traffic import AXLES_PER_RATE
-    from .datasets import _var
+    from ..setup.io import data_var
 
     if traffic is not None:
         per_day = traffic.axles_per_day
@@ -303,17 +303,17 @@ def bands_dataset(growth, L: float, bands: ThirdOctaveBands, min_lines: int, lim
     dims = ("passage", "band")
     per_1e5 = f"per {AXLES_PER_RATE} axle passages"
     rates = {
-        "growth_dB_per_1e5_axles": _var("band", g.dB_rate, "dB per 100000 axle passages",
+        "growth_dB_per_1e5_axles": data_var("band", g.dB_rate, "dB per 100000 axle passages",
                                         "level growth rate of the band at the last save from its growth law: 20 log10(e) x "
                                         "efolding_rate_per_1e5_axles for an exponential, 20 log10(e) x amplitude rate / fitted amplitude for a "
                                         "straight line (falls as the amplitude grows)"),
-        "growth_dB_per_1e5_axles_error": _var("band", g.dB_error, "dB per 100000 axle passages", "standard error of growth_dB_per_1e5_axles"),
+        "growth_dB_per_1e5_axles_error": data_var("band", g.dB_error, "dB per 100000 axle passages", "standard error of growth_dB_per_1e5_axles"),
     }
     if traffic is not None:
-        rates["growth_dB_per_year"] = _var("band", traffic.per_year(g.dB_rate), "1/year",
+        rates["growth_dB_per_year"] = data_var("band", traffic.per_year(g.dB_rate), "1/year",
                                            "level growth rate of the band per year of the traffic (growth_dB_per_1e5_axles x "
                                            "axles_per_day x 365 / 1e5)", level_unit="dB", units_text="dB/year")
-        rates["growth_dB_per_MGT"] = _var("band", traffic.per_mgt(g.dB_rate), "1/Mt",
+        rates["growth_dB_per_MGT"] = data_var("band", traffic.per_mgt(g.dB_rate), "1/Mt",
                                           "level growth rate of the band per million gross tonnes (growth_dB_per_1e5_axles x "
                                           "1e6 / axle_load_t / 1e5)", level_unit="dB", units_text="dB/Mt")
     gi_attrs = {
@@ -331,32 +331,32 @@ def bands_dataset(growth, L: float, bands: ThirdOctaveBands, min_lines: int, lim
     gi_attrs["grinding_interval_text"] = grinding_interval_text(gi_attrs, n[0], bool(np.isfinite(lim).any()))
     return xr.Dataset(
         {
-            "level": _var(dims, level, "dB re 1 um",
+            "level": data_var(dims, level, "dB re 1 um",
                           "one-third-octave band level of the roughness (rms); NaN where the band has no level (empty_reason)"),
-            "resolved": _var("band", resolved.astype(int), "1", "1 where the roughness period resolves the band (at least min_lines lines)"),
-            "empty_reason": _var("band", reasons, "", "why the band has no level at some or all saves ('' where it has one at every save)"),
+            "resolved": data_var("band", resolved.astype(int), "1", "1 where the roughness period resolves the band (at least min_lines lines)"),
+            "empty_reason": data_var("band", reasons, "", "why the band has no level at some or all saves ('' where it has one at every save)"),
             **rates,
-            "amplitude_growth_um_per_1e5_axles": _var("band", g.linear_rate * 1e6, "um per 100000 axle passages",
+            "amplitude_growth_um_per_1e5_axles": data_var("band", g.linear_rate * 1e6, "um per 100000 axle passages",
                                                       "rms amplitude growth rate of the band (straight-line fit)"),
-            "amplitude_growth_um_per_1e5_axles_error": _var("band", g.linear_error * 1e6, "um per 100000 axle passages",
+            "amplitude_growth_um_per_1e5_axles_error": data_var("band", g.linear_error * 1e6, "um per 100000 axle passages",
                                                             "standard error of the amplitude growth rate"),
-            "efolding_rate_per_1e5_axles": _var("band", g.exp_rate, "1 per 100000 axle passages",
+            "efolding_rate_per_1e5_axles": data_var("band", g.exp_rate, "1 per 100000 axle passages",
                                                 f"e-folding rate of the band's rms amplitude (exponential fit; x {DB_PER_NEPER:.4f} = dB)"),
-            "efolding_rate_per_1e5_axles_error": _var("band", g.exp_error, "1 per 100000 axle passages", "standard error of the e-folding rate"),
-            "growth_law": _var("band", g.law, "1", "the fit with the smaller misfit: linear or exponential"),
-            "linear_misfit": _var("band", g.linear_misfit, "1", "rms residual of the straight-line fit over the band's mean amplitude"),
-            "exponential_misfit": _var("band", g.exp_misfit, "1", "rms residual of the exponential fit over the band's mean amplitude"),
-            "limit": _var("band", lim, "dB re 1 um", "limit spectrum (NaN: no limit in the band)"),
+            "efolding_rate_per_1e5_axles_error": data_var("band", g.exp_error, "1 per 100000 axle passages", "standard error of the e-folding rate"),
+            "growth_law": data_var("band", g.law, "1", "the fit with the smaller misfit: linear or exponential"),
+            "linear_misfit": data_var("band", g.linear_misfit, "1", "rms residual of the straight-line fit over the band's mean amplitude"),
+            "exponential_misfit": data_var("band", g.exp_misfit, "1", "rms residual of the exponential fit over the band's mean amplitude"),
+            "limit": data_var("band", lim, "dB re 1 um", "limit spectrum (NaN: no limit in the band)"),
         },
         coords={
-            "passage": _var("passage", n, "1", "axle passages (wheel passages on the rail; a train of n axles counts n)"),
-            "band": _var("band", np.arange(len(bands.centre)), "1", "band index, longest wavelength first"),
-            "centre_wavelength": _var("band", bands.centre, "m", "exact centre wavelength 10^(-n/10) m"),
-            "nominal_wavelength": _var("band", bands.nominal, "m", "EN 15610 nominal centre wavelength"),
-            "frequency": _var("band", V / bands.centre, "Hz", f"excitation frequency V / centre wavelength at V = {V:g} m/s"),
-            "days": _var("passage", n / per_day if per_day else np.full(len(n), np.nan), "day", "days of traffic"),
-            "years": _var("passage", traffic.years(n) if traffic is not None else np.full(len(n), np.nan), "year", "years of traffic"),
-            "mgt": _var("passage", traffic.mgt(n) if traffic is not None else np.full(len(n), np.nan), "Mt", "million gross tonnes of traffic"),
+            "passage": data_var("passage", n, "1", "axle passages (wheel passages on the rail; a train of n axles counts n)"),
+            "band": data_var("band", np.arange(len(bands.centre)), "1", "band index, longest wavelength first"),
+            "centre_wavelength": data_var("band", bands.centre, "m", "exact centre wavelength 10^(-n/10) m"),
+            "nominal_wavelength": data_var("band", bands.nominal, "m", "EN 15610 nominal centre wavelength"),
+            "frequency": data_var("band", V / bands.centre, "Hz", f"excitation frequency V / centre wavelength at V = {V:g} m/s"),
+            "days": data_var("passage", n / per_day if per_day else np.full(len(n), np.nan), "day", "days of traffic"),
+            "years": data_var("passage", traffic.years(n) if traffic is not None else np.full(len(n), np.nan), "year", "years of traffic"),
+            "mgt": data_var("passage", traffic.mgt(n) if traffic is not None else np.full(len(n), np.nan), "Mt", "million gross tonnes of traffic"),
         },
         attrs={
             **gi_attrs,
@@ -486,7 +486,8 @@ def sweep_band_map(runs, keys, values, indices, units, L: float, bands: ThirdOct
     """
     import xarray as xr
 
-    from .datasets import _var, sweep_coords
+    from ..setup.io import data_var
+    from .datasets import sweep_coords
 
     dims, coords = sweep_coords(keys, values, units)
     shape = tuple(len(v) for v in values) + (len(bands.centre),)
@@ -500,17 +501,17 @@ def sweep_band_map(runs, keys, values, indices, units, L: float, bands: ThirdOct
         rate[tuple(idx)], err[tuple(idx)], law[tuple(idx)] = g.linear_rate * 1e6, g.linear_error * 1e6, g.law
         dB[tuple(idx)] = g.dB_rate
         final[tuple(idx)] = np.where(ms[-1] > 0, 10 * np.log10(np.where(ms[-1] > 0, ms[-1], 1.0) / 1e-12), np.nan)
-    coords["nominal_wavelength"] = _var("band", bands.nominal, "m", "EN 15610 nominal centre wavelength of the band")
+    coords["nominal_wavelength"] = data_var("band", bands.nominal, "m", "EN 15610 nominal centre wavelength of the band")
     full = dims + ("band",)
     return xr.Dataset(
         {
-            "growth_dB_per_1e5_axles": _var(full, dB, "dB per 100000 axle passages",
+            "growth_dB_per_1e5_axles": data_var(full, dB, "dB per 100000 axle passages",
                                             "level growth rate of the band at the last save from its growth law (bands_dataset)"),
-            "amplitude_growth_um_per_1e5_axles": _var(full, rate, "um per 100000 axle passages",
+            "amplitude_growth_um_per_1e5_axles": data_var(full, rate, "um per 100000 axle passages",
                                                       "rms amplitude growth rate of the band (straight-line fit)"),
-            "amplitude_growth_um_per_1e5_axles_error": _var(full, err, "um per 100000 axle passages", "standard error of the growth rate"),
-            "growth_law": _var(full, law.astype(str), "1", "the fit with the smaller misfit: linear or exponential"),
-            "level": _var(full, final, "dB re 1 um", "band level at the end of the run (NaN: the band has no level)"),
+            "amplitude_growth_um_per_1e5_axles_error": data_var(full, err, "um per 100000 axle passages", "standard error of the growth rate"),
+            "growth_law": data_var(full, law.astype(str), "1", "the fit with the smaller misfit: linear or exponential"),
+            "level": data_var(full, final, "dB re 1 um", "band level at the end of the run (NaN: the band has no level)"),
         },
         coords=coords,
         attrs={"swept_keys": list(keys)},

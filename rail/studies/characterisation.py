@@ -19,14 +19,12 @@ import xarray as xr
 from .. import decay, moving
 from .. import track as T
 from ..track import Track
+from ..setup.io import data_var
 
 __all__ = ["track_receptance", "moving_receptance", "track_decay_rate", "measured_decay_rate"]
 
 _CONVENTION = "displacement per unit force, both positive downwards; time factor exp(+i omega t)"
 
-
-def _var(dims, data, units, long_name, **extra):
-    return (dims, np.asarray(data), {"units": units, "long_name": long_name, **extra})
 
 
 def _track_attrs(track: Track, name: str) -> dict:
@@ -49,12 +47,12 @@ def track_receptance(track: Track, name: str = "default", f_min: float = 10.0, f
     sl, mid = alpha[:, 0], alpha[:, 1]
     return xr.Dataset(
         {
-            "receptance_sleeper_real": _var("frequency", sl.real, "m/N", "real part of the vertical point receptance above a sleeper, x = 0"),
-            "receptance_sleeper_imag": _var("frequency", sl.imag, "m/N", "imaginary part of the vertical point receptance above a sleeper, x = 0"),
-            "receptance_midspan_real": _var("frequency", mid.real, "m/N", "real part of the vertical point receptance at mid-span, x = L/2"),
-            "receptance_midspan_imag": _var("frequency", mid.imag, "m/N", "imaginary part of the vertical point receptance at mid-span, x = L/2"),
+            "receptance_sleeper_real": data_var("frequency", sl.real, "m/N", "real part of the vertical point receptance above a sleeper, x = 0"),
+            "receptance_sleeper_imag": data_var("frequency", sl.imag, "m/N", "imaginary part of the vertical point receptance above a sleeper, x = 0"),
+            "receptance_midspan_real": data_var("frequency", mid.real, "m/N", "real part of the vertical point receptance at mid-span, x = L/2"),
+            "receptance_midspan_imag": data_var("frequency", mid.imag, "m/N", "imaginary part of the vertical point receptance at mid-span, x = L/2"),
         },
-        coords={"frequency": _var("frequency", f, "Hz", "frequency")},
+        coords={"frequency": data_var("frequency", f, "Hz", "frequency")},
         attrs={
             **_track_attrs(track, name),
             "track_on_ballast_Hz": fc["track_on_ballast"],
@@ -101,16 +99,16 @@ def moving_receptance(
     bay = np.array([np.mean(T.stationary_receptance(x0, x0, 2 * np.pi * fj, track)) for fj in f])
     return xr.Dataset(
         {
-            "moving_receptance_real": _var(("speed", "frequency"), a0.real, "m/N", "real part of the moving-load receptance a_0(Omega) at the contact point"),
-            "moving_receptance_imag": _var(("speed", "frequency"), a0.imag, "m/N", "imaginary part of the moving-load receptance a_0(Omega) at the contact point"),
-            "moving_receptance_error": _var(("speed", "frequency"), err, "m/N", "estimated absolute error of a_0 from the wavenumber quadrature"),
-            "stationary_receptance_real": _var("frequency", bay.real, "m/N", "real part of the stationary point receptance alpha(x0, x0) averaged over the load position x0 in a bay"),
-            "stationary_receptance_imag": _var("frequency", bay.imag, "m/N", "imaginary part of the stationary point receptance alpha(x0, x0) averaged over the load position x0 in a bay"),
-            "sleeper_passing_frequency": _var("speed", speeds / track.L, "Hz", "sleeper-passing frequency V / L"),
+            "moving_receptance_real": data_var(("speed", "frequency"), a0.real, "m/N", "real part of the moving-load receptance a_0(Omega) at the contact point"),
+            "moving_receptance_imag": data_var(("speed", "frequency"), a0.imag, "m/N", "imaginary part of the moving-load receptance a_0(Omega) at the contact point"),
+            "moving_receptance_error": data_var(("speed", "frequency"), err, "m/N", "estimated absolute error of a_0 from the wavenumber quadrature"),
+            "stationary_receptance_real": data_var("frequency", bay.real, "m/N", "real part of the stationary point receptance alpha(x0, x0) averaged over the load position x0 in a bay"),
+            "stationary_receptance_imag": data_var("frequency", bay.imag, "m/N", "imaginary part of the stationary point receptance alpha(x0, x0) averaged over the load position x0 in a bay"),
+            "sleeper_passing_frequency": data_var("speed", speeds / track.L, "Hz", "sleeper-passing frequency V / L"),
         },
         coords={
-            "speed": _var("speed", speeds, "m/s", "train speed V"),
-            "frequency": _var("frequency", f, "Hz", "excitation frequency Omega / 2 pi"),
+            "speed": data_var("speed", speeds, "m/s", "train speed V"),
+            "frequency": data_var("frequency", f, "Hz", "excitation frequency Omega / 2 pi"),
         },
         attrs={
             **_track_attrs(track, name),
@@ -142,25 +140,25 @@ def track_decay_rate(track: Track, name: str = "default", **kwargs) -> xr.Datase
             "bay_sampled": "far positions sampling the whole bay",
             "custom": "positions given",
         }[scheme]
-        data[f"decay_rate{suffix}"] = _var((exc, band), r.decay_rate[k], "dB/m", f"vertical track decay rate, EN 15461 {formula}; {what}", position_scheme=scheme)
-        data[f"position_weight{suffix}"] = _var(pos, r.weights[k], "m", f"dx_n of the EN 15461 sum (trapezoidal rule); 0 where unused; {what}", position_scheme=scheme)
-        data[f"attenuation_at_last_position{suffix}"] = _var((exc, band), r.attenuation[k], "dB", f"fall of the band-averaged |A|^2 from the excitation point to the last position; {what}", position_scheme=scheme)
+        data[f"decay_rate{suffix}"] = data_var((exc, band), r.decay_rate[k], "dB/m", f"vertical track decay rate, EN 15461 {formula}; {what}", position_scheme=scheme)
+        data[f"position_weight{suffix}"] = data_var(pos, r.weights[k], "m", f"dx_n of the EN 15461 sum (trapezoidal rule); 0 where unused; {what}", position_scheme=scheme)
+        data[f"attenuation_at_last_position{suffix}"] = data_var((exc, band), r.attenuation[k], "dB", f"fall of the band-averaged |A|^2 from the excitation point to the last position; {what}", position_scheme=scheme)
     data.update(
         {
-            "transfer_level": _var((exc, band, pos), r.level, "dB", "band-averaged |A(x_n)|^2 relative to |A(x_0)|^2"),
-            "band_centre_exact": _var(band, r.bands.centre, "Hz", "exact band centre 1000 * 10^(n/10)"),
-            "band_lower": _var(band, r.bands.lower, "Hz", "lower band edge"),
-            "band_upper": _var(band, r.bands.upper, "Hz", "upper band edge"),
-            "band_frequency": _var((band, "sample"), r.frequencies, "Hz", "frequencies over which |A|^2 is averaged in each band"),
+            "transfer_level": data_var((exc, band, pos), r.level, "dB", "band-averaged |A(x_n)|^2 relative to |A(x_0)|^2"),
+            "band_centre_exact": data_var(band, r.bands.centre, "Hz", "exact band centre 1000 * 10^(n/10)"),
+            "band_lower": data_var(band, r.bands.lower, "Hz", "lower band edge"),
+            "band_upper": data_var(band, r.bands.upper, "Hz", "upper band edge"),
+            "band_frequency": data_var((band, "sample"), r.frequencies, "Hz", "frequencies over which |A|^2 is averaged in each band"),
         }
     )
     return xr.Dataset(
         data,
         coords={
-            exc: _var(exc, r.excitation, "m", "excitation point x_0 measured from a sleeper (0: above a sleeper, L/2: mid-span)"),
-            band: _var(band, r.bands.nominal, "Hz", "nominal one-third-octave band centre frequency"),
-            pos: _var(pos, r.distances, "m", "response position x_n - x_0 along the rail from the excitation point"),
-            "sample": _var("sample", np.arange(r.frequencies.shape[1]), "1", "index of the frequency within the band"),
+            exc: data_var(exc, r.excitation, "m", "excitation point x_0 measured from a sleeper (0: above a sleeper, L/2: mid-span)"),
+            band: data_var(band, r.bands.nominal, "Hz", "nominal one-third-octave band centre frequency"),
+            pos: data_var(pos, r.distances, "m", "response position x_n - x_0 along the rail from the excitation point"),
+            "sample": data_var("sample", np.arange(r.frequencies.shape[1]), "1", "index of the frequency within the band"),
         },
         attrs={
             **_track_attrs(track, name),
@@ -180,6 +178,6 @@ def measured_decay_rate(measured: decay.MeasuredDecayRate) -> xr.Dataset:
     """A measured decay rate (``rail.decay.read_measured_decay_rate``) as a dataset on its own
     band coordinate, ready to merge beside the computed one."""
     return xr.Dataset(
-        {"measured_decay_rate": _var("measured_band_centre", measured.decay_rate, "dB/m", "measured vertical track decay rate", source_file=measured.source)},
-        coords={"measured_band_centre": _var("measured_band_centre", measured.band_centre, "Hz", "band centre frequency of the measured decay rate")},
+        {"measured_decay_rate": data_var("measured_band_centre", measured.decay_rate, "dB/m", "measured vertical track decay rate", source_file=measured.source)},
+        coords={"measured_band_centre": data_var("measured_band_centre", measured.band_centre, "Hz", "band centre frequency of the measured decay rate")},
     )

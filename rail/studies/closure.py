@@ -6,7 +6,7 @@ import numpy as np
 import xarray as xr
 
 from .conclusions import CONCLUSIONS, evaluate, overall_level_dB, short_wavelength_ratio
-from .datasets import _var
+from ..setup.io import data_var
 
 __all__ = ["closure_study"]
 
@@ -69,29 +69,29 @@ def closure_study(runs: dict, soft: dict, four: dict, wear_cases: dict, wellpose
                 holds[i, j] = int(res[key][0])
     return xr.Dataset(
         {
-            "level": _var(("closure_scale", "speed", "passage", "harmonic"), level, "dB re 1 um", "rms roughness level of each harmonic, single wheel, smooth initial rail"),
-            "overall_level": _var(("closure_scale", "speed"), overall, "dB re 1 um", "overall rms roughness level at the end, single wheel"),
-            "overall_level_soft_pad": _var("closure_scale", o_soft, "dB re 1 um", f"overall level at the end, softer railpad, {V[fast]:g} m/s"),
-            "overall_level_four_wheels": _var("closure_scale", o_four, "dB re 1 um", f"overall level at the end, four wheels, {V[fast]:g} m/s"),
-            "short_wavelength_ratio": _var(("closure_scale", "speed"), ratio, "1", "rms of wavelengths <= L/5 after the sleepers over that at mid-span"),
-            "wear_spectrum": _var(("closure_scale", "frequency", "harmonic"), wear_spec, "m", "amplitude 2|Delta Z_k| of the wear of one passage over a harmonic roughness"),
-            "wear_amplitude": _var(("closure_scale", "frequency"), amp, "1", "wear at the roughness wavelength over the mean wear, one passage"),
-            "wear_rate": _var(("closure_scale", "frequency"), rate, "1", "in-phase growth per passage -Re(Delta Z_m / Z_m) (> 0: the roughness grows)"),
-            "growth_per_transit": _var(("closure_scale", "nodes"), gpt, "1", "growth factor per patch transit of a perturbation of steady rolling (< 1: well-posed)"),
-            "well_posed": _var("closure_scale", ok.astype(int), "1", "1 when perturbations decay on every grid tested, else 0"),
-            "conclusion_holds": _var(("closure_scale", "conclusion"), holds, "1", "1 holds, 0 does not, -1 not decided (closure not well-posed)"),
-            "conclusion_evidence": _var(("closure_scale", "conclusion"), evidence.astype(str), "1", "the numbers that decide each conclusion"),
+            "level": data_var(("closure_scale", "speed", "passage", "harmonic"), level, "dB re 1 um", "rms roughness level of each harmonic, single wheel, smooth initial rail"),
+            "overall_level": data_var(("closure_scale", "speed"), overall, "dB re 1 um", "overall rms roughness level at the end, single wheel"),
+            "overall_level_soft_pad": data_var("closure_scale", o_soft, "dB re 1 um", f"overall level at the end, softer railpad, {V[fast]:g} m/s"),
+            "overall_level_four_wheels": data_var("closure_scale", o_four, "dB re 1 um", f"overall level at the end, four wheels, {V[fast]:g} m/s"),
+            "short_wavelength_ratio": data_var(("closure_scale", "speed"), ratio, "1", "rms of wavelengths <= L/5 after the sleepers over that at mid-span"),
+            "wear_spectrum": data_var(("closure_scale", "frequency", "harmonic"), wear_spec, "m", "amplitude 2|Delta Z_k| of the wear of one passage over a harmonic roughness"),
+            "wear_amplitude": data_var(("closure_scale", "frequency"), amp, "1", "wear at the roughness wavelength over the mean wear, one passage"),
+            "wear_rate": data_var(("closure_scale", "frequency"), rate, "1", "in-phase growth per passage -Re(Delta Z_m / Z_m) (> 0: the roughness grows)"),
+            "growth_per_transit": data_var(("closure_scale", "nodes"), gpt, "1", "growth factor per patch transit of a perturbation of steady rolling (< 1: well-posed)"),
+            "well_posed": data_var("closure_scale", ok.astype(int), "1", "1 when perturbations decay on every grid tested, else 0"),
+            "conclusion_holds": data_var(("closure_scale", "conclusion"), holds, "1", "1 holds, 0 does not, -1 not decided (closure not well-posed)"),
+            "conclusion_evidence": data_var(("closure_scale", "conclusion"), evidence.astype(str), "1", "the numbers that decide each conclusion"),
         },
         coords={
-            "closure_scale": _var("closure_scale", np.array(S), "1", "closure scale s: l = (a/2) exp(2 s / pi)"),
-            "speed": _var("speed", np.array(V), "m/s", "train speed"),
-            "passage": _var("passage", passages, "1", "wheel passages"),
-            "harmonic": _var("harmonic", first["harmonic"].values, "1", "harmonic k of the sleeper bay"),
-            "wavenumber": _var("harmonic", first["wavenumber"].values, "rad/m", "wavenumber k beta0"),
-            "frequency": _var("frequency", np.array(F), "Hz", "excitation frequency of the harmonic roughness (wear cases)"),
+            "closure_scale": data_var("closure_scale", np.array(S), "1", "closure scale s: l = (a/2) exp(2 s / pi)"),
+            "speed": data_var("speed", np.array(V), "m/s", "train speed"),
+            "passage": data_var("passage", passages, "1", "wheel passages"),
+            "harmonic": data_var("harmonic", first["harmonic"].values, "1", "harmonic k of the sleeper bay"),
+            "wavenumber": data_var("harmonic", first["wavenumber"].values, "rad/m", "wavenumber k beta0"),
+            "frequency": data_var("frequency", np.array(F), "Hz", "excitation frequency of the harmonic roughness (wear cases)"),
             "nodes": wellposed["nodes"],
-            "conclusion": _var("conclusion", np.array([str(k) for k in keys]), "1", "conclusion of section 7 of the report"),
-            "conclusion_text": _var("conclusion", np.array([CONCLUSIONS[k] for k in keys]), "1", "statement of the conclusion"),
+            "conclusion": data_var("conclusion", np.array([str(k) for k in keys]), "1", "conclusion of section 7 of the report"),
+            "conclusion_text": data_var("conclusion", np.array([CONCLUSIONS[k] for k in keys]), "1", "statement of the conclusion"),
         },
         attrs={"pinned_pinned_Hz": pinned_pinned_Hz, "spectrum_max_wavenumber_rad_per_m": k_max_rad_per_m, "harmonics": int(Kh),
                "wear_speed_m_per_s": float(next(iter(wear_cases.values())).attrs["speed_m_per_s"])},

@@ -31,7 +31,7 @@ from .. import chain
 from ..growth import levels_dB
 from ..interaction import Roughness, force_history
 from ..scenario import Scenario
-from .datasets import _var
+from ..setup.io import data_var
 
 __all__ = ["force_quantity", "wear_quantity", "growth_quantity", "force_error", "harmonic_error", "level_error_dB",
            "pareto_front", "with_setting", "default_settings", "convergence_dataset", "convergence_rows"]
@@ -173,18 +173,18 @@ def convergence_dataset(points: dict, study: dict, defaults: dict) -> xr.Dataset
         front[sel] = pareto_front(times[sel], errors[sel])
     return xr.Dataset(
         {
-            "cpu_time": _var("point", times, "s", "CPU time of the computation (one core)"),
-            "error": _var("point", errors, "1", f"error against the reference: force / fluctuation; wear and roughness: largest |Z_k / Z_k,ref - 1| over the harmonics within {WITHIN_DB:g} dB of the largest"),
-            "error_dB": _var("point", np.array([r[5] for r in rows]), "dB", f"largest roughness level error within {WITHIN_DB:g} dB of the highest level (growth points)"),
-            "is_default": _var("point", np.array([int(r[6]) for r in rows]), "1", "1 for the default value of the setting"),
-            "on_pareto_front": _var("point", front.astype(int), "1", "1 when no value of the same setting is both faster and more accurate"),
-            "reference_value": _var("point", np.array([r[7] for r in rows]), "1", "value of the setting in the reference"),
-            "reference_cpu_time": _var("point", np.array([r[8] for r in rows]), "s", "CPU time of the reference"),
+            "cpu_time": data_var("point", times, "s", "CPU time of the computation (one core)"),
+            "error": data_var("point", errors, "1", f"error against the reference: force / fluctuation; wear and roughness: largest |Z_k / Z_k,ref - 1| over the harmonics within {WITHIN_DB:g} dB of the largest"),
+            "error_dB": data_var("point", np.array([r[5] for r in rows]), "dB", f"largest roughness level error within {WITHIN_DB:g} dB of the highest level (growth points)"),
+            "is_default": data_var("point", np.array([int(r[6]) for r in rows]), "1", "1 for the default value of the setting"),
+            "on_pareto_front": data_var("point", front.astype(int), "1", "1 when no value of the same setting is both faster and more accurate"),
+            "reference_value": data_var("point", np.array([r[7] for r in rows]), "1", "value of the setting in the reference"),
+            "reference_cpu_time": data_var("point", np.array([r[8] for r in rows]), "s", "CPU time of the reference"),
         },
         coords={
-            "setting": _var("point", settings, "1", "numerical setting (config/convergence.yaml)"),
-            "quantity": _var("point", np.array([r[1] for r in rows]), "1", "figure quantity whose error is measured"),
-            "value": _var("point", np.array([r[2] for r in rows]), "1", "value of the setting"),
+            "setting": data_var("point", settings, "1", "numerical setting (config/convergence.yaml)"),
+            "quantity": data_var("point", np.array([r[1] for r in rows]), "1", "figure quantity whose error is measured"),
+            "value": data_var("point", np.array([r[2] for r in rows]), "1", "value of the setting"),
         },
         attrs={"speed_m_per_s": float(study["speed"])},
     )

@@ -17,13 +17,11 @@ from ..growth import band_growth, levels_dB
 from ..interaction import Roughness, force_history
 from ..moving import MovingReceptance
 from ..setup.build import HalfSpaceFigureSettings
+from ..setup.io import data_var
 from .validity import WEAR_PATH_TEXT
 
 __all__ = ["fig02", "fig03", "fig04", "radiation", "fig05", "fig06", "receptance_table", "read_receptance_table", "fig08", "fig22", "wear_case", "fig09", "fig10_11", "fig_wear", "fig_wear_spectrum", "growth", "growth_figure", "sweep"]
 
-
-def _var(dims, data, units, long_name, **extra):
-    return (dims, np.asarray(data), {"units": units, "long_name": long_name, **extra})
 
 
 def _wavenumber_attrs(omega, material):
@@ -43,10 +41,10 @@ def fig02(material: ElasticMaterial, fig: HalfSpaceFigureSettings, points: int =
     f = halfspace.folded_integrand(beta, omega, fig.radius, material)
     return xr.Dataset(
         {
-            "integrand_real": _var("wavenumber", f.real, "m^2/N", "real part of the integrand of the first integral of eq (14)"),
-            "integrand_imag": _var("wavenumber", f.imag, "m^2/N", "imaginary part of the integrand of the first integral of eq (14)"),
+            "integrand_real": data_var("wavenumber", f.real, "m^2/N", "real part of the integrand of the first integral of eq (14)"),
+            "integrand_imag": data_var("wavenumber", f.imag, "m^2/N", "imaginary part of the integrand of the first integral of eq (14)"),
         },
-        coords={"wavenumber": _var("wavenumber", beta, "rad/m", "radial wavenumber beta")},
+        coords={"wavenumber": data_var("wavenumber", beta, "rad/m", "radial wavenumber beta")},
         attrs={"frequency_Hz": fig.frequency, "radius_m": fig.radius, **_wavenumber_attrs(omega, material)},
     )
 
@@ -60,10 +58,10 @@ def fig03(material: ElasticMaterial, fig: HalfSpaceFigureSettings, points: int =
     limit = np.full_like(beta, halfspace.static_limit_beta_G(material))
     return xr.Dataset(
         {
-            "beta_G": _var("wavenumber", bG, "m^2/N", "beta G(beta, omega), eq (9)"),
-            "static_limit": _var("wavenumber", limit, "m^2/N", "limit 2 (1 - nu^2) / E, eq (15)"),
+            "beta_G": data_var("wavenumber", bG, "m^2/N", "beta G(beta, omega), eq (9)"),
+            "static_limit": data_var("wavenumber", limit, "m^2/N", "limit 2 (1 - nu^2) / E, eq (15)"),
         },
-        coords={"wavenumber": _var("wavenumber", beta, "rad/m", "radial wavenumber beta")},
+        coords={"wavenumber": data_var("wavenumber", beta, "rad/m", "radial wavenumber beta")},
         attrs={"frequency_Hz": fig.frequency, **_wavenumber_attrs(omega, material)},
     )
 
@@ -74,11 +72,11 @@ def fig04(material: ElasticMaterial, fig: HalfSpaceFigureSettings, numerics: Hal
     w = halfspace.surface_displacement(fig.radii, omega, material, 1.0, numerics)
     return xr.Dataset(
         {
-            "displacement_real": _var("radius", w.real, "m", "real part of the vertical displacement, eq (16), unit load"),
-            "displacement_imag": _var("radius", w.imag, "m", "imaginary part of the vertical displacement, eq (16) with the Rayleigh residue, unit load"),
-            "displacement_boussinesq": _var("radius", halfspace.boussinesq(fig.radii, material), "m", "static displacement, Boussinesq eq (17), unit load"),
+            "displacement_real": data_var("radius", w.real, "m", "real part of the vertical displacement, eq (16), unit load"),
+            "displacement_imag": data_var("radius", w.imag, "m", "imaginary part of the vertical displacement, eq (16) with the Rayleigh residue, unit load"),
+            "displacement_boussinesq": data_var("radius", halfspace.boussinesq(fig.radii, material), "m", "static displacement, Boussinesq eq (17), unit load"),
         },
-        coords={"radius": _var("radius", fig.radii, "m", "distance r from the loading point")},
+        coords={"radius": data_var("radius", fig.radii, "m", "distance r from the loading point")},
         attrs={"frequency_Hz": fig.frequency, "load_N": 1.0},
     )
 
@@ -92,11 +90,11 @@ def radiation(material: ElasticMaterial, fig: HalfSpaceFigureSettings, numerics:
     eta = halfspace.contact_loss_factor(omega, fig.hertz_stiffness, material, numerics, receptance_imag=im)
     return xr.Dataset(
         {
-            "receptance_imag": _var("frequency", im, "m/N", "imaginary part of the half-space driving-point receptance Im w0(0)"),
-            "radiated_power": _var("frequency", power, "W", "power radiated into the half-space by a 1 N harmonic load"),
-            "loss_factor": _var("frequency", eta, "1", "contact-spring loss factor eta_H = -2 k_H Im w0(0)"),
+            "receptance_imag": data_var("frequency", im, "m/N", "imaginary part of the half-space driving-point receptance Im w0(0)"),
+            "radiated_power": data_var("frequency", power, "W", "power radiated into the half-space by a 1 N harmonic load"),
+            "loss_factor": data_var("frequency", eta, "1", "contact-spring loss factor eta_H = -2 k_H Im w0(0)"),
         },
-        coords={"frequency": _var("frequency", f, "Hz", "frequency")},
+        coords={"frequency": data_var("frequency", f, "Hz", "frequency")},
         attrs={"hertz_stiffness_N_per_m": fig.hertz_stiffness, "load_N": 1.0},
     )
 
@@ -118,14 +116,14 @@ def receptance_table(tab, track) -> xr.Dataset:
     dims = ("offset", "response_harmonic", "force_harmonic")
     ds = xr.Dataset(
         {
-            "receptance_real": _var(dims, tab.A.real, "m/N", "real part of a_{p-k}(k Omega_0, d): response harmonic p at offset d per unit force harmonic k"),
-            "receptance_imag": _var(dims, tab.A.imag, "m/N", "imaginary part of a_{p-k}(k Omega_0, d)"),
-            "quadrature_error": _var(dims, tab.error, "m/N", "estimated absolute error of the wavenumber quadrature"),
+            "receptance_real": data_var(dims, tab.A.real, "m/N", "real part of a_{p-k}(k Omega_0, d): response harmonic p at offset d per unit force harmonic k"),
+            "receptance_imag": data_var(dims, tab.A.imag, "m/N", "imaginary part of a_{p-k}(k Omega_0, d)"),
+            "quadrature_error": data_var(dims, tab.error, "m/N", "estimated absolute error of the wavenumber quadrature"),
         },
         coords={
-            "offset": _var("offset", tab.offsets, "m", "offset d of the receiving point ahead of the load"),
-            "response_harmonic": _var("response_harmonic", h, "1", "harmonic p of the sleeper-passing frequency in the response"),
-            "force_harmonic": _var("force_harmonic", h, "1", "harmonic k of the sleeper-passing frequency in the force"),
+            "offset": data_var("offset", tab.offsets, "m", "offset d of the receiving point ahead of the load"),
+            "response_harmonic": data_var("response_harmonic", h, "1", "harmonic p of the sleeper-passing frequency in the response"),
+            "force_harmonic": data_var("force_harmonic", h, "1", "harmonic k of the sleeper-passing frequency in the force"),
         },
         attrs={
             "speed_m_per_s": tab.speed,
@@ -163,13 +161,13 @@ def bloch_tables(tabs, track) -> xr.Dataset:
     dims = ("fraction", "offset", "response_harmonic", "force_harmonic")
     return xr.Dataset(
         {
-            "receptance_real": _var(dims, A.real, "m/N", "real part of a_{p-k}((k + nu) Omega_0, d): response at (p + nu) Omega_0 per unit force at (k + nu) Omega_0"),
-            "receptance_imag": _var(dims, A.imag, "m/N", "imaginary part of a_{p-k}((k + nu) Omega_0, d)"),
-            "quadrature_error": _var(dims, err, "m/N", "estimated absolute error of the wavenumber quadrature"),
-            "quadrature_nodes": _var("fraction", np.array([t.nodes for t in tabs]), "1", "wavenumber quadrature nodes"),
+            "receptance_real": data_var(dims, A.real, "m/N", "real part of a_{p-k}((k + nu) Omega_0, d): response at (p + nu) Omega_0 per unit force at (k + nu) Omega_0"),
+            "receptance_imag": data_var(dims, A.imag, "m/N", "imaginary part of a_{p-k}((k + nu) Omega_0, d)"),
+            "quadrature_error": data_var(dims, err, "m/N", "estimated absolute error of the wavenumber quadrature"),
+            "quadrature_nodes": data_var("fraction", np.array([t.nodes for t in tabs]), "1", "wavenumber quadrature nodes"),
         },
         coords={**{k: v for k, v in one.coords.items()},
-                "fraction": _var("fraction", np.array([t.fraction for t in tabs]), "1", "Bloch fraction nu = r / N of the base frequency nu Omega_0")},
+                "fraction": data_var("fraction", np.array([t.fraction for t in tabs]), "1", "Bloch fraction nu = r / N of the base frequency nu Omega_0")},
         attrs={**one.attrs, "bays": int(round(1 / tabs[1].fraction)) if len(tabs) > 1 else 1},
     )
 
@@ -202,7 +200,7 @@ def _force_history_vars(results, track, x, labels):
 
     out = {}
     for key, (res, long_name) in zip(labels, results):
-        out[key] = _var("position", force_history(res, x)[0], "N", long_name)
+        out[key] = data_var("position", force_history(res, x)[0], "N", long_name)
     return out
 
 
@@ -210,11 +208,11 @@ def fig08(result, track, roughness, settings: dict, points: int = 601) -> xr.Dat
     """Fig. 8: normal contact force of one wheel over a bay with harmonic roughness, and that roughness."""
     x = np.linspace(0.0, track.L, points)
     data = _force_history_vars([(result, "normal contact force")], track, x, ["force"])
-    data["dynamic_force"] = _var("position", data["force"][1] - result.P[0, result.harmonics].real, "N", "normal dynamic contact force (force minus static load)")
-    data["roughness"] = _var("position", roughness.profile(x, track.L), "m", "rail-head roughness (upwards positive)")
+    data["dynamic_force"] = data_var("position", data["force"][1] - result.P[0, result.harmonics].real, "N", "normal dynamic contact force (force minus static load)")
+    data["roughness"] = data_var("position", roughness.profile(x, track.L), "m", "rail-head roughness (upwards positive)")
     return xr.Dataset(
         data,
-        coords={"position": _var("position", x, "m", "wheel position in the sleeper bay (0 = above a sleeper)")},
+        coords={"position": data_var("position", x, "m", "wheel position in the sleeper bay (0 = above a sleeper)")},
         attrs={"speed_m_per_s": settings["speed"], "roughness_frequency_Hz": settings["frequency"], "roughness_amplitude_m": settings["amplitude"], "damping_model": track.damping},
     )
 
@@ -227,7 +225,7 @@ def fig22(results: dict, track, points: int = 601) -> xr.Dataset:
         data.update(_force_history_vars([(res, f"normal contact force at {V:g} m/s, smooth rail")], track, x, [f"force_V{V:g}"]))
     return xr.Dataset(
         data,
-        coords={"position": _var("position", x, "m", "wheel position in the sleeper bay (0 = above a sleeper)")},
+        coords={"position": data_var("position", x, "m", "wheel position in the sleeper bay (0 = above a sleeper)")},
         attrs={"speeds_m_per_s": list(results), "damping_model": track.damping},
     )
 
@@ -240,23 +238,23 @@ def wear_case(result, forces, roughness, track, settings: dict, frequency: float
     P0 = forces.P[0, forces.harmonics].real
     return xr.Dataset(
         {
-            "wear_depth": _var("position", result.depth, "m", "height of rail removed by one wheel passage (eq 51)"),
-            "normal_force": _var("position", result.P, "N", "normal contact force with the wheel at the position"),
-            "dynamic_normal_force": _var("position", result.P - P0, "N", "normal dynamic contact force (minus the static load)"),
-            "tangential_force": _var("position", result.Q, "N", "tangential contact force 2b int q"),
-            "half_length": _var("position", result.a, "m", "contact patch half-length a (eq 23)"),
-            "roughness": _var("position", roughness.profile(x, track.L), "m", "initial rail-head roughness (upwards positive)"),
-            "traction": _var(("position", "patch"), result.q, "Pa", "tangential traction q(xi) with the wheel at the position"),
-            "slip_velocity": _var(("position", "patch"), result.s, "m/s", "slip velocity s(xi) (step average, eq 26)"),
-            "wear_spectrum": _var("harmonic", 2 * np.abs(result.Z[K + 1 :]), "m", "amplitude of the wear's Fourier components, 2 |Delta Z_k|"),
-            "wear_spectrum_real": _var("harmonic", result.Z[K + 1 :].real, "m", "real part of Delta Z_k"),
-            "wear_spectrum_imag": _var("harmonic", result.Z[K + 1 :].imag, "m", "imaginary part of Delta Z_k"),
+            "wear_depth": data_var("position", result.depth, "m", "height of rail removed by one wheel passage (eq 51)"),
+            "normal_force": data_var("position", result.P, "N", "normal contact force with the wheel at the position"),
+            "dynamic_normal_force": data_var("position", result.P - P0, "N", "normal dynamic contact force (minus the static load)"),
+            "tangential_force": data_var("position", result.Q, "N", "tangential contact force 2b int q"),
+            "half_length": data_var("position", result.a, "m", "contact patch half-length a (eq 23)"),
+            "roughness": data_var("position", roughness.profile(x, track.L), "m", "initial rail-head roughness (upwards positive)"),
+            "traction": data_var(("position", "patch"), result.q, "Pa", "tangential traction q(xi) with the wheel at the position"),
+            "slip_velocity": data_var(("position", "patch"), result.s, "m/s", "slip velocity s(xi) (step average, eq 26)"),
+            "wear_spectrum": data_var("harmonic", 2 * np.abs(result.Z[K + 1 :]), "m", "amplitude of the wear's Fourier components, 2 |Delta Z_k|"),
+            "wear_spectrum_real": data_var("harmonic", result.Z[K + 1 :].real, "m", "real part of Delta Z_k"),
+            "wear_spectrum_imag": data_var("harmonic", result.Z[K + 1 :].imag, "m", "imaginary part of Delta Z_k"),
         },
         coords={
-            "position": _var("position", x, "m", "wheel (contact centre) position in the sleeper bay, 0 above a sleeper"),
-            "patch": _var("patch", result.xi, "m", "position xi in the contact patch (leading edge positive)"),
-            "harmonic": _var("harmonic", k, "1", "harmonic k of the sleeper bay"),
-            "wavenumber": _var("harmonic", k * track.beta0, "rad/m", "wavenumber k beta0"),
+            "position": data_var("position", x, "m", "wheel (contact centre) position in the sleeper bay, 0 above a sleeper"),
+            "patch": data_var("patch", result.xi, "m", "position xi in the contact patch (leading edge positive)"),
+            "harmonic": data_var("harmonic", k, "1", "harmonic k of the sleeper bay"),
+            "wavenumber": data_var("harmonic", k * track.beta0, "rad/m", "wavenumber k beta0"),
         },
         attrs={
             "speed_m_per_s": settings["speed"],
@@ -286,7 +284,7 @@ def fig10_11(case: xr.Dataset, variable: str, instants_s=(0.0, 0.25e-3, 0.5e-3, 
     out = {}
     for t in instants_s:
         i = int(np.argmin(np.abs(x - V * t)))
-        out[f"t{1e3 * t:.2f}ms".replace(".", "_")] = _var(
+        out[f"t{1e3 * t:.2f}ms".replace(".", "_")] = data_var(
             "patch", case[variable].values[i], case[variable].attrs["units"], f"{case[variable].attrs['long_name']} at t = {1e3 * t:.2f} ms (x = {x[i]:.4f} m)"
         )
     return xr.Dataset(out, coords={"patch": case["patch"]}, attrs=_attrs(case))
@@ -337,28 +335,28 @@ def growth(history, track, speed: float, n_wheels: int, points: int = 601, bays:
         amp_rate = dB_rate = np.full(K, np.nan)
     return xr.Dataset(
         {
-            "level": _var(("passage", "harmonic"), levels, "dB re 1 um", "rms roughness level of each harmonic of the bay (NaN where the harmonic is exactly 0)"),
-            "profile": _var(("passage", "position"), profiles, "m", "rail-head roughness profile over the bay (upwards positive)"),
-            "Z_real": _var(("passage", "harmonic_all"), Z.real, "m", "real part of the roughness coefficients Z_k, k = -K..K"),
-            "Z_imag": _var(("passage", "harmonic_all"), Z.imag, "m", "imaginary part of the roughness coefficients Z_k"),
-            "exponential_rate": _var("harmonic", exp_rate, "1", "e-folding rate of the rms amplitude per wheel passage over the second half "
+            "level": data_var(("passage", "harmonic"), levels, "dB re 1 um", "rms roughness level of each harmonic of the bay (NaN where the harmonic is exactly 0)"),
+            "profile": data_var(("passage", "position"), profiles, "m", "rail-head roughness profile over the bay (upwards positive)"),
+            "Z_real": data_var(("passage", "harmonic_all"), Z.real, "m", "real part of the roughness coefficients Z_k, k = -K..K"),
+            "Z_imag": data_var(("passage", "harmonic_all"), Z.imag, "m", "imaginary part of the roughness coefficients Z_k"),
+            "exponential_rate": data_var("harmonic", exp_rate, "1", "e-folding rate of the rms amplitude per wheel passage over the second half "
                                      "of the run (d ln A / dn; from a smooth rail the growth is linear in the amplitude, see amplitude_growth_um_per_1e5_axles)"),
-            "amplitude_growth_um_per_1e5_axles": _var("harmonic", amp_rate, "um per 100000 axle passages",
+            "amplitude_growth_um_per_1e5_axles": data_var("harmonic", amp_rate, "um per 100000 axle passages",
                                                       "growth rate of the rms amplitude (straight-line fit over every save, as for a band)"),
-            "growth_dB_per_1e5_axles": _var("harmonic", dB_rate, "dB per 100000 axle passages",
+            "growth_dB_per_1e5_axles": data_var("harmonic", dB_rate, "dB per 100000 axle passages",
                                             "level growth rate at the last save from the law (straight line or exponential in amplitude) "
                                             "that fits the line, as for a band (rail.growth.band_growth)"),
-            "step_error": _var("update", history.step_error, "1", "estimated local error of each update relative to the roughness (rail.growth.step_error)"),
-            "full_slip": _var("update", history.full_slip, "1", "largest fraction of the bay with no stick zone in the contact, per update"),
-            **({} if force is None else {"force": _var(("passage", "wheel", "position"), np.array([force(z, x) for z in Z]), "N",
+            "step_error": data_var("update", history.step_error, "1", "estimated local error of each update relative to the roughness (rail.growth.step_error)"),
+            "full_slip": data_var("update", history.full_slip, "1", "largest fraction of the bay with no stick zone in the contact, per update"),
+            **({} if force is None else {"force": data_var(("passage", "wheel", "position"), np.array([force(z, x) for z in Z]), "N",
                                                         "contact force of each wheel with the wheel at the position (eq 21)")}),
         },
         coords={
-            "passage": _var("passage", n, "1", "axle passages: wheel passages on the rail (a train of n wheels counts n)"),
-            "harmonic": _var("harmonic", k, "1", "harmonic k of the sleeper bay" if bays == 1 else f"index j of the wavenumber 2 pi j / ({bays} L)"),
-            "wavenumber": _var("harmonic", k / bays * track.beta0, "rad/m", "wavenumber k beta0" if bays == 1 else f"wavenumber j beta0 / {bays}"),
-            "harmonic_all": _var("harmonic_all", np.arange(-K, K + 1), "1", "harmonic index k of Z_k"),
-            "position": _var("position", x, "m", "position in the sleeper bay, 0 above a sleeper" if bays == 1 else f"position over the {bays}-bay period, 0 above a sleeper"),
+            "passage": data_var("passage", n, "1", "axle passages: wheel passages on the rail (a train of n wheels counts n)"),
+            "harmonic": data_var("harmonic", k, "1", "harmonic k of the sleeper bay" if bays == 1 else f"index j of the wavenumber 2 pi j / ({bays} L)"),
+            "wavenumber": data_var("harmonic", k / bays * track.beta0, "rad/m", "wavenumber k beta0" if bays == 1 else f"wavenumber j beta0 / {bays}"),
+            "harmonic_all": data_var("harmonic_all", np.arange(-K, K + 1), "1", "harmonic index k of Z_k"),
+            "position": data_var("position", x, "m", "position in the sleeper bay, 0 above a sleeper" if bays == 1 else f"position over the {bays}-bay period, 0 above a sleeper"),
         },
         attrs={"speed_m_per_s": speed, "wheels": n_wheels, "damping_model": track.damping, "pad_stiffness_N_per_m": track.pad.stiffness,
                **({} if bays == 1 else {"bays": bays})},
@@ -376,11 +374,11 @@ def with_contact_shift(ds: xr.Dataset, shifts, limit: float, modelled: bool = Fa
     ratio = np.array([s.ratio for s in shifts])
     sweep = np.array([s.sweep for s in shifts])
     ds = ds.assign(
-        contact_shift=_var("passage", c, "m", "largest |c| over the wheels and the period, c the neglected move of the contact "
+        contact_shift=data_var("passage", c, "m", "largest |c| over the wheels and the period, c the neglected move of the contact "
                            "patch centre relative to the wheel centre (R_w times the patch-weighted roughness slope)"),
-        contact_shift_ratio=_var("passage", ratio, "1", "largest |c| / a, the neglected move of the contact centre relative to "
+        contact_shift_ratio=data_var("passage", ratio, "1", "largest |c| / a, the neglected move of the contact centre relative to "
                                  "the patch half-length"),
-        contact_shift_sweep=_var("passage", sweep, "1", "largest |dc/dx|: the wear depth the neglected move of the contact centre "
+        contact_shift_sweep=data_var("passage", sweep, "1", "largest |dc/dx|: the wear depth the neglected move of the contact centre "
                                  "leaves out, relative to the mean wear (beta |c| for a harmonic)"),
     )
     if modelled:
@@ -413,24 +411,24 @@ def growth_figure(runs: dict, kind: str, k_max_rad_per_m: float = 525.0) -> xr.D
     first = next(iter(runs.values()))
     if kind == "profiles":
         ds = first
-        out = {f"profile_{int(n)}": _var("position", ds["profile"].values[i], "m", f"roughness profile after {int(n)} passages") for i, n in enumerate(ds["passage"].values)}
+        out = {f"profile_{int(n)}": data_var("position", ds["profile"].values[i], "m", f"roughness profile after {int(n)} passages") for i, n in enumerate(ds["passage"].values)}
         return xr.Dataset(out, coords={"position": ds["position"]}, attrs=dict(ds.attrs))
     if kind == "final_profiles":
         out = {
-            _slug("profile", label): _var("position", ds["profile"].values[-1], "m", f"roughness profile after {int(ds['passage'].values[-1])} passages, {label}", label=label)
+            _slug("profile", label): data_var("position", ds["profile"].values[-1], "m", f"roughness profile after {int(ds['passage'].values[-1])} passages, {label}", label=label)
             for label, ds in runs.items()
         }
         return xr.Dataset(out, coords={"position": first["position"]})
     sel = first["wavenumber"].values <= k_max_rad_per_m
     out = {
-        _slug("level", label): _var("harmonic", ds["level"].values[-1][sel], "dB re 1 um", f"roughness level after {int(ds['passage'].values[-1])} passages, {label}", label=label)
+        _slug("level", label): data_var("harmonic", ds["level"].values[-1][sel], "dB re 1 um", f"roughness level after {int(ds['passage'].values[-1])} passages, {label}", label=label)
         for label, ds in runs.items()
     }
     return xr.Dataset(
         out,
         coords={
-            "harmonic": _var("harmonic", first["harmonic"].values[sel], "1", "harmonic k of the sleeper bay"),
-            "wavenumber": _var("harmonic", first["wavenumber"].values[sel], "rad/m", "wavenumber k beta0"),
+            "harmonic": data_var("harmonic", first["harmonic"].values[sel], "1", "harmonic k of the sleeper bay"),
+            "wavenumber": data_var("harmonic", first["wavenumber"].values[sel], "rad/m", "wavenumber k beta0"),
         },
     )
 
@@ -472,15 +470,15 @@ def sweep(runs, keys, values, indices, units) -> xr.Dataset:
     overall = 10 * np.log10(np.sum(10 ** (level / 10), axis=-1))
     fastest = np.nanargmax(rate, axis=-1)
     wavelength = 2 * np.pi / first["wavenumber"].values[fastest]
-    coords["harmonic"] = _var("harmonic", first["harmonic"].values, "1", first["harmonic"].attrs.get("long_name", "harmonic k of the sleeper bay"))
-    coords["wavenumber"] = _var("harmonic", first["wavenumber"].values, "rad/m", first["wavenumber"].attrs.get("long_name", "wavenumber k beta0"))
+    coords["harmonic"] = data_var("harmonic", first["harmonic"].values, "1", first["harmonic"].attrs.get("long_name", "harmonic k of the sleeper bay"))
+    coords["wavenumber"] = data_var("harmonic", first["wavenumber"].values, "rad/m", first["wavenumber"].attrs.get("long_name", "wavenumber k beta0"))
     return xr.Dataset(
         {
-            "level": _var(dims + ("harmonic",), level, "dB re 1 um", "rms roughness level of each harmonic at the end of the run"),
-            "overall_level": _var(dims, overall, "dB re 1 um", "overall rms roughness level at the end of the run"),
-            "max_amplitude_growth_um_per_1e5_axles": _var(dims, np.nanmax(rate, axis=-1), "um per 100000 axle passages",
+            "level": data_var(dims + ("harmonic",), level, "dB re 1 um", "rms roughness level of each harmonic at the end of the run"),
+            "overall_level": data_var(dims, overall, "dB re 1 um", "overall rms roughness level at the end of the run"),
+            "max_amplitude_growth_um_per_1e5_axles": data_var(dims, np.nanmax(rate, axis=-1), "um per 100000 axle passages",
                                                           "rms amplitude growth rate of the fastest-growing wavelength"),
-            "fastest_wavelength": _var(dims, wavelength, "m", "wavelength that grows fastest"),
+            "fastest_wavelength": data_var(dims, wavelength, "m", "wavelength that grows fastest"),
         },
         coords=coords,
         attrs={"swept_keys": list(keys), "passages": int(first["passage"].values[-1])},

@@ -8,7 +8,7 @@ import xarray as xr
 
 from ..uncertainty import band_statistics
 from .bands import third_octave_bands
-from .datasets import _var
+from ..setup.io import data_var
 
 __all__ = ["ensemble_dataset"]
 
@@ -50,23 +50,23 @@ def ensemble_dataset(members, values: dict, interval=(0.1, 0.9)) -> xr.Dataset:
     med, lo, hi = band_statistics(gb, interval)
     unit = "dB per 100000 axle passages"
     coords = {
-        "member": _var("member", np.arange(len(members)), "1", "ensemble member"),
-        "wavelength": _var("wavelength", lam, "m", "roughness wavelength"),
-        "band": _var("band", nominal, "m", "nominal centre wavelength of the one-third-octave band (EN 15610)"),
+        "member": data_var("member", np.arange(len(members)), "1", "ensemble member"),
+        "wavelength": data_var("wavelength", lam, "m", "roughness wavelength"),
+        "band": data_var("band", nominal, "m", "nominal centre wavelength of the one-third-octave band (EN 15610)"),
     }
     for key, v in values.items():
-        coords[f"draw_{key}"] = _var("member", np.asarray(v, dtype=float), "", f"drawn value of {key} (its unit in the configuration)")
+        coords[f"draw_{key}"] = data_var("member", np.asarray(v, dtype=float), "", f"drawn value of {key} (its unit in the configuration)")
     q = f"{100 * interval[0]:g}-{100 * interval[1]:g} % quantiles"
     return xr.Dataset(
         {
-            "growth_dB_per_1e5_axles": _var(("member", "wavelength"), g, unit,
+            "growth_dB_per_1e5_axles": data_var(("member", "wavelength"), g, unit,
                                             "level change per 100,000 axle (wheel) passages of a small roughness"),
-            "band_growth_dB_per_1e5_axles": _var(("member", "band"), gb, unit, "mean over the band's lines of growth_dB_per_1e5_axles "
+            "band_growth_dB_per_1e5_axles": data_var(("member", "band"), gb, unit, "mean over the band's lines of growth_dB_per_1e5_axles "
                                                  "(NaN: no line in the band)"),
-            "band_median_dB_per_1e5_axles": _var("band", med, unit, "median of band_growth_dB_per_1e5_axles over the members"),
-            "band_lower_dB_per_1e5_axles": _var("band", lo, unit,
+            "band_median_dB_per_1e5_axles": data_var("band", med, unit, "median of band_growth_dB_per_1e5_axles over the members"),
+            "band_lower_dB_per_1e5_axles": data_var("band", lo, unit,
                                                 f"lower end of the interval ({q}) of band_growth_dB_per_1e5_axles over the members"),
-            "band_upper_dB_per_1e5_axles": _var("band", hi, unit,
+            "band_upper_dB_per_1e5_axles": data_var("band", hi, unit,
                                                 f"upper end of the interval ({q}) of band_growth_dB_per_1e5_axles over the members"),
         },
         coords=coords,

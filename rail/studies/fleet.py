@@ -15,7 +15,7 @@ from ..fleet import Fleet
 from ..growth_spectrum import FleetRateSpectrum
 from ..traffic import Traffic
 from . import datasets
-from .datasets import _var
+from ..setup.io import data_var
 from .rate_spectrum import PASSAGES_PER_DB
 
 __all__ = ["fleet_spectrum_dataset", "fleet_growth_dataset", "tables_by_speed", "spectrum_arrays", "spectrum_from_arrays",
@@ -112,42 +112,42 @@ def fleet_spectrum_dataset(fs: FleetRateSpectrum, fleet: Fleet) -> xr.Dataset:
     traffic = Traffic(fleet.axles_per_day, fleet.mean_axle_load)
     return xr.Dataset(
         {
-            "growth_rate": _var("wavelength", g, "1", "relative growth rate of the roughness amplitude per fleet passage, -Re R "
+            "growth_rate": data_var("wavelength", g, "1", "relative growth rate of the roughness amplitude per fleet passage, -Re R "
                                 "(R = sum_c w_c R_c; > 0: grows)"),
-            "growth_rate_other": _var("wavelength", -t.rate_other.real, "1", "growth rate of the other phase at a locked line"),
-            "drift": _var("wavelength", -t.rate.imag, "rad", "phase drift of the roughness per fleet passage, -Im R"),
-            "growth_dB_per_1e5_trains": _var("wavelength", DB_PER_NEPER * g * PASSAGES_PER_DB, f"dB per {PASSAGES_PER_DB} train passages",
+            "growth_rate_other": data_var("wavelength", -t.rate_other.real, "1", "growth rate of the other phase at a locked line"),
+            "drift": data_var("wavelength", -t.rate.imag, "rad", "phase drift of the roughness per fleet passage, -Im R"),
+            "growth_dB_per_1e5_trains": data_var("wavelength", DB_PER_NEPER * g * PASSAGES_PER_DB, f"dB per {PASSAGES_PER_DB} train passages",
                                              f"level change per {PASSAGES_PER_DB} fleet passages (passages of whole trains of "
                                              "the fleet's mix) of a small roughness at the wavelength"),
-            "growth_dB_per_1e5_axles": _var("wavelength", d_axle, "dB per 100000 axle passages",
+            "growth_dB_per_1e5_axles": data_var("wavelength", d_axle, "dB per 100000 axle passages",
                                             "level change per 100,000 axle passages of the traffic of a small roughness at "
                                             "the wavelength (growth_dB_per_1e5_trains / axles_per_train)"),
-            "growth_dB_per_MGT": _var("wavelength", traffic.per_mgt(d_axle), "1/Mt",
+            "growth_dB_per_MGT": data_var("wavelength", traffic.per_mgt(d_axle), "1/Mt",
                                       "level change per million gross tonnes of the traffic (growth_dB_per_1e5_axles x 1e6 / "
                                       "mean axle load [t] / 1e5)", level_unit="dB", units_text="dB/Mt"),
-            "growth_rate_per_year": _var("wavelength", g * trains_per_year, "1/year",
+            "growth_rate_per_year": data_var("wavelength", g * trains_per_year, "1/year",
                                          "relative growth rate of the roughness amplitude per year of the traffic"),
-            "growth_dB_per_year": _var("wavelength", DB_PER_NEPER * g * trains_per_year, "1/year",
+            "growth_dB_per_year": data_var("wavelength", DB_PER_NEPER * g * trains_per_year, "1/year",
                                        "level change per year of the traffic of a small roughness at the wavelength",
                                        level_unit="dB", units_text="dB/year"),
-            "grid_spread": _var("wavelength", t.grid_spread, "1", "sum_c w_c of the classes' grid spreads (an upper bound)"),
-            "class_growth_rate": _var(("class", "wavelength"), gc, "1",
+            "grid_spread": data_var("wavelength", t.grid_spread, "1", "sum_c w_c of the classes' grid spreads (an upper bound)"),
+            "class_growth_rate": data_var(("class", "wavelength"), gc, "1",
                                       "growth rate of each class alone per passage of its train (-Re R_c)"),
-            "class_drift": _var(("class", "wavelength"), np.array([-s.rate.imag for s in fs.classes]), "rad",
+            "class_drift": data_var(("class", "wavelength"), np.array([-s.rate.imag for s in fs.classes]), "rad",
                                 "phase drift of each class alone per passage of its train"),
-            "class_contribution": _var(("class", "wavelength"), fs.weights[:, None] * gc, "1",
+            "class_contribution": data_var(("class", "wavelength"), fs.weights[:, None] * gc, "1",
                                        "the class's share of the fleet's growth rate per fleet passage, w_c (-Re R_c); sums to "
                                        "growth_rate at a free line (at a locked line the fleet's rate is the eigenvalue of the "
                                        "weighted sum of the 2 x 2 operators)"),
         },
         coords={
-            "wavelength": _var("wavelength", t.wavelength, "m", "roughness wavelength N L / j"),
-            "line": _var("wavelength", t.line, "1", f"line j of the {t.bays}-bay period"),
-            "locked": _var("wavelength", t.locked, "1", "0 free line; 1 on the one-bay comb; 2 on the half-comb"),
-            "class": _var("class", np.arange(len(fs.classes)), "1", "(vehicle, speed) class"),
-            "class_label": _var("class", np.array(fs.labels), "", "vehicle and speed of the class"),
-            "class_speed": _var("class", fs.speeds, "m/s", "train speed of the class"),
-            "class_weight": _var("class", fs.weights, "1", "w_c = share_v x weight_s, the class's share of the fleet passages"),
+            "wavelength": data_var("wavelength", t.wavelength, "m", "roughness wavelength N L / j"),
+            "line": data_var("wavelength", t.line, "1", f"line j of the {t.bays}-bay period"),
+            "locked": data_var("wavelength", t.locked, "1", "0 free line; 1 on the one-bay comb; 2 on the half-comb"),
+            "class": data_var("class", np.arange(len(fs.classes)), "1", "(vehicle, speed) class"),
+            "class_label": data_var("class", np.array(fs.labels), "", "vehicle and speed of the class"),
+            "class_speed": data_var("class", fs.speeds, "m/s", "train speed of the class"),
+            "class_weight": data_var("class", fs.weights, "1", "w_c = share_v x weight_s, the class's share of the fleet passages"),
         },
         attrs={"eps_m": t.eps, "bays": t.bays, "grid_phases": t.grid_phases, "method": t.method,
                "passages": "per fleet passage: one train drawn from the traffic (docs/traffic.md)",
@@ -183,8 +183,8 @@ def fleet_growth_dataset(classes, tables: dict, history, fleet: Fleet) -> xr.Dat
 
     ds = datasets.growth(history, scn.track, fleet.speeds.mean, len(scn.wheels.positions), bays=bays, force=force)
     years = history.passages / fleet.axles_per_day / 365
-    ds = ds.assign_coords(years=_var("passage", years, "year", "years of the traffic (axle passages / axles_per_day / 365)"),
-                          mgt=_var("passage", years * fleet.mgt_per_year, "Mt", "million gross tonnes of traffic"))
+    ds = ds.assign_coords(years=data_var("passage", years, "year", "years of the traffic (axle passages / axles_per_day / 365)"),
+                          mgt=data_var("passage", years * fleet.mgt_per_year, "Mt", "million gross tonnes of traffic"))
     ds["passage"].attrs["long_name"] = "axle passages of the traffic (wheel passages on one rail)"
     ds["exponential_rate"].attrs["long_name"] += " (per axle passage of the traffic)"
     ds["exponential_rate_per_year"] = ds["exponential_rate"] * fleet.axles_per_day * 365
@@ -270,19 +270,19 @@ def traffic_study_dataset(spectra, cases) -> xr.Dataset:
     first = spectra[0]
     return xr.Dataset(
         {
-            "growth_dB_per_1e5_axles": _var(("drive", "spread", "wavelength"), g, "dB per 100000 axle passages",
+            "growth_dB_per_1e5_axles": data_var(("drive", "spread", "wavelength"), g, "dB per 100000 axle passages",
                                        "level change per 100,000 axle passages of the traffic of a small roughness"),
-            "band_growth_dB_per_1e5_axles": _var(("drive", "spread", "band"), gb, "dB per 100000 axle passages",
+            "band_growth_dB_per_1e5_axles": data_var(("drive", "spread", "band"), gb, "dB per 100000 axle passages",
                                             "mean over the band's lines of the level change per 100,000 axle passages "
                                             "(NaN: no line in the band)"),
         },
         coords={
-            "drive": _var("drive", np.array(drives), "", "drive of the locomotive's axles (config/traffic_study.yaml)"),
-            "spread": _var("spread", np.array(spreads), "1", "speed spread s: speeds uniform on V (1 -+ s)"),
-            "wavelength": _var("wavelength", lam, "m", "roughness wavelength"),
-            "band": _var("band", bands.nominal, "m", "nominal centre wavelength of the one-third-octave band (EN 15610)"),
-            "band_lower": _var("band", bands.lower, "m", "band edge, shorter wavelength"),
-            "band_upper": _var("band", bands.upper, "m", "band edge, longer wavelength"),
+            "drive": data_var("drive", np.array(drives), "", "drive of the locomotive's axles (config/traffic_study.yaml)"),
+            "spread": data_var("spread", np.array(spreads), "1", "speed spread s: speeds uniform on V (1 -+ s)"),
+            "wavelength": data_var("wavelength", lam, "m", "roughness wavelength"),
+            "band": data_var("band", bands.nominal, "m", "nominal centre wavelength of the one-third-octave band (EN 15610)"),
+            "band_lower": data_var("band", bands.lower, "m", "band edge, shorter wavelength"),
+            "band_upper": data_var("band", bands.upper, "m", "band edge, longer wavelength"),
         },
         attrs={"pinned_pinned_wavelength_m": pp, "pinned_pinned_band_m": float(bands.nominal[ib]),
                "pinned_pinned_frequency_Hz": float(first.attrs["pinned_pinned_frequency_Hz"]),

@@ -16,7 +16,7 @@ import xarray as xr
 from ..cell import TrackCell, cell_stationary_receptance
 from ..track import Track, pinned_pinned_frequency, stationary_receptance
 from .bands import band_levels, third_octave_bands
-from .datasets import _var
+from ..setup.io import data_var
 
 __all__ = ["support_labels", "support_receptances", "case_dataset", "band_summary", "FREQUENCIES_HZ"]
 
@@ -145,35 +145,35 @@ def case_dataset(cell: TrackCell, uniform: Track, speed: float, growth: xr.Datas
 
     return xr.Dataset(
         {
-            "receptance_above_support_dB": _var(("frequency", "support"), db(above), "dB re 1 m/N", "point receptance magnitude above each support"),
-            "receptance_mid_bay_dB": _var(("frequency", "support"), db(mid), "dB re 1 m/N", "point receptance magnitude mid-way to the next support"),
-            "uniform_receptance_above_support_dB": _var("frequency", db(ua), "dB re 1 m/N", "uniform track: point receptance above a support"),
-            "uniform_receptance_mid_bay_dB": _var("frequency", db(um), "dB re 1 m/N", "uniform track: point receptance at mid-span"),
-            "force": _var("position", force, "N", "contact force of the wheel over the smooth rail along the cell"),
-            "uniform_force": _var("position_uniform", fu, "N", "uniform track: contact force over the smooth rail along one bay"),
-            "level": _var("wavelength", lev, "dB re 1 um", f"roughness level per line after {int(growth['passage'].values[-1])} passages"),
-            "uniform_level": _var("wavelength_uniform", lev_u, "dB re 1 um", "uniform track: roughness level per line after the same run"),
-            "growth_dB_per_1e5_trains": _var("spectrum_wavelength", sp["growth_dB_per_1e5_trains"].values, "dB per 100000 train passages",
+            "receptance_above_support_dB": data_var(("frequency", "support"), db(above), "dB re 1 m/N", "point receptance magnitude above each support"),
+            "receptance_mid_bay_dB": data_var(("frequency", "support"), db(mid), "dB re 1 m/N", "point receptance magnitude mid-way to the next support"),
+            "uniform_receptance_above_support_dB": data_var("frequency", db(ua), "dB re 1 m/N", "uniform track: point receptance above a support"),
+            "uniform_receptance_mid_bay_dB": data_var("frequency", db(um), "dB re 1 m/N", "uniform track: point receptance at mid-span"),
+            "force": data_var("position", force, "N", "contact force of the wheel over the smooth rail along the cell"),
+            "uniform_force": data_var("position_uniform", fu, "N", "uniform track: contact force over the smooth rail along one bay"),
+            "level": data_var("wavelength", lev, "dB re 1 um", f"roughness level per line after {int(growth['passage'].values[-1])} passages"),
+            "uniform_level": data_var("wavelength_uniform", lev_u, "dB re 1 um", "uniform track: roughness level per line after the same run"),
+            "growth_dB_per_1e5_trains": data_var("spectrum_wavelength", sp["growth_dB_per_1e5_trains"].values, "dB per 100000 train passages",
                                              "growth-rate spectrum: level change per 100,000 passages of the whole train"),
-            "growth_dB_per_1e5_axles": _var("spectrum_wavelength", sp["growth_dB_per_1e5_axles"].values, "dB per 100000 axle passages",
+            "growth_dB_per_1e5_axles": data_var("spectrum_wavelength", sp["growth_dB_per_1e5_axles"].values, "dB per 100000 axle passages",
                                             "growth-rate spectrum: level change per 100,000 axle (wheel) passages"),
-            "uniform_growth_dB_per_1e5_trains": _var("spectrum_wavelength_uniform", su["growth_dB_per_1e5_trains"].values,
+            "uniform_growth_dB_per_1e5_trains": data_var("spectrum_wavelength_uniform", su["growth_dB_per_1e5_trains"].values,
                                                      "dB per 100000 train passages",
                                                      "uniform track: growth-rate spectrum per 100,000 passages of the whole train"),
-            "uniform_growth_dB_per_1e5_axles": _var("spectrum_wavelength_uniform", su["growth_dB_per_1e5_axles"].values,
+            "uniform_growth_dB_per_1e5_axles": data_var("spectrum_wavelength_uniform", su["growth_dB_per_1e5_axles"].values,
                                                     "dB per 100000 axle passages",
                                                     "uniform track: growth-rate spectrum per 100,000 axle (wheel) passages"),
         },
         coords={
-            "frequency": _var("frequency", np.asarray(frequencies, dtype=float), "Hz", "frequency"),
-            "support": _var("support", np.arange(cell.bays), "1", "support index in the cell"),
-            "support_label": _var("support", np.array(labels), "1", "support position and how it differs from the nominal"),
-            "position": _var("position", x, "m", "wheel position along the cell"),
-            "position_uniform": _var("position_uniform", xu, "m", "wheel position along the uniform track's period"),
-            "wavelength": _var("wavelength", lam, "m", "roughness wavelength of the line"),
-            "wavelength_uniform": _var("wavelength_uniform", lam_u, "m", "roughness wavelength of the line (uniform track)"),
-            "spectrum_wavelength": _var("spectrum_wavelength", sp["wavelength"].values, "m", "growth-rate spectrum wavelength"),
-            "spectrum_wavelength_uniform": _var("spectrum_wavelength_uniform", su["wavelength"].values, "m", "growth-rate spectrum wavelength (uniform track)"),
+            "frequency": data_var("frequency", np.asarray(frequencies, dtype=float), "Hz", "frequency"),
+            "support": data_var("support", np.arange(cell.bays), "1", "support index in the cell"),
+            "support_label": data_var("support", np.array(labels), "1", "support position and how it differs from the nominal"),
+            "position": data_var("position", x, "m", "wheel position along the cell"),
+            "position_uniform": data_var("position_uniform", xu, "m", "wheel position along the uniform track's period"),
+            "wavelength": data_var("wavelength", lam, "m", "roughness wavelength of the line"),
+            "wavelength_uniform": data_var("wavelength_uniform", lam_u, "m", "roughness wavelength of the line (uniform track)"),
+            "spectrum_wavelength": data_var("spectrum_wavelength", sp["wavelength"].values, "m", "growth-rate spectrum wavelength"),
+            "spectrum_wavelength_uniform": data_var("spectrum_wavelength_uniform", su["wavelength"].values, "m", "growth-rate spectrum wavelength (uniform track)"),
         },
         attrs={"speed_m_per_s": float(speed), "cell_bays": cell.bays, "cell_period_m": cell.period,
                "rail_dampers": len(cell.dampers),

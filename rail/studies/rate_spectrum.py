@@ -7,7 +7,8 @@ import xarray as xr
 
 from ..contact import ReportNormal, hertz_half_length, normal_contact
 from ..growth_spectrum import RateSpectrum, rate_spectrum, spectrum_lines
-from .datasets import _var, sweep_coords
+from ..setup.io import data_var
+from .datasets import sweep_coords
 from .validity import WEAR_PATH_TEXT, creepage_model_text, validity_text
 
 __all__ = ["spectrum_with_settings", "rate_spectrum_dataset", "spectrum_dataset_of", "REPORT_VALID_PATCH_LENGTHS", "sweep_rate_spectrum", "growing_bands", "summary_markdown", "PASSAGES_PER_DB"]
@@ -79,43 +80,43 @@ def rate_spectrum_dataset(spectra: dict[float, RateSpectrum], L: float, wheels: 
                                    {"level_unit": "dB", "units_text": "dB/Mt"})}
     return xr.Dataset(
         {
-            **{k: _var(("speed", "wavelength"), v, units[k][0], units[k][1], **units[k][2]) for k, v in rates.items()},
-            "growth_rate": _var(("speed", "wavelength"), g, "1",
+            **{k: data_var(("speed", "wavelength"), v, units[k][0], units[k][1], **units[k][2]) for k, v in rates.items()},
+            "growth_rate": data_var(("speed", "wavelength"), g, "1",
                                 "relative growth rate of the roughness amplitude per train passage, -Re R (> 0: grows)"),
-            "growth_rate_other": _var(("speed", "wavelength"), np.array([-spectra[v].rate_other.real for v in V]), "1",
+            "growth_rate_other": data_var(("speed", "wavelength"), np.array([-spectra[v].rate_other.real for v in V]), "1",
                                       "growth rate of the other phase at a locked line (cosine and sine about the supports); "
                                       "at a free line the same as growth_rate"),
-            "drift": _var(("speed", "wavelength"), -R.imag, "rad",
+            "drift": data_var(("speed", "wavelength"), -R.imag, "rad",
                           "phase drift of the roughness per train passage, -Im R (the profile moves along the rail)"),
-            "growth_dB_per_1e5_trains": _var(("speed", "wavelength"), 20 * np.log10(np.e) * g * PASSAGES_PER_DB,
+            "growth_dB_per_1e5_trains": data_var(("speed", "wavelength"), 20 * np.log10(np.e) * g * PASSAGES_PER_DB,
                                              f"dB per {PASSAGES_PER_DB} train passages",
                                              f"level change per {PASSAGES_PER_DB} passages of the whole train (all its wheels "
                                              "once) of a small roughness at the wavelength",
                                              reference_level="dB re the initial level"),
-            "source": _var(("speed", "wavelength"), src, "m",
+            "source": data_var(("speed", "wavelength"), src, "m",
                            "wear of the smooth rail at the line per train passage (amplitude 2|W0|; only on the one-bay comb L/k)"),
-            "crossover_amplitude": _var(("speed", "wavelength"), cross, "m",
+            "crossover_amplitude": data_var(("speed", "wavelength"), cross, "m",
                                         "roughness amplitude at which the feedback |R| Z equals the parametric source (comb lines; "
                                         "below it the supports' source dominates)"),
-            "grid_spread": _var(("speed", "wavelength"), np.array([spectra[v].grid_spread for v in V]), "1",
+            "grid_spread": data_var(("speed", "wavelength"), np.array([spectra[v].grid_spread for v in V]), "1",
                                 "half the spread of growth_rate over the contact grids averaged (the grid-tied error of one grid)"),
-            "sideband_ratio": _var(("speed", "wavelength"), np.array([spectra[v].sideband for v in V]), "1",
+            "sideband_ratio": data_var(("speed", "wavelength"), np.array([spectra[v].sideband for v in V]), "1",
                                    "largest wear at the sidebands j +- N over the wear at j (coupling within the Bloch class; "
                                    "0 at locked lines)"),
-            "fastest_wavelength": _var("speed", lam[np.argmax(g, axis=1)], "m", "wavelength of the fastest growth"),
-            "fastest_growth_dB_per_1e5_trains": _var("speed", 20 * np.log10(np.e) * g.max(axis=1) * PASSAGES_PER_DB,
+            "fastest_wavelength": data_var("speed", lam[np.argmax(g, axis=1)], "m", "wavelength of the fastest growth"),
+            "fastest_growth_dB_per_1e5_trains": data_var("speed", 20 * np.log10(np.e) * g.max(axis=1) * PASSAGES_PER_DB,
                                                      f"dB per {PASSAGES_PER_DB} train passages",
                                                      f"fastest growth per {PASSAGES_PER_DB} passages of the whole train"),
-            "linearity": _var("speed", np.array([spectra[v].linearity for v in V]), "1",
+            "linearity": data_var("speed", np.array([spectra[v].linearity for v in V]), "1",
                               "largest |R(2 eps) / R(eps) - 1| over the lines checked"),
         },
         coords={
-            "speed": _var("speed", np.array(V, dtype=float), "m/s", "train speed"),
-            "wavelength": _var("wavelength", lam, "m", "roughness wavelength N L / j"),
-            "line": _var("wavelength", first.line, "1", f"line j of the {first.bays}-bay period"),
-            "locked": _var("wavelength", first.locked, "1",
+            "speed": data_var("speed", np.array(V, dtype=float), "m/s", "train speed"),
+            "wavelength": data_var("wavelength", lam, "m", "roughness wavelength N L / j"),
+            "line": data_var("wavelength", first.line, "1", f"line j of the {first.bays}-bay period"),
+            "locked": data_var("wavelength", first.locked, "1",
                            "0 free line; 1 on the one-bay comb L/k; 2 on the half-comb 2L/(2k+1) (phase locked to the supports)"),
-            "frequency": _var(("speed", "wavelength"), np.array(V)[:, None] / lam[None, :], "Hz", "excitation frequency V / wavelength"),
+            "frequency": data_var(("speed", "wavelength"), np.array(V)[:, None] / lam[None, :], "Hz", "excitation frequency V / wavelength"),
         },
         attrs={"eps_m": first.eps, "bays": first.bays, "grid_phases": first.grid_phases,
                "method": "; ".join(f"{v:g} m/s: {spectra[v].method}" for v in V), "wheels": int(wheels), "sleeper_spacing_m": float(L),
@@ -240,14 +241,14 @@ def sweep_rate_spectrum(points: list, keys, values, indices, units) -> xr.Datase
     coords["locked"] = first["locked"]
     return xr.Dataset(
         {
-            "growth_dB_per_1e5_trains": _var(dims + ("wavelength",), g, f"dB per {PASSAGES_PER_DB} train passages",
+            "growth_dB_per_1e5_trains": data_var(dims + ("wavelength",), g, f"dB per {PASSAGES_PER_DB} train passages",
                                              first["growth_dB_per_1e5_trains"].attrs["long_name"]),
-            "growth_dB_per_1e5_axles": _var(dims + ("wavelength",), out["growth_dB_per_1e5_axles"], "dB per 100000 axle passages",
+            "growth_dB_per_1e5_axles": data_var(dims + ("wavelength",), out["growth_dB_per_1e5_axles"], "dB per 100000 axle passages",
                                             first["growth_dB_per_1e5_axles"].attrs["long_name"]),
-            "growth_rate": _var(dims + ("wavelength",), out["growth_rate"], "1", first["growth_rate"].attrs["long_name"]),
-            "drift": _var(dims + ("wavelength",), out["drift"], "rad", first["drift"].attrs["long_name"]),
-            "fastest_wavelength": _var(dims, lam[np.nanargmax(g, axis=-1)], "m", "wavelength of the fastest growth"),
-            "fastest_growth_dB_per_1e5_trains": _var(dims, np.nanmax(g, axis=-1), f"dB per {PASSAGES_PER_DB} train passages",
+            "growth_rate": data_var(dims + ("wavelength",), out["growth_rate"], "1", first["growth_rate"].attrs["long_name"]),
+            "drift": data_var(dims + ("wavelength",), out["drift"], "rad", first["drift"].attrs["long_name"]),
+            "fastest_wavelength": data_var(dims, lam[np.nanargmax(g, axis=-1)], "m", "wavelength of the fastest growth"),
+            "fastest_growth_dB_per_1e5_trains": data_var(dims, np.nanmax(g, axis=-1), f"dB per {PASSAGES_PER_DB} train passages",
                                                      f"fastest growth per {PASSAGES_PER_DB} passages of the whole train"),
         },
         coords=coords,

@@ -34,7 +34,7 @@ from .. import chain, contact, growth, interaction, moving
 from ..scenario import Scenario
 from ..setup.build import scenario as build_scenario
 from ..setup.config import ConfigError, deep_merge, resolve
-from .datasets import _var
+from ..setup.io import data_var
 
 __all__ = ["CLEAR_ERRORS", "run_case", "outcome_matches"]
 
@@ -159,18 +159,18 @@ def stability_dataset(records: list[dict], expect: dict, critical_speed: float) 
     matches = np.array([int(outcome_matches(r, expect[r["case"]])) for r in records])
     return xr.Dataset(
         {
-            "description": _var("case", col("description"), "1", "what the case tests"),
-            "status": _var("case", col("status"), "1", "ok (checks passed), error (clear error naming the cause) or failed"),
-            "error_type": _var("case", col("error_type"), "1", "type of the error that stopped the case"),
-            "message": _var("case", col("message"), "1", "error message, or a note (full slip)"),
-            "stage": _var("case", col("stage"), "1", "computation stage reached"),
-            "checks": _var("case", checks, "1", "checks of a completed case: value, limit, outcome"),
-            "expected": _var("case", expected, "1", "expected outcome (config/stability.yaml)"),
-            "as_expected": _var("case", matches, "1", "1 when the outcome is the expected one"),
-            "full_slip": _var("case", np.array([float(r["full_slip"]) for r in records]), "1", "fraction of the bay without a stick zone (one passage)"),
-            "cpu_time": _var("case", np.array([float(r["cpu_s"]) for r in records]), "s", "CPU time of the case"),
+            "description": data_var("case", col("description"), "1", "what the case tests"),
+            "status": data_var("case", col("status"), "1", "ok (checks passed), error (clear error naming the cause) or failed"),
+            "error_type": data_var("case", col("error_type"), "1", "type of the error that stopped the case"),
+            "message": data_var("case", col("message"), "1", "error message, or a note (full slip)"),
+            "stage": data_var("case", col("stage"), "1", "computation stage reached"),
+            "checks": data_var("case", checks, "1", "checks of a completed case: value, limit, outcome"),
+            "expected": data_var("case", expected, "1", "expected outcome (config/stability.yaml)"),
+            "as_expected": data_var("case", matches, "1", "1 when the outcome is the expected one"),
+            "full_slip": data_var("case", np.array([float(r["full_slip"]) for r in records]), "1", "fraction of the bay without a stick zone (one passage)"),
+            "cpu_time": data_var("case", np.array([float(r["cpu_s"]) for r in records]), "s", "CPU time of the case"),
         },
-        coords={"case": _var("case", np.array(names), "1", "stability case")},
+        coords={"case": data_var("case", np.array(names), "1", "stability case")},
         attrs={"critical_speed_m_per_s": critical_speed},
     )
 

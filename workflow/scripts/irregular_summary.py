@@ -7,7 +7,6 @@ import xarray as xr
 
 from rail.setup import build, io
 from rail.studies import irregular
-from rail.studies.datasets import _var
 
 
 def main(cfgs, case_cfgs, spreads, uniform_cfg, speed, cases, uniform_path, random_paths, out, log):
@@ -29,14 +28,14 @@ def main(cfgs, case_cfgs, spreads, uniform_cfg, speed, cases, uniform_path, rand
     n = len(rows)
     ds = xr.Dataset(
         {
-            "pp_level_dB": _var("case", np.array([r[3]["pp_level_dB"] for r in rows]), "dB re 1 um",
+            "pp_level_dB": io.data_var("case", np.array([r[3]["pp_level_dB"] for r in rows]), "dB re 1 um",
                                 "level of the one-third-octave band holding the pinned-pinned wavelength after the run"),
-            "loudest_level_dB": _var("case", np.array([r[3]["loudest_level_dB"] for r in rows]), "dB re 1 um", "level of the loudest band (20 mm - 1 m)"),
-            "loudest_band_m": _var("case", np.array([r[3]["loudest_band_m"] for r in rows]), "m", "nominal centre of the loudest band"),
+            "loudest_level_dB": io.data_var("case", np.array([r[3]["loudest_level_dB"] for r in rows]), "dB re 1 um", "level of the loudest band (20 mm - 1 m)"),
+            "loudest_band_m": io.data_var("case", np.array([r[3]["loudest_band_m"] for r in rows]), "m", "nominal centre of the loudest band"),
         },
-        coords={"case": _var("case", np.array([r[0] for r in rows]), "1", "scenario"),
-                "kind": _var("case", np.array([r[1] for r in rows]), "1", "uniform, named case or random track"),
-                "spacing_spread": _var("case", np.array([r[2] for r in rows]), "1", "spread of the sleeper spacing of a random track (uniform draw, +-)")},
+        coords={"case": io.data_var("case", np.array([r[0] for r in rows]), "1", "scenario"),
+                "kind": io.data_var("case", np.array([r[1] for r in rows]), "1", "uniform, named case or random track"),
+                "spacing_spread": io.data_var("case", np.array([r[2] for r in rows]), "1", "spread of the sleeper spacing of a random track (uniform draw, +-)")},
         attrs={"speed_m_per_s": speed, "pp_band_m": rows[0][3]["pp_band_m"], "passages": rows[0][3]["passages"],
                "pinned_pinned_wavelength_m": rows[0][3]["pinned_pinned_wavelength_m"]},
     )
