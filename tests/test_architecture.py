@@ -203,6 +203,65 @@ def test_the_private_name_check_finds_an_import_and_an_attribute(tmp_path):
     assert _private_imports(pkg / "contact/march.py", pkg) == []
 
 
+# The order inside the physics layer (rail/*.py and rail/contact/): a module imports only modules of
+# the groups above its own. The report's chain read from the bottom up; each group with its reason.
+PHYSICS_ORDER = [
+    ({"_lazyjit", "provenance", "csvinput"}, "tools: the lazy numba decorator, the rerun hash, the CSV reader"),
+    ({"quadrature", "halfspace"}, "quadrature rules; the elastic half-space and contact-spring damping (report 4.1)"),
+    ({"track"}, "the Timoshenko rail on periodic discrete supports (4.2)"),
+    ({"cell"}, "supports that vary over a cell of bays, built from track's parts"),
+    ({"moving", "decay"}, "moving-load receptances of a track cell; its EN 15461 decay rate"),
+    ({"roughness", "interaction"}, "roughness over N bays; wheel/rail forces on it (4.3), through the moving receptances"),
+    ({"contact"}, "normal and tangential contact (4.4), along the force histories"),
+    ({"wheelset", "wear", "growth"}, "the wheelset's modes in the slip; frictional-work wear (4.5); growth over passages (4.6)"),
+    ({"scenario"}, "one scenario: every input of the chain as one frozen object"),
+    ({"chain"}, "the model chain, written once"),
+    ({"growth_spectrum"}, "growth rate over wavelength, each line a run of the chain"),
+    ({"fleet"}, "a fleet of vehicle classes, each a scenario"),
+    ({"traffic", "uncertainty"}, "growth under a mix of traffic; a seeded ensemble of uncertain inputs"),
+    ({"kernels"}, "compiles the contact kernels ahead of a run"),
+]
+
+
+def _physics_name(path: Path) -> str:
+    rel = path.relative_to(RAIL)
+    return rel.parts[0] if len(rel.parts) > 1 else rel.stem
+
+
+def _physics_order_problems(graph: dict, order: list) -> list[str]:
+    rank = {name: i for i, (names, _) in enumerate(order) for name in names}
+    problems = []
+    for f, deps in graph.items():
+        if _layer(f) != "physics" or f == RAIL / "__init__.py":
+            continue
+        me = _physics_name(f)
+        if me not in rank:
+            problems.append(f"{f.relative_to(RAIL)} is in no group of PHYSICS_ORDER")
+            continue
+        for d in deps:
+            them = _physics_name(d)
+            if _layer(d) != "physics" or d == RAIL / "__init__.py" or them == me:
+                continue
+            if rank.get(them, len(order)) >= rank[me]:
+                problems.append(f"{f.relative_to(RAIL)} imports {d.relative_to(RAIL)}, not above it in PHYSICS_ORDER")
+    return problems
+
+
+def test_physics_modules_import_only_modules_above_them_in_the_report_order():
+    graph = {f: _imports(f) for f in _rail_files()}
+    problems = _physics_order_problems(graph, PHYSICS_ORDER)
+    assert not problems, "\n".join(problems)
+
+
+def test_the_physics_order_check_finds_an_import_upwards():
+    # the check can fail: the track made to import the wear model, or a module left out of the order
+    graph = {f: _imports(f) for f in _rail_files()}
+    graph[RAIL / "track.py"] = graph[RAIL / "track.py"] | {RAIL / "wear.py"}
+    assert _physics_order_problems(graph, PHYSICS_ORDER) == ["track.py imports wear.py, not above it in PHYSICS_ORDER"]
+    without_decay = [(names - {"decay"}, why) for names, why in PHYSICS_ORDER]
+    assert _physics_order_problems({RAIL / "decay.py": set()}, without_decay) == ["decay.py is in no group of PHYSICS_ORDER"]
+
+
 def test_contact_nodes_are_bounded_in_one_place():
     schema = load_yaml(ROOT / "config/schema/config.schema.yaml")
     nodes = schema["properties"]["numerics"]["properties"]["contact"]["properties"]["nodes"]
