@@ -292,25 +292,16 @@ def passage_scenario(cfg: dict, name: str = "default", source: str = "config") -
 def scenario(cfg: dict, name: str = "default", source: str = "config") -> Scenario:
     """The Scenario of a resolved, validated configuration (rail.setup.config.resolve).
 
+    The passage's Scenario (passage_scenario: track, contact, wear) with the train's wheel positions, the
+    growth settings, the initial roughness, the speeds, the traffic and the track's cell added.
     Raises ConfigError listing every physics constraint the configuration breaks (physics_problems),
     with ``source`` (the scenario file) in each line.
     """
-    problems = physics_problems(cfg, source)
-    if problems:
-        raise ConfigError("invalid configuration:\n  " + "\n  ".join(problems))
-    w, g, c = cfg["wheels"], cfg["growth"], cfg["contact"]
-    num = cfg["numerics"]
-    return Scenario(
-        name=name,
-        track=_cell_track(cfg),
-        track_numerics=TrackNumerics(int(num["track"]["harmonics"]), float(num["track"]["rtol"])),
-        wheels=Wheels(float(w["mass"]), float(w["radius"]), float(w["static_load"]), tuple(float(a) for a in w["positions"])),
-        spring=_spring(cfg),
-        material=_material(cfg),
-        elastic=elastic(cfg),
-        wear_law=WearLaw(float(cfg["material"]["density"]), float(cfg["wear"]["coefficient"])),
-        contact_numerics=ContactNumerics(int(num["contact"]["nodes"]), str(c["closure"]), float(c["closure_scale"]), str(c["normal"]),
-                                         str(c["wear_path"])),
+    passage = passage_scenario(cfg, name, source)
+    g = cfg["growth"]
+    return dataclasses.replace(
+        passage,
+        wheels=dataclasses.replace(passage.wheels, positions=tuple(float(a) for a in cfg["wheels"]["positions"])),
         growth=GrowthSettings(passages=int(g["passages"]), passages_per_update=int(g["passages_per_update"]),
                               save_every=int(g["save_every"]), vary_grid_spacing=bool(g["vary_grid_spacing"]),
                               step_tolerance=float(g["step_tolerance"])),
