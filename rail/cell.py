@@ -472,8 +472,8 @@ def make_cell(track: Track, bays: int, spacing=None, pad=None, ballast=None, sle
         and half-sleeper mass; loss factors stay (default 1).
     damper : dict, optional
         A rail damper in every bay: mass [kg], frequency [Hz] (tuning sqrt(k/m) / 2 pi), loss_factor
-        [-] (default 0.3), viscous_damping [N s/m] (default 0), position [-] as a fraction of the
-        bay after its support (default 0.5).
+        [-], viscous_damping [N s/m], position [-] as a fraction of the bay after its support; every
+        key given (rail.setup.build.track_cell fills the schema's defaults of the optional ones).
     random : RandomSupports, optional
         Random factors multiplying the given ones; the random bay lengths are rescaled so that the
         period keeps the length of the given ones.
@@ -517,9 +517,9 @@ def make_cell(track: Track, bays: int, spacing=None, pad=None, ballast=None, sle
     if damper is not None:
         m = float(damper["mass"])
         f = float(damper["frequency"])
-        frac = float(damper.get("position", 0.5))
+        frac = float(damper["position"])
         if not 0.0 <= frac < 1.0:
             raise ValueError(f"track.cell.damper.position = {frac!r} is not allowed: it must lie in [0, 1) (a fraction of the bay).")
-        dampers = tuple(RailDamper(float(pos[j] + frac * sp[j]), m, m * (2 * np.pi * f) ** 2, float(damper.get("loss_factor", 0.3)),
-                                   float(damper.get("viscous_damping", 0.0))) for j in range(N))
+        dampers = tuple(RailDamper(float(pos[j] + frac * sp[j]), m, m * (2 * np.pi * f) ** 2, float(damper["loss_factor"]),
+                                   float(damper["viscous_damping"])) for j in range(N))
     return TrackCell(nominal, supports, period, dampers)

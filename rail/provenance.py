@@ -4,8 +4,9 @@ every import (relative, absolute and inside functions), and a hash of their text
 The workflow puts ``code_hash(script)`` in every rule's params, so that changing a module reruns
 exactly the jobs whose scripts import it, directly or through other modules; the growth checkpoints
 carry the hash of rail.chain's imports, so that a checkpoint written by other physics code is never
-resumed. Derived from the imports themselves, the list cannot go stale. This module imports nothing
-from rail.
+resumed. Derived from the imports themselves, the list cannot go stale. A script that imports
+rail.setup.config hashes the schema's defaults of optional keys too (read there: rail.setup.config.setting).
+This module imports nothing from rail.
 """
 
 from __future__ import annotations
@@ -14,6 +15,8 @@ import ast
 import functools
 import hashlib
 from pathlib import Path
+
+import yaml
 
 __all__ = ["rail_imports", "code_hash", "module_hash"]
 
@@ -131,10 +134,30 @@ def code_hash(path, root: Path = ROOT) -> str:
     """
     root = Path(root).resolve()
     h = hashlib.sha256()
-    for f in rail_imports(path, root):
+    imports = rail_imports(path, root)
+    for f in imports:
         h.update(str(f.relative_to(root)).encode())
         h.update(f.read_bytes())
+    if root / "setup" / "config.py" in imports:  # it reads the schema's defaults of optional keys (rail.setup.config.setting)
+        h.update(_schema_defaults(root.parent / "config" / "schema" / "config.schema.yaml"))
     return h.hexdigest()[:12]
+
+
+def _schema_defaults(path: Path) -> bytes:
+    """The ``default:`` of every key of the schema at ``path``, as sorted text (empty without a schema)."""
+    if not path.is_file():
+        return b""
+    out = []
+
+    def walk(node, key):
+        if isinstance(node, dict):
+            if "default" in node and key:
+                out.append(f"{key}={node['default']!r}")
+            for name, child in node.get("properties", {}).items():
+                walk(child, f"{key}.{name}" if key else name)
+
+    walk(yaml.safe_load(path.read_text()), "")
+    return "\n".join(sorted(out)).encode()
 
 
 def module_hash(dotted: str, root: Path = ROOT) -> str:

@@ -355,6 +355,24 @@ def test_rerun_hash_follows_the_imports_in_a_changed_copy(tmp_path):
     assert pkg / "plotting/track.py" in provenance.rail_imports(scripts / "growth.py", pkg)
 
 
+def test_rerun_hash_follows_the_schemas_defaults(tmp_path):
+    # the defaults of optional keys live in the schema (rail.setup.config.setting): changing one
+    # changes the hash of the scripts that build a scenario; changing a description does not
+    pkg = tmp_path / "rail"
+    shutil.copytree(RAIL, pkg, ignore=shutil.ignore_patterns("__pycache__"))
+    (tmp_path / "config/schema").mkdir(parents=True)
+    schema = tmp_path / "config/schema/config.schema.yaml"
+    text = (ROOT / "config/schema/config.schema.yaml").read_text()
+    schema.write_text(text)
+    script = ROOT / "workflow/scripts/growth.py"
+    before = provenance.code_hash(script, pkg)
+    schema.write_text(text.replace("Omit it for identical supports", "Leave it out for identical supports"))
+    assert provenance.code_hash(script, pkg) == before
+    assert "unit: m/s, default: 0, description" in text
+    schema.write_text(text.replace("unit: m/s, default: 0, description", "unit: m/s, default: 0.1, description"))
+    assert provenance.code_hash(script, pkg) != before
+
+
 def test_public_physics_functions_have_numpydoc_docstrings_with_units():
     # every public function of the physics layer states its parameters and returns (numpydoc),
     # with units in brackets

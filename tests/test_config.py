@@ -103,3 +103,40 @@ def test_a_nested_value_given_as_text_gets_the_configfile_hint(defaults, schema)
     with pytest.raises(ConfigError, match=r"material = '\{poisson_ratio: 0\.25\}' has the wrong type: it must be of type "
                                           r"object \(snakemake --config passes a nested value as text: .*--configfile\)"):
         validate_config(cfg, schema, source="--config")
+
+
+def test_an_absent_optional_key_takes_the_schema_default(defaults, schema):
+    # config.yaml sets no contact.friction_decay and no wheelset: the schema's defaults apply, read
+    # where they are used (rail.setup.config.setting); a torsional wheelset given only its model gets
+    # the schema's inertias, stiffnesses and damping (its description states them: 40, 10, 5e6, 0, 1e6, 0.02)
+    from rail.wheelset import Wheelset, wheelset_modes
+
+    cfg = rconfig.resolve(defaults, schema, {"wheelset": {"model": "torsional"}})
+    assert "friction_decay" not in cfg["contact"] and rconfig.setting(cfg, "contact.friction_decay", schema) == 0
+    assert rconfig.setting(cfg, "wheelset.other_wheel", schema) == "in_phase"
+    expected = wheelset_modes(Wheelset(model="torsional", radius=float(cfg["wheels"]["radius"]), wheel_inertia=40.0, centre_inertia=10.0,
+                                       axle_stiffness=5e6, motor_inertia=0.0, coupling_stiffness=1e6, damping=0.02, other_wheel="in_phase"))
+    assert repr(build.scenario(cfg).material.longitudinal) == repr(expected)
+    # a value the file gives wins over the default
+    cfg = rconfig.resolve(defaults, schema, {"contact": {"friction_decay": 0.5}})
+    assert rconfig.setting(cfg, "contact.friction_decay", schema) == 0.5 and build.scenario(cfg).material.friction_decay == 0.5
+
+
+def test_a_key_config_yaml_sets_has_no_schema_default(schema):
+    # its default is its value in config/config.yaml: one home, not two
+    with pytest.raises(KeyError, match=r"contact\.creepage: config/schema/config\.schema\.yaml states no default"):
+        rconfig.schema_default(schema, "contact.creepage")
+    with pytest.raises(KeyError, match=r"contact\.nokey: not a key"):
+        rconfig.schema_default(schema, "contact.nokey")
+
+
+def test_the_wheelset_dataclass_defaults_are_the_schemas(schema):
+    # rail.wheelset.Wheelset keeps defaults for direct use from Python (tests/test_creep.py); the
+    # workflow passes every key from the schema, and the two must not drift apart
+    import dataclasses
+
+    from rail.wheelset import Wheelset
+
+    for f in dataclasses.fields(Wheelset):
+        if f.default is not dataclasses.MISSING:
+            assert f.default == rconfig.schema_default(schema, f"wheelset.{f.name}"), f.name

@@ -22,12 +22,12 @@ from ..fleet import Fleet, Vehicle, speed_classes
 from ..growth import GrowthSettings
 from ..halfspace import ElasticMaterial, HalfSpaceNumerics, contact_loss_factor
 from ..interaction import ContactSpring, Wheels
-from ..roughness import SPIKE_THRESHOLD, read_profile_record, record_bays
+from ..roughness import read_profile_record, record_bays
 from ..scenario import InitialRoughness, Scenario, TrackNumerics
 from ..track import Ballast, Pad, Rail, Sleeper, Track, damping_problem, min_harmonics, pinned_pinned_frequency
 from ..wear import WearLaw
 from ..wheelset import Wheelset, wheelset_modes
-from .config import ConfigError, configured_speeds
+from .config import ConfigError, configured_speeds, setting
 
 MAX_ROUGHNESS_BAYS = 64  # the schema's bound on roughness.bays (config/schema: roughness.bays.maximum)
 
@@ -96,11 +96,13 @@ def track_cell(cfg: dict) -> TrackCell | None:
     if c is None:
         return None
     r = c.get("random")
-    rnd = None if r is None else RandomSupports(int(r["seed"]), str(r.get("distribution", "uniform")), float(r.get("spacing", 0.0)),
-                                               float(r.get("pad", 0.0)), float(r.get("ballast", 0.0)), float(r.get("sleeper_mass", 0.0)))
+    rnd = None if r is None else RandomSupports(int(r["seed"]), str(setting(cfg, "track.cell.random.distribution")),
+                                               *(float(setting(cfg, f"track.cell.random.{k}")) for k in ("spacing", "pad", "ballast", "sleeper_mass")))
+    damper = None if c.get("damper") is None else {
+        **c["damper"], **{k: setting(cfg, f"track.cell.damper.{k}") for k in ("loss_factor", "viscous_damping", "position")}}
     try:
         return make_cell(_track(cfg), int(c["bays"]), c.get("spacing"), c.get("pad"), c.get("ballast"), c.get("sleeper_mass"),
-                         c.get("damper"), rnd)
+                         damper, rnd)
     except ValueError as e:
         raise ConfigError(f"invalid configuration:\n  {e}") from None
 
@@ -161,7 +163,7 @@ def _material(cfg: dict) -> ContactMaterial:
         friction_dynamic=float(c["friction_dynamic"]),
         friction_static=float(c["friction_static"]),
         creepage=float(c["creepage"]),
-        friction_decay=float(c.get("friction_decay", 0.0)),
+        friction_decay=float(setting(cfg, "contact.friction_decay")),
         longitudinal=_longitudinal(cfg),
     )
 
@@ -169,26 +171,26 @@ def _material(cfg: dict) -> ContactMaterial:
 def _longitudinal(cfg: dict):
     """The wheelset's tread receptance in modal form (rail.wheelset), None for the report's fixed creepage."""
     w = cfg.get("wheelset")
-    if not w or w.get("model", "fixed_creepage") == "fixed_creepage":
+    if not w or w["model"] == "fixed_creepage":
         return None
     keys = ("wheel_inertia", "centre_inertia", "axle_stiffness", "motor_inertia", "coupling_stiffness", "damping")
-    ws = Wheelset(model=str(w["model"]), radius=float(cfg["wheels"]["radius"]), other_wheel=str(w.get("other_wheel", "in_phase")),
-                  **{k: float(w[k]) for k in keys if k in w})
+    ws = Wheelset(model=str(w["model"]), radius=float(cfg["wheels"]["radius"]), other_wheel=str(setting(cfg, "wheelset.other_wheel")),
+                  **{k: float(setting(cfg, f"wheelset.{k}")) for k in keys})  # every key: the schema holds the defaults
     return wheelset_modes(ws)
 
 
 def _roughness(cfg: dict, source: str = "config") -> InitialRoughness:
     r = cfg["roughness"]
     wl = r.get("wavelength")
-    record = str(r.get("record", "average"))
+    record = str(r["record"])
     bays = int(r["bays"])
     if record == "period" and r.get("kind") == "profile" and r.get("file"):
         bays = _record_bays(cfg, source)
     try:
         return InitialRoughness(kind=str(r["kind"]), amplitude=float(r["amplitude"]), frequency=float(r["frequency"]),
                                 wavelength=None if wl is None else float(wl), file=r.get("file"), bays=bays,
-                                seed=int(r["seed"]), record=record, spike_removal=bool(r.get("spike_removal", False)),
-                                spike_threshold=float(r.get("spike_threshold", SPIKE_THRESHOLD)))
+                                seed=int(r["seed"]), record=record, spike_removal=bool(r["spike_removal"]),
+                                spike_threshold=float(r["spike_threshold"]))
     except ValueError as e:  # a combination of keys the schema cannot state, named with the file
         raise ConfigError(f"invalid configuration:\n  {source}: {e}") from None
 

@@ -9,6 +9,7 @@ it is not handed a path to.
 from __future__ import annotations
 
 import copy
+import functools
 from pathlib import Path
 
 import numpy as np
@@ -337,7 +338,8 @@ def resolve(defaults: dict, schema: dict, scenario: dict | None = None, source: 
 # (its normal contact, eqs 22-24, and its wear under the wheel centre), a user's scenario gets the normal
 # contact of the field's practice, which sees the roughness under the patch, the wear where that patch
 # really is (docs/contact.md), and a growth-rate spectrum down to the
-# shortest wavelength L / K; a file that sets a key keeps its own.
+# shortest wavelength L / K; a file that sets a key keeps its own. The one table of defaults that differ
+# by design: every other default is config.yaml's value or, for an optional key, the schema's (setting).
 SCENARIO_FILE_DEFAULTS = {"contact": {"normal": "nonhertzian", "wear_path": "patch"}, "figures": {"rate_spectrum": {"shortest": 0.0}}}
 
 
@@ -395,6 +397,19 @@ def expand_sweep(defaults: dict, schema: dict, scenario: dict, source: str):
     return keys, values, points
 
 
+def _schema_node(schema: dict, key: str) -> dict:
+    """The schema's node of a dotted configuration key (a shared $defs definition merged in)."""
+    node = schema
+    for part in key.split("."):
+        props = node.get("properties", {})
+        if part not in props:
+            raise KeyError(f"{key}: not a key of config/schema/config.schema.yaml")
+        node = props[part]
+    if "$ref" in node:  # a shared definition: its own keys, then the definition's
+        node = {**schema["$defs"][node["$ref"].split("/")[-1]], **{k: v for k, v in node.items() if k != "$ref"}}
+    return node
+
+
 def schema_unit(schema: dict, key: str) -> str:
     """The unit the schema states for a configuration key, as result files write it: "-" (dimensionless)
     becomes "1" (CF); 'speed' (a sweep over the train speed) is the unit of speeds' items.
@@ -416,14 +431,77 @@ def schema_unit(schema: dict, key: str) -> str:
     KeyError
         If the schema has no such key, or states no unit for it.
     """
-    node = schema["properties"]["speeds"]["items"] if key == "speed" else schema
-    for part in ([] if key == "speed" else key.split(".")):
-        props = node.get("properties", {})
-        if part not in props:
-            raise KeyError(f"{key}: not a key of config/schema/config.schema.yaml")
-        node = props[part]
-    if "$ref" in node:  # a shared definition: its own keys, then the definition's
-        node = {**schema["$defs"][node["$ref"].split("/")[-1]], **{k: v for k, v in node.items() if k != "$ref"}}
+    node = schema["properties"]["speeds"]["items"] if key == "speed" else _schema_node(schema, key)
     if "unit" not in node:
         raise KeyError(f"{key}: config/schema/config.schema.yaml states no unit for it")
     return "1" if node["unit"] == "-" else str(node["unit"])
+
+
+# The schema beside the package (the project folder holds rail/ and config/): the one home of the
+# defaults of optional keys, read by ``setting``. rail.provenance hashes these defaults into the code
+# hash of every script that imports this module, so that a changed default reruns what it changes.
+SCHEMA_FILE = Path(__file__).resolve().parents[2] / "config" / "schema" / "config.schema.yaml"
+
+
+@functools.lru_cache(maxsize=1)
+def project_schema() -> dict:
+    """config/schema/config.schema.yaml of the project folder holding this package (read once per process)."""
+    return load_yaml(SCHEMA_FILE)
+
+
+def schema_default(schema: dict, key: str):
+    """The default the schema states (``default:``) for an optional configuration key.
+
+    Parameters
+    ----------
+    schema : dict
+        config/schema/config.schema.yaml.
+    key : str
+        A dotted key ('contact.friction_decay').
+
+    Returns
+    -------
+    object
+        The default, as the YAML states it.
+
+    Raises
+    ------
+    KeyError
+        If the schema has no such key, or states no default for it (a key config/config.yaml sets,
+        whose default is its value there).
+    """
+    node = _schema_node(schema, key)
+    if "default" not in node:
+        raise KeyError(f"{key}: config/schema/config.schema.yaml states no default for it")
+    return node["default"]
+
+
+def setting(cfg: dict, key: str, schema: dict | None = None):
+    """The value of a dotted key in a resolved configuration, or the schema's default where the key
+    is optional and absent (a key config/config.yaml sets is always present).
+
+    Parameters
+    ----------
+    cfg : dict
+        A resolved configuration (resolve, resolve_scenario_file), or the part of it a job reads.
+    key : str
+        A dotted key ('wheelset.other_wheel').
+    schema : dict, optional
+        The schema; by default the project's (project_schema).
+
+    Returns
+    -------
+    object
+        ``cfg``'s value, else the schema's default.
+
+    Raises
+    ------
+    KeyError
+        If the key is absent and the schema states no default for it.
+    """
+    node = cfg
+    for part in key.split("."):
+        if not isinstance(node, dict) or part not in node:
+            return schema_default(project_schema() if schema is None else schema, key)
+        node = node[part]
+    return node

@@ -18,10 +18,12 @@ from rail.setup.plan import (CHARACTERISATION, FORCE_KEYS, GROWTH_FIGURE_KEYS, G
 from rail.setup.plan import config_part as _config_part
 
 # Clear, actionable messages first (key, value, unit, valid range), then snakemake's own validation
-# against the same schema; then the plan (its errors name the file, key and valid range).
+# against the same schema; then the plan (its errors name the file, key and valid range). The schema's
+# defaults of optional keys are read where they are used (rail.setup.config.setting), not written into
+# the config: set_default=False keeps the config (and each job's part of it) what the user wrote.
 SCHEMA = load_yaml(workflow.source_path("../../config/schema/config.schema.yaml"))
 validate_config(config, SCHEMA, source=DEFAULT_SOURCE)
-validate(config, "../../config/schema/config.schema.yaml")
+validate(config, "../../config/schema/config.schema.yaml", set_default=False)
 PLAN = plan(config, SCHEMA)
 for _note in PLAN.notes:  # a roughness input the period cannot hold in full, once per message
     print(_note, file=sys.stderr)
