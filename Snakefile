@@ -2,18 +2,16 @@
 # `snakemake -j2` builds every report figure; studies are named targets (docs/workflow.md).
 # `snakemake --report report.html` writes the HTML report of whatever is built (rule report_all).
 
-import sys
-
 import os
+import sys
 
 from snakemake.utils import min_version
 
-# One BLAS/OpenMP thread per job (unless the caller's environment says otherwise): the parallelism is
-# Snakemake's -j locally and cpus_per_task=1 on SLURM. With the libraries' default of one thread per
-# core, two jobs on two cores run four busy-waiting threads, and a 400-point Gauss rule costs 1.7 s
-# CPU instead of 0.03 s. Jobs inherit this process's environment.
-for _threads_var in ("OPENBLAS_NUM_THREADS", "OMP_NUM_THREADS", "MKL_NUM_THREADS"):
-    os.environ.setdefault(_threads_var, "1")
+from rail.setup.runtime import one_blas_thread, reporting_only
+
+# One BLAS/OpenMP thread per job unless the caller's environment says otherwise (why: its docstring);
+# before the first include imports numpy. Jobs inherit this process's environment.
+one_blas_thread(os.environ)
 
 min_version("9.0")
 
@@ -52,7 +50,7 @@ include: "workflow/rules/fleet.smk"
 
 # `snakemake --report report.html` (without a target) reports what is built: report_all is then the
 # default target. With --report-after-run the run itself builds the figure set as usual.
-REPORTING = any(a == "--report" or a.startswith("--report=") for a in sys.argv) and "--report-after-run" not in sys.argv
+REPORTING = reporting_only(sys.argv)
 
 
 rule all:

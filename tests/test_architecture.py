@@ -2,14 +2,18 @@
 rerun hash that follows the actual imports (rail.provenance)."""
 
 import ast
+import os
 import re
 import shutil
+import subprocess
+import sys
 from pathlib import Path
 
 import pytest
 
 from rail import contact, provenance
 from rail.setup.config import load_yaml
+from rail.setup.runtime import one_blas_thread, reporting_only
 
 ROOT = Path(__file__).resolve().parents[1]
 RAIL = ROOT / "rail"
@@ -406,9 +410,24 @@ def test_workflow_scripts_read_intermediate_netcdf_files_only_through_open_inter
 def test_jobs_run_one_blas_thread_unless_the_caller_says_otherwise():
     # issue 33: with the BLAS libraries' default of a thread per core, two jobs on two cores ran four
     # busy-waiting threads (a 400-point Gauss rule cost 1.7 s CPU instead of 0.03 s). The Snakefile
-    # sets the variables before its first include imports numpy; jobs inherit them.
+    # sets the variables (rail.setup.runtime.one_blas_thread) before its first include imports numpy,
+    # and importing that module imports no numpy; jobs inherit them.
     text = (ROOT / "Snakefile").read_text()
     first_include = text.index("\ninclude:")
-    for var in ("OPENBLAS_NUM_THREADS", "OMP_NUM_THREADS", "MKL_NUM_THREADS"):
-        assert var in text[:first_include], var
-    assert re.search(r'os\.environ\.setdefault\(_threads_var, "1"\)', text[:first_include])
+    assert re.search(r"(?m)^one_blas_thread\(os\.environ\)$", text[:first_include])
+    env = {"OMP_NUM_THREADS": "4"}
+    assert one_blas_thread(env) == {"OPENBLAS_NUM_THREADS": "1", "OMP_NUM_THREADS": "4", "MKL_NUM_THREADS": "1"} == env
+    probe = "import sys, rail.setup.runtime; print('numpy' in sys.modules)"
+    out = subprocess.run([sys.executable, "-c", probe], capture_output=True, text=True, cwd=ROOT, check=True,
+                         env={**os.environ, "PYTHONPATH": str(ROOT)})
+    assert out.stdout.strip() == "False"
+
+
+def test_report_alone_is_told_from_a_run_that_reports_after():
+    # `snakemake --report report.html` reports what is built (default target report_all); with
+    # --report-after-run the run builds the figure set first
+    assert reporting_only(["snakemake", "--report", "report.html"])
+    assert reporting_only(["snakemake", "--report=report.html"])
+    assert not reporting_only(["snakemake", "--report", "report.html", "--report-after-run"])
+    assert not reporting_only(["snakemake", "-j2", "--report-stylesheet", "s.css"])
+    assert not reporting_only(["snakemake", "-j2"])
