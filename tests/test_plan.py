@@ -48,7 +48,8 @@ def test_every_named_target_list_is_reproduced(P, target, method):
 
 # scenario files added after the lists were frozen (issue 43's dynamic-creepage study): one-train scenario
 # files at the default speeds, whose study targets are those of nonhertzian.yaml under their own name
-ADDED_SINCE = ("dyn_fixed", "dyn_rigid", "dyn_trailer", "dyn_trailer_independent", "dyn_driven")
+ADDED_SINCE = ("dyn_fixed", "dyn_rigid", "dyn_trailer", "dyn_trailer_independent", "dyn_driven") + tuple(
+    f"dynspeed_{m}{t}" for m in ("fixed", "trailer", "driven", "falling", "together") for t in ("", "_stiff"))
 
 
 def test_every_study_target_is_reproduced_scenarios_sweeps_and_fleets(P):
@@ -161,3 +162,18 @@ def test_every_sweep_coordinate_carries_the_unit_the_schema_states(P):
     assert schema_unit(P.schema, "track.rail.loss_factor") == "1"  # through the schema's $defs
     with pytest.raises(KeyError, match="track.pad.nosuch: not a key"):
         schema_unit(P.schema, "track.pad.nosuch")
+
+
+def test_a_wheelset_in_the_configuration_reaches_the_single_passage_jobs(P):
+    """The wear figures' jobs (one passage, rail.setup.build.passage_scenario) read the wheelset when the
+    configuration has one, and their params are unchanged when it has none (the report's figures)."""
+    from rail.setup.build import passage_scenario
+    from rail.setup.plan import FORCE_KEYS, WEAR_CASE_KEYS, config_part
+    assert "wheelset" not in config_part(WEAR_CASE_KEYS, P.config)
+    assert passage_scenario(config_part(WEAR_CASE_KEYS, P.config)).material.longitudinal is None
+    wheelset = load_yaml(ROOT / "config/scenarios/dyn_trailer.yaml")["wheelset"]
+    with_wheelset = {**P.config, "wheelset": wheelset}
+    part = config_part(WEAR_CASE_KEYS, with_wheelset)
+    assert part["wheelset"] == wheelset
+    assert passage_scenario(part).material.longitudinal is not None
+    assert "wheelset" not in config_part(FORCE_KEYS, with_wheelset)  # the forces do not read it

@@ -31,7 +31,7 @@ from .config import ConfigError, configured_speeds, setting
 
 MAX_ROUGHNESS_BAYS = 64  # the schema's bound on roughness.bays (config/schema: roughness.bays.maximum)
 
-__all__ = ["HalfSpaceFigureSettings", "PASSAGE_KEYS", "elastic", "fleet", "fleet_classes", "track_cell", "passage_scenario", "scenario", "spectrum_scenario", "track", "physics_problems", "halfspace_numerics", "halfspace_figures"]
+__all__ = ["HalfSpaceFigureSettings", "PASSAGE_KEYS", "OPTIONAL_KEYS", "elastic", "fleet", "fleet_classes", "track_cell", "passage_scenario", "scenario", "spectrum_scenario", "track", "physics_problems", "halfspace_numerics", "halfspace_figures"]
 
 
 @dataclass(frozen=True, slots=True)
@@ -258,7 +258,10 @@ def spectrum_scenario(cfg: dict, name: str = "default", source: str = "config") 
 
 
 # What one wheel passage over a given roughness reads (forces, contact and wear: Figs 8, 22, 9-19).
-PASSAGE_KEYS = ("material", "track", "wheels.mass", "wheels.radius", "wheels.static_load", "contact", "numerics.track", "numerics.contact", "wear")
+# "wheelset" is optional (absent: the report's fixed creepage); rail.setup.plan.config_part skips it when absent.
+PASSAGE_KEYS = ("material", "track", "wheels.mass", "wheels.radius", "wheels.static_load", "contact", "numerics.track", "numerics.contact", "wear",
+                "wheelset")
+OPTIONAL_KEYS = frozenset({"wheelset"})
 
 
 def passage_scenario(cfg: dict, name: str = "default", source: str = "config") -> Scenario:

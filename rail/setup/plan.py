@@ -30,7 +30,7 @@ import numpy as np
 from .. import uncertainty as unc
 from ..chain import wheel_offsets
 from ..roughness import RoughnessInputWarning
-from .build import PASSAGE_KEYS, fleet_classes, scenario, spectrum_scenario
+from .build import OPTIONAL_KEYS, PASSAGE_KEYS, fleet_classes, scenario, spectrum_scenario
 from .config import (ConfigError, check_scenario_names, expand_sweep, load_yaml, resolve_scenario_file, scenario_files, schema_unit,
                      validate_config)
 from .inputs import check_inputs, check_speed
@@ -48,7 +48,7 @@ DEFAULT_SOURCE = "configuration (config/config.yaml and --config/--configfile)"
 # What each report figure reads of the configuration (its rule's params.cfg). A figure drawn from
 # another job's result carries that job's keys too, so that it records all it was computed from.
 HALFSPACE_KEYS = ("material", "contact.hertz_stiffness", "numerics.halfspace", "figures.halfspace")
-FORCE_KEYS = tuple(k for k in PASSAGE_KEYS if k != "wear")  # the forces of one passage (rail.chain.solve_forces)
+FORCE_KEYS = tuple(k for k in PASSAGE_KEYS if k not in ("wear", "wheelset"))  # the forces of one passage (rail.chain.solve_forces)
 WEAR_CASE_KEYS = PASSAGE_KEYS + ("figures.wear.speed", "figures.wear.amplitude")
 GROWTH_FIGURE_KEYS = ("figures.growth", "figures.wear.spectrum_max_wavenumber")
 
@@ -108,9 +108,12 @@ def closure_label(s) -> str:
 
 def config_part(keys, cfg: dict) -> dict:
     """The part of a configuration under the dotted keys, nested as there: what a job is handed as
-    params.cfg (params are a rerun trigger, and each result records the configuration it read)."""
+    params.cfg (params are a rerun trigger, and each result records the configuration it read). A key of
+    rail.setup.build.OPTIONAL_KEYS (the wheelset) is left out where the configuration does not have it."""
     out = {}
     for key in keys:
+        if key in OPTIONAL_KEYS and key not in cfg:
+            continue
         *parents, leaf = key.split(".")
         src, dst = cfg, out
         for p in parents:
