@@ -39,9 +39,7 @@ import numpy as np
 
 from .._lazyjit import njit
 
-__all__ = ["LongitudinalModes", "FRICTION_LAWS", "friction_coefficient", "modal_receptance"]
-
-FRICTION_LAWS = ("step", "exponential")
+__all__ = ["LongitudinalModes", "modal_receptance"]
 
 
 def _finite_tuple(name, values, low=None, low_open=None, high_open=None):
@@ -106,15 +104,6 @@ def modal_receptance(omega, omega_r, zeta_r, c_r):
     return np.sum(c / (om**2 - w**2 + 2j * ze * om * w), axis=-1)
 
 
-def friction_coefficient(slip_velocity, mu_s: float, mu_d: float, decay: float):
-    """mu(s) = mu_d + (mu_s - mu_d) exp(-abs(s) / s_0) [-] (decay = s_0 [m/s] > 0); decay = 0: mu_d (the
-    report's step law in slip)."""
-    s = np.abs(np.asarray(slip_velocity, dtype=float))
-    if decay == 0:
-        return np.full_like(s, mu_d)
-    return mu_d + (mu_s - mu_d) * np.exp(-s / decay)
-
-
 @njit(cache=True)
 def _advance_modes(x, v, om, ze, c, force, dt):
     """Advance each mode (x_r [m], v_r [m/s], in place) over dt [s] under the constant force [N]:
@@ -153,7 +142,7 @@ def carter_creep_slope(P: float, material) -> float:
     return 0.0 if f >= 1 else -2 * mu * P * (1 - f) / gamma_s
 
 
-def periodic_response(force, dt, modes: LongitudinalModes, states: bool = False):
+def periodic_response(force, dt, modes: LongitudinalModes):
     """u_bar [m] at the end of each step of one period under the periodic force [N] held over each step
     (force[i] over step i, of dt[i] s), exactly (the modes' periodic solution). A free rotation
     (omega_r = 0) takes the force less its time mean (a periodic spin needs a zero mean force; the
@@ -162,14 +151,12 @@ def periodic_response(force, dt, modes: LongitudinalModes, states: bool = False)
     Returns
     -------
     ubar : (steps,) [m], up to a constant; mean_force : the time mean of the force [N]
-    (states=True: also (x, v), shape (steps, modes), each mode's state before each step [m, m/s])
     """
     F = np.asarray(force, dtype=float)
     dt = np.asarray(dt, dtype=float)
     T = float(np.sum(dt))
     Fm = float(np.sum(F * dt) / T)
     out = np.zeros(F.size)
-    X, Vv = np.zeros((F.size, len(modes.omega))), np.zeros((F.size, len(modes.omega)))
     for r, (om, ze, c) in enumerate(zip(modes.omega, modes.zeta, modes.participation)):
         o, z, cc = (np.array([v], dtype=float) for v in (om, ze, c))
         Fr = F - Fm if om == 0 else F
@@ -180,27 +167,14 @@ def periodic_response(force, dt, modes: LongitudinalModes, states: bool = False)
             vel = np.diff(np.concatenate([[0.0], xs])) / dt
             vm = float(np.sum(vel * dt) / T)
             xs = xs - np.cumsum(dt) * vm
-            if states:
-                x, v = np.zeros(1), np.array([-vm])
-                X[:, r], Vv[:, r] = _states(x, v, o, z, cc, Fr, dt)
         else:
             # the periodic start s0 = (I - Phi_T)^-1 s(T) with Phi_T the free transition over T
             Phi = _free_transition(om, ze, T)
             s0 = np.linalg.solve(np.eye(2) - Phi, np.array([x[0], v[0]]))
             x, v = np.array([s0[0]]), np.array([s0[1]])
-            if states:
-                X[:, r], Vv[:, r] = _states(x.copy(), v.copy(), o, z, cc, Fr, dt)
             xs = _march_mode(x, v, o, z, cc, Fr, dt)
         out += xs
-    return (out, Fm, (X, Vv)) if states else (out, Fm)
-
-
-def _states(x, v, om, ze, c, F, dt):
-    xs, vs = np.empty(F.size), np.empty(F.size)
-    for i in range(F.size):
-        xs[i], vs[i] = x[0], v[0]
-        _advance_modes(x, v, om, ze, c, F[i], dt[i])
-    return xs, vs
+    return out, Fm
 
 
 def _march_mode(x, v, om, ze, c, F, dt):

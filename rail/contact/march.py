@@ -270,7 +270,7 @@ def _checkerboard_nb(q, stick, inside, p0, mu):
 
 
 def solve_tangential(P, a, m: ContactMaterial, speed: float, delta: float, M: int, closure: str = "default",
-                     closure_scale: float = 1.0, q0=None, max_iter: int = 200, shape=None, dt=None, ubar=None, modal_state=None) -> TangentialSolution:
+                     closure_scale: float = 1.0, q0=None, max_iter: int = 200, shape=None, dt=None, ubar=None) -> TangentialSolution:
     """Time-step the unsteady 2D rolling contact over len(P) steps of Delta = V dt (eqs 26-33).
 
     Parameters
@@ -307,9 +307,6 @@ def solve_tangential(P, a, m: ContactMaterial, speed: float, delta: float, M: in
     ubar : ndarray, shape (len(P),), optional
         A given global relative displacement u_bar [m] at each step (eq 26; rail.contact.creep), added to
         that of m.longitudinal's modes; its change over a step enters the step's slip. Default 0.
-    modal_state : tuple of ndarray, optional
-        (x [m], v [m/s]) of m.longitudinal's modes before the first step (for example the periodic state,
-        rail.contact.creep.periodic_response); default at rest.
 
     The material's ``longitudinal`` modes (rail.contact.creep.LongitudinalModes), when given, are driven
     by Q - Q_ref (Q of the step before; Q_ref the modes' reference_force, or Carter's steady traction
@@ -371,7 +368,7 @@ def solve_tangential(P, a, m: ContactMaterial, speed: float, delta: float, M: in
         P, a, shape, xi, Mom, mu, _basis_workspace(nn), k, delta, M, float(speed), dts, gds, float(m.creepage), float(m.friction_dynamic),
         float(m.friction_static), float(m.half_width), 0 if closure == "default" else 1, float(closure_scale),
         report_coef, q_init, int(max_iter if m.friction_decay == 0 else max(max_iter, 2000)), CHECKERBOARD_LIMIT, dus, om, ze, cp, q_ref, float(m.friction_decay),
-        _settle_steps(a, delta, q0), *_modal_state(modal_state, om.size))
+        _settle_steps(a, delta, q0), np.zeros(om.size), np.zeros(om.size))  # the modes start at rest
     code, i = int(status[0]), int(status[1])
     if code == 1:
         raise ContactError(f"the stick/slip iteration did not converge at step {i} (a = {a[i]:.4g} m).")
@@ -408,16 +405,6 @@ def _check_falling_friction(Q, m: ContactMaterial):
             f"largest (limit {FALLING_FRICTION_ALTERNATION}): the law's slope (mu_s - mu_d) / s_0 = "
             f"{(m.friction_static - m.friction_dynamic) / m.friction_decay:.3g} s/m is steeper than the march resolves; use a "
             "larger contact.friction_decay (0.5 m/s and above ran smoothly at 0.1 difference of friction).")
-
-
-def _modal_state(state, modes: int):
-    """(x, v) of the modes before the first step as float64 arrays (at rest without a state)."""
-    if state is None:
-        return np.zeros(modes), np.zeros(modes)
-    x, v = (np.ascontiguousarray(s, dtype=float) for s in state)
-    if x.shape != (modes,) or v.shape != (modes,) or not (np.all(np.isfinite(x)) and np.all(np.isfinite(v))):
-        raise ValueError(f"modal_state must be two finite arrays of {modes} values (the modes' x [m] and v [m/s]).")
-    return x, v
 
 
 def _settle_steps(a, delta: float, q0) -> int:
