@@ -206,7 +206,7 @@ def contact_filtered(scn: Scenario, roughness: Roughness) -> Roughness:
 
 
 def passage_wear(scn: Scenario, forces: ForceResult, roughness: Roughness, wheel: int = 0,
-                 grid_phase: float = 0.0) -> wear.WearResult:
+                 grid_phase: float = 0.0, creepage_start=None) -> wear.WearResult:
     """Contact and wear of one passage of one wheel over the bay (eqs 22-54, rail.wear.bay_wear).
 
     Parameters
@@ -221,13 +221,15 @@ def passage_wear(scn: Scenario, forces: ForceResult, roughness: Roughness, wheel
         Index of the wheel in ``forces``.
     grid_phase : float
         Contact grid phase in [0, 1) [-] (rail.wear.bay_wear).
+    creepage_start : rail.wear.CreepageState, optional
+        Where the dynamic creepage's Newton steps start (rail.wear.bay_wear).
 
     Returns
     -------
     WearResult
     """
     return wear.bay_wear(forces, wheel, roughness, wheel_material(scn, wheel), scn.wear_law, scn.contact_numerics,
-                         grid_phase=grid_phase)
+                         grid_phase=grid_phase, creepage_start=creepage_start)
 
 
 def wheel_material(scn: Scenario, wheel: int):
@@ -251,7 +253,7 @@ def wheel_material(scn: Scenario, wheel: int):
     return dataclasses.replace(scn.material, creepage=float(c[wheel]))
 
 
-def train_wear(scn: Scenario, table: MovingReceptance, Z, grid_phase: float = 0.0):
+def train_wear(scn: Scenario, table: MovingReceptance, Z, grid_phase: float = 0.0, warm: dict | None = None):
     """Wear of one train passage (secs 4.2-5).
 
     The forces of every wheel, then the wheels roll over the bay in turn, leading wheel (largest
@@ -265,6 +267,12 @@ def train_wear(scn: Scenario, table: MovingReceptance, Z, grid_phase: float = 0.
         Roughness coefficients k = -K..K [m].
     grid_phase : float
         Contact grid phase in [0, 1) [-].
+    warm : dict, optional
+        {wheel index: rail.wear.CreepageState}: where each wheel's dynamic creepage starts its Newton
+        steps, updated in place with the state reached (a growth run hands the same dict to every
+        update). Unused for the report's fixed creepage. The answer is the same to the Newton
+        tolerance (rail.wear.march_with_creepage), in fewer marches. The growth-rate spectrum's probes
+        start cold instead: a probe's own small change of u_bar must not be left below the tolerance.
 
     Returns
     -------
@@ -278,7 +286,9 @@ def train_wear(scn: Scenario, table: MovingReceptance, Z, grid_phase: float = 0.
     dZ = np.zeros_like(rough.Z, dtype=complex)
     current, slip = rough, 0.0
     for l in np.argsort(scn.wheels.positions)[::-1]:
-        w = passage_wear(scn, forces, current, int(l), grid_phase)
+        w = passage_wear(scn, forces, current, int(l), grid_phase, None if warm is None else warm.get(int(l)))
+        if warm is not None and w.creepage_state is not None:
+            warm[int(l)] = w.creepage_state
         dZ += w.Z
         slip = max(slip, w.full_slip)
         # the worn profile keeps the roughness's period (a 1-bay roughness here made the second wheel of
@@ -313,7 +323,8 @@ def grow(scn: Scenario, table: MovingReceptance, roughness: Roughness | None = N
     """
     rough = initial_roughness(scn, table_speed(table)) if roughness is None else roughness
     ident = {"scenario": repr(scn), "speed": table_speed(table), "code": provenance.module_hash("rail.chain"), **(identity or {})}
-    return growth.run_growth(lambda Z, phase: train_wear(scn, table, Z, phase), rough, len(scn.wheels.positions),
+    warm = {}  # the dynamic creepage's periodic state of each wheel, carried from update to update
+    return growth.run_growth(lambda Z, phase: train_wear(scn, table, Z, phase, warm), rough, len(scn.wheels.positions),
                              scn.growth, checkpoint=checkpoint, identity=ident, progress=progress,
                              period=scn.L * scn.roughness.bays, **kwargs)
 
@@ -356,7 +367,7 @@ def fleet_wheels(classes) -> float:
     return float(sum(c.weight * len(c.scenario.wheels.positions) for c in classes))
 
 
-def fleet_wear(classes, tables: dict, Z, grid_phase: float = 0.0):
+def fleet_wear(classes, tables: dict, Z, grid_phase: float = 0.0, warm: dict | None = None):
     """Expected wear of one fleet passage, one train drawn from the traffic: sum_c w_c dZ_c over the
     (vehicle, speed) classes, dZ_c the wear of one passage of class c's train (train_wear).
 
@@ -370,6 +381,9 @@ def fleet_wear(classes, tables: dict, Z, grid_phase: float = 0.0):
         Roughness coefficients [m].
     grid_phase : float
         Contact grid phase in [0, 1) [-].
+    warm : dict, optional
+        {class index: train_wear's ``warm`` of that class}, updated in place (grow_fleet hands the same
+        dict to every update).
 
     Returns
     -------
@@ -379,8 +393,8 @@ def fleet_wear(classes, tables: dict, Z, grid_phase: float = 0.0):
         Largest fraction of the bay without a stick zone over the classes and wheels [-].
     """
     dZ, slip = None, 0.0
-    for c in classes:
-        d, s = train_wear(c.scenario, tables[c.speed], Z, grid_phase)
+    for n, c in enumerate(classes):
+        d, s = train_wear(c.scenario, tables[c.speed], Z, grid_phase, None if warm is None else warm.setdefault(n, {}))
         dZ = c.weight * d if dZ is None else dZ + c.weight * d
         slip = max(slip, s)
     return dZ, slip
@@ -418,7 +432,8 @@ def grow_fleet(classes, tables: dict, roughness: Roughness | None = None, *, che
         roughness = initial_roughness(scn, classes[0].speed)
     ident = {"fleet": [(c.weight, repr(c.scenario)) for c in classes], "speeds": sorted(tables),
              "code": provenance.module_hash("rail.chain"), **(identity or {})}
-    return growth.run_growth(lambda Z, phase: fleet_wear(classes, tables, Z, phase), roughness, fleet_wheels(classes),
+    warm = {}  # each class's dynamic-creepage states, carried from update to update
+    return growth.run_growth(lambda Z, phase: fleet_wear(classes, tables, Z, phase, warm), roughness, fleet_wheels(classes),
                              scn.growth, checkpoint=checkpoint, identity=ident, progress=progress,
                              period=scn.L * scn.roughness.bays, **kwargs)
 

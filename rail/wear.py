@@ -29,7 +29,7 @@ from .contact.models import roughness_slope
 from .contact.passage import SPIN_UP_TRANSITS, MarchInputs, march_inputs
 from .interaction import ForceResult, Roughness
 
-__all__ = ["WearLaw", "WearResult", "MarchInputs", "march_inputs", "bay_wear", "wear_spectrum", "apply_wear", "roughness_slope", "SPIN_UP_TRANSITS"]
+__all__ = ["WearLaw", "WearResult", "CreepageState", "march_with_creepage", "MarchInputs", "march_inputs", "bay_wear", "wear_spectrum", "apply_wear", "roughness_slope", "SPIN_UP_TRANSITS"]
 
 
 
@@ -83,6 +83,8 @@ class WearResult:
                   the wheel (normal contact 'nonhertzian'; 0 for the report's model) [-]
     creepage_dynamic : rms over the bay of the dynamic creepage (d u_bar / dt) / V of the wheelset's
                   rotation (rail.contact.creep; 0 for the report's fixed creepage) [-]
+    creepage_state : the periodic u_bar reached (CreepageState; None for the report's fixed creepage), to
+                  start the next passage from
     """
 
     x: np.ndarray
@@ -99,6 +101,7 @@ class WearResult:
     min_shape: float = 1.0
     shift: float = 0.0
     creepage_dynamic: float = 0.0
+    creepage_state: "CreepageState | None" = None
 
 
 def wear_spectrum(depth, K: int):
@@ -145,7 +148,8 @@ def apply_wear(roughness: Roughness, dZ, passages: float = 1.0) -> Roughness:
 
 
 def bay_wear(forces: ForceResult, wheel_index: int, roughness: Roughness, material: ContactMaterial, wear_law: WearLaw,
-             numerics: ContactNumerics, grid_phase: float = 0.0, a_max: float | None = None) -> WearResult:
+             numerics: ContactNumerics, grid_phase: float = 0.0, a_max: float | None = None,
+             creepage_start: "CreepageState | None" = None) -> WearResult:
     """Wear of one passage of wheel ``wheel_index`` over the bay (eqs 22-24, 26-52).
 
     Parameters
@@ -173,6 +177,9 @@ def bay_wear(forces: ForceResult, wheel_index: int, roughness: Roughness, materi
         a / Delta unchanged.
     a_max : float, optional
         Largest half-length the grid must hold [m] (default: 1.02 x the bay's largest).
+    creepage_start : CreepageState, optional
+        Where the dynamic creepage's Newton steps start (march_with_creepage's ``start``; ignored
+        without material.longitudinal).
 
     Returns
     -------
@@ -192,7 +199,7 @@ def bay_wear(forces: ForceResult, wheel_index: int, roughness: Roughness, materi
     mi = march_inputs(forces, wheel_index, roughness, material, numerics, grid_phase, a_max)
     P, a, shape, delta, Nx, M, spin = mi.P, mi.a, mi.shape, mi.delta, mi.Nx, mi.M, mi.spin
     min_shape, shift = mi.min_shape, mi.shift
-    sol, _ = march_with_creepage(mi, material, speed, numerics)
+    sol, info = march_with_creepage(mi, material, speed, numerics, start=creepage_start)
     # particle j is at x = (j - M - spin) Delta; the bay's points x_k = k Delta are j = spin + M + k
     j = spin + M + np.arange(Nx)
     depth = wear_law.depth(sol.work[j])
@@ -220,11 +227,32 @@ def bay_wear(forces: ForceResult, wheel_index: int, roughness: Roughness, materi
         min_shape=min_shape,
         shift=shift,
         creepage_dynamic=_dynamic_creepage(sol, i, speed, delta, mi.dt),
+        creepage_state=None if info is None else info["state"],
     )
 
 
+@dataclass(frozen=True)
+class CreepageState:
+    """The periodic u_bar of a passage (march_with_creepage), to start the next passage's Newton steps from.
+
+    Attributes
+    ----------
+    phase : (N_x,) time over the period at the bay's steps, as a fraction of the period [-], increasing in [0, 1)
+    p : (N_x,) periodic part of u_bar at those times [m]
+    vbar : mean slip rate of the rotation [m/s]
+    """
+
+    phase: np.ndarray
+    p: np.ndarray
+    vbar: float
+
+    def at(self, phase) -> np.ndarray:
+        """p at other phases (periodic linear interpolation) [m]."""
+        return np.interp(np.asarray(phase, dtype=float), self.phase, self.p, period=1.0)
+
+
 def march_with_creepage(mi: MarchInputs, material: ContactMaterial, speed: float, numerics: ContactNumerics,
-                        tol: float = 1e-5, max_iter: int = 12):
+                        tol: float = 1e-5, max_iter: int = 12, start: CreepageState | None = None):
     """The tangential march of a passage with the wheelset's dynamic creepage (material.longitudinal,
     rail.contact.creep) in its periodic steady state over the period; without it, the march as it is.
 
@@ -250,11 +278,17 @@ def march_with_creepage(mi: MarchInputs, material: ContactMaterial, speed: float
         The Newton step at which to stop, relative to the creep velocity abs(gamma) V [-].
     max_iter : int
         The most Newton steps (marches) [-].
+    start : CreepageState, optional
+        Where the Newton steps start (default: u_bar = 0): the state of an earlier passage over a
+        roughness a little different, for example the last update's in a growth run or the smooth rail's
+        for a probe. The answer is the same periodic state to within ``tol``; from a near state it takes
+        one or two marches instead of three to five.
 
     Returns
     -------
     (TangentialSolution, info) : info None without u_bar, else a dict of the Newton steps made
-        ('iterations'), the last step's size ('residual', of abs(gamma) V) and Q_ref [N] ('reference_force').
+        ('iterations'), the last step's size ('residual', of abs(gamma) V), Q_ref [N] ('reference_force') and
+        the periodic state reached ('state', a CreepageState).
     """
     modes = material.longitudinal
     kw = dict(closure=numerics.closure, closure_scale=numerics.closure_scale, shape=mi.shape, dt=mi.dt)
@@ -274,7 +308,8 @@ def march_with_creepage(mi: MarchInputs, material: ContactMaterial, speed: float
     rigid = any(o == 0 for o in modes.omega)
     idx = (np.arange(steps) - mi.spin) % mi.Nx
     t_all = np.cumsum(dt_all)
-    p, vbar = np.zeros(mi.Nx), 0.0
+    phase = (np.cumsum(dtp) - dtp[0]) / T  # the bay's steps over the period, from 0
+    p, vbar = (np.zeros(mi.Nx), 0.0) if start is None else (start.at(phase), float(start.vbar))
     scale = max(abs(material.creepage) * speed, 1e-12)
     size = np.inf
     for it in range(1, max_iter + 1):
@@ -292,7 +327,7 @@ def march_with_creepage(mi: MarchInputs, material: ContactMaterial, speed: float
         raise ContactError(f"the dynamic creepage of the wheelset ({modes.label}) did not settle to a periodic state in "
                            f"{max_iter} Newton steps (last step {size:.2g} of the creep velocity): the coupled torsion is "
                            "unstable or too close to resonance for the quasi-steady preconditioner.")
-    return sol, {"iterations": it, "residual": size, "reference_force": q_ref}
+    return sol, {"iterations": it, "residual": size, "reference_force": q_ref, "state": CreepageState(phase, p, vbar)}
 
 
 def _dynamic_creepage(sol, i, speed: float, delta: float, dt) -> float:

@@ -132,6 +132,28 @@ def test_the_periodic_state_is_that_of_a_long_time_march():
     assert max(abs(short[k] / long[k] - 1) for k in lines) > 10 * max(err)
 
 
+@pytest.mark.parametrize("nodes", [21, 23])
+def test_a_warm_start_reaches_the_same_periodic_state_in_fewer_marches(nodes):
+    # The growth loop starts each update's Newton steps from the last update's state (rail.chain.grow),
+    # here a 4 % smaller parametric force, on the same grid and on another (the grid phase changes the
+    # steps). Judged against the state converged to 1e-11: the force's harmonic of the wear (1.7 % of the
+    # mean) as close as from a cold start, in fewer marches.
+    mat = dataclasses.replace(M0, longitudinal=wheelset_modes(Wheelset("torsional", 0.46, other_wheel="independent")))
+    num = C.ContactNumerics(nodes, "default", 1.0)
+    _, before = wear.march_with_creepage(_inputs(dP=0.05), mat, V, num)
+    mi = _inputs(dP=0.052, nodes=nodes)
+    j = mi.spin + mi.M + np.arange(mi.Nx)
+    cold, ic = wear.march_with_creepage(mi, mat, V, num)
+    warm, iw = wear.march_with_creepage(mi, mat, V, num, start=before["state"])
+    exact, _ = wear.march_with_creepage(mi, mat, V, num, tol=1e-11, max_iter=40)
+    k = 3
+    W = {name: np.fft.rfft(s.work[j])[k] for name, s in (("cold", cold), ("warm", warm), ("exact", exact))}
+    assert abs(W["cold"] / W["exact"] - 1) < 3e-4
+    assert abs(W["warm"] / W["exact"] - 1) < 3e-4
+    assert iw["iterations"] < ic["iterations"]
+    assert abs(iw["state"].vbar - ic["state"].vbar) <= 1e-5 * abs(M0.creepage) * V
+
+
 def test_the_modal_form_is_the_direct_solve_of_the_chain():
     w = 2 * np.pi * np.array([10.0, 63.0, 170.0, 550.0, 1300.0, 3000.0])
     for ws in (Wheelset("torsional", 0.46), Wheelset("torsional", 0.46, other_wheel="independent"),
