@@ -77,6 +77,14 @@ class Wheels:
         if self.creepage is not None and len(self.creepage) != len(self.positions):
             raise ValueError(f"wheels.creepage has {len(self.creepage)} values: it needs one per wheel ({len(self.positions)}).")
 
+    def receptance(self, omega):
+        """The wheel's vertical point receptance at the contact alpha_W(omega) [m/N] at omega != 0 [rad/s]: the
+        rigid wheel's -1 / (m omega^2) (eq 21). The force path (solve_forces) reads the wheel only through
+        this method, so a flexible (modal) wheel is a subclass that returns its own receptance in the same
+        convention (displacement of the wheel towards the rail per unit contact force)."""
+        w = np.asarray(omega, dtype=float)
+        return -1.0 / (self.mass * w**2)
+
 
 @dataclass(frozen=True)
 class ContactSpring:
@@ -328,7 +336,7 @@ def _solve_class(tab: MovingReceptance, wheels: Wheels, contact: ContactSpring, 
     A = _coupling(tab, pos, L)
     dyn = f != 0
     om = f[dyn] * tab.speed * beta0
-    self_term = 1.0 / contact.stiffness(om) - 1.0 / (wheels.mass * om**2)
+    self_term = 1.0 / contact.stiffness(om) + wheels.receptance(om)  # the contact spring's and the wheel's receptance
     nd = int(dyn.sum())
     M = np.zeros((n * nd, n * nd), dtype=complex)
     rhs = np.zeros(n * nd, dtype=complex)

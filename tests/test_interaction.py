@@ -53,6 +53,36 @@ def test_rigid_track_gives_the_wheel_on_contact_spring_result(contact, wheel):
     assert others.max() < 1e-3 * abs(expected)  # parametric excitation vanishes with the stiff track
 
 
+def test_the_force_path_reads_the_wheel_through_its_receptance(track, contact, wheel):
+    # A wheel with a spring k_w between its mass and the contact (receptance -1/(M w^2) + 1/k_w) must give
+    # the forces of the rigid wheel on the series contact spring 1/k = 1/k_H(w) + 1/k_w: two different
+    # routes into eq 21 (the wheel's receptance method, the contact's stiffness), one answer.
+    import dataclasses as dc
+
+    k_w = 3.0e9
+
+    @dc.dataclass(frozen=True)
+    class SprungWheels(I.Wheels):
+        def receptance(self, omega):
+            return -1.0 / (self.mass * np.asarray(omega, dtype=float) ** 2) + 1.0 / k_w
+
+    class SeriesContact:
+        def stiffness(self, omega):
+            return 1.0 / (1.0 / contact.stiffness(omega) + 1.0 / k_w)
+
+    V, K = 40.0, 20
+    tab = moving.receptance_table(track, V, K)
+    rough = I.Roughness.harmonic(1e-6, 0.04, track.L, K)
+    sprung = I.solve_forces(tab, SprungWheels(1350.0, 0.575, 1.0e5, (0.0,)), contact, rough, track.L)
+    series = I.solve_forces(tab, wheel, SeriesContact(), rough, track.L)
+    rigid = I.solve_forces(tab, wheel, contact, rough, track.L)
+    dyn = np.abs(sprung.P[0] - rigid.P[0]).max()
+    assert dyn > 0.05 * np.abs(np.delete(rigid.P[0], K)).max()  # the wheel's spring matters here
+    assert np.abs(sprung.P - series.P).max() < 1e-10 * np.abs(rigid.P[0, K])
+    om = np.array([2e3, 5e3])
+    assert np.allclose(wheel.receptance(om), -1.0 / (1350.0 * om**2), rtol=0, atol=0)
+
+
 @pytest.mark.slow
 def test_wheels_far_apart_behave_as_independent_single_wheels(track, contact, wheel):
     # Two wheels a whole number of bays apart see the same track. Their interaction falls with
