@@ -43,11 +43,18 @@ def test_the_default_target_is_the_report_figures(P):
     ("irregular_track", "irregular_targets"),
 ])
 def test_every_named_target_list_is_reproduced(P, target, method):
-    assert getattr(P, method)() == TARGETS[target]
+    got = getattr(P, method)()
+    if target == "track_characterisation":  # tracks added since the lists were frozen: six files each
+        added = [t for t in got if any(f"/tracks/{name}/" in t for name in ADDED_TRACKS)]
+        assert len(added) == 6 * len(ADDED_TRACKS)
+        got = [t for t in got if t not in added]
+    assert got == TARGETS[target]
 
 
 # scenario files added after the lists were frozen (issue 43's dynamic-creepage study): one-train scenario
 # files at the default speeds, whose study targets are those of nonhertzian.yaml under their own name
+# the tracks they add, each characterised under the first scenario with it: the 1e9 N/m pad of dynspeed_*_stiff
+ADDED_TRACKS = ("dynspeed_driven_stiff",)
 ADDED_SINCE = ("dyn_fixed", "dyn_rigid", "dyn_trailer", "dyn_trailer_independent", "dyn_driven") + tuple(
     f"dynspeed_{m}{t}" for m in ("fixed", "trailer", "driven", "falling", "together") for t in ("", "_stiff"))
 
