@@ -197,6 +197,27 @@ def _fleet_growth(study: Study, scn: Scenario, checkpoint, progress) -> xr.Datas
                        scenario=study.name)
 
 
+def _spectrum_settings(study: Study, door: str, **given) -> tuple[dict, dict]:
+    """The spectrum settings (figures.rate_spectrum) of a study with the arguments given, and the
+    configuration holding them, checked as the schema checks the configured ones (ranges, e.g. bays
+    in [2, 256]), before anything is computed; a ConfigError names the argument, its value and range."""
+    for name in ("per_octave", "bays", "grid_phases"):
+        if given[name] is not None:
+            _count(name, given[name])
+    for name in ("shortest", "longest"):
+        value = given[name]
+        if value is not None and (isinstance(value, bool) or not isinstance(value, numbers.Real)):
+            raise config.ConfigError(f"{name} = {value!r} is not allowed: it must be a wavelength in m.")
+    s = dict(study.config["figures"]["rate_spectrum"])
+    s.update({k: v for k, v in given.items() if v is not None})
+    cfg = config.deep_merge(study.config, {"figures": {"rate_spectrum": s}})
+    try:
+        config.validate_config(cfg, config.project_schema(), source=f"{door}(...) of {study.name}")
+    except config.ConfigError as e:  # the schema names the key figures.rate_spectrum.<argument>
+        raise config.ConfigError(str(e).replace("figures.rate_spectrum.", "argument ")) from None
+    return s, cfg
+
+
 def spectrum(study: Study, *, speeds, shortest: float | None = None, longest: float | None = None,
              per_octave: int | None = None, bays: int | None = None, grid_phases: int | None = None) -> xr.Dataset:
     """Growth-rate spectrum of a study about the smooth rail at one or more speeds (rail.growth_spectrum).
@@ -228,17 +249,15 @@ def spectrum(study: Study, *, speeds, shortest: float | None = None, longest: fl
         sequence of them; per_octave, bays, grid_phases not whole numbers >= 1; a wavelength range
         the lines cannot span (rail.growth_spectrum.spectrum_lines).
     """
+    if "fleet" in study.config:
+        raise config.ConfigError(f"{study.name} has a fleet: spectrum would compute one train at the speeds given and leave "
+                                 "the fleet out; its spectrum is rail.app.api.fleet_spectrum (workflow: "
+                                 f"results/fleet/{study.name}/rate_spectrum.nc).")
     speeds = _speeds(speeds)
-    for name, value in (("per_octave", per_octave), ("bays", bays), ("grid_phases", grid_phases)):
-        if value is not None:
-            _count(name, value)
-    for name, value in (("shortest", shortest), ("longest", longest)):
-        if value is not None and (isinstance(value, bool) or not isinstance(value, numbers.Real)):
-            raise config.ConfigError(f"{name} = {value!r} is not allowed: it must be a wavelength in m.")
-    s = dict(study.config["figures"]["rate_spectrum"])
-    s.update({k: v for k, v in dict(shortest=shortest, longest=longest, per_octave=per_octave, bays=bays,
-                                     grid_phases=grid_phases).items() if v is not None})
-    cfg = config.deep_merge(study.config, {"figures": {"rate_spectrum": s}})
+    s, cfg = _spectrum_settings(study, "spectrum", shortest=shortest, longest=longest, per_octave=per_octave, bays=bays,
+                                grid_phases=grid_phases)
+    for v in speeds:  # as run, growth and the workflow's targets check a speed (rail.setup.inputs.check_speed)
+        inputs.check_speed(cfg, v, f"{study.name}: spectrum")
     scn = build.spectrum_scenario(cfg, study.name)
     spectrum_lines(scn.L, scn.roughness.bays, scn.harmonics, float(s["shortest"]), float(s["longest"]), int(s["per_octave"]))
     spectra = {v: rate_spectrum.spectrum_with_settings(scn, chain.receptance_table(scn, v), s) for v in speeds}
@@ -274,13 +293,8 @@ def fleet_spectrum(study: Study, *, shortest: float | None = None, longest: floa
     """
     if "fleet" not in study.config:
         raise config.ConfigError(f"{study.name} has no fleet: give the key fleet (docs/traffic.md), or use spectrum.")
-    for name, value in (("per_octave", per_octave), ("bays", bays), ("grid_phases", grid_phases)):
-        if value is not None:
-            _count(name, value)
-    s = dict(study.config["figures"]["rate_spectrum"])
-    s.update({k: v for k, v in dict(shortest=shortest, longest=longest, per_octave=per_octave, bays=bays,
-                                     grid_phases=grid_phases).items() if v is not None})
-    cfg = config.deep_merge(study.config, {"figures": {"rate_spectrum": s}})
+    s, cfg = _spectrum_settings(study, "fleet_spectrum", shortest=shortest, longest=longest, per_octave=per_octave, bays=bays,
+                                grid_phases=grid_phases)
     scn = build.spectrum_scenario(cfg, study.name)
     lines = spectrum_lines(scn.L, scn.roughness.bays, scn.harmonics, float(s["shortest"]), float(s["longest"]), int(s["per_octave"]))
     fl = build.fleet(cfg)
