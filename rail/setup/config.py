@@ -50,6 +50,33 @@ RESERVED_SCENARIO_NAMES = ("default",)
 LARGE_SWEEP = 100  # sweep points above which a study must be confirmed in its file (confirm_large_sweep: true)
 
 
+MAX_YAML_NODES = 100_000  # values in a YAML file once its aliases are expanded (config.yaml holds 248, the schema 2,012)
+
+
+def _check_expanded_size(node, path) -> None:
+    """ConfigError naming the file unless the YAML document ``node`` holds at most MAX_YAML_NODES values
+    with every alias (*name) expanded: nested aliases multiply (an "alias bomb" of a few lines expands
+    to billions), which would exhaust the memory of the schema's validator."""
+    sizes = {}
+
+    def size(n) -> int:
+        if id(n) in sizes:
+            return sizes[id(n)]
+        sizes[id(n)] = 1  # a recursive alias counts once (PyYAML refuses it when building)
+        if isinstance(n, yaml.MappingNode):
+            total = 1 + sum(size(k) + size(v) for k, v in n.value)
+        elif isinstance(n, yaml.SequenceNode):
+            total = 1 + sum(size(v) for v in n.value)
+        else:
+            total = 1
+        sizes[id(n)] = min(total, MAX_YAML_NODES + 1)
+        return sizes[id(n)]
+
+    if node is not None and size(node) > MAX_YAML_NODES:
+        raise ConfigError(f"{path}: holds more than {MAX_YAML_NODES} values once its aliases (*name) are expanded: "
+                          "write the values out, or check the file for nested aliases (a YAML 'alias bomb').")
+
+
 def load_yaml(path) -> dict:
     """Read a YAML mapping; an empty file gives an empty dict. A key given twice in one mapping is
     an error naming the file and the line."""
@@ -61,7 +88,9 @@ def load_yaml(path) -> dict:
             raise ConfigError(f"{path}: not a YAML text file ({' '.join(str(e).split())[:200]}).") from None
         loader.name = str(path)
         try:
-            data = loader.get_single_data()
+            node = loader.get_single_node()
+            _check_expanded_size(node, path)  # a YAML alias bomb stops here, before it is built or validated
+            data = loader.construct_document(node) if node is not None else None
         except yaml.MarkedYAMLError as e:  # a tab, an unclosed bracket, ...: file, line and column in one line
             mark = e.problem_mark or e.context_mark
             where = f", line {mark.line + 1}, column {mark.column + 1}" if mark is not None else ""
