@@ -442,6 +442,11 @@ class MeasuredDecayRate:
 
 
 _HEADER = ("band_centre_Hz", "decay_rate_dB_per_m")
+# plausible values of a measured decay rate: one-third-octave band centres of the audible range (a
+# track decay rate is measured over 100 Hz .. 5 kHz, EN 15461; centres in kHz under the Hz header are a
+# thousand times too small), and rates up to 100 dB/m (measured rates are 0.1 .. 30 dB/m)
+DECAY_FREQUENCY_RANGE_HZ = (10.0, 20000.0)
+DECAY_RATE_MAX_DB_PER_M = 100.0
 
 
 def read_measured_decay_rate(path) -> MeasuredDecayRate:
@@ -465,7 +470,9 @@ def read_measured_decay_rate(path) -> MeasuredDecayRate:
     ------
     ValueError
         If the file is empty, the header is wrong, there are no data lines, a line does not hold two
-        values, a value is not a number or not > 0, or a band is given twice.  Errors name the file
+        values, a value is not a number or not > 0, a band centre lies outside DECAY_FREQUENCY_RANGE_HZ
+        = 10 Hz .. 20 kHz (naming kHz where the value in kHz would lie inside), a rate exceeds
+        DECAY_RATE_MAX_DB_PER_M = 100 dB/m, or a band is given twice.  Errors name the file
         and the line:
         ``config/measured/default_decay_rate.csv, line 4: decay_rate_dB_per_m = 'n/a' is not a number.``
     OSError
@@ -496,6 +503,14 @@ def read_measured_decay_rate(path) -> MeasuredDecayRate:
             if not (np.isfinite(v) and v > 0):
                 raise ValueError(f"{where}, line {line}: {name} = {v:g} {unit} is not allowed: it must be > 0 {unit}.")
             values.append(v)
+        lo, hi = DECAY_FREQUENCY_RANGE_HZ
+        if not lo <= values[0] <= hi:
+            hint = f"it looks like kHz ({values[0]:g} kHz = {values[0] * 1000:g} Hz); " if lo <= values[0] * 1000 <= hi else ""
+            raise ValueError(f"{where}, line {line}: band_centre_Hz = {values[0]:g} Hz is not allowed: {hint}a one-third-octave band "
+                             f"centre of a track decay rate lies in [{lo:g}, {hi:g}] Hz; write the centres in Hz.")
+        if not values[1] <= DECAY_RATE_MAX_DB_PER_M:
+            raise ValueError(f"{where}, line {line}: decay_rate_dB_per_m = {values[1]:g} dB/m is not allowed: a track decay rate lies "
+                             f"in (0, {DECAY_RATE_MAX_DB_PER_M:g}] dB/m (measured rates are 0.1 .. 30 dB/m).")
         first = [n for n, g in zip(lines, f) if np.isclose(g, values[0], rtol=1e-9, atol=0.0)]
         if first:
             raise ValueError(f"{where}, line {line}: band_centre_Hz = {values[0]:g} Hz is given twice (first at line {first[0]}); "

@@ -572,10 +572,11 @@ def surface_displacement(r, omega, material: ElasticMaterial, load=1.0, numerics
     if material.loss_factor != 0:
         raise ValueError("surface_displacement implements eq (16) for an undamped half-space.")
     r_arr = np.atleast_1d(np.asarray(r, dtype=float))
-    if np.any(r_arr < 0):
-        raise ValueError(f"r = {r_arr.min()} m is not allowed: it must be >= 0.")
-    if omega < 0:
-        raise ValueError(f"omega = {omega} rad/s is not allowed: it must be >= 0.")
+    bad = r_arr[~(np.isfinite(r_arr) & (r_arr >= 0))]
+    if bad.size:
+        raise ValueError(f"r = {bad[0]!r} m is not allowed: it must be a finite number >= 0 (valid range [0, inf)).")
+    if not (np.isfinite(omega) and omega >= 0):
+        raise ValueError(f"omega = {omega!r} rad/s is not allowed: it must be a finite number >= 0 (valid range [0, inf)).")
     if omega == 0:  # Boussinesq, infinite at the load point
         out = np.full(r_arr.shape, np.inf, dtype=complex)
         out[r_arr > 0] = boussinesq(r_arr[r_arr > 0], material, load)
@@ -613,8 +614,9 @@ def point_receptance_imag(omega, material: ElasticMaterial, numerics=None):
     """
     numerics = numerics or HalfSpaceNumerics()
     om = np.atleast_1d(np.asarray(omega, dtype=float))
-    if np.any(om < 0):
-        raise ValueError(f"omega = {om.min()} rad/s is not allowed: it must be >= 0.")
+    bad = om[~(np.isfinite(om) & (om >= 0))]
+    if bad.size:
+        raise ValueError(f"omega = {bad[0]!r} rad/s is not allowed: it must be a finite number >= 0 (valid range [0, inf)).")
     out = np.array(
         [0.0 if o == 0 else _surface_displacement_scalar(0.0, o, material, numerics).imag for o in om]
     )

@@ -230,6 +230,9 @@ def bay_harmonic(wavelength: float, L: float, rtol: float = 1e-6) -> int:
     return int(round(m))
 
 
+COEFFICIENT_MAX_M = 0.01  # m: a plausible roughness amplitude A_k, B_k (as rail.roughness.PROFILE_MAX_HEIGHT_M)
+
+
 def read_roughness_coefficients(path):
     """Read eq (18) roughness coefficients from a CSV file with the header ``k,A_m,B_m``.
 
@@ -247,7 +250,8 @@ def read_roughness_coefficients(path):
     Raises
     ------
     ValueError
-        Naming the file and the line of a wrong header, row or harmonic.
+        Naming the file and the line of a wrong header, row or harmonic, or an amplitude beyond
+        COEFFICIENT_MAX_M = 10 mm either way.
     """
     ks, A, B = [], [], []
     rows_k = {}
@@ -262,6 +266,10 @@ def read_roughness_coefficients(path):
             raise ValueError(f"{path}, line {n}: harmonic k = {k} is not allowed: it must be >= 1.")
         if not (np.isfinite(a) and np.isfinite(b)):
             raise ValueError(f"{path}, line {n}: the amplitudes {','.join(row[1:])} are not finite.")
+        if not (abs(a) <= COEFFICIENT_MAX_M and abs(b) <= COEFFICIENT_MAX_M):
+            raise ValueError(f"{path}, line {n}: the amplitudes {','.join(c.strip() for c in row[1:])} m are not allowed: a rail "
+                             f"roughness amplitude lies within ±{COEFFICIENT_MAX_M * 1000:g} mm (valid range [-{COEFFICIENT_MAX_M:g}, "
+                             f"{COEFFICIENT_MAX_M:g}] m); write A_m and B_m in metres.")
         if k in ks:
             raise ValueError(f"{path}, line {n}: harmonic k = {k} is given twice (first at line {rows_k[k]}).")
         rows_k[k] = n

@@ -41,6 +41,12 @@ Plausible units (inputs in the wrong unit are refused when read, naming the like
   one-third-octave series NOMINAL_WAVELENGTHS_M (1 m .. 3.15 mm) within NOMINAL_TOLERANCE = 1.5 %
   of its nominal label or of its exact centre 10^(-n/10) m (nominal_band).
 
+* a profile height beyond PROFILE_MAX_HEIGHT_M = 10 mm either way (rail-head roughness is micrometres
+  to a tenth of a millimetre; heights in µm written under a m or mm header are a million or a thousand
+  times too large);
+* a spectrum level outside SPECTRUM_LEVEL_RANGE_DB = -80 .. +60 dB re 1 µm (0.1 nm .. 1 mm rms: below
+  any instrument's floor, above the worst corrugation), a level in µm converted first.
+
 A spectrum in mm that happens to lie within 1 mm .. 10 m as metres (bands 10 mm .. 1 mm written
 10 .. 1) cannot be told from one in metres and is not caught.
 """
@@ -59,7 +65,8 @@ __all__ = ["RoughnessInputWarning", "read_profile", "read_profile_record", "Prof
            "RECORD_CYCLES", "remove_spikes", "record_segments", "record_bays", "longest_resolved_band", "resolved_bands",
            "ProfileProcessing", "process_profile", "profile_statement", "profile_coefficients", "read_third_octave_spectrum",
            "band_edges", "spectrum_coefficients", "NOMINAL_WAVELENGTHS_M", "NOMINAL_TOLERANCE", "nominal_band",
-           "read_limit_spectrum", "PROFILE_MAX_SPACING_M", "PROFILE_MAX_LENGTH_M", "SPECTRUM_WAVELENGTH_RANGE_M"]
+           "read_limit_spectrum", "PROFILE_MAX_SPACING_M", "PROFILE_MAX_LENGTH_M", "SPECTRUM_WAVELENGTH_RANGE_M",
+           "PROFILE_MAX_HEIGHT_M", "SPECTRUM_LEVEL_RANGE_DB"]
 
 # EN 15610 nominal centre wavelengths (m) of the exact series 10^(-n/10) m, n = 0..25
 NOMINAL_WAVELENGTHS_M = np.array([1.0, 0.8, 0.63, 0.5, 0.4, 0.315, 0.25, 0.2, 0.16, 0.125, 0.1, 0.08, 0.063, 0.05,
@@ -71,6 +78,8 @@ NOMINAL_TOLERANCE = 0.015
 PROFILE_MAX_SPACING_M = 0.05
 PROFILE_MAX_LENGTH_M = 1000.0
 SPECTRUM_WAVELENGTH_RANGE_M = (1e-3, 10.0)
+PROFILE_MAX_HEIGHT_M = 0.01
+SPECTRUM_LEVEL_RANGE_DB = (-80.0, 60.0)
 
 # units a header may state (rail.csvinput: the grammar), as factors to SI
 LENGTH_FACTORS = {"m": 1.0, "cm": 1e-2, "mm": 1e-3, "µm": 1e-6}
@@ -185,7 +194,8 @@ def read_profile_record(path) -> ProfileRecord:
     ------
     ValueError
         Naming the file and the line of a wrong header, a missing or unknown unit (and the column),
-        a row that is not two finite numbers, or a position that does not increase; naming the file,
+        a row that is not two finite numbers, a position that does not increase or a height beyond
+        PROFILE_MAX_HEIGHT_M = 10 mm either way (naming µm where the value in µm would lie inside); naming the file,
         when the positions look like a smaller unit than the header's: a median sample spacing above
         PROFILE_MAX_SPACING_M = 0.05 m (records are sampled at about 1 mm) or a record longer than
         PROFILE_MAX_LENGTH_M = 1000 m.
@@ -208,6 +218,15 @@ def read_profile_record(path) -> ProfileRecord:
     if length > PROFILE_MAX_LENGTH_M:
         raise ValueError(f"{path}, line {lines[-1]}: the positions look like millimetres: the record is {length:g} m long (at most "
                          f"{PROFILE_MAX_LENGTH_M:g} m allowed; in mm it would be {length / 1000:g} m); {fix}.")
+    big = np.nonzero(~(np.abs(z) <= PROFILE_MAX_HEIGHT_M))[0]
+    if big.size:
+        i, uz = int(big[0]), units[1]
+        v = float(z[i]) / LENGTH_FACTORS[uz]
+        shown = f"{v:g} m" if uz == "m" else f"{v:g} {uz} = {float(z[i]):g} m"
+        hint = (f"it looks like µm ({v:g} µm); " if uz != "µm" and abs(v) * 1e-6 <= PROFILE_MAX_HEIGHT_M else "")
+        raise ValueError(f"{path}, line {lines[i]}: height {shown} is not allowed: {hint}a rail-head roughness profile lies "
+                         f"within ±{PROFILE_MAX_HEIGHT_M * 1000:g} mm (valid range [-{PROFILE_MAX_HEIGHT_M:g}, "
+                         f"{PROFILE_MAX_HEIGHT_M:g}] m); check the height unit of the header ({uz}).")
     return ProfileRecord(x - x[0], z, str(path), units)
 
 
@@ -299,9 +318,9 @@ def record_segments(length: float, period: float) -> tuple[int, float]:
     Parameters
     ----------
     length : float
-        Record length [m].
+        Record length [m], finite and >= 0.
     period : float
-        P = N L [m], > 0.
+        P = N L [m], finite and > 0.
 
     Returns
     -------
@@ -310,6 +329,10 @@ def record_segments(length: float, period: float) -> tuple[int, float]:
     remainder : float
         length - segments P [m].
     """
+    if not (np.isfinite(length) and length >= 0):
+        raise ValueError(f"length = {length!r} m is not allowed: it must be a finite number >= 0 (valid range [0, inf)).")
+    if not (np.isfinite(period) and period > 0):
+        raise ValueError(f"period = {period!r} m is not allowed: it must be a finite number > 0 (valid range (0, inf)).")
     n = int(np.floor(length / period * (1 + 1e-9)))
     return n, max(0.0, float(length - n * period))
 
@@ -577,8 +600,9 @@ def read_spectrum_table(path) -> SpectrumTable:
     ValueError
         Naming the file and the line of a wrong header, a missing or unknown unit (and the column), a
         row that is not two finite numbers, a non-positive or repeated wavelength, a level in µm
-        that is not > 0, or a wavelength outside SPECTRUM_WAVELENGTH_RANGE_M = 1 mm .. 10 m (naming
-        millimetres when the value in mm would lie inside).
+        that is not > 0, a wavelength outside SPECTRUM_WAVELENGTH_RANGE_M = 1 mm .. 10 m (naming
+        millimetres when the value in mm would lie inside), or a level outside SPECTRUM_LEVEL_RANGE_DB =
+        -80 .. +60 dB re 1 µm.
     """
     units, lam, lev, lines = _read_two_columns(path, SPECTRUM_COLUMNS, "wavelength_m,level_dB",
                                                "centre wavelength and level")
@@ -603,6 +627,12 @@ def read_spectrum_table(path) -> SpectrumTable:
             raise ValueError(f"{path}, line {lines[i]}: level {float(lev[i]):g} µm is not allowed: an rms level in µm must be > 0 "
                              "(or give the column in dB re 1 µm).")
     level = 20 * np.log10(lev) if uv == "µm" else lev
+    lo_db, hi_db = SPECTRUM_LEVEL_RANGE_DB
+    for i, v in enumerate(level):
+        if not lo_db <= v <= hi_db:
+            shown = f"{float(v):g} dB re 1 µm" if uv == "dB" else f"{float(lev[i]):g} µm = {float(v):.4g} dB re 1 µm"
+            raise ValueError(f"{path}, line {lines[i]}: level {shown} is not allowed: a rail or wheel roughness level lies in "
+                             f"[{lo_db:g}, {hi_db:g}] dB re 1 µm (0.1 nm .. 1 mm rms); check the level unit of the header ({uv}).")
     return SpectrumTable(lam * f, level, str(path), units)
 
 

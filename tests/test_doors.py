@@ -86,3 +86,175 @@ def test_spectrum_of_a_fleet_scenario_is_refused_naming_the_fleet_spectrum(fleet
 def test_spectrum_settings_are_checked_as_the_schema_checks_them_before_computing(default_study, nothing_computed, kwargs, message):
     with pytest.raises(ConfigError, match=message):
         api.spectrum(default_study, speeds=40.0, **kwargs)
+
+
+# item 10: a YAML alias bomb (nine lines, 9**9 values once expanded) ended in a MemoryError inside the
+# schema's validator after 44 s; it is refused while the file is read, before anything is built
+def test_a_yaml_alias_bomb_is_refused_while_reading_naming_the_file(tmp_path, capsys):
+    lines, prev = ['a: &a ["lol", "lol", "lol", "lol", "lol", "lol", "lol", "lol", "lol"]'], "a"
+    for name in "bcdefghi":
+        lines.append(f"{name}: &{name} [{', '.join([f'*{prev}'] * 9)}]")
+        prev = name
+    bomb = tmp_path / "bomb.yaml"
+    bomb.write_text("\n".join(lines) + "\n")
+    assert cli.main(["check", str(bomb)]) == 2
+    err = capsys.readouterr().err.strip()
+    assert re.fullmatch(r"railgrowth: .*bomb\.yaml: holds more than 100000 values once its aliases \(\*name\) are expanded: .*", err)
+    with pytest.raises(ConfigError, match=r"bomb\.yaml: holds more than 100000 values"):
+        api.load(bomb)
+
+
+def test_a_yaml_file_with_a_few_aliases_is_read_as_written(tmp_path):
+    from rail.setup.config import load_yaml
+
+    path = tmp_path / "aliases.yaml"
+    path.write_text("pad: &pad {stiffness: 1.0e+9, loss_factor: 0.2}\ntrack:\n  pad: *pad\n")
+    assert load_yaml(path) == {"pad": {"stiffness": 1.0e9, "loss_factor": 0.2}, "track": {"pad": {"stiffness": 1.0e9, "loss_factor": 0.2}}}
+
+
+# item 11: library functions refuse nonsense naming the parameter, its value and the valid range
+# (validated in the Python wrappers: the compiled kernels are untouched)
+NAN, INF = float("nan"), float("inf")
+
+
+@pytest.mark.parametrize("speed", [-40.0, NAN, 0.0, INF])
+def test_carter_refuses_a_speed_that_is_not_a_finite_positive_number(speed):
+    import numpy as np
+
+    from rail import contact as C
+
+    m = C.ContactMaterial(2.1e11, 0.3, 0.008, 0.46, 0.3, 0.3, -0.001)
+    with pytest.raises(ValueError, match=rf"^carter: speed = {speed!r} m/s is not allowed: it must be a finite number > 0 "
+                                         r"\(valid range \(0, inf\)\)\.$"):
+        C.carter(np.zeros(1), 1e5, m, speed, 0.46)
+
+
+def test_carter_keeps_its_numbers_for_valid_input():
+    # Carter's total force mu P (1 - (c/a)^2) with 1 - c/a = |gamma| / (pi k mu p0): written out here
+    import numpy as np
+
+    from rail import contact as C
+    from rail.contact.hertz import compliance, hertz_half_length
+
+    m = C.ContactMaterial(2.1e11, 0.3, 0.008, 0.46, 0.3, 0.3, -0.001)
+    a = float(hertz_half_length(1e5, 0.46, m))
+    frac = 0.001 / (np.pi * compliance(m) * 0.3 * 1e5 / (np.pi * a * 0.008))
+    assert C.carter(np.zeros(1), 1e5, m, 40.0, 0.46)[2] == pytest.approx(0.3 * 1e5 * (1 - (1 - frac) ** 2), rel=1e-12)
+
+
+@pytest.mark.parametrize("omega", [NAN, INF, -1.0, [10.0, NAN]])
+def test_halfspace_receptance_refuses_a_frequency_that_is_not_finite_and_non_negative(omega):
+    from rail import halfspace
+
+    m = halfspace.ElasticMaterial(2.1e11, 0.25, 7850.0)
+    with pytest.raises(ValueError, match=r"^omega = .+ rad/s is not allowed: it must be a finite number >= 0 \(valid range \[0, inf\)\)\.$"):
+        halfspace.point_receptance_imag(omega, m)
+    if not isinstance(omega, list):
+        with pytest.raises(ValueError, match=r"^omega = .+ rad/s is not allowed"):
+            halfspace.surface_displacement(0.01, omega, m)
+
+
+@pytest.mark.parametrize("nu", [0.7, 0.5, -1.0, NAN])
+def test_contact_material_refuses_a_poisson_ratio_outside_the_isotropic_range(nu):
+    from rail import contact as C
+
+    with pytest.raises(ValueError, match=rf"^poisson_ratio = {nu!r} is not allowed: it must lie in \(-1, 0\.5\)"):
+        C.ContactMaterial(2.1e11, nu, 0.008, 0.46, 0.3, 0.3, -0.001)
+
+
+@pytest.mark.parametrize("length, period, message", [
+    (3.0, -0.6, r"^period = -0\.6 m is not allowed: it must be a finite number > 0"),
+    (3.0, 0.0, r"^period = 0\.0 m is not allowed"),
+    (3.0, NAN, r"^period = nan m is not allowed"),
+    (-3.0, 0.6, r"^length = -3\.0 m is not allowed: it must be a finite number >= 0"),
+    (INF, 0.6, r"^length = inf m is not allowed"),
+])
+def test_record_segments_refuses_a_negative_or_non_finite_length_or_period(length, period, message):
+    from rail.roughness import record_segments
+
+    with pytest.raises(ValueError, match=message):
+        record_segments(length, period)
+    assert record_segments(3.0, 0.6) == (5, 0.0) and record_segments(0.5, 0.6) == (0, 0.5)
+
+
+# item 7: `check` passed a profile height of 1e6 m, a spectrum band at 1e6 dB and a decay rate in kHz
+# under a Hz header; every file value is now checked against a stated plausible range where it is read
+# (rail.roughness, rail.decay, rail.interaction), so every door refuses it in one line
+def _profile(tmp_path, height):
+    x = [i * 0.001 for i in range(700)]
+    rows = [f"{xi:.3f},{(1e-6 if i % 2 else -1e-6):.1e}" for i, xi in enumerate(x)]
+    rows[10] = f"{x[10]:.3f},{height}"
+    path = tmp_path / "profile.csv"
+    path.write_text("position_m,height_m\n" + "\n".join(rows) + "\n")
+    return path
+
+
+@pytest.mark.parametrize("file, key, make, message", [
+    ("profile", "roughness", lambda t: _profile(t, "1e6"),
+     r"profile\.csv, line 12: height 1e\+06 m is not allowed: a rail-head roughness profile lies within ±10 mm "
+     r"\(valid range \[-0\.01, 0\.01\] m\)"),
+    ("spectrum", "roughness", None,
+     r"spectrum\.csv, line 3: level 1e\+06 dB re 1 µm is not allowed: a rail or wheel roughness level lies in \[-80, 60\] dB re 1 µm"),
+    ("decay", "measured.decay_rate", None,
+     r"decay\.csv, line 2: band_centre_Hz = 0\.1 Hz is not allowed: it looks like kHz \(0\.1 kHz = 100 Hz\); a one-third-octave "
+     r"band centre of a track decay rate lies in \[10, 20000\] Hz"),
+    ("coefficients", "roughness", None, r"coefficients\.csv, line 2: the amplitudes 1\.0,0\.0 m are not allowed: .*±10 mm"),
+])
+def test_check_refuses_implausible_file_values_naming_file_line_value_and_range(tmp_path, capsys, file, key, make, message):
+    spectrum = tmp_path / "spectrum.csv"
+    spectrum.write_text("wavelength_m,level_dB\n0.1,2.0\n0.08,1e6\n0.063,1.0\n")
+    decay = tmp_path / "decay.csv"
+    decay.write_text("band_centre_Hz,decay_rate_dB_per_m\n0.1,10.0\n0.125,8.0\n5.0,0.5\n")
+    coefficients = tmp_path / "coefficients.csv"
+    coefficients.write_text("k,A_m,B_m\n1,1.0,0.0\n")
+    path = make(tmp_path) if make else {"spectrum": spectrum, "decay": decay, "coefficients": coefficients}[file]
+    text = {"profile": f"roughness:\n  kind: profile\n  file: {path}\n",
+            "spectrum": f"roughness:\n  kind: spectrum\n  file: {path}\n",
+            "coefficients": f"roughness:\n  kind: file\n  file: {path}\n",
+            "decay": f"measured:\n  decay_rate: {path}\n"}[file]
+    scen = tmp_path / "mine.yaml"
+    scen.write_text(text)
+    assert cli.main(["check", str(scen)]) == 2
+    err = capsys.readouterr().err.strip()
+    assert "\n" not in err and "Traceback" not in err and f": {key}: " in err
+    assert re.search(message, err), err
+
+
+@pytest.mark.parametrize("header, value, message", [
+    ("height_mm", "5", None),  # 5 mm: a large but possible height
+    ("height_m", "0.005", None),
+    ("height_mm", "30", r"height 30 mm = 0\.03 m is not allowed: it looks like µm \(30 µm\)"),
+    ("height_um", "2e4", r"height 20000 µm = 0\.02 m is not allowed: a rail-head"),
+    ("height_m", "nan", r"is not finite"),
+])
+def test_a_profile_height_is_read_within_ten_millimetres_either_way(tmp_path, header, value, message):
+    from rail.roughness import read_profile_record
+
+    path = _profile(tmp_path, value)
+    path.write_text(path.read_text().replace("height_m", header))
+    if message is None:
+        assert read_profile_record(path).z[10] == pytest.approx(float(value) * (1e-3 if header == "height_mm" else 1.0))
+    else:
+        with pytest.raises(ValueError, match=message):
+            read_profile_record(path)
+
+
+def test_a_spectrum_level_in_micrometres_is_checked_as_decibels(tmp_path):
+    from rail.roughness import read_spectrum_table
+
+    path = tmp_path / "s.csv"
+    path.write_text("wavelength_m,level_um\n0.1,2.0\n0.08,1e6\n")
+    with pytest.raises(ValueError, match=r"s\.csv, line 3: level 1e\+06 µm = 120 dB re 1 µm is not allowed"):
+        read_spectrum_table(path)
+    path.write_text("wavelength_m,level_um\n0.1,2.0\n0.08,0.5\n")
+    assert read_spectrum_table(path).level_dB == pytest.approx([20 * __import__("math").log10(2.0), 20 * __import__("math").log10(0.5)])
+
+
+def test_a_decay_rate_above_a_hundred_db_per_metre_is_refused(tmp_path):
+    from rail.decay import read_measured_decay_rate
+
+    path = tmp_path / "d.csv"
+    path.write_text("band_centre_Hz,decay_rate_dB_per_m\n100,10.0\n125,1000\n")
+    with pytest.raises(ValueError, match=r"d\.csv, line 3: decay_rate_dB_per_m = 1000 dB/m is not allowed: a track decay rate lies "
+                                         r"in \(0, 100\] dB/m"):
+        read_measured_decay_rate(path)

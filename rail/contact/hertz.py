@@ -63,14 +63,21 @@ class ContactMaterial:
         if not (np.isfinite(self.friction_decay) and 0 <= self.friction_decay <= 100):
             raise ValueError(f"contact.friction_decay = {self.friction_decay!r} m/s is not allowed: it must be a finite number "
                              "in [0, 100] (0: the report's step from mu_s to mu_d).")
+        if not np.isfinite(self.friction_static):
+            raise ValueError(f"contact.friction_static = {self.friction_static!r} is not allowed: it must be a finite number.")
         if self.friction_static < self.friction_dynamic:
             raise ValueError(
                 f"contact.friction_static = {self.friction_static} is not allowed: it must be >= "
                 f"contact.friction_dynamic = {self.friction_dynamic}."
             )
         for name in ("youngs_modulus", "half_width", "wheel_radius", "friction_dynamic"):
-            if not getattr(self, name) > 0:
-                raise ValueError(f"contact.{name} = {getattr(self, name)!r} is not allowed: it must be > 0.")
+            if not (getattr(self, name) > 0 and np.isfinite(getattr(self, name))):
+                raise ValueError(f"contact.{name} = {getattr(self, name)!r} is not allowed: it must be a finite number > 0.")
+        if not (np.isfinite(self.poisson_ratio) and -1 < self.poisson_ratio < 0.5):
+            raise ValueError(f"poisson_ratio = {self.poisson_ratio!r} is not allowed: it must lie in (-1, 0.5) "
+                             "(an isotropic elastic solid).")
+        if not (np.isfinite(self.creepage) and -1 <= self.creepage <= 1):
+            raise ValueError(f"contact.creepage = {self.creepage!r} is not allowed: it must lie in [-1, 1].")
 
 
 def composite_modulus(m: ContactMaterial) -> float:

@@ -42,6 +42,10 @@ def carter(xi, P, m: ContactMaterial, speed: float, R: float):
     c : float
         Stick half-length [m]; the stick zone is [a - 2c, a].
     """
+    for name, value, unit in (("speed", speed, "m/s"), ("P", P, "N"), ("R", R, "m")):
+        if isinstance(value, bool) or not np.isscalar(value) or not (np.isfinite(value) and value > 0):
+            raise ValueError(f"carter: {name} = {value!r} {unit} is not allowed: it must be a finite number > 0 "
+                             "(valid range (0, inf)).")
     a = float(hertz_half_length(P, R, m))
     p0 = P / (np.pi * a * m.half_width)
     k = compliance(m)
