@@ -258,3 +258,69 @@ def test_a_decay_rate_above_a_hundred_db_per_metre_is_refused(tmp_path):
     with pytest.raises(ValueError, match=r"d\.csv, line 3: decay_rate_dB_per_m = 1000 dB/m is not allowed: a track decay rate lies "
                                          r"in \(0, 100\] dB/m"):
         read_measured_decay_rate(path)
+
+
+# item 8: one cross-key check of a fleet for every door (rail.setup.inputs.fleet_checked): a fleet on a
+# voided-sleeper track passed `check` and was refused by the workflow; `check` describes what runs; a
+# fleet.speeds of the wrong type names the accepted forms
+VOIDED = """track:
+  cell:
+    bays: 4
+    ballast: [1.0, 1.0e-3, 1.0, 1.0]
+roughness:
+  bays: 4
+numerics:
+  track:
+    harmonics: 36
+figures:
+  rate_spectrum:
+    bays: 4
+    shortest: 0.02
+    longest: 0.14
+    per_octave: 12
+"""
+CELL_MESSAGE = (r"mix\.yaml: fleet with track\.cell is not allowed: a fleet's receptance tables are one per speed shared by "
+                r"its vehicles, a track cell's are its own Bloch tables")
+
+
+def test_a_fleet_on_a_track_cell_is_refused_by_check_and_the_api_as_by_the_workflow(tmp_path, capsys, nothing_computed):
+    path = tmp_path / "mix.yaml"
+    path.write_text(FLEET + VOIDED)
+    assert cli.main(["check", str(path)]) == 2
+    err = capsys.readouterr().err.strip()
+    assert re.fullmatch(rf"railgrowth: .*{CELL_MESSAGE}.*", err) and "\n" not in err, err
+    with pytest.raises(ConfigError, match=CELL_MESSAGE):
+        api.load(path)
+
+
+def test_the_plan_refuses_a_fleet_on_a_track_cell_with_the_same_line(root, tmp_path, schema, defaults):
+    import shutil
+
+    from rail.setup.plan import plan
+
+    shutil.copytree(root / "config", tmp_path / "config")
+    for f in (tmp_path / "config/scenarios").iterdir():
+        f.unlink()
+    (tmp_path / "config/traffic_study.yaml").unlink(missing_ok=True)
+    (tmp_path / "config/uncertainty.yaml").unlink(missing_ok=True)
+    (tmp_path / "config/scenarios/mix.yaml").write_text(FLEET + VOIDED)
+    with pytest.raises(ConfigError, match=CELL_MESSAGE):
+        plan(defaults, schema, tmp_path)
+
+
+def test_check_of_a_fleet_describes_its_vehicles_and_speed_classes_not_the_unused_one_train_keys(fleet_file, capsys):
+    assert cli.main(["check", str(fleet_file)]) == 0
+    out = capsys.readouterr().out.strip()
+    assert out == ("ok: scenario 'mix' is valid: a fleet of 2 vehicle type(s), loco (2 axles, share 0.4), coach (2 axles, share "
+                   "0.6), at 3 speed(s) (37.33, 40, 42.67 m/s): 6 (vehicle, speed) classes, roughness period 1 bay(s), normal "
+                   "contact nonhertzian, wear path patch; the one-train keys speeds, wheels and contact.creepage are not used.")
+
+
+def test_fleet_speeds_of_the_wrong_type_names_the_accepted_forms(tmp_path, capsys):
+    path = tmp_path / "mix.yaml"
+    path.write_text(FLEET.replace("  speeds: {distribution: uniform, low: 36.0, high: 44.0, classes: 3}", "  speeds: [40.0, 44.0]"))
+    assert cli.main(["check", str(path)]) == 2
+    err = capsys.readouterr().err
+    assert ("fleet.speeds = [40.0, 44.0] has the wrong type: it must be of type object (a mapping; the accepted forms are, e.g., "
+            "{values: [40.0, 44.0], weights: [0.5, 0.5]}; or {distribution: normal, mean: 40.0, std: 4.0, classes: 5}; or "
+            "{distribution: uniform, low: 36.0, high: 44.0, classes: 3})") in err, err

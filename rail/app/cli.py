@@ -59,6 +59,26 @@ def _writable_target(option: str, path: Path | None) -> None:
         raise ConfigError(f"{option} {path}: is a folder; give a file name.")
 
 
+def _what_runs(study) -> str:
+    """The line `check` prints: what the scenario will run (a fleet's vehicles and speed classes, not the
+    one-train speeds and wheels it leaves unused)."""
+    scn = study.scenario
+    rest = (f"roughness period {scn.roughness.bays} bay(s), normal contact {scn.contact_numerics.normal}, "
+            f"wear path {scn.contact_numerics.path}")
+    if "fleet" not in study.config:
+        return (f"ok: scenario '{study.name}' is valid ({len(scn.speeds)} speed(s), {len(scn.wheels.positions)} wheel(s), "
+                f"{rest}).")
+    from ..setup.build import fleet_classes
+
+    classes = fleet_classes(study.config, scn)
+    vehicles = study.config["fleet"]["vehicles"]
+    speeds = sorted({c.speed for c in classes})
+    kinds = ", ".join(f"{v['name']} ({len(v['positions'])} axles, share {v['share']:g})" for v in vehicles)
+    return (f"ok: scenario '{study.name}' is valid: a fleet of {len(vehicles)} vehicle type(s), {kinds}, at {len(speeds)} speed(s) "
+            f"({', '.join(f'{v:.4g}' for v in speeds)} m/s): {len(classes)} (vehicle, speed) classes, {rest}; the one-train "
+            "keys speeds, wheels and contact.creepage are not used.")
+
+
 def main(argv=None) -> int:
     """Run the command line; returns the exit status (0 ok, 1 the model broke in a computation that
     keeps nothing, 2 invalid input, 3 a growth run stopped early with a partial result). Every
@@ -76,9 +96,7 @@ def main(argv=None) -> int:
             _writable_target("--checkpoint", args.checkpoint)
         study = api.load(args.file if args.command == "check" else args.scenario, root=args.root)
         if args.command == "check":
-            print(f"ok: scenario '{study.name}' is valid ({len(study.scenario.speeds)} speed(s), "
-                  f"{len(study.scenario.wheels.positions)} wheel(s), roughness period {study.scenario.roughness.bays} bay(s), "
-                  f"normal contact {study.scenario.contact_numerics.normal}, wear path {study.scenario.contact_numerics.path}).")
+            print(_what_runs(study))
             return 0
         if args.command == "run":
             if not (args.speed > 0 and args.speed < float("inf")):

@@ -172,10 +172,22 @@ def _message(error, source: str) -> str:
                 if error.instance.strip()[:1] in ("{", "[") and error.validator_value in ("object", "array"):
                     hint = (" (snakemake --config passes a nested value as text: put the nested keys in a YAML file "
                             "and give it with --configfile)")
+        if not hint:
+            hint = _accepted_forms(schema, error.validator_value)
         return f"{source}: {key} = {_short(error.instance)} has the wrong type: it must be of type {error.validator_value}{hint}."
     if kind == "required":
         return f"{source}: {key} lacks a required key: {error.message}."
     return f"{source}: {key} = {_short(error.instance)}: {_cut(error.message)}."
+
+
+def _accepted_forms(schema: dict, kind) -> str:
+    """The forms a type error names: the schema's ``examples`` as YAML, else a mapping's keys."""
+    if schema.get("examples"):
+        forms = [yaml.safe_dump(x, default_flow_style=True, sort_keys=False).strip() for x in schema["examples"]]
+        return f" (a mapping; the accepted forms are, e.g., {'; or '.join(forms)})"
+    if kind == "object" and schema.get("properties"):
+        return f" (a mapping of the keys {', '.join(schema['properties'])})"
+    return ""
 
 
 def _cross_checks(cfg: dict, source: str) -> list[str]:

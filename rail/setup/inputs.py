@@ -15,10 +15,10 @@ from ..decay import read_measured_decay_rate
 from ..growth_spectrum import spectrum_lines
 from ..roughness import read_limit_spectrum, read_third_octave_spectrum
 from ..scenario import Scenario
-from .build import physics_problems
+from .build import fleet_classes, physics_problems
 from .config import ConfigError
 
-__all__ = ["FILE_KEYS", "MAX_SPEED", "resolve_paths", "measured_decay_file", "check_inputs", "check_speed"]
+__all__ = ["FILE_KEYS", "MAX_SPEED", "resolve_paths", "measured_decay_file", "check_inputs", "check_speed", "fleet_checked"]
 
 MAX_SPEED = 300.0  # m/s, the schema's bound on a configured speed (config/schema: speeds.items.maximum)
 
@@ -110,6 +110,51 @@ def check_speed(cfg: dict, speed, source: str, name: str = "speed") -> float:
     return V
 
 
+def fleet_checked(cfg: dict, scn: Scenario, source: str) -> tuple:
+    """The (vehicle, speed) classes of a scenario's fleet, checked across keys as every door checks
+    them (the workflow's plan, railgrowth and the API): a fleet on a track cell, a roughness whose
+    wavelength is tied to one speed, and every class speed (check_speed).
+
+    Parameters
+    ----------
+    cfg : dict
+        Resolved configuration (with the key ``fleet``; () is returned without one).
+    scn : Scenario
+        Built from ``cfg`` (rail.setup.build.scenario).
+    source : str
+        The scenario's file (named first in every message).
+
+    Returns
+    -------
+    tuple of rail.fleet.FleetClass
+
+    Raises
+    ------
+    ConfigError
+        One line naming the file, the keys and what to give instead.
+    """
+    if "fleet" not in cfg:
+        return ()
+    r = cfg["roughness"]
+    if cfg["track"].get("cell") is not None:
+        raise ConfigError(f"{source}: fleet with track.cell is not allowed: a fleet's receptance tables are one per speed shared by "
+                          "its vehicles, a track cell's are its own Bloch tables; give each vehicle its own scenario on the cell "
+                          "(wheels, contact.creepage, speeds), or the fleet on a track without track.cell.")
+    if r.get("kind") == "harmonic" and r.get("wavelength") is None:
+        raise ConfigError(f"{source}: roughness.frequency = {r.get('frequency')!r} Hz sets the wavelength at one speed: "
+                          "under a fleet at several speeds give roughness.wavelength (m) instead.")
+    try:
+        classes = fleet_classes(cfg, scn)
+    except ConfigError as e:
+        raise ConfigError(str(e).replace("invalid configuration:\n  ", f"{source}: ")) from None
+    for c in classes:
+        try:
+            check_speed(cfg, c.speed, f"{source}: fleet class {c.label}")
+        except ConfigError as e:
+            raise ConfigError(str(e).replace("invalid speed:\n  ", "")) from None
+    return classes
+
+
 def check_inputs(cfg: dict, scn: Scenario, name: str, source: str, root=".") -> None:
     """Read and check every input file of a scenario and the settings that need its physics.
 
@@ -118,7 +163,8 @@ def check_inputs(cfg: dict, scn: Scenario, name: str, source: str, root=".") -> 
     for the header's unit, a harmonic wavelength that does not divide the period are errors; a
     measured profile is processed as the run will process it: spike removal, the record's segments),
     the limit spectrum of the band view, the growth-rate spectrum's lines, and the measured decay
-    rate (given, or found by the scenario's name under config/measured/).
+    rate (given, or found by the scenario's name under config/measured/); a fleet's cross-key checks
+    (fleet_checked).
 
     Parameters
     ----------
@@ -137,6 +183,7 @@ def check_inputs(cfg: dict, scn: Scenario, name: str, source: str, root=".") -> 
         One line naming the scenario, its file, the key and the problem.
     """
     where = f"scenario {name} ({source})"
+    fleet_checked(cfg, scn, source)
     try:
         for V in scn.speeds:
             scn.roughness.realise(V, scn.L, scn.harmonics)

@@ -33,7 +33,7 @@ from ..roughness import RoughnessInputWarning
 from .build import OPTIONAL_KEYS, PASSAGE_KEYS, fleet_classes, scenario, spectrum_scenario
 from .config import (ConfigError, check_scenario_names, expand_sweep, load_yaml, resolve_scenario_file, scenario_files, schema_unit,
                      validate_config)
-from .inputs import check_inputs, check_speed
+from .inputs import check_inputs, check_speed, fleet_checked
 from .study_files import check_convergence_study, class_key, traffic_cases
 from .tables import table_key
 
@@ -711,25 +711,14 @@ def _fleet_classes(scenarios, sources, sweeps, objects) -> dict:
         if "fleet" not in cfg:
             continue
         src = sources[name]
-        r = cfg["roughness"]
         if name in points:
             problems.append(f"{src}: a sweep of a fleet scenario is not run by the workflow (its points' growth rules run "
                             "one train at one speed); give each case its own scenario file.")
-        elif cfg["track"].get("cell") is not None:
-            problems.append(f"{src}: fleet with track.cell is not run by the workflow (its tables are the cell's, "
-                            "not one per speed shared by the vehicles); run it with rail.app.api.")
-        elif r.get("kind") == "harmonic" and r.get("wavelength") is None:
-            problems.append(f"{src}: roughness.frequency = {r.get('frequency')!r} Hz sets the wavelength at one speed: "
-                            "under a fleet at several speeds give roughness.wavelength (m) instead.")
         else:
-            try:
-                classes = fleet_classes(cfg, objects[name])
-                for c in classes:
-                    check_speed(cfg, c.speed, f"{src}: fleet class {c.label}")
+            try:  # the cross-key checks of every door (rail.setup.inputs.fleet_checked)
+                out[name] = fleet_checked(cfg, objects[name], src)
             except ConfigError as e:
-                problems.append(str(e).replace("invalid configuration:\n  ", f"{src}: "))
-                continue
-            out[name] = classes
+                problems.append(str(e))
     if problems:
         raise ConfigError("invalid configuration:\n  " + "\n  ".join(problems))
     return out
