@@ -159,7 +159,7 @@ def initial_roughness(scn: Scenario, speed: float) -> Roughness:
     return scn.roughness.realise(speed, scn.L, scn.harmonics)
 
 
-def solve_forces(scn: Scenario, table: MovingReceptance, roughness: Roughness) -> ForceResult:
+def solve_forces(scn: Scenario, table: MovingReceptance, roughness: Roughness, check_contact: bool = True) -> ForceResult:
     """Normal force harmonics of every wheel of the scenario (eq 21, rail.interaction.solve_forces).
 
     With the normal contact 'nonhertzian' the contact spring is driven by the roughness the patch
@@ -174,13 +174,15 @@ def solve_forces(scn: Scenario, table: MovingReceptance, roughness: Roughness) -
         At the train's speed, with every wheel offset.
     roughness : Roughness
         [m].
+    check_contact : bool
+        Refuse a force that falls to zero or below (rail.interaction.solve_forces; default).
 
     Returns
     -------
     ForceResult
         P[l, p] [N].
     """
-    return interaction.solve_forces(table, scn.wheels, scn.spring, contact_filtered(scn, roughness), scn.L)
+    return interaction.solve_forces(table, scn.wheels, scn.spring, contact_filtered(scn, roughness), scn.L, check_contact)
 
 
 def contact_filtered(scn: Scenario, roughness: Roughness) -> Roughness:
@@ -483,7 +485,7 @@ def contact_shift(scn: Scenario, table: MovingReceptance, Z) -> ContactShift:
     rough = Roughness(np.asarray(Z), scn.roughness.bays)
     if not np.any(rough.Z):
         return ContactShift(0.0, 0.0, 0.0)
-    forces = solve_forces(scn, table, rough)
+    forces = solve_forces(scn, table, rough, check_contact=False)  # a lost contact gives NaN below, as documented
     period = forces.period
     n = max(512, 16 * forces.harmonics // forces.bays) * forces.bays
     x = np.arange(n) * period / n

@@ -40,7 +40,7 @@ import numpy as np
 from .contact import ContactError
 from .interaction import ContactLossError, Roughness
 
-__all__ = ["GrowthSettings", "GrowthHistory", "GrowthStepError", "grid_phase", "levels_dB", "run_growth", "step_error",
+__all__ = ["GrowthSettings", "GrowthHistory", "GrowthStepError", "CheckpointWriteError", "grid_phase", "levels_dB", "run_growth", "step_error",
            "DB_PER_NEPER", "BandGrowth", "band_growth"]
 
 DB_PER_NEPER = 20 * np.log10(np.e)  # dB of amplitude per unit of ln(amplitude)
@@ -274,9 +274,18 @@ def _save_checkpoint(path: Path, fingerprint: str, done: int, Z, history: Growth
     """Everything a resumed run needs to continue as if never stopped, including the last wear
     rate (rate, for the next update's error estimate)."""
     tmp = path.with_suffix(".tmp.npz")
-    np.savez(tmp, fingerprint=fingerprint, done=done, Z=Z, hist_passages=history.passages, hist_Z=history.Z, update=update,
-             step_error=history.step_error, full_slip=history.full_slip, rate=np.asarray(rate))
-    os.replace(tmp, path)  # atomic: a run killed at any moment leaves the old or the new checkpoint
+    try:
+        np.savez(tmp, fingerprint=fingerprint, done=done, Z=Z, hist_passages=history.passages, hist_Z=history.Z, update=update,
+                 step_error=history.step_error, full_slip=history.full_slip, rate=np.asarray(rate))
+        os.replace(tmp, path)  # atomic: a run killed at any moment leaves the old or the new checkpoint
+    except OSError as e:  # a full disk, a file-size limit, a folder made read-only: no partial file left behind
+        try:
+            tmp.unlink(missing_ok=True)
+        except OSError:
+            pass
+        kept = "the previous checkpoint there is kept" if path.exists() else "no checkpoint was written yet"
+        raise CheckpointWriteError(e.errno, f"could not write the checkpoint at {done} passages: {e.strerror or e} ({kept}; "
+                                   "free space or give another --checkpoint, then run again to resume)", str(path)) from e
 
 
 def _move_aside(path: Path, why: str) -> Path:
@@ -288,6 +297,11 @@ def _move_aside(path: Path, why: str) -> Path:
         n += 1
     os.replace(path, target)
     return target
+
+
+class CheckpointWriteError(OSError):
+    """A growth checkpoint could not be written (a resource problem: disk space, file size, permissions);
+    its filename is the checkpoint, its strerror says what was kept."""
 
 
 class GrowthStepError(RuntimeError):

@@ -371,7 +371,7 @@ def _solve_class(tab: MovingReceptance, wheels: Wheels, contact: ContactSpring, 
 
 
 def solve_forces(
-    tab, wheels: Wheels, contact: ContactSpring, roughness: Roughness, L: float
+    tab, wheels: Wheels, contact: ContactSpring, roughness: Roughness, L: float, check_contact: bool = True
 ) -> ForceResult:
     """Solve the coupled harmonic balance for the force harmonics of every wheel (eq 21).
 
@@ -395,6 +395,9 @@ def solve_forces(
         zero-padded to the tables' K.
     L : float
         Sleeper spacing [m] (beta0 = 2 pi / L).
+    check_contact : bool
+        Refuse a force that falls to zero or below (default); False gives the linear model's force as
+        it is, to record the state a stopped growth run broke at.
 
     Returns
     -------
@@ -404,13 +407,13 @@ def solve_forces(
     Raises
     ------
     ContactLossError
-        Where any wheel's force P_l(x) falls to zero or below.
+        Where any wheel's force P_l(x) falls to zero or below (check_contact).
     """
     N = int(roughness.bays)
     if not np.all(np.isfinite(roughness.Z)):
         raise ValueError("the roughness coefficients are not finite (NaN or inf): check the roughness input.")
     if isinstance(tab, MovingReceptance) and tab.supports is not None:
-        return _solve_cell(tab, wheels, contact, roughness, L)
+        return _solve_cell(tab, wheels, contact, roughness, L, check_contact)
     tabs = (tab,) if isinstance(tab, MovingReceptance) else tuple(tab)
     if len(tabs) != N // 2 + 1 or any(not np.isclose(t.fraction, r / N) for r, t in enumerate(tabs)):
         raise ValueError(f"a roughness periodic over {N} bays needs the receptance tables of the fractions r / {N}, "
@@ -427,7 +430,8 @@ def solve_forces(
         if 0 < r and 2 * r != N:  # class N - r: the conjugates of -j
             P[:, J - j] = np.conj(Pc)
     result = ForceResult(P, tabs[0].speed, L, np.asarray(wheels.positions, dtype=float), N)
-    _check_contact(result)
+    if check_contact:
+        _check_contact(result)
     return result
 
 
@@ -443,7 +447,8 @@ def _roughness_to(roughness: Roughness, J: int, K: int):
     return Z
 
 
-def _solve_cell(tab: MovingReceptance, wheels: Wheels, contact: ContactSpring, roughness: Roughness, L: float) -> ForceResult:
+def _solve_cell(tab: MovingReceptance, wheels: Wheels, contact: ContactSpring, roughness: Roughness, L: float,
+                check_contact: bool = True) -> ForceResult:
     """solve_forces with the table of a track periodic over a cell of N bays (rail.moving.cell_receptance_table):
     one system over every harmonic j Omega_0 / N of the cell, |j| <= N K (the irregular supports
     couple what the Bloch classes of the uniform track keep apart)."""
@@ -456,7 +461,8 @@ def _solve_cell(tab: MovingReceptance, wheels: Wheels, contact: ContactSpring, r
     P = _solve_class(tab, wheels, contact, Z, N * L, 1)
     sup = None if tab.supports is None else np.asarray(tab.supports, dtype=float)
     result = ForceResult(P, tab.speed, L, np.asarray(wheels.positions, dtype=float), N, sup)
-    _check_contact(result)
+    if check_contact:
+        _check_contact(result)
     return result
 
 

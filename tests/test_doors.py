@@ -324,3 +324,61 @@ def test_fleet_speeds_of_the_wrong_type_names_the_accepted_forms(tmp_path, capsy
     assert ("fleet.speeds = [40.0, 44.0] has the wrong type: it must be of type object (a mapping; the accepted forms are, e.g., "
             "{values: [40.0, 44.0], weights: [0.5, 0.5]}; or {distribution: normal, mean: 40.0, std: 4.0, classes: 5}; or "
             "{distribution: uniform, low: 36.0, high: 44.0, classes: 3})") in err, err
+
+
+# item 12: no traceback for a failure a user can cause, exit status by cause (input 2, model 1 or 3,
+# resource 4), a stopped run writes what it kept, no temporary file left behind
+def test_a_failed_out_write_is_one_line_naming_the_file_and_exit_4(tmp_path, monkeypatch, capsys):
+    import errno
+
+    import numpy as np
+    import xarray as xr
+
+    small = xr.Dataset({"a": ("x", np.arange(3.0), {"units": "m", "long_name": "a"})})
+    monkeypatch.setattr(api, "growth", lambda *a, **k: small)
+
+    def full_disk(self, path, *args, **kwargs):
+        raise OSError(errno.ENOSPC, "No space left on device")
+
+    monkeypatch.setattr(xr.Dataset, "to_netcdf", full_disk)
+    out = tmp_path / "g.nc"
+    assert cli.main(["run", "default", "--speed", "40", "--out", str(out)]) == cli.EXIT_RESOURCE == 4
+    err = capsys.readouterr().err.strip()
+    assert "\n" not in err and "Traceback" not in err, err
+    assert err.startswith(f"railgrowth: --out: could not write {out}: [Errno 28] No space left on device. Free space there:"), err
+    assert list(tmp_path.iterdir()) == []
+
+
+def test_a_failed_checkpoint_write_names_the_file_exits_4_and_leaves_no_temporary_file(tmp_path, monkeypatch, capsys):
+    import errno
+
+    from rail import growth
+
+    def too_large(file, **arrays):
+        with open(file, "wb") as f:
+            f.write(b"PK partial")
+        raise OSError(errno.EFBIG, "File too large")
+
+    monkeypatch.setattr(growth.np, "savez", too_large)
+    ck = tmp_path / "ck.npz"
+    assert cli.main(["run", "default", "--speed", "40", "--passages", "20000", "--checkpoint", str(ck),
+                     "--out", str(tmp_path / "g.nc")]) == 4
+    err = capsys.readouterr().err.strip()
+    assert err == (f"railgrowth: {ck}: could not write the checkpoint at 10000 passages: File too large (no checkpoint was "
+                   "written yet; free space or give another --checkpoint, then run again to resume)"), err
+    assert list(tmp_path.iterdir()) == []
+
+
+def test_contact_lost_at_the_start_writes_the_state_it_kept_and_exits_3_as_multiple_contact_does(tmp_path, capsys):
+    # a harmonic of 0.2 mm at 40 mm: the linear force falls to -194 kN, the contact is lost at 0 passages
+    scen = tmp_path / "lost.yaml"
+    scen.write_text("roughness:\n  kind: harmonic\n  amplitude: 2.0e-4\n  wavelength: 0.04\ngrowth:\n  passages: 20000\n")
+    out = tmp_path / "lost.nc"
+    assert cli.main(["run", str(scen), "--speed", "40", "--out", str(out)]) == 3
+    captured = capsys.readouterr()
+    assert f"wrote {out} (partial: growth stopped at 0 passages: contact lost: wheel 0" in captured.out
+    import xarray as xr
+
+    with xr.open_dataset(out) as ds:
+        assert list(ds["passage"].values) == [0] and ds.attrs["stopped"].startswith("growth stopped at 0 passages: contact lost")
+        assert float(ds["force"].min()) < 0  # the linear model's force where the contact was lost, as it was computed

@@ -7,8 +7,18 @@
 A problem with the input is one line per problem naming file, key, value and valid range, and exit
 status 2; nothing is computed before the input is valid (a missing or read-only folder of --out or
 --checkpoint included). A growth run that stops early because the model's assumptions broke (contact
-lost, multiple contact) writes what it computed and exits with 3. The file is written whole or not at
-all: an existing file at --out survives a failed write (rail.setup.io.write_netcdf).
+lost, multiple contact, at any passage count, 0 included) writes what it computed and exits with 3. The
+file is written whole or not at all: an existing file at --out survives a failed write
+(rail.setup.io.write_netcdf), and a failed checkpoint leaves no temporary file.
+
+Exit status by cause (docs/usage.md), every failure one line on stderr, never a traceback:
+
+    0  done
+    1  the model broke in a computation that keeps nothing (a spectrum, a growth step too large)
+    2  invalid input (file, key, value or argument), before anything is computed
+    3  a growth run stopped early (contact lost, multiple contact): the states it kept are written
+    4  a resource failed during the run: a result or checkpoint could not be written (disk full, file
+       too large, permissions), or the memory ran out
 """
 
 from __future__ import annotations
@@ -23,7 +33,9 @@ import yaml
 from ..setup.config import ConfigError
 from ..setup.io import write_netcdf
 
-__all__ = ["main"]
+__all__ = ["main", "EXIT_MODEL", "EXIT_INPUT", "EXIT_PARTIAL", "EXIT_RESOURCE"]
+
+EXIT_MODEL, EXIT_INPUT, EXIT_PARTIAL, EXIT_RESOURCE = 1, 2, 3, 4  # exit status by cause (module docstring)
 
 
 def _parser() -> argparse.ArgumentParser:
@@ -79,22 +91,30 @@ def _what_runs(study) -> str:
             "keys speeds, wheels and contact.creepage are not used.")
 
 
+def _os_line(e: OSError) -> str:
+    """One line for a failed read or write: the file, then what the system said (or the message)."""
+    what = " ".join(str(e.strerror or e).split())
+    return f"{e.filename}: {what}" if e.filename else what
+
+
 def main(argv=None) -> int:
-    """Run the command line; returns the exit status (0 ok, 1 the model broke in a computation that
-    keeps nothing, 2 invalid input, 3 a growth run stopped early with a partial result). Every
-    failure is one line on stderr, never a traceback."""
+    """Run the command line; returns the exit status by cause (0 ok, 1 the model broke in a computation
+    that keeps nothing, 2 invalid input, 3 a growth run stopped early with a partial result, 4 a
+    resource failed: a write, the memory). Every failure is one line on stderr, never a traceback."""
     args = _parser().parse_args(argv)
     from ..contact import ContactError  # after parsing: --help answers without importing the model
     from ..growth import GrowthStepError
     from ..interaction import ContactLossError
     from . import api
 
+    loaded = False  # an OSError before this is the input's (a file missing); after, a resource's
     try:
         if args.command in ("run", "spectrum"):
             _writable_target("--out", args.out)
         if args.command == "run":
             _writable_target("--checkpoint", args.checkpoint)
         study = api.load(args.file if args.command == "check" else args.scenario, root=args.root)
+        loaded = True
         if args.command == "check":
             print(_what_runs(study))
             return 0
@@ -108,24 +128,33 @@ def main(argv=None) -> int:
             out = args.out or Path(f"{study.name}_spectrum.nc")
     except (ContactError, ContactLossError, GrowthStepError, FloatingPointError) as e:  # the model broke mid-way
         print(f"railgrowth: the computation stopped: {' '.join(str(e).split())}", file=sys.stderr)
-        return 1
+        return EXIT_MODEL
     except (ConfigError, ValueError) as e:
         print(f"railgrowth: {e}", file=sys.stderr)
-        return 2
+        return EXIT_INPUT
     except yaml.YAMLError as e:  # a file that is not YAML: one line with the file and the line
         print(f"railgrowth: not a valid YAML file: {' '.join(str(e).split())}", file=sys.stderr)
-        return 2
-    except OSError as e:  # a file or folder that does not exist or cannot be read
-        print(f"railgrowth: {e.filename or ''}: {e.strerror or e}", file=sys.stderr)
-        return 2
-    write_netcdf(ds, out)
+        return EXIT_INPUT
+    except MemoryError:
+        print("railgrowth: out of memory: the computation needs more than this machine has free; use fewer wheels, bays "
+              "or spectrum lines, or a larger machine.", file=sys.stderr)
+        return EXIT_RESOURCE
+    except OSError as e:  # before loading: an input file or folder that does not exist or cannot be read;
+        # after: a checkpoint that could not be written (rail.growth.CheckpointWriteError)
+        print(f"railgrowth: {_os_line(e)}", file=sys.stderr)
+        return EXIT_RESOURCE if loaded else EXIT_INPUT
+    try:
+        write_netcdf(ds, out)
+    except OSError as e:  # a full disk, a file-size limit: the old file at --out, if any, is whole
+        print(f"railgrowth: --out: {_os_line(e)}", file=sys.stderr)
+        return EXIT_RESOURCE
     from ..studies.validity import validity_text
 
     if validity_text(ds.attrs):
         print(f"validity: {validity_text(ds.attrs)}")
     if ds.attrs.get("stopped"):
         print(f"wrote {out} (partial: {ds.attrs['stopped']})")
-        return 3
+        return EXIT_PARTIAL
     print(f"wrote {out}")
     return 0
 

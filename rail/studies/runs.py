@@ -42,8 +42,10 @@ def growth_dataset(scn: Scenario, table, history, speed: float, warn=None) -> xr
     """
     bays = scn.roughness.bays
 
-    def force(Z, x):  # every wheel's contact force at each saved roughness
-        return interaction.force_history(chain.solve_forces(scn, table, interaction.Roughness(Z, bays)), x)
+    def force(Z, x):  # every wheel's contact force at each saved roughness (a stopped run: as the linear model has it,
+        # below zero where the contact was lost, so that the state it broke at is written with the others)
+        return interaction.force_history(chain.solve_forces(scn, table, interaction.Roughness(Z, bays),
+                                                            check_contact=not history.stopped), x)
 
     ds = datasets.growth(history, scn.track, speed, len(scn.wheels.positions), bays=bays, force=force)
     ds = datasets.with_contact_shift(ds, [chain.contact_shift(scn, table, Z) for Z in history.Z], chain.SWEEP_ERROR_LIMIT,
