@@ -304,8 +304,10 @@ def test_the_plan_refuses_a_fleet_on_a_track_cell_with_the_same_line(root, tmp_p
     (tmp_path / "config/traffic_study.yaml").unlink(missing_ok=True)
     (tmp_path / "config/uncertainty.yaml").unlink(missing_ok=True)
     (tmp_path / "config/scenarios/mix.yaml").write_text(FLEET + VOIDED)
+    P = plan(defaults, schema, tmp_path)  # the file is left out of the run (item 9): its targets stop with the line
+    assert "mix" in P.broken and "mix" not in P.fleet_classes
     with pytest.raises(ConfigError, match=CELL_MESSAGE):
-        plan(defaults, schema, tmp_path)
+        P.require("mix")
 
 
 def test_check_of_a_fleet_describes_its_vehicles_and_speed_classes_not_the_unused_one_train_keys(fleet_file, capsys):

@@ -184,3 +184,77 @@ def test_a_wheelset_in_the_configuration_reaches_the_single_passage_jobs(P):
     assert part["wheelset"] == wheelset
     assert passage_scenario(part).material.longitudinal is not None
     assert "wheelset" not in config_part(FORCE_KEYS, with_wheelset)  # the forces do not read it
+
+
+# Issue 45 (item 9): one broken draft file in config/scenarios stopped every target, studies that do
+# not use it included; it now leaves out only its own scenarios, says so once at start-up (a note), and
+# a target that needs it stops with the file's problem
+DRAFTS = {
+    "draft.yaml": "track:\n  pad:\n    stiffness: -1.0\n",  # the schema refuses it
+    "draft_sweep.yaml": "sweep:\n  track.pad.stiffness: [3.5e+8, -1.0e+8]\n",  # one point refused
+    "draft_tab.yaml": "track:\n\tpad: 1\n",  # not YAML
+    "draft_fleet.yaml": ("fleet:\n  vehicles:\n    - {name: loco, positions: [0.0, 3.3], static_load: 1.0e+5, unsprung_mass: 1350.0, "
+                         "creepage: [-0.001, -0.001], share: 1.0}\n  speeds: {values: [40.0], weights: [1.0]}\n"
+                         "track:\n  cell:\n    bays: 4\n    ballast: [1.0, 1.0e-3, 1.0, 1.0]\nroughness:\n  bays: 4\n"
+                         "numerics:\n  track:\n    harmonics: 36\nfigures:\n  rate_spectrum:\n    bays: 4\n    shortest: 0.02\n"
+                         "    longest: 0.14\n    per_octave: 12\n"),  # refused by the fleet's cross-key check
+    "draft_input.yaml": "roughness:\n  kind: spectrum\n  file: config/roughness/draft_levels.csv\n",  # refused reading its file
+}
+
+
+@pytest.fixture(scope="module")
+def with_drafts(tmp_path_factory):
+    import shutil
+
+    work = tmp_path_factory.mktemp("drafts")
+    shutil.copytree(ROOT / "config", work / "config")
+    (work / "config/roughness/draft_levels.csv").write_text("wavelength_m,level_dB\n0.1,2.0\n0.08,1e6\n")
+    for name, text in DRAFTS.items():
+        (work / "config/scenarios" / name).write_text(text)
+    here = Path.cwd()
+    os.chdir(work)
+    try:
+        schema = load_yaml("config/schema/config.schema.yaml")
+        config = validate_config(load_yaml("config/config.yaml"), schema)
+        yield plan(config, schema)
+    finally:
+        os.chdir(here)
+
+
+def test_a_broken_scenario_file_leaves_out_only_its_own_scenarios(P, with_drafts):
+    D = with_drafts
+    assert sorted(D.broken) == sorted(name[:-5] for name in DRAFTS)
+    assert D.study_names() == P.study_names() and D.paper_figures() == P.paper_figures()
+    assert [D.study_targets(n) for n in D.study_names()] == [P.study_targets(n) for n in P.study_names()]
+    assert D.traffic_study_inputs() == P.traffic_study_inputs() and D.irregular_targets() == P.irregular_targets()
+    for name in D.broken:
+        assert name not in D.scenarios and name not in D.objects and name not in D.sweeps
+
+
+def test_a_broken_scenario_file_is_said_once_at_start_up(with_drafts):
+    notes = [n for n in with_drafts.notes if "is not valid, so it is left out of this run" in n]
+    assert len(notes) == len(DRAFTS) and all("\n" not in n for n in notes)
+    assert ("railgrowth: note: config/scenarios/draft.yaml is not valid, so it is left out of this run: only the targets that "
+            "need it stop (the others run): config/scenarios/draft.yaml: track.pad.stiffness = -1.0 N/m is not allowed") in "\n".join(notes)
+
+
+@pytest.mark.parametrize("ask, message", [
+    (lambda D: D.require("draft"), r"config/scenarios/draft\.yaml: track\.pad\.stiffness = -1\.0 N/m is not allowed"),
+    (lambda D: D.scenarios["draft"], r"config/scenarios/draft\.yaml: track\.pad\.stiffness = -1\.0 N/m"),
+    (lambda D: D.target_speed("draft", "40"), r"config/scenarios/draft\.yaml: track\.pad\.stiffness"),
+    (lambda D: D.study_input("draft")(None), r"config/scenarios/draft\.yaml: track\.pad\.stiffness"),
+    (lambda D: D.require("draft_tab"), r"config/scenarios/draft_tab\.yaml, line 2, column 1: not valid YAML"),
+    (lambda D: D.sweep_runs("draft_sweep"), r"draft_sweep\.yaml \(sweep point track\.pad\.stiffness = -100000000\.0\)"),
+    (lambda D: D.require("draft_sweep-p0"), r"draft_sweep\.yaml \(sweep point track\.pad\.stiffness = -100000000\.0\)"),
+    (lambda D: D.fleet_classes["draft_fleet"], r"draft_fleet\.yaml: fleet with track\.cell is not allowed"),
+    (lambda D: D.objects["draft_input"], r"draft_levels\.csv, line 3: level 1e\+06 dB re 1 µm is not allowed"),
+])
+def test_a_target_that_needs_a_broken_scenario_file_stops_naming_its_problem(with_drafts, ask, message):
+    with pytest.raises(ConfigError, match=r"^target needs the scenario '[\w-]+', which is left out of this run: "
+                                          r"config/scenarios/draft\w*\.yaml is not valid: (.|\n)*" + message):
+        ask(with_drafts)
+
+
+def test_a_broken_sweep_study_stays_a_target_of_sweeps_that_stops(P, with_drafts):
+    assert with_drafts.broken_sweeps == {"draft_sweep"}
+    assert set(with_drafts.sweep_targets()) == set(P.sweep_targets()) | {"results/sweeps/draft_sweep.nc", "results/sweeps/draft_sweep.png"}

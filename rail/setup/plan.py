@@ -20,7 +20,9 @@ Conventions
 from __future__ import annotations
 
 import functools
+import re
 import warnings
+from collections.abc import Mapping
 from dataclasses import dataclass, field
 from pathlib import Path
 from types import MappingProxyType
@@ -178,14 +180,14 @@ class Plan:
 
     config: dict
     schema: dict
-    scenarios: MappingProxyType          # {name: resolved configuration}
+    scenarios: Mapping                   # {name: resolved configuration} (a name left out raises its file's problem)
     sources: MappingProxyType            # {name: where it comes from, for messages}
     scenario_files: MappingProxyType     # {name: path} of config/scenarios/
-    sweeps: MappingProxyType             # {study: Sweep}
+    sweeps: Mapping                      # {study: Sweep} (as scenarios)
     traffic_cases: MappingProxyType      # {case name: scenario mapping}
     traffic_study: dict | None           # config/traffic_study.yaml
-    objects: MappingProxyType            # {name: rail.scenario.Scenario}
-    fleet_classes: MappingProxyType      # {fleet scenario: (FleetClass, ...)}
+    objects: Mapping                     # {name: rail.scenario.Scenario} (as scenarios)
+    fleet_classes: Mapping               # {fleet scenario: (FleetClass, ...)} (as scenarios)
     fleet_spectrum_keys: MappingProxyType  # {fleet scenario: [class spectrum key per class]}
     fleet_spectrum_jobs: MappingProxyType  # {key: (first scenario holding it, class index)}
     tables: MappingProxyType             # {table key: Table}
@@ -198,6 +200,13 @@ class Plan:
     convergence_values: MappingProxyType  # {(setting, value label): value}
     closure: dict
     notes: tuple                         # one line per roughness-input note, naming the scenarios
+    broken: MappingProxyType             # {scenario file name: its problem}: left out of this run
+    broken_sweeps: frozenset             # those of them that are sweep studies (sweep_targets names them, to stop there)
+
+    def left_out(self, name: str) -> str | None:
+        """Why a scenario (or a sweep point, <study>-p<n>) is left out of this run, or None: its file in
+        config/scenarios/ is not valid. Only the targets that need it stop, with this line."""
+        return _left_out(name, self.broken, self.scenario_files)
 
     # -- scenarios ---------------------------------------------------------------------------
 
@@ -209,6 +218,8 @@ class Plan:
     def require(self, name: str) -> dict:
         """A scenario's configuration, or one line naming the scenarios that exist."""
         if name not in self.scenarios:
+            if self.left_out(name):
+                raise ConfigError(self.left_out(name))
             raise ConfigError(f"target names the scenario '{name}', which is not defined: the scenarios are "
                               f"{', '.join(sorted(self.scenarios))} (config/scenarios/<name>.yaml).")
         return self.scenarios[name]
@@ -372,6 +383,18 @@ class Plan:
             out += [f"{base}_overview.png", f"{base}_bands.png", f"{base}_3d.png"]
         return out + extra
 
+    def study_input(self, name: str):
+        """The input of the rule study_<name>: its targets (study_targets) or, for a scenario file left out
+        of the run (not valid: broken), a function of the wildcards that stops the run with the file's
+        problem when, and only when, the target is asked for."""
+        if name not in self.broken:
+            return self.study_targets(name)
+
+        def left_out(wildcards):
+            raise ConfigError(self.left_out(name))
+
+        return left_out
+
     def short_wave_targets(self) -> list[str]:
         """The named target short_wave (issue 31): nonhertzian's growth-rate spectrum and the studies
         short_wave_study and short_wave_study_report, of those scenario files that exist."""
@@ -408,8 +431,9 @@ class Plan:
         return out
 
     def sweep_targets(self) -> list[str]:
-        """Aggregated dataset and map figure of every sweep study."""
-        return [f"results/sweeps/{s}.{ext}" for ext in ("nc", "png") for s in sorted(self.sweeps)]
+        """Aggregated dataset and map figure of every sweep study (one left out of the run included: its
+        targets stop with its file's problem)."""
+        return [f"results/sweeps/{s}.{ext}" for ext in ("nc", "png") for s in sorted({*self.sweeps, *self.broken_sweeps})]
 
     def sweep_runs(self, study: str) -> list[str]:
         """Growth runs of every point of a sweep study, in grid order."""
@@ -578,6 +602,44 @@ class Plan:
             "results/traffic_study/spectra.png", "results/uncertainty/band_interval.png"]
 
 
+def _left_out(name: str, broken, files) -> str | None:
+    """Plan.left_out from the problems ``broken`` ({file name: problem}) and the scenario ``files``."""
+    m = re.fullmatch(r"(.+)-p\d+", name)
+    stem = name if name in broken else m.group(1) if m and m.group(1) in broken else None
+    if stem is None:
+        return None
+    return f"target needs the scenario '{name}', which is left out of this run: {files[stem]} is not valid: {broken[stem]}"
+
+
+class _Known(Mapping):
+    """A read-only mapping of scenario names in which looking up a scenario left out of the run (its
+    file is not valid: Plan.left_out) raises the ConfigError that names the file and its problem,
+    rather than a KeyError; ``in`` and iteration see only the scenarios that run."""
+
+    def __init__(self, data: dict, left_out):
+        self._data, self._left_out = dict(data), left_out
+
+    def __getitem__(self, name):
+        if name in self._data:
+            return self._data[name]
+        why = self._left_out(name) if isinstance(name, str) else None
+        if why:
+            raise ConfigError(why)
+        raise KeyError(name)
+
+    def __contains__(self, name):
+        return name in self._data
+
+    def __iter__(self):
+        return iter(self._data)
+
+    def __len__(self):
+        return len(self._data)
+
+    def __repr__(self):
+        return f"_Known({self._data!r})"
+
+
 def known_value(known: dict, label: str, what: str, key: str):
     """The value a target's file-name label names, or one line saying which labels exist."""
     if label not in known:
@@ -612,22 +674,47 @@ def plan(config: dict, schema: dict, root=".") -> Plan:
         One line per problem, naming the file, the key and what is allowed.
     """
     root = Path(root)
-    scenarios, sources, sweeps, files = _scenarios(config, schema, root)
+    broken = {}  # {scenario file name: problem}: a file that is not valid stops only the targets that need it
+    sweep_files = set()  # the scenario files that are sweep studies
+    scenarios, sources, sweeps, files = _scenarios(config, schema, root, broken, sweep_files)
     traffic_file = root / "config/traffic_study.yaml"
     traffic_study = load_yaml(traffic_file) if traffic_file.exists() else None
     cases = _traffic_cases(config, schema, traffic_study, traffic_file, scenarios, sources)
     check_scenario_names({name: str(p) for name, p in files.items()},
                          {p.name: str(files[study]) for study, sw in sweeps.items() for p in sw.points})
-    objects = {name: scenario(cfg, name, sources[name]) for name, cfg in scenarios.items()}
-    classes = _fleet_classes(scenarios, sources, sweeps, objects)
-    spectrum_keys, spectrum_jobs = {}, {}
-    for name in classes:
-        settings = scenarios[name]["figures"]["rate_spectrum"]
-        keys = [class_key(c, settings) for c in fleet_classes(scenarios[name], spectrum_scenario(scenarios[name], name, sources[name]))]
-        spectrum_keys[name] = keys
+    owner = {**{name: name for name in files if name in scenarios},
+             **{p.name: study for study, sw in sweeps.items() for p in sw.points}}  # the file each scenario comes from
+
+    def each(names, step):
+        """step(name) for every name; a ConfigError of a scenario file's scenario leaves that file out."""
+        out = {}
+        for name in list(names):
+            if owner.get(name) in broken:
+                continue
+            try:
+                out[name] = step(name)
+            except ConfigError as e:
+                if name not in owner:  # config.yaml, a traffic case: every target needs it
+                    raise
+                broken.setdefault(owner[name], _one_problem(e))
+        return out
+
+    objects = each(scenarios, lambda name: scenario(scenarios[name], name, sources[name]))
+    classes = _fleet_classes(scenarios, sources, sweeps, objects, each)
+    spectrum_keys = each(classes, lambda name: [class_key(c, scenarios[name]["figures"]["rate_spectrum"]) for c in fleet_classes(
+        scenarios[name], spectrum_scenario(scenarios[name], name, sources[name]))])
+    notes = _input_notes(scenarios, sources, objects, each)
+    for name in [n for n in scenarios if owner.get(n) in broken]:  # every scenario of a file left out
+        for d in (scenarios, sources, objects, classes, spectrum_keys):
+            d.pop(name, None)
+    for study in [s for s in sweeps if s in broken]:
+        del sweeps[study]
+    spectrum_jobs = {}
+    for name, keys in spectrum_keys.items():
         for i, k in enumerate(keys):
             spectrum_jobs.setdefault(k, (name, i))
-    notes = _input_notes(scenarios, sources, objects)
+    notes = [f"railgrowth: note: {files[name]} is not valid, so it is left out of this run: only the targets that need it stop "
+             f"(the others run): {' '.join(problem.split())}" for name, problem in sorted(broken.items())] + notes
     tables, scenario_table = {}, {}
     for name in scenarios:
         if name in classes:  # a fleet's tables hold every vehicle's offsets
@@ -648,31 +735,49 @@ def plan(config: dict, schema: dict, root=".") -> Plan:
     except ValueError as e:
         raise ConfigError(str(e)) from None
     ro = MappingProxyType
+    def left_out(name: str) -> str | None:
+        return _left_out(name, broken, files)
+
     return Plan(
-        config=config, schema=schema, scenarios=ro(scenarios), sources=ro(sources), scenario_files=ro(files), sweeps=ro(sweeps),
-        traffic_cases=ro(cases), traffic_study=traffic_study, objects=ro(objects), fleet_classes=ro(classes),
+        config=config, schema=schema, scenarios=_Known(scenarios, left_out), sources=ro(sources), scenario_files=ro(files),
+        sweeps=_Known(sweeps, left_out), traffic_cases=ro(cases), traffic_study=traffic_study, objects=_Known(objects, left_out),
+        fleet_classes=_Known(classes, left_out),
         fleet_spectrum_keys=ro(spectrum_keys), fleet_spectrum_jobs=ro(spectrum_jobs), tables=ro(tables),
         scenario_table=ro(scenario_table), fleet_tables=ro(fleet_tables), fleet_table=ro(fleet_table),
         uncertainty=ro(_uncertainty(config, schema, root / "config/uncertainty.yaml")),
         stability=load_yaml(root / "config/stability.yaml"), convergence=convergence,
         convergence_values=ro({(name, f"{float(v):g}"): float(v) for name, s in convergence["settings"].items()
                                for v in s["values"] + [s["reference"]]}),
-        closure=load_yaml(root / "config/closure.yaml"), notes=tuple(notes))
+        closure=load_yaml(root / "config/closure.yaml"), notes=tuple(notes), broken=ro(broken),
+        broken_sweeps=frozenset(sweep_files & set(broken)))
 
 
-def _scenarios(config: dict, schema: dict, root: Path):
+def _one_problem(e: ConfigError) -> str:
+    """A ConfigError's problems without the heading ("invalid configuration:"), one per line."""
+    lines = str(e).split("\n")
+    return "\n".join(x.strip() for x in (lines[1:] if len(lines) > 1 and lines[0].endswith(":") else lines))
+
+
+def _scenarios(config: dict, schema: dict, root: Path, broken: dict, broken_sweeps: set):
     """Scenarios of config/scenarios/<name>.yaml (only the keys that differ from the defaults), each
     resolved and validated (errors name its file); "default" is the configuration itself. A file with
-    a top-level "sweep:" is a study: one scenario per grid point, named <study>-p<n>."""
+    a top-level "sweep:" is a study: one scenario per grid point, named <study>-p<n>. A file that is
+    not valid is left out, its problem in ``broken`` under its name."""
     scenarios, sources, sweeps = {"default": config}, {"default": DEFAULT_SOURCE}, {}
     files = scenario_files(root / "config/scenarios")
     for path in files.values():
-        scen = load_yaml(path)
-        if "sweep" not in scen:
-            scenarios[path.stem] = resolve_scenario_file(config, schema, scen, source=str(path))
-            sources[path.stem] = str(path)
+        try:
+            scen = load_yaml(path)
+            if "sweep" in scen:
+                broken_sweeps.add(path.stem)  # kept only if the file is left out
+            if "sweep" not in scen:
+                scenarios[path.stem] = resolve_scenario_file(config, schema, scen, source=str(path))
+                sources[path.stem] = str(path)
+                continue
+            keys, values, points = expand_sweep(config, schema, scen, str(path))
+        except ConfigError as e:
+            broken[path.stem] = _one_problem(e)
             continue
-        keys, values, points = expand_sweep(config, schema, scen, str(path))
         swept = []
         for n, (index, assignment, cfg) in enumerate(points):
             name = f"{path.stem}-p{n}"
@@ -702,41 +807,36 @@ def _traffic_cases(config, schema, study, path, scenarios, sources) -> dict:
     return cases
 
 
-def _fleet_classes(scenarios, sources, sweeps, objects) -> dict:
+def _fleet_classes(scenarios, sources, sweeps, objects, each) -> dict:
     """The (vehicle, speed) classes of every fleet scenario, so that a speed the harmonics cannot serve
-    or a roughness tied to one speed stops here; every problem in one message."""
-    out, problems = {}, []
+    or a roughness tied to one speed stops here (``each``: a scenario file's problem leaves the file out)."""
     points = {p.name for sw in sweeps.values() for p in sw.points}
-    for name, cfg in scenarios.items():
-        if "fleet" not in cfg:
-            continue
+
+    def classes(name):
         src = sources[name]
         if name in points:
-            problems.append(f"{src}: a sweep of a fleet scenario is not run by the workflow (its points' growth rules run "
-                            "one train at one speed); give each case its own scenario file.")
-        else:
-            try:  # the cross-key checks of every door (rail.setup.inputs.fleet_checked)
-                out[name] = fleet_checked(cfg, objects[name], src)
-            except ConfigError as e:
-                problems.append(str(e))
-    if problems:
-        raise ConfigError("invalid configuration:\n  " + "\n  ".join(problems))
-    return out
+            raise ConfigError(f"{src}: a sweep of a fleet scenario is not run by the workflow (its points' growth rules run "
+                              "one train at one speed); give each case its own scenario file.")
+        return fleet_checked(scenarios[name], objects[name], src)  # the cross-key checks of every door
+
+    return each([n for n, cfg in scenarios.items() if "fleet" in cfg and n in objects], classes)
 
 
-def _input_notes(scenarios, sources, objects) -> list[str]:
+def _input_notes(scenarios, sources, objects, each) -> list[str]:
     """Every input file read and checked (its errors name the file and line; rail.setup.inputs), and the
     notes of a roughness input the period cannot hold in full, one line per message naming the
     scenarios. Any other warning is passed on as Python shows it."""
     with warnings.catch_warnings(record=True) as caught:
         warnings.simplefilter("always", RoughnessInputWarning)
         said = {}
-        for name, scn in objects.items():
+        def check(name):
             before = len(caught)
-            check_inputs(scenarios[name], scn, name, sources[name])
+            check_inputs(scenarios[name], objects[name], name, sources[name])
             for w in caught[before:]:
                 if issubclass(w.category, RoughnessInputWarning):
                     said.setdefault(str(w.message), []).append(name)
+
+        each(objects, check)  # a scenario file whose input files are not valid is left out
     for w in caught:
         if not issubclass(w.category, RoughnessInputWarning):
             warnings.warn_explicit(w.message, w.category, w.filename, w.lineno)

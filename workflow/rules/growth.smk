@@ -93,13 +93,13 @@ rule scenario_overview:
         "../scripts/growth_figure.py"
 
 
-for _study_name in PLAN.study_names():
+for _study_name in PLAN.study_names() + sorted(PLAN.broken):
 
     rule:
         name:
             f"study_{_study_name}"
         input:
-            PLAN.study_targets(_study_name),
+            PLAN.study_input(_study_name),
 
 
 rule growth_bands:
