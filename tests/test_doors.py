@@ -384,3 +384,71 @@ def test_contact_lost_at_the_start_writes_the_state_it_kept_and_exits_3_as_multi
     with xr.open_dataset(out) as ds:
         assert list(ds["passage"].values) == [0] and ds.attrs["stopped"].startswith("growth stopped at 0 passages: contact lost")
         assert float(ds["force"].min()) < 0  # the linear model's force where the contact was lost, as it was computed
+
+
+# Hypothesis over the command line's check and the API with fleets and track cells: any value either
+# runs (check says ok in one line; the API reaches the computation) or is refused, one line per problem
+# naming it, never a traceback; nothing is computed here (the computation is replaced by a marker)
+from hypothesis import HealthCheck, given, settings  # noqa: E402
+from hypothesis import strategies as st  # noqa: E402
+
+_FUZZ_KEYS = [("fleet", "vehicles", 0, "positions"), ("fleet", "vehicles", 0, "static_load"), ("fleet", "vehicles", 0, "share"),
+              ("fleet", "vehicles", 0, "creepage"), ("fleet", "vehicles", 0, "name"), ("fleet", "vehicles", 1, "unsprung_mass"),
+              ("fleet", "speeds"), ("fleet", "speeds", "low"), ("fleet", "speeds", "high"), ("fleet", "speeds", "classes"),
+              ("fleet", "speeds", "distribution"), ("fleet", "speeds", "values"), ("track", "cell", "bays"),
+              ("track", "cell", "ballast"), ("track", "cell", "spacing"), ("roughness", "bays")]
+_FUZZ_VALUE = st.one_of(st.floats(allow_nan=True, allow_infinity=True), st.integers(-10**4, 10**4), st.text(max_size=4), st.none(),
+                        st.booleans(), st.lists(st.one_of(st.floats(-10.0, 400.0), st.sampled_from([float("nan"), float("inf")])), max_size=4),
+                        st.sampled_from([{"values": [40.0], "weights": [1.0]}, {"distribution": "normal", "mean": 40.0},
+                                         [36.0, 44.0], 0.0, 1e300, -1.0, 4]))
+
+
+class _Reached(Exception):
+    """The computation was reached: every check passed."""
+
+
+def _set(tree, key, value):
+    node = tree
+    for k in key[:-1]:
+        node = node.setdefault(k, {}) if isinstance(node, dict) else node[k]
+    node[key[-1]] = value
+
+
+@settings(max_examples=40, deadline=None, suppress_health_check=[HealthCheck.function_scoped_fixture])
+@given(key=st.sampled_from(_FUZZ_KEYS), value=_FUZZ_VALUE, cell=st.booleans(), fleet=st.booleans(),
+       bays=st.one_of(st.none(), st.integers(-3, 10**6), st.floats(allow_nan=True, allow_infinity=True)))
+def test_fuzzed_fleets_and_track_cells_run_or_are_refused_in_one_line_per_problem(tmp_path, capsys, key, value, cell, fleet, bays):
+    import yaml
+
+    scen = yaml.safe_load(FLEET)
+    if cell or key[0] == "track":
+        scen = {**scen, **yaml.safe_load(VOIDED)}
+    if not fleet and key[0] != "fleet":
+        del scen["fleet"]
+    _set(scen, key, value)
+    path = tmp_path / "fuzz.yaml"
+    path.write_text(yaml.safe_dump(scen))
+    code = cli.main(["check", str(path)])
+    out, err = capsys.readouterr()
+    assert code in (0, 2), (code, err)
+    if code == 0:
+        assert out.startswith("ok: scenario 'fuzz' is valid") and out.count("\n") == 1, out
+    else:
+        assert err.startswith("railgrowth: ") and "Traceback" not in err, err
+        lines = err.rstrip("\n").split("\n")
+        assert all(line.startswith("  ") and "fuzz.yaml" in line for line in lines[1:]), err  # one line per problem, named
+        return
+    study = api.load(path)  # check said ok: the API loads it too, and checks its arguments before computing
+    saved = api.chain.fleet_tables, api.chain.receptance_table
+    api.chain.fleet_tables = api.chain.receptance_table = lambda *a, **k: (_ for _ in ()).throw(_Reached())
+    try:
+        call = (lambda: api.fleet_spectrum(study, bays=bays)) if "fleet" in study.config else (
+            lambda: api.spectrum(study, speeds=40.0, bays=bays))
+        try:
+            call()
+        except _Reached:
+            assert bays is None or (isinstance(bays, int) and 2 <= bays <= 256), bays
+        except ConfigError as e:
+            assert "bays" in str(e) and "Traceback" not in str(e), str(e)
+    finally:
+        api.chain.fleet_tables, api.chain.receptance_table = saved
