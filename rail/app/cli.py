@@ -11,7 +11,7 @@ lost, multiple contact, at any passage count, 0 included) writes what it compute
 file is written whole or not at all: an existing file at --out survives a failed write
 (rail.setup.io.write_netcdf), and a failed checkpoint leaves no temporary file.
 
-Exit status by cause (docs/usage.md), every failure one line on stderr, never a traceback:
+Exit status by cause (docs/usage.md), every failure one line on stderr, never a traceback::
 
     0  done
     1  the model broke in a computation that keeps nothing (a spectrum, a growth step too large)
