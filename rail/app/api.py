@@ -245,9 +245,12 @@ def spectrum(study: Study, *, speeds, shortest: float | None = None, longest: fl
     Raises
     ------
     rail.setup.config.ConfigError, ValueError
-        Naming the argument, before computing: speeds not a finite number > 0 or a non-empty
-        sequence of them; per_octave, bays, grid_phases not whole numbers >= 1; a wavelength range
-        the lines cannot span (rail.growth_spectrum.spectrum_lines).
+        Naming the argument, before computing: a study with a fleet (its spectrum is fleet_spectrum);
+        speeds not a finite number > 0 or a non-empty sequence of them, or a speed the workflow and
+        growth refuse (rail.setup.inputs.check_speed: above 300 m/s, or too slow for the harmonics to
+        reach the pinned-pinned frequency); per_octave, bays, grid_phases not whole numbers, or any
+        setting outside the schema's range of figures.rate_spectrum (bays in [2, 256]); a wavelength
+        range the lines cannot span (rail.growth_spectrum.spectrum_lines).
     """
     if "fleet" in study.config:
         raise config.ConfigError(f"{study.name} has a fleet: spectrum would compute one train at the speeds given and leave "
