@@ -24,9 +24,14 @@ stated (longest_resolved_band, resolved_bands).
 One-third-octave wavelength spectrum (CSV ``wavelength_<unit>,level_<unit>``, centre wavelengths and rms
 levels in dB re 1 um, as EN 15610 states a roughness spectrum): every band's mean square
 (1e-6 10^(level / 20))^2 is shared equally between the wavenumbers 2 pi j / P whose wavelength
-P / j falls in the band (band_edges: neighbouring bands meet at the geometric mean of their
-centres, the outermost edges are 2^(+-1/6) from the centre), with phases uniformly random from
-``seed`` (numpy's default generator): the realisation has exactly the band levels. A band that
+P / j falls in the band, with phases uniformly random from ``seed`` (numpy's default generator):
+the realisation has exactly the band levels. The bands are those of the analysis
+(rail.studies.bands, issue 45): a centre on the base-ten series 10^(-n/10) m (within 1.5 %: every
+EN 15610 nominal label) has the edges 10^((-n -+ 1/2)/10) m, and a line on an edge belongs to the
+band of the shorter wavelengths (third_octave_edges, in_band); so the band view of the initial
+roughness gives back every input level that holds a line, to rounding. A centre off that series has
+the edges of band_edges (neighbouring bands meet at the geometric mean of their centres, the
+outermost edges are 2^(+-1/6) from the centre). A band that
 holds no wavenumber of the period (too long for P, or shorter than L / K) is left out, and named
 in a warning; a spectrum none of whose bands holds one is refused (the rail would be smooth).
 
@@ -64,7 +69,7 @@ __all__ = ["RoughnessInputWarning", "read_profile", "read_profile_record", "Prof
            "SpectrumTable", "LENGTH_FACTORS", "PROFILE_COLUMNS", "SPECTRUM_COLUMNS", "RECORD_MODES", "SPIKE_THRESHOLD",
            "RECORD_CYCLES", "remove_spikes", "record_segments", "record_bays", "longest_resolved_band", "resolved_bands",
            "ProfileProcessing", "process_profile", "profile_statement", "profile_coefficients", "read_third_octave_spectrum",
-           "band_edges", "spectrum_coefficients", "NOMINAL_WAVELENGTHS_M", "NOMINAL_TOLERANCE", "nominal_band",
+           "band_edges", "third_octave_edges", "in_band", "spectrum_coefficients", "NOMINAL_WAVELENGTHS_M", "NOMINAL_TOLERANCE", "nominal_band",
            "read_limit_spectrum", "PROFILE_MAX_SPACING_M", "PROFILE_MAX_LENGTH_M", "SPECTRUM_WAVELENGTH_RANGE_M",
            "PROFILE_MAX_HEIGHT_M", "SPECTRUM_LEVEL_RANGE_DB"]
 
@@ -747,6 +752,52 @@ def band_edges(wavelength):
     return lo, hi
 
 
+def third_octave_edges(wavelength):
+    """Edges of the bands a spectrum's centre wavelengths name, by the one band rule of the analysis
+    (rail.studies.bands): a centre within NOMINAL_TOLERANCE of an exact base-ten centre 10^(-n/10) m
+    (every EN 15610 and CNOSSOS-EU nominal label is, 2 m .. 0.8 mm) has the edges 10^((-n -+ 1/2)/10) m;
+    any other centre has the edges of band_edges.
+
+    Parameters
+    ----------
+    wavelength : ndarray
+        Band centre wavelengths [m], distinct.
+
+    Returns
+    -------
+    lower, upper : ndarray
+        Band edges [m]; a wavelength lam lies in a band when lower < lam <= upper (in_band).
+    """
+    lam = np.asarray(wavelength, dtype=float)
+    lo, hi = band_edges(lam)
+    n = np.round(-10 * np.log10(lam))
+    exact = 10.0 ** (-n / 10)
+    on = np.abs(lam / exact - 1) <= NOMINAL_TOLERANCE
+    lo = np.where(on, exact * 10 ** (-1 / 20), lo)
+    hi = np.where(on, exact * 10 ** (1 / 20), hi)
+    return lo, hi
+
+
+def in_band(lam, lower, upper):
+    """Whether wavelengths lie in a band: lower < lam <= upper (a line on an edge belongs to the band of
+    the shorter wavelengths), the one rule of the synthesis (spectrum_coefficients) and the analysis
+    (rail.studies.bands.band_mean_square), so that a realised spectrum is analysed back to its levels.
+
+    Parameters
+    ----------
+    lam : ndarray
+        Wavelengths [m].
+    lower, upper : float
+        Band edges [m].
+
+    Returns
+    -------
+    ndarray of bool
+    """
+    lam = np.asarray(lam)
+    return (lam > lower) & (lam <= upper)
+
+
 def spectrum_coefficients(wavelength, level_dB, period: float, J: int, seed: int, source: str = "spectrum"):
     """Random-phase realisation of a one-third-octave spectrum over the period (module docstring).
 
@@ -777,9 +828,9 @@ def spectrum_coefficients(wavelength, level_dB, period: float, J: int, seed: int
     Z = np.zeros(2 * J + 1, dtype=complex)
     empty = []
     phases = rng.uniform(0.0, 2 * np.pi, J)  # one per wavenumber, drawn in order: reproducible
-    lo, hi = band_edges(wavelength)
+    lo, hi = third_octave_edges(wavelength)
     for lc, lev, a, b in zip(wavelength, level_dB, lo, hi):
-        inside = (lam_j >= a) & (lam_j < b)
+        inside = in_band(lam_j, a, b)
         if not inside.any():
             empty.append(f"{lc:g} m")
             continue
