@@ -83,8 +83,9 @@ def test_growth_law_is_decided_from_the_data():
     # grinding interval: the exponential band reaches 10 um (20 dB - 3 dB re 1 um rms) first
     limit = np.full(2, 20 * np.log10(10e-6 / 1e-6))
     gi = B.grinding_interval(n, np.vstack([a_lin, a_exp]).T ** 2, g, limit, per_day=2000.0)
-    t_exp = 1e5 * np.log(10e-6 / 1e-7) / 3.0
-    t_lin = (10e-6 - 1e-6) / 2e-6 * 1e5
+    above = 10e-6 * 10 ** (0.5 / 20)  # the limit "20" is stated to 1 dB: exceeded above 20.5 dB (issue 45)
+    t_exp = 1e5 * np.log(above / 1e-7) / 3.0
+    t_lin = (above - 1e-6) / 2e-6 * 1e5
     assert gi["band"] == 1 and gi["passages"] == pytest.approx(min(t_exp, t_lin), rel=1e-9)
     assert gi["days"] == pytest.approx(gi["passages"] / 2000.0)
 
@@ -109,7 +110,8 @@ def test_band_dataset_and_csv_of_a_growth_run(tmp_path):
     ds = B.bands_dataset(g, L, tob, 1, limit, per_day=10000.0)
     b50 = int(np.nonzero(tob.nominal == 0.05)[0][0])
     assert ds["growth_law"].values[b50] == "exponential" and ds["efolding_rate_per_1e5_axles"].values[b50] == pytest.approx(2.0, rel=1e-9)
-    t = 1e5 * np.log(1e-6 * 10 ** 0.5 * np.sqrt(2) / 1e-6) / 2.0  # band rms a / sqrt(2) reaches 10 dB (74,893)
+    # band rms a / sqrt(2) exceeds the limit "10" (stated to 1 dB: above 10.5 dB, issue 45) after 77,771 passages
+    t = 1e5 * np.log(1e-6 * 10 ** (10.5 / 20) * np.sqrt(2) / 1e-6) / 2.0
     assert ds.attrs["grinding_interval_band_m"] == 0.05
     assert ds.attrs["grinding_interval_passages"] == pytest.approx(t, rel=1e-9)
     assert ds.attrs["grinding_interval_days"] == pytest.approx(t / 10000.0)
@@ -205,3 +207,68 @@ def test_limit_at_nominal_labels_or_exact_centres_is_read_and_used_by_the_band_v
     ds = B.bands_dataset(g, L, tob, 1, limit)
     got = {float(w): float(v) for w, v in zip(tob.nominal, ds["limit"].values) if np.isfinite(v)}
     assert got == {0.315: 12.0, 0.16: 11.0, 0.08: 10.0}
+
+
+def _growth(N, K, n, lines):
+    """A synthetic growth dataset: {j: amplitude per saved count} of cosine lines over N bays."""
+    import xarray as xr
+
+    J = N * K
+    Z = np.zeros((len(n), 2 * J + 1), dtype=complex)
+    for j, a in lines.items():
+        Z[:, J + j] = Z[:, J - j] = np.asarray(a) / 2
+    return xr.Dataset({"Z_real": (("passage", "h"), Z.real), "Z_imag": (("passage", "h"), Z.imag)},
+                      coords={"passage": n}, attrs={"bays": N, "speed_m_per_s": 40.0})
+
+
+def test_a_band_grown_from_nothing_below_the_floor_is_marked_and_not_ranked():
+    # issue 45, item 1: a band far below 1 um growing from nothing (here from 1e-9 um at -60 dB to
+    # -50 dB: a linear growth of 0.003 um per 100,000 axles that shows as +8 dB per 100,000 axles) was
+    # ranked as the fastest growth and set the grinding interval. The 50 mm band at +10 dB growing
+    # at +0.3 dB per 100,000 axles (exponential) is the one that matters.
+    n = np.arange(0, 100001, 10000)
+    one_m = int(round(4 * L / 0.63))  # a line in the 630 mm band (4 bays)
+    j50 = int(round(4 * L / 0.05))
+    a_low = np.sqrt(2) * (1e-9 + 3.1e-9 * n / 1e5)  # band rms 0.001 -> 0.0041 um: -60 -> -47.7 dB
+    g_hi = 0.3 / B.DB_PER_NEPER
+    a_hi = np.sqrt(2) * 1e-6 * 10 ** 0.5 * np.exp(g_hi * n / 1e5)  # +10 dB, +0.3 dB per 1e5 axles
+    g = _growth(4, 64, n, {one_m: a_low, j50: a_hi})
+    tob = B.third_octave_bands()
+    limit = (tob.nominal, np.full(len(tob.nominal), 11.0))
+    ds = B.bands_dataset(g, L, tob, 1, limit)
+    b63, b50 = (int(np.nonzero(tob.nominal == v)[0][0]) for v in (0.63, 0.05))
+    assert ds["growth_dB_per_1e5_axles"].values[b63] > 5 * ds["growth_dB_per_1e5_axles"].values[b50] > 0  # the trap
+    assert ds.attrs["rate_floor_dB_re_1um"] == B.RATE_FLOOR_DB == -30.0
+    assert ds["ranked"].values[b63] == 0 and ds["ranked"].values[b50] == 1
+    assert "below the floor: -47.7 dB re 1 um at the last save < -30 dB re 1 um" in str(ds["rate_note"].values[b63])
+    # the interval is set by the 50 mm band: 11 dB (to 1 dB: above 11.5) from 10 dB at 0.3 dB per 1e5
+    assert ds.attrs["grinding_interval_band_m"] == 0.05
+    assert ds.attrs["grinding_interval_passages"] == pytest.approx(1e5 * 1.5 / 0.3, rel=1e-9)
+    csv = B.band_csv_text(ds)
+    row = next(x for x in csv.splitlines() if x.startswith("0.63,"))
+    assert ",0,\"below the floor" in row
+
+
+def test_a_band_at_its_limit_to_the_stated_precision_is_not_exceeded():
+    # issue 45, item 2: a band at 17.100 dB against the limit 17.1 said "limit already exceeded",
+    # interval 0. Exceeded means strictly above the limit to its stated precision (17.1: above 17.15).
+    assert list(B.limit_tolerance([17.1, 17.0, 17.25, np.nan])[:3]) == [0.05, 0.5, 0.005]
+    n = np.arange(0, 100001, 10000)
+    j50 = int(round(4 * L / 0.05))
+    level0 = 17.100
+    g_dB = 0.2  # dB per 1e5 axles, exponential
+    a = np.sqrt(2) * 1e-6 * 10 ** (level0 / 20) * np.exp(g_dB / B.DB_PER_NEPER * n / 1e5)
+    tob = B.third_octave_bands()
+    b50 = int(np.nonzero(tob.nominal == 0.05)[0][0])
+    lim = np.full(len(tob.nominal), np.nan)
+    lim[b50] = 17.1
+    ds = B.bands_dataset(_growth(4, 64, n, {j50: a}), L, tob, 1, (tob.nominal, lim))
+    assert ds["level"].values[0, b50] == pytest.approx(17.1, abs=1e-9)
+    assert ds.attrs["limit_exceeded_at_start"] == 0
+    assert ds.attrs["grinding_interval_passages"] == pytest.approx(1e5 * 0.05 / g_dB, rel=1e-6)  # to 17.15 dB: 25,000
+    assert "already exceeded" not in ds.attrs["grinding_interval_text"]
+    # 17.2 at the start is above 17.1 to its precision: exceeded, interval 0
+    a2 = a * 10 ** (0.1 / 20)
+    ds2 = B.bands_dataset(_growth(4, 64, n, {j50: a2}), L, tob, 1, (tob.nominal, lim))
+    assert ds2.attrs["limit_exceeded_at_start"] == 1 and ds2.attrs["grinding_interval_passages"] == 0
+    assert "limit already exceeded by the initial roughness (the 50 mm band)" in ds2.attrs["grinding_interval_text"]

@@ -326,11 +326,15 @@ def band_spectra(ds: xr.Dataset):
     fig.suptitle(title, fontsize=9)
     a1.legend(fontsize=7)
     law = ds["growth_law"].values
-    _band_rate_panel(a2, lam, ds["growth_dB_per_1e5_axles"].values, ds["growth_dB_per_1e5_axles_error"].values, res, law,
-                     a1.get_xlim(), "level growth (dB per 100,000 axle passages)", "level growth rate at the last save")
+    # the rates of the ranked bands only: a band below the floor grows from nothing (rail.studies.bands)
+    rank = res & (ds["ranked"].values.astype(bool) if "ranked" in ds else True)
+    floor = ds.attrs.get("rate_floor_dB_re_1um")
+    below = f"; bands below {floor:g} dB re 1 µm not ranked ({int((res & ~rank).sum())})" if floor is not None else ""
+    _band_rate_panel(a2, lam, ds["growth_dB_per_1e5_axles"].values, ds["growth_dB_per_1e5_axles_error"].values, rank, law,
+                     a1.get_xlim(), "level growth (dB per 100,000 axle passages)", "level growth rate at the last save" + below)
     a2.legend(fontsize=7)
     _band_rate_panel(a3, lam, ds["amplitude_growth_um_per_1e5_axles"].values, ds["amplitude_growth_um_per_1e5_axles_error"].values,
-                     res, law, a1.get_xlim(), "amplitude growth (µm rms per 100,000 axle passages)",
+                     rank, law, a1.get_xlim(), "amplitude growth (µm rms per 100,000 axle passages)",
                      "amplitude growth rate: ranks the linearly growing bands")
     text.validity_note(fig, ds.attrs)
     return fig

@@ -15,6 +15,18 @@ coefficients Z_j of its Fourier series (rail.interaction.Roughness):
   longer than the period or shorter than the shortest wavelength L / K holds none. Unresolved bands
   are marked (NaN level and resolved = 0), never filled.
 * Levels in dB re 1 um rms: L = 10 log10(mean square / (1e-6 m)^2).
+* A line on a band edge belongs to the band with the shorter wavelengths (rail.roughness.in_band,
+  the rule the spectrum synthesis uses too, so a spectrum start is analysed back to its levels).
+
+Rates that mean something (issue 45): a band whose level at the last save is below the floor
+RATE_FLOOR_DB = -30 dB re 1 um (0.03 um rms; docs/studies.md says why) keeps its numbers but is
+marked ``ranked = 0`` with its reason (``rate_note``): its dB rate is the growth of a roughness from
+nothing (a band at -60 dB growing linearly shows several dB per 100,000 axles whatever its size) and
+is ranked neither by the grinding interval nor in the figures.
+
+A limit is exceeded when a band's level is strictly above it to the limit's stated precision: by
+more than half a unit of its last stated decimal (limit_tolerance: 17.1 is exceeded above 17.15 dB;
+17.100 against 17.1 is not exceeded).
 
 Growth per band (rail.growth.band_growth): from the rms amplitude a(n) of each band at the saved
 passage counts n, a straight line a = a0 + r n (amplitude growth, um per 1e5 axle passages) and an
@@ -33,11 +45,14 @@ from dataclasses import dataclass
 import numpy as np
 
 from ..growth import DB_PER_NEPER, BandGrowth, band_growth
-from ..roughness import NOMINAL_WAVELENGTHS_M, nominal_band
+from ..roughness import NOMINAL_WAVELENGTHS_M, in_band, nominal_band
 from .validity import VALIDITY_ATTRS, validity_text
 
-__all__ = ["NOMINAL_WAVELENGTHS_M", "ThirdOctaveBands", "third_octave_bands", "band_mean_square", "band_levels",
+__all__ = ["NOMINAL_WAVELENGTHS_M", "ThirdOctaveBands", "third_octave_bands", "band_mean_square", "band_levels", "RATE_FLOOR_DB", "limit_tolerance", "ranked_bands",
            "BandGrowth", "band_growth", "grinding_interval", "empty_band_reasons", "bands_dataset", "grinding_interval_text", "band_csv_text", "write_band_csv", "sweep_band_map", "readable_count"]
+
+# The level below which a band's growth rate is not ranked [dB re 1 um] (module docstring; docs/studies.md)
+RATE_FLOOR_DB = -30.0
 
 # NOMINAL_WAVELENGTHS_M: EN 15610 nominal centre wavelengths (m) of the exact series 10^(-n/10) m,
 # n = 0..25 (rail.roughness, where the limit spectrum is read and checked against them)
@@ -124,7 +139,7 @@ def band_mean_square(Z, period: float, bands: ThirdOctaveBands, min_lines: int =
     ms = np.full(Z.shape[:-1] + (len(bands.centre),), np.nan)
     resolved = np.zeros(len(bands.centre), dtype=bool)
     for b, (lo, hi) in enumerate(zip(bands.lower, bands.upper)):
-        inside = (lam > lo) & (lam <= hi)
+        inside = in_band(lam, lo, hi)
         if inside.sum() >= min_lines:
             resolved[b] = True
             ms[..., b] = power[..., inside].sum(axis=-1)
@@ -155,8 +170,69 @@ def band_levels(Z, period: float, bands: ThirdOctaveBands, min_lines: int = 1):
         return 10 * np.log10(ms / 1e-12), resolved
 
 
-def grinding_interval(passages, ms, growth: BandGrowth, limit_dB, per_day: float | None = None):
-    """Passages (and days) until the first band reaches the limit, with its band.
+def limit_tolerance(limit_dB) -> np.ndarray:
+    """Half a unit of the last decimal each limit level states [dB], read from its shortest text
+    (17.1 -> 0.05, 17 -> 0.5, 17.25 -> 0.005): a level exceeds the limit when it is above it by more.
+
+    Parameters
+    ----------
+    limit_dB : array-like
+        Limit levels [dB re 1 µm]; NaN where there is none.
+
+    Returns
+    -------
+    ndarray
+        [dB]; NaN where the limit is NaN.
+    """
+    out = []
+    for v in np.atleast_1d(np.asarray(limit_dB, dtype=float)):
+        if not np.isfinite(v):
+            out.append(np.nan)
+            continue
+        text = np.format_float_positional(float(v), trim="-")  # the shortest text that reads back as v
+        decimals = len(text.split(".")[1]) if "." in text else 0
+        out.append(0.5 * 10.0 ** -decimals)
+    return np.array(out)
+
+
+def ranked_bands(ms_last, floor_dB: float = RATE_FLOOR_DB):
+    """Which bands' growth rates are ranked, and why not where they are not.
+
+    Parameters
+    ----------
+    ms_last : ndarray, shape (bands,)
+        Band mean squares at the last save [m^2] (NaN where the band is not resolved).
+    floor_dB : float
+        The floor [dB re 1 µm] (RATE_FLOOR_DB).
+
+    Returns
+    -------
+    ranked : ndarray of bool
+    note : ndarray of str
+        '' where ranked.
+    """
+    ms_last = np.asarray(ms_last, dtype=float)
+    ranked = np.zeros(ms_last.shape, dtype=bool)
+    note = []
+    for b, m in enumerate(ms_last):
+        if not np.isfinite(m):
+            note.append("no level at the last save")
+            continue
+        level = 10 * np.log10(m / 1e-12) if m > 0 else -np.inf
+        if level < floor_dB:
+            note.append(f"below the floor: {level:.1f} dB re 1 um at the last save < {floor_dB:g} dB re 1 um; its dB rate is "
+                        "growth from nothing, not ranked")
+            continue
+        ranked[b] = True
+        note.append("")
+    return ranked, np.array(note, dtype=str)
+
+
+def grinding_interval(passages, ms, growth: BandGrowth, limit_dB, per_day: float | None = None, ranked=None):
+    """Passages (and days) until the first band exceeds the limit, with its band.
+
+    A band exceeds its limit when its level is above it by more than limit_tolerance (the limit's
+    stated precision); only the ranked bands (ranked_bands) count.
 
     Parameters
     ----------
@@ -169,25 +245,31 @@ def grinding_interval(passages, ms, growth: BandGrowth, limit_dB, per_day: float
         Limit level per band [dB re 1 µm]; NaN where there is no limit.
     per_day : float, optional
         Wheel passages per day [1/day] (the traffic).
+    ranked : ndarray of bool, optional
+        The bands that count (default: every band).
 
     Returns
     -------
     dict
-        'passages' (inf if no band reaches its limit with growth), 'days', 'band' (index or -1),
-        'already' (True if a band is above its limit at the start).
+        'passages' (inf if no band exceeds its limit with growth), 'days', 'band' (index or -1),
+        'already' (True if a ranked band is above its limit at the start).
     """
     n = np.asarray(passages, dtype=float)
-    amp_last = np.sqrt(np.asarray(ms, dtype=float)[-1])
-    amp_lim = 1e-6 * 10 ** (np.asarray(limit_dB, dtype=float) / 20)
+    ms = np.asarray(ms, dtype=float)
+    amp_last = np.sqrt(ms[-1])
+    limit_dB = np.asarray(limit_dB, dtype=float)
+    amp_lim = 1e-6 * 10 ** ((limit_dB + limit_tolerance(limit_dB)) / 20)  # exceeded: above it, to its precision
+    ranked = np.ones(len(amp_lim), dtype=bool) if ranked is None else np.asarray(ranked, dtype=bool)
     best, band = np.inf, -1
-    already = bool(np.any(np.sqrt(np.asarray(ms)[0]) >= amp_lim))
+    with np.errstate(invalid="ignore"):
+        already = bool(np.any(ranked & (np.sqrt(ms[0]) > amp_lim)))
     for b in range(len(amp_lim)):
-        if not (np.isfinite(amp_lim[b]) and np.isfinite(amp_last[b])):
+        if not (ranked[b] and np.isfinite(amp_lim[b]) and np.isfinite(amp_last[b])):
             continue
-        if amp_last[b] >= amp_lim[b]:
+        if amp_last[b] > amp_lim[b]:
             # reached within the run: between the saves around the crossing, ln(amplitude) linear
-            amp = np.sqrt(np.asarray(ms)[:, b])
-            k = int(np.nonzero(amp >= amp_lim[b])[0][0])
+            amp = np.sqrt(ms[:, b])
+            k = int(np.nonzero(amp > amp_lim[b])[0][0])
             if k == 0:
                 t = n[0]
             else:
@@ -244,7 +326,7 @@ def empty_band_reasons(bands: ThirdOctaveBands, period: float, shortest: float, 
 
 
 def bands_dataset(growth, L: float, bands: ThirdOctaveBands, min_lines: int, limit=None, per_day: float | None = None,
-                  traffic=None):
+                  traffic=None, floor_dB: float = RATE_FLOOR_DB):
     """The band view of a growth run (a dataset of rail.studies.datasets.growth).
 
     Rates follow one convention (rail.traffic, docs/exports.md): level growth in dB per 100,000 axle
@@ -266,6 +348,8 @@ def bands_dataset(growth, L: float, bands: ThirdOctaveBands, min_lines: int, lim
         Wheel passages per day on the rail [1/day] (when ``traffic`` is not given: days only).
     traffic : rail.traffic.Traffic, optional
         Axles per day and axle load: the rates per year and per MGT and the interval in years and MGT.
+    floor_dB : float
+        Bands below it at the last save are not ranked [dB re 1 µm] (ranked_bands).
 
     Returns
     -------
@@ -297,7 +381,8 @@ def bands_dataset(growth, L: float, bands: ThirdOctaveBands, min_lines: int, lim
             hit = np.nonzero(bands.nominal == NOMINAL_WAVELENGTHS_M[k])[0] if k >= 0 else []
             if len(hit):
                 lim[hit[0]] = lv
-    gi = grinding_interval(n, ms, g, lim, per_day)
+    ranked, rate_note = ranked_bands(ms[-1], floor_dB)
+    gi = grinding_interval(n, ms, g, lim, per_day, ranked)
     band = int(gi["band"])
     V = float(growth.attrs.get("speed_m_per_s", np.nan))
     dims = ("passage", "band")
@@ -322,10 +407,11 @@ def bands_dataset(growth, L: float, bands: ThirdOctaveBands, min_lines: int, lim
         "grinding_interval_years": float(traffic.years(gi["passages"])) if traffic is not None else float("nan"),
         "grinding_interval_MGT": float(traffic.mgt(gi["passages"])) if traffic is not None else float("nan"),
         "grinding_interval_band_m": float(bands.nominal[band]) if band >= 0 else float("nan"),
-        "grinding_interval_definition": ("axle (wheel) passages until the first band's level, extrapolated with its own growth law "
-                                         "(linear or exponential in amplitude), reaches the limit; interpolated in ln amplitude "
-                                         "between the saves when reached within the run; 0 and limit_exceeded_at_start = 1 when "
-                                         "the initial roughness already exceeds the limit; inf when no band reaches it"),
+        "grinding_interval_definition": ("axle (wheel) passages until the first ranked band's level, extrapolated with its own "
+                                         "growth law (linear or exponential in amplitude), exceeds the limit (is above it by more "
+                                         "than half a unit of the limit's last stated decimal); interpolated in ln amplitude "
+                                         "between the saves when exceeded within the run; 0 and limit_exceeded_at_start = 1 when "
+                                         "the initial roughness already exceeds the limit; inf when no band exceeds it"),
         "limit_exceeded_at_start": int(gi["already"]),
     }
     gi_attrs["grinding_interval_text"] = grinding_interval_text(gi_attrs, n[0], bool(np.isfinite(lim).any()))
@@ -334,6 +420,9 @@ def bands_dataset(growth, L: float, bands: ThirdOctaveBands, min_lines: int, lim
             "level": data_var(dims, level, "dB re 1 um",
                           "one-third-octave band level of the roughness (rms); NaN where the band has no level (empty_reason)"),
             "resolved": data_var("band", resolved.astype(int), "1", "1 where the roughness period resolves the band (at least min_lines lines)"),
+            "ranked": data_var("band", ranked.astype(int), "1", f"1 where the band's growth rate is ranked (grinding interval, "
+                               f"figures): its level at the last save is at least the floor {floor_dB:g} dB re 1 um"),
+            "rate_note": data_var("band", rate_note, "", "why the band's growth rate is not ranked ('' where it is)"),
             "empty_reason": data_var("band", reasons, "", "why the band has no level at some or all saves ('' where it has one at every save)"),
             **rates,
             "amplitude_growth_um_per_1e5_axles": data_var("band", g.linear_rate * 1e6, "um per 100000 axle passages",
@@ -370,6 +459,9 @@ def bands_dataset(growth, L: float, bands: ThirdOctaveBands, min_lines: int, lim
             "shortest_wavelength_m": float(N * L / J),
             "speed_m_per_s": V,
             "processing": "lines of the periodic profile summed per band (no window); rail/studies/bands.py",
+            "rate_floor_dB_re_1um": float(floor_dB),
+            "rate_floor_definition": ("a band whose level at the last save is below the floor is not ranked: its dB rate is the "
+                                      "growth of a roughness from nothing (docs/studies.md)"),
         },
     )
 
@@ -396,11 +488,11 @@ def grinding_interval_text(attrs: dict, first: float, has_limit: bool) -> str:
     if attrs["limit_exceeded_at_start"] and gi <= first:
         return f"limit already exceeded by the initial roughness (the {1e3 * band:g} mm band)"
     if not np.isfinite(gi):
-        return "no band reaches the limit with its growth"
+        return "no ranked band exceeds the limit with its growth"
     years, mgt, days = attrs["grinding_interval_years"], attrs["grinding_interval_MGT"], attrs["grinding_interval_days"]
     when = (f" ({years:.3g} years, {mgt:.3g} MGT)" if np.isfinite(years) and np.isfinite(mgt)
             else f" ({days:,.0f} days)" if np.isfinite(days) else "")
-    return f"limit reached after {readable_count(gi)} axle passages{when}, set by the {1e3 * band:g} mm band"
+    return f"limit exceeded after {readable_count(gi)} axle passages{when}, set by the {1e3 * band:g} mm band"
 
 
 def band_csv_text(ds) -> str:
@@ -427,7 +519,9 @@ def band_csv_text(ds) -> str:
             + (", dB/year and dB/MGT with the traffic" if "growth_dB_per_year" in ds else "; no traffic given: no rates per year or MGT"),
             f"# traffic: {a['axles_per_day']:g} axles/day" + (f", axle load {a['axle_load_t']:.4g} t, {a['mgt_per_year']:.4g} MGT/year"
                                                              if "axle_load_t" in a else ""),
-            "# empty cell: the band has no level there (reason in the column empty_reason)"]
+            "# empty cell: the band has no level there (reason in the column empty_reason)",
+            f"# ranked: 1 where the band's growth rate counts (grinding interval, figures); 0 where its level at the last save is below "
+            f"the floor {a.get('rate_floor_dB_re_1um', RATE_FLOOR_DB):g} dB re 1 um: its dB rate is growth from nothing (reason in rate_note)"]
     head.append("# grinding interval: " + a["grinding_interval_text"])
     head.append("# validity: " + (validity_text(a) or "not stated"))
     head.append("# " + "; ".join(f"{k}={a[k]:.6g}" if np.isfinite(a[k]) else f"{k}=" for k in
@@ -437,7 +531,7 @@ def band_csv_text(ds) -> str:
     cols += [f"level_dB_re_1um_at_{int(p)}_axle_passages" for p in n]
     rate_cols = [c for c in ("growth_dB_per_1e5_axles", "growth_dB_per_1e5_axles_error", "growth_dB_per_year", "growth_dB_per_MGT",
                              "amplitude_growth_um_per_1e5_axles") if c in ds]
-    cols += rate_cols + ["growth_law", "limit_dB_re_1um", "empty_reason"]
+    cols += rate_cols + ["growth_law", "ranked", "rate_note", "limit_dB_re_1um", "empty_reason"]
 
     def cell(v, fmt=".4g"):
         return f"{v:{fmt}}" if np.isfinite(v) else ""
@@ -448,7 +542,9 @@ def band_csv_text(ds) -> str:
                  cell(float(ds["frequency"].values[b]), ".5g"), str(int(ds["resolved"].values[b]))]
         cells += [cell(v, ".3f") for v in ds["level"].values[:, b]]
         cells += [cell(float(ds[c].values[b])) for c in rate_cols]
-        cells += [str(ds["growth_law"].values[b]), cell(float(ds["limit"].values[b]), "g"),
+        note = str(ds["rate_note"].values[b]) if "rate_note" in ds else ""
+        cells += [str(ds["growth_law"].values[b]), str(int(ds["ranked"].values[b])) if "ranked" in ds else "1",
+                  '"' + note.replace('"', "'") + '"' if note else "", cell(float(ds["limit"].values[b]), "g"),
                   '"' + str(ds["empty_reason"].values[b]).replace('"', "'") + '"' if ds["empty_reason"].values[b] else ""]
         rows.append(",".join(cells))
     return "\n".join(head + rows) + "\n"
