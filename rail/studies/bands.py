@@ -218,7 +218,10 @@ def ranked_bands(ms_last, floor_dB: float = RATE_FLOOR_DB):
         if not np.isfinite(m):
             note.append("no level at the last save")
             continue
-        level = 10 * np.log10(m / 1e-12) if m > 0 else -np.inf
+        if not m > 0:
+            note.append("no roughness in the band at the last save")
+            continue
+        level = 10 * np.log10(m / 1e-12)
         if level < floor_dB:
             note.append(f"below the floor: {level:.1f} dB re 1 um at the last save < {floor_dB:g} dB re 1 um; its dB rate is "
                         "growth from nothing, not ranked")

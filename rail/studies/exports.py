@@ -9,15 +9,18 @@ The band export of a growth run is rail.studies.bands.band_csv_text.
 
 from __future__ import annotations
 
+from dataclasses import dataclass
+
 import numpy as np
 
 from ..roughness import NOMINAL_WAVELENGTHS_M
 from ..traffic import AXLES_PER_RATE, DB_PER_NEPER, Traffic
-from .bands import ThirdOctaveBands, band_mean_square, empty_band_reasons
+from . import bands as band_view
+from .bands import RATE_FLOOR_DB, ThirdOctaveBands, band_mean_square, empty_band_reasons
 from .validity import validity_text
 
 __all__ = ["ROLLING_NOISE_WAVELENGTHS_M", "rolling_noise_bands", "rolling_noise_levels", "combined_roughness",
-           "wheel_levels_on_bands", "rolling_noise_csv_text", "narrow_band_csv_text", "spectrum_csv_text", "spectrum_rates"]
+           "wheel_levels_on_bands", "spectrum_on_bands", "rolling_noise_csv_text", "BandOutputs", "band_outputs", "narrow_band_csv_text", "spectrum_csv_text", "spectrum_rates"]
 
 # Nominal centre wavelengths [m] of the one-third-octave bands CNOSSOS-EU tabulates rail and wheel
 # roughness in (Directive (EU) 2015/996, Annex II sec. 2.3 and Appendix G, Table G-1: 2000 mm down
@@ -109,6 +112,33 @@ def wheel_levels_on_bands(wavelength, level, source: str = "wheel roughness") ->
     return out
 
 
+def spectrum_on_bands(wavelength, level) -> np.ndarray:
+    """An input spectrum (the initial roughness's) on the rolling-noise bands: a wavelength within
+    rail.roughness.NOMINAL_TOLERANCE of a band's nominal label or exact centre gives its level; other
+    wavelengths are left out (a spectrum input may use any centres).
+
+    Parameters
+    ----------
+    wavelength, level : array-like
+        Band centres [m] and levels [dB re 1 µm].
+
+    Returns
+    -------
+    ndarray, shape (35,)
+        [dB re 1 µm]; NaN where the input gives no level.
+    """
+    from ..roughness import NOMINAL_TOLERANCE
+
+    bands = rolling_noise_bands()
+    out = np.full(len(bands.centre), np.nan)
+    for v, lv in zip(np.asarray(wavelength, dtype=float), np.asarray(level, dtype=float)):
+        off = np.minimum(np.abs(v / bands.nominal - 1), np.abs(v / bands.centre - 1))
+        k = int(np.argmin(off))
+        if off[k] <= NOMINAL_TOLERANCE:
+            out[k] = lv
+    return out
+
+
 def combined_roughness(rail_dB, wheel_dB):
     """Combined wheel and rail roughness per band, the energy sum 10 log10(10^(L_r/10) + 10^(L_w/10))
     [dB re 1 µm] (CNOSSOS-EU 2.3.2 before its contact filter; the wheel and rail roughness are
@@ -136,7 +166,8 @@ def _quoted(text: str) -> str:
 
 
 def rolling_noise_csv_text(level, reasons, period: float, shortest: float, speed: float, state: str,
-                           wheel_dB=None, wheel_source: str = "", grinding: str = "", validity: str = "") -> str:
+                           wheel_dB=None, wheel_source: str = "", grinding: str = "", validity: str = "",
+                           floor_dB: float | None = None, input_dB=None, input_source: str = "") -> str:
     """The roughness export for rolling-noise tools: one row per one-third-octave wavelength band
     from 2000 mm to 0.8 mm, the first two columns (wavelength in mm, L_r in dB re 1 µm) the form
     CNOSSOS-EU (Table G-1) and TWINS (roughness level per third-octave wavelength band) take.
@@ -162,23 +193,54 @@ def rolling_noise_csv_text(level, reasons, period: float, shortest: float, speed
         The grinding interval with its band (rail.studies.bands.grinding_interval_text), for the header.
     validity : str
         The result's validity (rail.studies.datasets.validity_text of its growth run), for the header.
+    floor_dB : float, optional
+        A band the model gives below it [dB re 1 µm] is left out, with its reason (rail.studies.bands:
+        its level is growth from nothing).
+    input_dB : ndarray, shape (35,), optional
+        The initial roughness's input spectrum on these bands (spectrum_on_bands): fills the bands
+        outside the model's range (longer than N L, shorter than its shortest wavelength); the column
+        source says which level came from where. Without it those bands are left out.
+    input_source : str
+        The input spectrum's file, for the header.
 
     Returns
     -------
     str
     """
     bands = rolling_noise_bands()
-    level = np.asarray(level, dtype=float)
+    level = np.asarray(level, dtype=float).copy()
+    reasons = np.asarray(reasons, dtype=object).copy()
+    source = np.where(np.isfinite(level), "model", "").astype(object)
+    if floor_dB is not None:
+        low = np.isfinite(level) & (level < floor_dB)
+        for b in np.nonzero(low)[0]:
+            reasons[b] = (f"below the floor: the model gives {level[b]:.1f} dB re 1 um < {floor_dB:g} dB re 1 um, growth from "
+                          "nothing; left out")
+            level[b], source[b] = np.nan, ""
+    outside = np.array([str(r).startswith("not resolved") for r in reasons])
+    if input_dB is not None:
+        input_dB = np.asarray(input_dB, dtype=float)
+        fill = outside & np.isfinite(input_dB)
+        level[fill], source[fill] = input_dB[fill], "input spectrum"
+        reasons[fill] = ""
+        for b in np.nonzero(outside & ~fill)[0]:
+            reasons[b] = str(reasons[b]) + "; the input spectrum gives no level in the band"
+    model = source == "model"
     head = [
         "# rail roughness for rolling-noise tools (TWINS, CNOSSOS-EU L_r per one-third octave band of wavelength, 2000 mm .. 0.8 mm)",
         f"# roughness: {state}; levels L = 10 log10(mean square / (1 um)^2), dB re 1 um rms",
         f"# processing: the computed profile is periodic over N L = {period:.4g} m and known exactly as its Fourier lines "
         "2 pi j / (N L); a band's mean square is the sum of its lines' mean squares (Parseval, no window, no averaging "
         "over records needed); band edges at 10^(+-1/20) of the exact centre 10^(-n/10) m (rail/studies/bands.py)",
-        f"# record: length N L = {period:.4g} m, shortest wavelength {1e3 * shortest:.3g} mm; bands resolved: "
-        + (f"{1e3 * bands.nominal[np.isfinite(level)].max():g} mm .. {1e3 * bands.nominal[np.isfinite(level)].min():g} mm"
-           if np.isfinite(level).any() else "none")
-        + "; other bands empty (reason in empty_reason)",
+        f"# record: length N L = {period:.4g} m, shortest wavelength {1e3 * shortest:.3g} mm; bands from the model: "
+        + (f"{1e3 * bands.nominal[model].max():g} mm .. {1e3 * bands.nominal[model].min():g} mm"
+           if model.any() else "none")
+        + "; other bands empty (reason in empty_reason) or filled as the next line says",
+        "# bands outside the model's range (longer than N L or shorter than its shortest wavelength): "
+        + (f"filled from the input spectrum {input_source or ''} (the initial roughness, column source = input spectrum) where it "
+           "gives a level, otherwise left out" if input_dB is not None else "left out (empty; the initial roughness is no spectrum "
+                                                                              "to fill them from)")
+        + (f"; bands the model gives below {floor_dB:g} dB re 1 um (growth from nothing) left out" if floor_dB is not None else ""),
         f"# frequency_Hz = V / centre wavelength at V = {speed:g} m/s",
         f"# grinding interval: {grinding or 'not computed for this roughness'}",
         f"# validity: {validity or 'not stated'}",
@@ -192,13 +254,13 @@ def rolling_noise_csv_text(level, reasons, period: float, shortest: float, speed
         cols += ["wheel_roughness_dB_re_1um", "combined_roughness_dB_re_1um"]
     else:
         head.append("# rail-only export: the configuration gives no wheel roughness, so no combined wheel + rail roughness")
-    cols += ["centre_wavelength_m", "frequency_Hz", "empty_reason"]
+    cols += ["source", "centre_wavelength_m", "frequency_Hz", "empty_reason"]
     rows = [",".join(cols)]
     for b in range(len(bands.centre)):
         cells = [f"{1e3 * bands.nominal[b]:g}", _cell(level[b], ".2f")]
         if wheel_dB is not None:
             cells += [_cell(wheel_dB[b], ".2f"), _cell(comb[b], ".2f")]
-        cells += [f"{bands.centre[b]:.8g}", _cell(speed / bands.centre[b], ".6g"), _quoted(str(reasons[b]))]
+        cells += [str(source[b]), f"{bands.centre[b]:.8g}", _cell(speed / bands.centre[b], ".6g"), _quoted(str(reasons[b]))]
         rows.append(",".join(cells))
     return "\n".join(head + rows) + "\n"
 
@@ -319,3 +381,72 @@ def spectrum_csv_text(ds) -> str:
             cells += [_cell(float(ds["growth_rate"].values[i, k]), ".6g"), str(int(ds["locked"].values[k]))]
             rows.append(",".join(cells))
     return "\n".join(head + rows) + "\n"
+
+
+@dataclass(frozen=True)
+class BandOutputs:
+    """The band view of a growth run and its three exports (band_outputs).
+
+    data              : xarray.Dataset of rail.studies.bands.bands_dataset
+    bands_csv         : the band export (rail.studies.bands.band_csv_text)
+    narrow_csv        : the narrow-band export (narrow_band_csv_text)
+    rolling_noise_csv : the roughness for rolling-noise tools at the last save (rolling_noise_csv_text)
+    """
+
+    data: object
+    bands_csv: str
+    narrow_csv: str
+    rolling_noise_csv: str
+
+
+def band_outputs(growth, L: float, settings: dict, name: str, *, limit=None, traffic: Traffic | None = None, wheel=None,
+                 initial_spectrum=None, floor_dB: float = RATE_FLOOR_DB) -> BandOutputs:
+    """Bands, growth per band, grinding interval and the exports of any growth dataset: a one-train run
+    (results/growth/<scenario>/V<speed>.nc) or a fleet run (results/fleet/<scenario>/growth.nc) alike;
+    the one code path of the workflow, the command line and the API.
+
+    Parameters
+    ----------
+    growth : xarray.Dataset
+        A growth result (rail.studies.datasets.growth): Z_real, Z_imag, level per saved passage count.
+    L : float
+        Sleeper spacing [m].
+    settings : dict
+        figures.bands of the configuration: longest, shortest [m], min_lines [-].
+    name : str
+        The scenario, for the exports' headers.
+    limit : (wavelength [m], level [dB re 1 µm]), optional
+        The limit spectrum (rail.roughness.read_limit_spectrum).
+    traffic : rail.traffic.Traffic, optional
+        Rates per year and per MGT, the interval in years and MGT.
+    wheel : (wavelength [m], level [dB re 1 µm], source), optional
+        Wheel roughness for the combined roughness of the rolling-noise export.
+    initial_spectrum : (wavelength [m], level [dB re 1 µm], source), optional
+        The initial roughness's input spectrum: fills the rolling-noise bands outside the model's range.
+    floor_dB : float
+        Bands below it at the last save are not ranked and left out of the rolling-noise export
+        [dB re 1 µm].
+
+    Returns
+    -------
+    BandOutputs
+    """
+    from .validity import validity_text as _validity
+
+    tob = band_view.third_octave_bands(float(settings["longest"]), float(settings["shortest"]))
+    min_lines = int(settings["min_lines"])
+    ds = band_view.bands_dataset(growth, L, tob, min_lines, limit, traffic=traffic, floor_dB=floor_dB)
+    grinding = ds.attrs["grinding_interval_text"]
+    narrow = narrow_band_csv_text(growth, L, traffic, grinding)
+    period = int(growth.attrs.get("bays", 1)) * L
+    Z = growth["Z_real"].values[-1] + 1j * growth["Z_imag"].values[-1]
+    level, reasons = rolling_noise_levels(Z, period, min_lines)
+    wheel_dB = wheel_levels_on_bands(wheel[0], wheel[1], source=wheel[2]) if wheel is not None else None
+    input_dB = spectrum_on_bands(initial_spectrum[0], initial_spectrum[1]) if initial_spectrum is not None else None
+    rolling = rolling_noise_csv_text(level, reasons, period, period / ((Z.size - 1) // 2), float(ds.attrs["speed_m_per_s"]),
+                                     f"scenario {name} after {band_view.readable_count(growth['passage'].values[-1])} axle passages "
+                                     "(the last save of the growth run)", wheel_dB=wheel_dB,
+                                     wheel_source=wheel[2] if wheel is not None else "", grinding=grinding,
+                                     validity=_validity(growth.attrs), floor_dB=floor_dB, input_dB=input_dB,
+                                     input_source=initial_spectrum[2] if initial_spectrum is not None else "")
+    return BandOutputs(ds, band_view.band_csv_text(ds), narrow, rolling)
