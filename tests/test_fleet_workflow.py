@@ -62,6 +62,7 @@ def test_a_fleet_study_computes_one_table_per_speed_shared_by_its_vehicles_and_n
     # growth's one bay, the spectrum's N = 48), never one per vehicle
     assert job_counts(out.stdout) == {"fleet_receptance": 5, "fleet_receptance_bloch": 5, "fleet_growth": 2,
                                       "fleet_class_spectrum": 8, "fleet_rate_spectrum": 2, "compile_kernels": 2,
+                                      "fleet_bands": 2, "fleet_overview": 2,  # issue 45: a fleet's band view and overview
                                       "study_mix": 1, "study_other": 1}  # classes: 2 vehicles x 3 speeds, 1 x 2
     for v in ["37.333333333333336", "40", "42.666666666666664"]:  # the union of the fleet's vehicles' axle offsets
         assert re.search(rf"fleet receptance table: track [0-9a-f]{{10}}, V = {v} m/s, offsets 0\.0 -2\.6 2\.6 -3\.3 3\.3 m", out.stdout), v

@@ -26,9 +26,9 @@ from ..growth_spectrum import fleet_rate_spectrum, spectrum_lines
 from ..scenario import Scenario
 from ..setup import build, config, inputs, io
 from ..studies import fleet as fleet_study
-from ..studies import rate_spectrum, runs
+from ..studies import exports, rate_spectrum, runs
 
-__all__ = ["Study", "load", "growth", "spectrum", "fleet_spectrum", "ROOT"]
+__all__ = ["Study", "load", "growth", "bands", "spectrum", "fleet_spectrum", "ROOT"]
 
 ROOT = Path(__file__).resolve().parents[2]  # the project folder holding config/
 
@@ -216,6 +216,39 @@ def _spectrum_settings(study: Study, door: str, **given) -> tuple[dict, dict]:
     except config.ConfigError as e:  # the schema names the key figures.rate_spectrum.<argument>
         raise config.ConfigError(str(e).replace("figures.rate_spectrum.", "argument ")) from None
     return s, cfg
+
+
+def bands(study: Study, growth: xr.Dataset) -> exports.BandOutputs:
+    """One-third-octave bands of a growth run of the study (one train or its fleet), growth per band,
+    the grinding interval with its band (passages, years, MGT) and the exports, as the workflow's
+    growth_bands and fleet_bands (rail.studies.exports.band_outputs: one code path).
+
+    Parameters
+    ----------
+    study : Study
+        The study the run was grown from (its figures.bands settings, limit, wheel roughness, input
+        spectrum and traffic).
+    growth : xr.Dataset
+        The result of growth (or a growth file the workflow wrote, opened).
+
+    Returns
+    -------
+    rail.studies.exports.BandOutputs
+        data: the band dataset (as results/.../V<speed>_bands.nc or results/fleet/<scenario>/bands.nc,
+        with units and provenance); bands_csv, narrow_csv, rolling_noise_csv: the exports' texts.
+
+    Raises
+    ------
+    rail.setup.config.ConfigError
+        If growth is not a growth dataset.
+    """
+    if not isinstance(growth, xr.Dataset) or not {"Z_real", "Z_imag", "passage"} <= set(growth.variables):
+        raise config.ConfigError("growth is not a growth result: give the dataset api.growth returns (or a growth file, opened).")
+    b = exports.band_outputs(growth, study.scenario.L, study.config["figures"]["bands"], study.name,
+                             **inputs.band_inputs(study.config, study.scenario))
+    data = io.finalize(b.data, study.config, title=f"One-third-octave roughness bands, scenario {study.name}",
+                       source="rail.app.api.bands", scenario=study.name)
+    return dataclasses.replace(b, data=data)
 
 
 def spectrum(study: Study, *, speeds, shortest: float | None = None, longest: float | None = None,

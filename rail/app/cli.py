@@ -2,6 +2,9 @@
 
     railgrowth check config/scenarios/my_pad.yaml     validate a scenario file, as the workflow does
     railgrowth run soft_pad --speed 40                grow roughness; writes soft_pad_V40.nc here
+    railgrowth run my_fleet --bands                   grow under the scenario's fleet (no --speed); my_fleet_fleet.nc
+                                                      and its band view (my_fleet_fleet_bands.nc, _bands.csv, ...)
+    railgrowth bands soft_pad soft_pad_V40.nc         the band view of a growth file written before
     railgrowth spectrum default --speed 40            the growth-rate spectrum; default_spectrum.nc
 
 A problem with the input is one line per problem naming file, key, value and valid range, and exit
@@ -44,12 +47,19 @@ def _parser() -> argparse.ArgumentParser:
     sub = p.add_subparsers(dest="command", required=True)
     c = sub.add_parser("check", help="validate a scenario file (merged onto config/config.yaml)")
     c.add_argument("file", help="scenario YAML file, or a scenario name")
-    r = sub.add_parser("run", help="grow roughness for a scenario at one speed and write a netCDF file")
+    r = sub.add_parser("run", help="grow roughness for a scenario at one speed (or under its fleet) and write a netCDF file")
     r.add_argument("scenario", help="'default', a name in config/scenarios/, or a YAML file")
-    r.add_argument("--speed", type=float, required=True, help="train speed, m/s")
+    r.add_argument("--speed", type=float, default=None, help="train speed, m/s (leave out for a scenario with a fleet)")
+    r.add_argument("--bands", action="store_true", help="also write the band view: <out>_bands.nc, _bands.csv, _narrowband.csv, "
+                                                         "_rolling_noise_roughness.csv")
     r.add_argument("--passages", type=int, default=None, help="wheel passages (default: the scenario's growth.passages)")
     r.add_argument("--out", type=Path, default=None, help="output file (default: <scenario>_V<speed>.nc)")
     r.add_argument("--checkpoint", type=Path, default=None, help="resumable checkpoint file")
+    b = sub.add_parser("bands", help="one-third-octave band view of a growth file of a scenario (bands, growth per band, grinding "
+                                     "interval, exports)")
+    b.add_argument("scenario", help="the scenario the growth file was grown from")
+    b.add_argument("growth", type=Path, help="a growth file (railgrowth run, or the workflow's)")
+    b.add_argument("--out", type=Path, default=None, help="band dataset (default: <growth>_bands.nc; the CSVs beside it)")
     s = sub.add_parser("spectrum", help="growth-rate spectrum of a scenario about the smooth rail")
     s.add_argument("scenario", help="'default', a name in config/scenarios/, or a YAML file")
     s.add_argument("--speed", type=float, nargs="+", required=True, help="train speed(s), m/s")
@@ -109,7 +119,7 @@ def main(argv=None) -> int:
 
     loaded = False  # an OSError before this is the input's (a file missing); after, a resource's
     try:
-        if args.command in ("run", "spectrum"):
+        if args.command in ("run", "spectrum", "bands"):
             _writable_target("--out", args.out)
         if args.command == "run":
             _writable_target("--checkpoint", args.checkpoint)
@@ -118,11 +128,19 @@ def main(argv=None) -> int:
         if args.command == "check":
             print(_what_runs(study))
             return 0
+        band_view = None
+        if args.command == "bands":
+            return _bands(api, study, args)
         if args.command == "run":
-            if not (args.speed > 0 and args.speed < float("inf")):
+            if "fleet" not in study.config and args.speed is None:
+                raise ConfigError(f"--speed is needed for {study.name}: a train speed in m/s (only a scenario with a fleet runs "
+                                  "without it).")
+            if args.speed is not None and not (args.speed > 0 and args.speed < float("inf")):
                 raise ConfigError(f"--speed = {args.speed} m/s is not allowed: it must be a finite number > 0.")
             ds = api.growth(study, speed=args.speed, passages=args.passages, checkpoint=args.checkpoint)
-            out = args.out or Path(f"{study.name}_V{args.speed:g}.nc")
+            out = args.out or Path(f"{study.name}_fleet.nc" if args.speed is None else f"{study.name}_V{args.speed:g}.nc")
+            if args.bands:
+                band_view = api.bands(study, ds)
         else:
             ds = api.spectrum(study, speeds=args.speed)
             out = args.out or Path(f"{study.name}_spectrum.nc")
@@ -145,6 +163,8 @@ def main(argv=None) -> int:
         return EXIT_RESOURCE if loaded else EXIT_INPUT
     try:
         write_netcdf(ds, out)
+        if band_view is not None:
+            _write_band_view(band_view, out.with_name(out.stem + "_bands.nc"))
     except OSError as e:  # a full disk, a file-size limit: the old file at --out, if any, is whole
         print(f"railgrowth: --out: {_os_line(e)}", file=sys.stderr)
         return EXIT_RESOURCE
@@ -156,6 +176,36 @@ def main(argv=None) -> int:
         print(f"wrote {out} (partial: {ds.attrs['stopped']})")
         return EXIT_PARTIAL
     print(f"wrote {out}")
+    return 0
+
+
+def _band_files(data_path: Path) -> dict:
+    """The band view's files: the dataset and, beside it, the three CSV exports."""
+    stem = data_path.with_suffix("")
+    base = stem.name.removesuffix("_bands")
+    return {"data": data_path, "bands_csv": stem.with_name(base + "_bands.csv"), "narrow_csv": stem.with_name(base + "_narrowband.csv"),
+            "rolling_noise_csv": stem.with_name(base + "_rolling_noise_roughness.csv")}
+
+
+def _write_band_view(b, data_path: Path) -> None:
+    """Write a band view (rail.studies.exports.BandOutputs) and say where and the grinding interval."""
+    files = _band_files(data_path)
+    write_netcdf(b.data, files["data"])
+    for key in ("bands_csv", "narrow_csv", "rolling_noise_csv"):
+        files[key].write_text(getattr(b, key))
+    print(f"wrote {', '.join(str(f) for f in files.values())}")
+    print(f"grinding interval: {b.data.attrs['grinding_interval_text']}")
+
+
+def _bands(api, study, args) -> int:
+    """railgrowth bands: the band view of a growth file."""
+    import xarray as xr
+
+    if not args.growth.is_file():
+        raise ConfigError(f"{args.growth}: no such growth file.")
+    with xr.open_dataset(args.growth) as g:  # the user's file: read, never moved
+        growth = g.load()
+    _write_band_view(api.bands(study, growth), args.out or args.growth.with_name(args.growth.stem + "_bands.nc"))
     return 0
 
 

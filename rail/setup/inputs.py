@@ -18,7 +18,7 @@ from ..scenario import Scenario
 from .build import fleet_classes, physics_problems
 from .config import ConfigError
 
-__all__ = ["FILE_KEYS", "MAX_SPEED", "resolve_paths", "measured_decay_file", "check_inputs", "check_speed", "fleet_checked"]
+__all__ = ["FILE_KEYS", "MAX_SPEED", "resolve_paths", "measured_decay_file", "check_inputs", "check_speed", "fleet_checked", "band_inputs"]
 
 MAX_SPEED = 300.0  # m/s, the schema's bound on a configured speed (config/schema: speeds.items.maximum)
 
@@ -208,3 +208,37 @@ def check_inputs(cfg: dict, scn: Scenario, name: str, source: str, root=".") -> 
             read_measured_decay_rate(file)
         except (OSError, ValueError) as e:
             raise ConfigError(f"{where}: {key}: {e}") from None
+
+
+def band_inputs(cfg: dict, scn: Scenario) -> dict:
+    """What the band view of a scenario's growth run reads besides the run (rail.studies.exports.band_outputs),
+    read here so that the physics and the studies read no file: the limit spectrum, the wheel roughness,
+    the initial roughness's input spectrum (kind spectrum) and the traffic (a fleet's, or the train's).
+
+    Parameters
+    ----------
+    cfg : dict
+        The resolved configuration (figures.bands, roughness, traffic, fleet).
+    scn : rail.scenario.Scenario
+
+    Returns
+    -------
+    dict
+        limit, wheel, initial_spectrum: tuples or None; traffic: rail.traffic.Traffic or None.
+    """
+    from ..traffic import Traffic, traffic_of
+    from .build import fleet as build_fleet
+
+    s = cfg["figures"]["bands"]
+    wheel = s.get("wheel_roughness")
+    r = cfg["roughness"]
+    fl = build_fleet(cfg)
+    traffic = (Traffic(fl.axles_per_day, fl.mean_axle_load) if fl is not None
+               else traffic_of(scn) if scn.axles_per_day is not None else None)
+    return {
+        "limit": read_limit_spectrum(s["limit"]) if s.get("limit") else None,
+        "wheel": (*read_third_octave_spectrum(wheel), str(wheel)) if wheel else None,
+        "initial_spectrum": ((*read_third_octave_spectrum(r["file"]), str(r["file"])) if r.get("kind") == "spectrum" and r.get("file")
+                             else None),
+        "traffic": traffic,
+    }

@@ -368,9 +368,10 @@ class Plan:
     def study_targets(self, name: str) -> list[str]:
         """What study_<name> builds: per speed of the scenario (or per point of the sweep), the growth
         run's overview, band view and 3-D plot; for a sweep also its dataset and maps; for a fleet its
-        growth and growth-rate spectrum."""
+        growth, growth-rate spectrum, overview and band view (issue 45: the outputs of a one-train run)."""
         if name in self.fleet_classes:
-            return [f"results/fleet/{name}/growth.nc", f"results/fleet/{name}/rate_spectrum.nc", f"results/fleet/{name}/rate_spectrum.png"]
+            return [f"results/fleet/{name}/growth.nc", f"results/fleet/{name}/rate_spectrum.nc", f"results/fleet/{name}/rate_spectrum.png",
+                    f"results/fleet/{name}/overview.png", f"results/fleet/{name}/bands.png", f"results/fleet/{name}/bands.csv"]
         if name in self.sweeps:
             runs = [(p.name, p.speed) for p in self.sweeps[name].points]
             extra = [f"results/sweeps/{name}.nc", f"results/sweeps/{name}.png"]

@@ -149,9 +149,9 @@ def growth_3d_axis(wildcards):
 
 
 def band_limit_file(wildcards):
-    """The limit spectrum and wheel roughness of a scenario's band view, as inputs."""
-    b = SCENARIOS[wildcards.scenario]["figures"]["bands"]
-    return [f for f in (b["limit"], b.get("wheel_roughness")) if f]
+    """The limit spectrum, wheel roughness and input spectrum (it fills the rolling-noise export) of a band view, as inputs."""
+    b, r = SCENARIOS[wildcards.scenario]["figures"]["bands"], SCENARIOS[wildcards.scenario]["roughness"]
+    return [f for f in (b["limit"], b.get("wheel_roughness"), r.get("file") if r.get("kind") == "spectrum" else None) if f]
 
 
 def wear_table(wildcards):

@@ -205,3 +205,57 @@ rule uncertainty:
     """Named target (issue 35): the growth-rate band spectrum with the uncertainty of the inputs (config/uncertainty.yaml)."""
     input:
         "results/uncertainty/band_interval.png",
+
+
+rule fleet_bands:
+    """One-third-octave band view of a fleet's growth run, as of a one-train run (script growth_bands.py,
+    rail.studies.exports.band_outputs): band levels, growth per band, the grinding interval in axle
+    passages, years and MGT of the fleet's traffic, the band, narrow-band and rolling-noise CSV exports."""
+    localrule: True
+    input:
+        "results/fleet/{scenario}/growth.nc",
+        band_limit_file,
+    output:
+        data="results/fleet/{scenario}/bands.nc",
+        csv=report("results/fleet/{scenario}/bands.csv", caption="../report/fleet_bands.rst", category="Traffic (fleet)", subcategory="{scenario}"),
+        narrow_csv=report("results/fleet/{scenario}/narrowband.csv", caption="../report/fleet_bands.rst", category="Traffic (fleet)",
+                          subcategory="{scenario}"),
+        rolling_noise_csv=report("results/fleet/{scenario}/rolling_noise_roughness.csv", caption="../report/fleet_bands.rst",
+                                 category="Traffic (fleet)", subcategory="{scenario}"),
+        figure=report("results/fleet/{scenario}/bands.png", caption="../report/fleet_bands.rst", category="Traffic (fleet)", subcategory="{scenario}"),
+    priority: PRIORITY_KERNELS  # a cheap view: not queued behind long jobs (issue 45, item 14)
+    params:
+        code=code("growth_bands.py"),
+        cfg=scenario_config,
+    resources:
+        mem_mb=400,
+        runtime=5,
+    log:
+        "logs/fleet/{scenario}/bands.log",
+    benchmark:
+        "benchmarks/fleet/{scenario}/bands.tsv"
+    script:
+        "../scripts/growth_bands.py"
+
+
+rule fleet_overview:
+    """A fleet's growth run on one page (as scenario_overview): narrow-band spectrum, change in level,
+    profiles and contact force along the period; no one-train default to compare with."""
+    localrule: True
+    input:
+        run="results/fleet/{scenario}/growth.nc",
+    output:
+        report("results/fleet/{scenario}/overview.png", caption="../report/fleet_overview.rst", category="Traffic (fleet)", subcategory="{scenario}"),
+    priority: PRIORITY_KERNELS
+    params:
+        code=code("growth_figure.py"),
+        default_note="a fleet: no one-train default run to compare with",
+    resources:
+        mem_mb=400,
+        runtime=5,
+    log:
+        "logs/fleet/{scenario}/overview.log",
+    benchmark:
+        "benchmarks/fleet/{scenario}/overview.tsv"
+    script:
+        "../scripts/growth_figure.py"

@@ -35,6 +35,7 @@ rule growth_3d:
     output:
         report("results/growth/{scenario}/V{speed}_3d.png", caption="../report/growth_3d.rst", category="Section 5: roughness growth",
                subcategory="{scenario}"),
+    priority: PRIORITY_KERNELS  # a cheap view: not queued behind long jobs (issue 45, item 14)
     params:
         code=code("growth_figure.py"),
         axis=growth_3d_axis,
@@ -79,6 +80,7 @@ rule scenario_overview:
         unpack(scenario_overview_inputs),
     output:
         report("results/growth/{scenario}/V{speed}_overview.png", caption="../report/scenario_overview.rst", category="Scenarios", subcategory="{scenario}"),
+    priority: PRIORITY_KERNELS  # a cheap view: not queued behind long jobs (issue 45, item 14)
     params:
         code=code("growth_figure.py"),
         default_note=scenario_overview_note,
@@ -120,6 +122,7 @@ rule growth_bands:
                                  category="Roughness bands (EN 15610 form)", subcategory="{scenario}"),
         figure=report("results/growth/{scenario}/V{speed}_bands.png", caption="../report/growth_bands.rst", category="Roughness bands (EN 15610 form)",
                       subcategory="{scenario}"),
+    priority: PRIORITY_KERNELS  # a cheap view: not queued behind long jobs (issue 45, item 14)
     params:
         code=code("growth_bands.py"),
         cfg=scenario_config,

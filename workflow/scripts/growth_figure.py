@@ -44,7 +44,7 @@ def main(rule, name, inputs, outputs, params):
         _save(report.growth_3d(_load(inputs[0]), axis, "" if axis == "wavenumber" else name), outputs[0], dpi=130)
     elif rule == "growth_narrowband":
         _save(report.growth_narrowband(_load(inputs[0])), outputs[0], dpi=150)
-    elif rule == "scenario_overview":
+    elif rule in ("scenario_overview", "fleet_overview"):
         default = _load(inputs.default) if "default" in inputs.keys() else None
         note = params.get("default_note", "")
         if default is None and note:
