@@ -127,7 +127,7 @@ def test_run_without_speed_is_only_for_a_fleet(tmp_path, capsys, monkeypatch):
 
 @pytest.mark.slow
 def test_a_fleet_study_gives_the_same_bands_in_the_workflow_the_command_line_and_the_api(root, tmp_path, capsys):
-    # about 4 min on 2 cores: the fleet grown three times (20,000 axle passages, K = 36, 21 nodes)
+    # about 90 s on 2 cores (measured): the fleet grown three times (20,000 axle passages, K = 36, 21 nodes)
     import os
     import shutil
 

@@ -2,8 +2,7 @@
 
     railgrowth check config/scenarios/my_pad.yaml     validate a scenario file, as the workflow does
     railgrowth run soft_pad --speed 40                grow roughness; writes soft_pad_V40.nc here
-    railgrowth run my_fleet --bands                   grow under the scenario's fleet (no --speed); my_fleet_fleet.nc
-                                                      and its band view (my_fleet_fleet_bands.nc, _bands.csv, ...)
+    railgrowth run my_fleet --bands                   grow under the fleet (no --speed), with the band view
     railgrowth bands soft_pad soft_pad_V40.nc         the band view of a growth file written before
     railgrowth spectrum default --speed 40            the growth-rate spectrum; default_spectrum.nc
 
