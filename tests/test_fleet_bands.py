@@ -68,7 +68,9 @@ def _fleet_like_growth(K=36):
     return xr.Dataset({"Z_real": (("passage", "h"), Z.real), "Z_imag": (("passage", "h"), Z.imag),
                        "level": (("passage", "harmonic"), lev),
                        "exponential_rate": ("harmonic", np.zeros(J)), "amplitude_growth_rate": ("harmonic", np.zeros(J))},
-                      coords={"passage": n, "harmonic": np.arange(1, J + 1)}, attrs={"bays": 1, "speed_m_per_s": 40.0})
+                      coords={"passage": n, "harmonic": np.arange(1, J + 1)},
+                      attrs={"bays": 1, "speed_m_per_s": 40.0, "fleet_speeds": "[40.0] m/s with weights [1.0] (values)",
+                             "fleet_vehicles": "loco: share 0.4, ...; coach: share 0.6, ..."})
 
 
 def test_a_fleet_growth_is_banded_alike_by_the_api_the_command_line_and_the_workflow_script(root, tmp_path, capsys):
@@ -114,6 +116,10 @@ def test_a_fleet_growth_is_banded_alike_by_the_api_the_command_line_and_the_work
     assert noise[800.0]["source"] == "input spectrum" and float(noise[800.0]["rail_roughness_dB_re_1um"]) == 13.0
     assert noise[50.0]["source"] == "model" and noise[200.0]["rail_roughness_dB_re_1um"] == ""
     assert "filled from the input spectrum" in b.rolling_noise_csv
+    # a fleet's files say so: the speed is the fleet's mean, the passages the fleet's traffic's
+    assert "# fleet at mean speed 40 m/s" in b.bands_csv and "# fleet: loco: share 0.4" in b.bands_csv
+    assert "under its fleet (frequency at its mean speed)" in b.rolling_noise_csv
+    assert b.data.attrs["fleet_speeds"].startswith("[40.0] m/s")
 
 
 def test_run_without_speed_is_only_for_a_fleet(tmp_path, capsys, monkeypatch):

@@ -316,11 +316,15 @@ def band_spectra(ds: xr.Dataset):
         a1.semilogx(lam[res], ds["level"].values[i][res], linestyle=style, marker="o", ms=3, color="k", lw=0.8, label=label)
     if np.isfinite(ds["limit"].values).any():
         a1.semilogx(lam, ds["limit"].values, color="0.5", lw=2, label="limit")
+    if "rate_floor_dB_re_1um" in ds.attrs:  # below it a band's rate is not ranked (rail.studies.bands)
+        a1.axhline(float(ds.attrs["rate_floor_dB_re_1um"]), color="0.5", lw=0.8, ls=":", label="floor: rates below not ranked")
     a1.invert_xaxis()
     a1.set_xlabel("one-third-octave band, centre wavelength (mm)")
     a1.set_ylabel("roughness level (dB re 1 µm)")
     nb = int(ds.attrs['bays'])
-    title = f"V = {ds.attrs['speed_m_per_s']:g} m/s, roughness period {nb} bay{'s' if nb > 1 else ''}"
+    speed = (f"fleet at mean V = {ds.attrs['speed_m_per_s']:g} m/s" if "fleet_speeds" in ds.attrs
+             else f"V = {ds.attrs['speed_m_per_s']:g} m/s")
+    title = f"{speed}, roughness period {nb} bay{'s' if nb > 1 else ''}"
     if ds.attrs.get("grinding_interval_text"):
         title += "\n" + ds.attrs["grinding_interval_text"]
     fig.suptitle(title, fontsize=9)
@@ -329,13 +333,14 @@ def band_spectra(ds: xr.Dataset):
     # the rates of the ranked bands only: a band below the floor grows from nothing (rail.studies.bands)
     rank = res & (ds["ranked"].values.astype(bool) if "ranked" in ds else True)
     floor = ds.attrs.get("rate_floor_dB_re_1um")
-    below = f"; bands below {floor:g} dB re 1 µm not ranked ({int((res & ~rank).sum())})" if floor is not None else ""
+    below = (f"\n{int((res & ~rank).sum())} bands below {floor:g} dB re 1 µm not ranked (growth from nothing)"
+             if floor is not None and (res & ~rank).any() else "")
     _band_rate_panel(a2, lam, ds["growth_dB_per_1e5_axles"].values, ds["growth_dB_per_1e5_axles_error"].values, rank, law,
                      a1.get_xlim(), "level growth (dB per 100,000 axle passages)", "level growth rate at the last save" + below)
     a2.legend(fontsize=7)
     _band_rate_panel(a3, lam, ds["amplitude_growth_um_per_1e5_axles"].values, ds["amplitude_growth_um_per_1e5_axles_error"].values,
                      rank, law, a1.get_xlim(), "amplitude growth (µm rms per 100,000 axle passages)",
-                     "amplitude growth rate: ranks the linearly growing bands")
+                     "amplitude growth rate: ranks the linearly growing bands" + below)
     text.validity_note(fig, ds.attrs)
     return fig
 
@@ -533,7 +538,9 @@ def scenario_overview(ds: xr.Dataset, default: xr.Dataset | None = None, name: s
     a3.set_title("(d) contact force at the start and the end", fontsize=9)
     _passage_key(fig, n, colours, drawn)
     contact = ds.attrs.get("normal_contact")
-    title = (f"{name + ': ' if name else ''}V = {ds.attrs['speed_m_per_s']:g} m/s, roughness period {N} bay{'s' if N > 1 else ''}"
+    speed = (f"fleet at mean V = {ds.attrs['speed_m_per_s']:g} m/s" if "fleet_speeds" in ds.attrs
+             else f"V = {ds.attrs['speed_m_per_s']:g} m/s")
+    title = (f"{name + ': ' if name else ''}{speed}, roughness period {N} bay{'s' if N > 1 else ''}"
              + (f", normal contact {contact}" if contact else ""))
     if ds.attrs.get("stopped"):  # the run left the model: say where, on the page
         reason = ds.attrs["stopped"].split(": ", 2)

@@ -453,6 +453,7 @@ def bands_dataset(growth, L: float, bands: ThirdOctaveBands, min_lines: int, lim
         attrs={
             **gi_attrs,
             **{k: growth.attrs[k] for k in VALIDITY_ATTRS if k in growth.attrs},  # the run's validity (rail.studies.validity)
+            **{k: growth.attrs[k] for k in ("fleet_vehicles", "fleet_speeds") if k in growth.attrs},  # a fleet's run: its traffic
             "axles_per_day": float(per_day) if per_day else float("nan"),
             **({k: v for k, v in traffic.attributes().items() if k != "axles_per_day"} if traffic is not None else {}),
             "rate_convention": f"level growth in dB {per_1e5} (a wheel passage on the rail is an axle passage), per year and per MGT "
@@ -515,9 +516,12 @@ def band_csv_text(ds) -> str:
     """
     n = ds["passage"].values
     a = ds.attrs
+    fleet = "fleet_speeds" in a
     head = ["# one-third-octave band levels of the rail roughness and their growth (rail.studies.bands; docs/exports.md)",
-            f"# speed {a['speed_m_per_s']:g} m/s; frequency_Hz = speed / centre wavelength; roughness period {a['period_m']:.4g} m "
-            f"({a['bays']} bays), shortest wavelength {1e3 * a['shortest_wavelength_m']:.3g} mm",
+            f"# {'fleet at mean ' if fleet else ''}speed {a['speed_m_per_s']:g} m/s; frequency_Hz = speed / centre wavelength; roughness "
+            f"period {a['period_m']:.4g} m ({a['bays']} bays), shortest wavelength {1e3 * a['shortest_wavelength_m']:.3g} mm",
+            *([f"# fleet: {a['fleet_vehicles']}; speeds {a['fleet_speeds']}; passages are axle passages of the fleet's traffic"]
+              if fleet else []),
             "# levels in dB re 1 um (rms); rates: dB per 100,000 axle passages (wheel passages on the rail)"
             + (", dB/year and dB/MGT with the traffic" if "growth_dB_per_year" in ds else "; no traffic given: no rates per year or MGT"),
             f"# traffic: {a['axles_per_day']:g} axles/day" + (f", axle load {a['axle_load_t']:.4g} t, {a['mgt_per_year']:.4g} MGT/year"

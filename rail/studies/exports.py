@@ -444,7 +444,8 @@ def band_outputs(growth, L: float, settings: dict, name: str, *, limit=None, tra
     wheel_dB = wheel_levels_on_bands(wheel[0], wheel[1], source=wheel[2]) if wheel is not None else None
     input_dB = spectrum_on_bands(initial_spectrum[0], initial_spectrum[1]) if initial_spectrum is not None else None
     rolling = rolling_noise_csv_text(level, reasons, period, period / ((Z.size - 1) // 2), float(ds.attrs["speed_m_per_s"]),
-                                     f"scenario {name} after {band_view.readable_count(growth['passage'].values[-1])} axle passages "
+                                     f"scenario {name}{' under its fleet (frequency at its mean speed)' if 'fleet_speeds' in growth.attrs else ''}"
+                                     f" after {band_view.readable_count(growth['passage'].values[-1])} axle passages "
                                      "(the last save of the growth run)", wheel_dB=wheel_dB,
                                      wheel_source=wheel[2] if wheel is not None else "", grinding=grinding,
                                      validity=_validity(growth.attrs), floor_dB=floor_dB, input_dB=input_dB,
