@@ -93,6 +93,9 @@ def test_the_traffic_study_fleet_classes_and_their_shared_spectra(P):
         bays = int(P.scenarios[name]["figures"]["rate_spectrum"]["bays"])
         assert [P.fleet_table_file(name, c.speed, bays)] == [f for f in job["input"] if "receptance" in f]
         assert job["params"]["job"] == [name, i, c.speed]
+        # issue 45, item 14: the hash-named job says what it holds (its message and the first line of its log)
+        label = P.fleet_class_label(key)
+        assert label.startswith(f"{c.label} (fleets: ") and name in label
 
 
 def test_every_receptance_table_and_its_offsets(P):

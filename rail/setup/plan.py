@@ -338,6 +338,13 @@ class Plan:
                               f"speed of those fleets: the speeds are {', '.join(sorted(speeds, key=float)) or 'none'} m/s.")
         return t, speeds[speed]
 
+    def fleet_class_label(self, key: str) -> str:
+        """What a class spectrum job (named by its content's hash) holds, for its message and log: the
+        vehicle, the speed and every fleet scenario holding the class."""
+        name, i = self.fleet_class_owner(key)
+        holders = [n for n, keys in self.fleet_spectrum_keys.items() if key in keys]
+        return f"{self.fleet_classes[name][i].label} (fleets: {', '.join(holders)})"
+
     def fleet_class_owner(self, key: str) -> tuple[str, int]:
         """(scenario, class index) of a class spectrum job."""
         if key not in self.fleet_spectrum_jobs:

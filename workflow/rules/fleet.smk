@@ -86,6 +86,9 @@ rule fleet_class_spectrum:
         code=code("fleet_class_spectrum.py"),
         cfg=fleet_class_config,
         job=fleet_class_params,
+        label=lambda w: PLAN.fleet_class_label(w.key),
+    message:
+        "fleet class spectrum {wildcards.key}: {params.label}"
     log:
         "logs/fleet/classes/{key}.log",
     benchmark:

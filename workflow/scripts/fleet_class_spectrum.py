@@ -1,6 +1,7 @@
 """Growth-rate spectrum of one (vehicle, speed) class of a fleet (rail.growth_spectrum.rate_spectrum)."""
 
 import sys
+from pathlib import Path
 
 import numpy as np
 
@@ -11,7 +12,9 @@ from rail.studies import datasets, rate_spectrum
 from rail.studies import fleet as fleet_study
 
 
-def main(config, name, index, speed, table_path, out_path, log):
+def main(config, name, index, speed, table_path, out_path, log, label=""):
+    if label:
+        print(f"class spectrum {Path(out_path).stem}: {label}", file=log, flush=True)  # the log is named by the hash
     scn = build.spectrum_scenario(config, name)  # smooth rail, the spectrum's N-bay period
     c = build.fleet_classes(config, scn)[index]
     with io.open_intermediate(table_path) as t:
@@ -31,5 +34,6 @@ if __name__ == "__main__":
     sys.stderr = log
     name, index, speed = snakemake.params.job  # noqa: F821
     tee = Tee(log, f"fleet class spectrum {name} {index}")  # the log, and the terminal if there is one
-    main(snakemake.params.cfg, name, int(index), float(speed), snakemake.input.table, snakemake.output[0], tee)  # noqa: F821
+    main(snakemake.params.cfg, name, int(index), float(speed), snakemake.input.table, snakemake.output[0], tee,  # noqa: F821
+         snakemake.params.label)  # noqa: F821
     tee.close()

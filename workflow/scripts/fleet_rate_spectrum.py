@@ -20,6 +20,8 @@ def main(config, name, class_paths, data_path, figure_path, log):
     for path in class_paths:
         with np.load(path) as arrays:
             spectra.append(fleet_study.spectrum_from_arrays(arrays))
+    for c, path in zip(classes, class_paths, strict=True):  # which hash-named class file holds which class
+        print(f"class {c.label}, weight {c.weight:.4g}: {path}", file=log, flush=True)
     fs = fleet_spectrum_of(classes, spectra)
     ds = fleet_study.fleet_spectrum_dataset(fs, fl)
     f_pp = pinned_pinned_frequency(scn.track)
