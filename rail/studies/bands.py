@@ -541,7 +541,8 @@ def band_csv_text(ds) -> str:
     cols += rate_cols + ["growth_law", "ranked", "rate_note", "limit_dB_re_1um", "empty_reason"]
 
     def cell(v, fmt=".4g"):
-        return f"{v:{fmt}}" if np.isfinite(v) else ""
+        text = f"{v:{fmt}}" if np.isfinite(v) else ""
+        return text[1:] if text.startswith("-") and float(text) == 0 else text  # no "-0.000" for a level of -1e-15 dB
 
     rows = [",".join(cols)]
     for b in range(ds.sizes["band"]):

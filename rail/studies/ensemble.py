@@ -7,6 +7,7 @@ import numpy as np
 import xarray as xr
 
 from ..uncertainty import band_statistics
+from ..roughness import in_band
 from .bands import third_octave_bands
 from ..setup.io import data_var
 
@@ -44,7 +45,7 @@ def ensemble_dataset(members, values: dict, interval=(0.1, 0.9)) -> xr.Dataset:
     centre, nominal, lower, upper = (x[keep] for x in (bands.centre, bands.nominal, bands.lower, bands.upper))
     gb = np.full((len(members), centre.size), np.nan)
     for b in range(centre.size):
-        sel = (lam >= lower[b]) & (lam < upper[b])
+        sel = in_band(lam, lower[b], upper[b])  # the one band rule (rail.roughness)
         if sel.any():
             gb[:, b] = g[:, sel].mean(axis=1)
     med, lo, hi = band_statistics(gb, interval)

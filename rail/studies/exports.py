@@ -158,7 +158,8 @@ def combined_roughness(rail_dB, wheel_dB):
 
 
 def _cell(v, fmt=".4g") -> str:
-    return f"{v:{fmt}}" if np.isfinite(v) else ""
+    text = f"{v:{fmt}}" if np.isfinite(v) else ""
+    return text[1:] if text.startswith("-") and float(text) == 0 else text  # no "-0.00" for a level of -1e-15 dB
 
 
 def _quoted(text: str) -> str:

@@ -12,6 +12,7 @@ import xarray as xr
 from .. import chain, interaction
 from .validity import creepage_model_text
 from ..fleet import Fleet
+from ..roughness import in_band
 from ..growth_spectrum import FleetRateSpectrum
 from ..traffic import Traffic
 from . import datasets
@@ -223,7 +224,7 @@ def band_rates(wavelength, rate, bands) -> np.ndarray:
     rate = np.asarray(rate, dtype=float)
     out = np.full(rate.shape[:-1] + (bands.centre.size,), np.nan)
     for b, (lo, hi) in enumerate(zip(bands.lower, bands.upper)):
-        sel = (lam >= lo) & (lam < hi)
+        sel = in_band(lam, lo, hi)  # the one band rule (rail.roughness)
         if sel.any():
             out[..., b] = rate[..., sel].mean(axis=-1)
     return out
