@@ -175,3 +175,8 @@ def test_a_fleet_study_gives_the_same_bands_in_the_workflow_the_command_line_and
         np.testing.assert_allclose(b.data["level"].values, w["level"].values, rtol=0, atol=1e-9)
     assert (work / "results/fleet/tiny_fleet/overview.png").stat().st_size > 10000
     assert (work / "results/fleet/tiny_fleet/rolling_noise_roughness.csv").exists()
+    # the HTML report holds the fleet's band view beside its other outputs
+    rep = snakemake(root, "--report", "report.html", "report_all", cwd=work)
+    assert rep.returncode == 0, rep.stderr[-3000:]
+    html = (work / "report.html").read_text(errors="replace")
+    assert "Traffic (fleet)" in html and "rolling_noise_roughness.csv" in html and "overview.png" in html
