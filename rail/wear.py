@@ -29,7 +29,7 @@ from .contact.models import roughness_slope
 from .contact.passage import SPIN_UP_TRANSITS, MarchInputs, march_inputs
 from .interaction import ForceResult, Roughness
 
-__all__ = ["WearLaw", "WearResult", "CreepageState", "march_with_creepage", "MarchInputs", "march_inputs", "bay_wear", "wear_spectrum", "apply_wear", "roughness_slope", "SPIN_UP_TRANSITS"]
+__all__ = ["WearLaw", "WearResult", "CreepageState", "march_with_creepage", "steady_material", "MarchInputs", "march_inputs", "bay_wear", "wear_spectrum", "apply_wear", "roughness_slope", "SPIN_UP_TRANSITS"]
 
 
 
@@ -301,10 +301,11 @@ def march_with_creepage(mi: MarchInputs, material: ContactMaterial, speed: float
     dtp = dt_all[period]
     T = float(np.sum(dtp))
     Pm = float(np.mean(mi.P[period]))
+    steady = steady_material(material, speed)
     q_ref = modes.reference_force
     if q_ref is None:
-        q_ref = float(carter(0.0, Pm, material, speed, material.wheel_radius)[2])
-    slope = carter_creep_slope(Pm, material) / speed  # dQ / d(u_bar rate) [N s/m]
+        q_ref = float(carter(0.0, Pm, steady, speed, material.wheel_radius)[2])
+    slope = carter_creep_slope(Pm, steady) / speed  # dQ / d(u_bar rate) [N s/m]
     rigid = any(o == 0 for o in modes.omega)
     idx = (np.arange(steps) - mi.spin) % mi.Nx
     t_all = np.cumsum(dt_all)
@@ -328,6 +329,30 @@ def march_with_creepage(mi: MarchInputs, material: ContactMaterial, speed: float
                            f"{max_iter} Newton steps (last step {size:.2g} of the creep velocity): the coupled torsion is "
                            "unstable or too close to resonance for the quasi-steady preconditioner.")
     return sol, {"iterations": it, "residual": size, "reference_force": q_ref, "state": CreepageState(phase, p, vbar)}
+
+
+def steady_material(material: ContactMaterial, speed: float) -> ContactMaterial:
+    """The contact parameters of Carter's steady rolling (the torque reference and the creep slope of
+    march_with_creepage): with friction falling with the slip velocity (material.friction_decay = s_0 > 0),
+    the friction at the creep velocity, mu(abs(gamma) V) = mu_d + (mu_s - mu_d) exp(-abs(gamma) V / s_0),
+    stands for mu_d (the slip zone of steady rolling slips at about abs(gamma) V); with the step law, the
+    material as it is.
+
+    Parameters
+    ----------
+    material : ContactMaterial
+    speed : float
+        V [m/s].
+
+    Returns
+    -------
+    ContactMaterial
+    """
+    if material.friction_decay <= 0:
+        return material
+    mu = material.friction_dynamic + (material.friction_static - material.friction_dynamic) * float(
+        np.exp(-abs(material.creepage) * speed / material.friction_decay))
+    return dataclasses.replace(material, friction_dynamic=mu)
 
 
 def _dynamic_creepage(sol, i, speed: float, delta: float, dt) -> float:

@@ -154,6 +154,41 @@ def test_a_warm_start_reaches_the_same_periodic_state_in_fewer_marches(nodes):
     assert abs(iw["state"].vbar - ic["state"].vbar) <= 1e-5 * abs(M0.creepage) * V
 
 
+def test_steady_rolling_under_falling_friction_is_carter_at_the_friction_of_its_creep_velocity():
+    # The torque reference and the creep slope of the periodic state come from Carter's steady rolling
+    # (rail.wear.steady_material): with friction falling with slip, at mu(abs(gamma) V), not mu_d. With mu_d
+    # the motored wheelset with falling friction found no periodic state at 20 m/s (its Newton steps on the
+    # mean slip overshot 3.5-fold); a long march at constant load is the independent reference.
+    for mus, mud, s0 in ((0.3, 0.12, 1.67), (0.3, 0.2, 0.5)):
+        mat = dataclasses.replace(M0, friction_static=mus, friction_dynamic=mud, friction_decay=s0)
+        P = np.full(400, P0)
+        Q = C.solve_tangential(P, C.hertz_half_length(P, R, mat), mat, V, DELTA, M).Q[-50:].mean()
+        assert abs(carter(0.0, P0, wear.steady_material(mat, V), V, R)[2] / Q - 1) < 0.01
+        assert abs(carter(0.0, P0, mat, V, R)[2] / Q - 1) > 0.05
+    assert wear.steady_material(M0, V) is M0  # the step law: as it is
+
+
+def test_the_periodic_state_with_falling_friction_is_that_of_a_long_time_march():
+    # As test_the_periodic_state_is_that_of_a_long_time_march, for the motored wheelset (a free rotation,
+    # its motor behind a coupling) with friction falling with slip (Polach's dry-rail A and B)
+    mi = _inputs()
+    ws = Wheelset("torsional", 0.46, wheel_inertia=50.0, centre_inertia=20.0, axle_stiffness=5.5e6, motor_inertia=288.0,
+                  coupling_stiffness=3.6e6, damping=0.02)
+    mat = dataclasses.replace(M0, friction_static=0.3, friction_dynamic=0.12, friction_decay=1.67,
+                              longitudinal=wheelset_modes(ws))
+    num = C.ContactNumerics(21, "default", 1.0)
+    sol, info = wear.march_with_creepage(mi, mat, V, num, tol=1e-8, max_iter=20)
+    j = mi.spin + mi.M + np.arange(mi.Nx)
+    Wn = np.fft.rfft(sol.work[j])
+    mat2 = dataclasses.replace(mat, longitudinal=dataclasses.replace(mat.longitudinal, reference_force=info["reference_force"]))
+    extra = 40
+    sl = np.concatenate([np.arange(mi.spin)] + [np.arange(mi.spin, mi.spin + mi.Nx)] * extra + [np.arange(mi.spin, mi.P.size)])
+    s = C.solve_tangential(mi.P[sl], mi.a[sl], mat2, V, mi.delta, mi.M)
+    long = np.fft.rfft(s.work[extra * mi.Nx + j])
+    err = [abs(Wn[k] / long[k] - 1) for k in (0, 3, 6)]
+    assert max(err) < 5e-3, err
+
+
 def test_the_modal_form_is_the_direct_solve_of_the_chain():
     w = 2 * np.pi * np.array([10.0, 63.0, 170.0, 550.0, 1300.0, 3000.0])
     for ws in (Wheelset("torsional", 0.46), Wheelset("torsional", 0.46, other_wheel="independent"),
