@@ -16,7 +16,7 @@ the standard's estimator, which this module reproduces rather than corrects).
 Here the transfer receptances come from the periodically supported rail model
 (``rail.track.stationary_receptance``).  Positions are distances from the excitation point in the
 +x direction (the track is symmetric about a sleeper and about mid-span, so one direction serves).
-Units: Hz, m, m/N, dB/m.
+Units: Hz, m, m/N, dB/m. The one-third-octave bands are rail.bands.frequency_bands (IEC 61260-1).
 """
 
 from __future__ import annotations
@@ -27,6 +27,8 @@ from pathlib import Path
 
 import numpy as np
 
+from .bands import NOMINAL_THIRD_OCTAVE_CENTRES, ThirdOctaveBands, frequency_bands
+from .bands import frequency_bands as third_octave_bands  # the old name (rail.bands)
 from .track import Track, stationary_receptance
 
 __all__ = [
@@ -48,54 +50,9 @@ __all__ = [
 
 LOG10_E_10 = 10 * np.log10(np.e)  # 4.343 dB per neper of |A|^2 (EN 15461)
 
-# IEC 61260 nominal one-third-octave centres of one decade; other decades scale by 10.
-NOMINAL_THIRD_OCTAVE_CENTRES = (100, 125, 160, 200, 250, 315, 400, 500, 630, 800)
-
-
-@dataclass(frozen=True)
-class ThirdOctaveBands:
-    """One-third-octave bands (base-10, IEC 61260).
-
-    nominal : Hz, nominal centre (100, 125, 160, ...)
-    centre  : Hz, exact centre 1000 * 10^(n/10)
-    lower   : Hz, lower edge centre * 10^(-1/20)
-    upper   : Hz, upper edge centre * 10^(+1/20)
-    """
-
-    nominal: np.ndarray
-    centre: np.ndarray
-    lower: np.ndarray
-    upper: np.ndarray
-
-
-def third_octave_bands(f_min: float = 100.0, f_max: float = 5000.0) -> ThirdOctaveBands:
-    """The one-third-octave bands (base-10, IEC 61260) whose nominal centres lie in [f_min, f_max].
-
-    Parameters
-    ----------
-    f_min : float, optional
-        Lowest nominal centre frequency [Hz]; default 100.
-    f_max : float, optional
-        Highest nominal centre frequency [Hz]; default 5000.
-
-    Returns
-    -------
-    ThirdOctaveBands
-        Nominal and exact centre frequencies and band edges [Hz].
-
-    Raises
-    ------
-    ValueError
-        If no band has its nominal centre in [f_min, f_max].
-    """
-    n = np.arange(-30, 31)  # 1 Hz to 1 MHz
-    centre = 1000.0 * 10 ** (n / 10)
-    nominal = np.array([NOMINAL_THIRD_OCTAVE_CENTRES[i % 10] * 10.0 ** (i // 10 - 1) for i in n + 20])
-    keep = (nominal >= f_min * (1 - 1e-9)) & (nominal <= f_max * (1 + 1e-9))
-    if not keep.any():
-        raise ValueError(f"no one-third-octave band has its nominal centre in [{f_min}, {f_max}] Hz.")
-    c = centre[keep]
-    return ThirdOctaveBands(nominal[keep], c, c * 10 ** (-1 / 20), c * 10 ** (1 / 20))
+# The one-third-octave frequency bands (IEC 61260-1 base-ten) and their nominal centres are
+# rail.bands's; NOMINAL_THIRD_OCTAVE_CENTRES, ThirdOctaveBands and third_octave_bands (= frequency_bands)
+# stay importable from here.
 
 
 def band_frequencies(lower, upper, per_band: int) -> np.ndarray:
@@ -383,7 +340,7 @@ def track_decay_rate(
     """
     L = track.mean_spacing if hasattr(track, "mean_spacing") else track.L
     x0 = np.atleast_1d(np.asarray([0.0, L / 2] if excitation is None else excitation, dtype=float))
-    bands = third_octave_bands(f_min, f_max)
+    bands = frequency_bands(f_min, f_max)
     freqs = band_frequencies(bands.lower, bands.upper, per_band)
 
     def squared(d):

@@ -25,13 +25,13 @@ One-third-octave wavelength spectrum (CSV ``wavelength_<unit>,level_<unit>``, ce
 levels in dB re 1 um, as EN 15610 states a roughness spectrum): every band's mean square
 (1e-6 10^(level / 20))^2 is shared equally between the wavenumbers 2 pi j / P whose wavelength
 P / j falls in the band, with phases uniformly random from ``seed`` (numpy's default generator):
-the realisation has exactly the band levels. The bands are those of the analysis
-(rail.studies.bands, issue 45): a centre on the base-ten series 10^(-n/10) m (within 1.5 %: every
-EN 15610 nominal label) has the edges 10^((-n -+ 1/2)/10) m, and a line on an edge belongs to the
-band of the shorter wavelengths (third_octave_edges, in_band); so the band view of the initial
-roughness gives back every input level that holds a line, to rounding. A centre off that series has
-the edges of band_edges (neighbouring bands meet at the geometric mean of their centres, the
-outermost edges are 2^(+-1/6) from the centre). A band that
+the realisation has exactly the band levels. The bands are those of the analysis (rail.bands, the
+one edge rule): a centre on the base-ten series 10^(-n/10) m (within 1.5 %: every EN 15610 nominal
+label) has the edges 10^((-n -+ 1/2)/10) m, and a line on an edge belongs to the band of the
+shorter wavelengths (third_octave_edges, in_band); so the band view of the initial roughness gives
+back every input level that holds a line, to rounding. A centre off that series has the edges of
+band_edges (neighbouring bands meet at the geometric mean of their centres, the outermost edges
+are 2^(+-1/6) from the centre). A band that
 holds no wavenumber of the period (too long for P, or shorter than L / K) is left out, and named
 in a warning; a spectrum none of whose bands holds one is refused (the rail would be smooth).
 
@@ -63,6 +63,8 @@ from dataclasses import dataclass
 
 import numpy as np
 
+# the band rule and the nominal series are rail.bands's; the names stay importable from here
+from .bands import NOMINAL_TOLERANCE, NOMINAL_WAVELENGTHS_M, band_edges, in_band, nominal_band, third_octave_edges
 from .csvinput import Column, unit_rows
 
 __all__ = ["RoughnessInputWarning", "read_profile", "read_profile_record", "ProfileRecord", "read_spectrum_table",
@@ -73,12 +75,6 @@ __all__ = ["RoughnessInputWarning", "read_profile", "read_profile_record", "Prof
            "read_limit_spectrum", "PROFILE_MAX_SPACING_M", "PROFILE_MAX_LENGTH_M", "SPECTRUM_WAVELENGTH_RANGE_M",
            "PROFILE_MAX_HEIGHT_M", "SPECTRUM_LEVEL_RANGE_DB"]
 
-# EN 15610 nominal centre wavelengths (m) of the exact series 10^(-n/10) m, n = 0..25
-NOMINAL_WAVELENGTHS_M = np.array([1.0, 0.8, 0.63, 0.5, 0.4, 0.315, 0.25, 0.2, 0.16, 0.125, 0.1, 0.08, 0.063, 0.05,
-                                  0.04, 0.0315, 0.025, 0.02, 0.016, 0.0125, 0.01, 0.008, 0.0063, 0.005, 0.004, 0.00315])
-# a wavelength names a band when within this fraction of its nominal label or its exact centre
-# (the labels are at most 0.95 % from the exact centres; neighbouring bands are 26 % apart)
-NOMINAL_TOLERANCE = 0.015
 # plausible units (module docstring)
 PROFILE_MAX_SPACING_M = 0.05
 PROFILE_MAX_LENGTH_M = 1000.0
@@ -367,7 +363,7 @@ def longest_resolved_band(length: float, cycles: float = RECORD_CYCLES) -> float
     A band is resolved when the length holds ``cycles`` wavelengths of its upper band edge
     2^(1/6) lambda_c (EN 15610 asks for a record several times the longest wavelength analysed;
     docs/roughness-input.md). Bands are those of the exact series lambda_c = 10^(-n/10) m (n any
-    integer; the nominal labels of rail.roughness.NOMINAL_WAVELENGTHS_M are within 1 % of them).
+    integer; the nominal labels of rail.bands.NOMINAL_WAVELENGTHS_M are within 1 % of them).
 
     Parameters
     ----------
@@ -659,27 +655,6 @@ def read_third_octave_spectrum(path):
     return t.wavelength, t.level_dB
 
 
-def nominal_band(wavelength: float) -> int:
-    """Index in NOMINAL_WAVELENGTHS_M of the one-third-octave band a wavelength names, or -1.
-
-    A wavelength names band n when it lies within NOMINAL_TOLERANCE (1.5 %) of its nominal label
-    (1, 0.8, 0.63, ... m) or of its exact centre 10^(-n/10) m.
-
-    Parameters
-    ----------
-    wavelength : float
-        [m].
-
-    Returns
-    -------
-    int
-    """
-    n = np.arange(len(NOMINAL_WAVELENGTHS_M))
-    off = np.minimum(np.abs(wavelength / NOMINAL_WAVELENGTHS_M - 1), np.abs(wavelength / 10.0 ** (-n / 10) - 1))
-    k = int(np.argmin(off))
-    return k if off[k] <= NOMINAL_TOLERANCE else -1
-
-
 def read_limit_spectrum(path):
     """Read a limit spectrum for the grinding interval (rail.studies.bands, figures.bands.limit).
 
@@ -720,82 +695,6 @@ def read_limit_spectrum(path):
                              f"{seen[k]} again.")
         seen[k] = i + 2
     return lam, lev
-
-
-def band_edges(wavelength):
-    """Edges of one-third-octave wavelength bands from their (nominal) centres.
-
-    Neighbouring bands (centres a third octave apart, within 5 %) meet at the geometric mean of
-    their centres (for exact centres that is 2^(1/6) from each), so that nominal centres such as
-    0.315 m and 0.25 m still partition the wavelength axis; other edges are 2^(+-1/6) from their
-    centres.
-
-    Parameters
-    ----------
-    wavelength : ndarray
-        Band centre wavelengths [m], distinct.
-
-    Returns
-    -------
-    lower, upper : ndarray
-        Band edges [m], in the order of ``wavelength``.
-    """
-    lam = np.asarray(wavelength, dtype=float)
-    order = np.argsort(lam)
-    s = lam[order]
-    adjacent = s[1:] / s[:-1] < 1.05 * 2 ** (1 / 3)  # neighbouring third-octave bands
-    mid = np.sqrt(s[1:] * s[:-1])
-    lo_s = np.r_[s[0] * 2 ** (-1 / 6), np.where(adjacent, mid, s[1:] * 2 ** (-1 / 6))]
-    hi_s = np.r_[np.where(adjacent, mid, s[:-1] * 2 ** (1 / 6)), s[-1] * 2 ** (1 / 6)]
-    lo, hi = np.empty_like(lam), np.empty_like(lam)
-    lo[order], hi[order] = lo_s, hi_s
-    return lo, hi
-
-
-def third_octave_edges(wavelength):
-    """Edges of the bands a spectrum's centre wavelengths name, by the one band rule of the analysis
-    (rail.studies.bands): a centre within NOMINAL_TOLERANCE of an exact base-ten centre 10^(-n/10) m
-    (every EN 15610 and CNOSSOS-EU nominal label is, 2 m .. 0.8 mm) has the edges 10^((-n -+ 1/2)/10) m;
-    any other centre has the edges of band_edges.
-
-    Parameters
-    ----------
-    wavelength : ndarray
-        Band centre wavelengths [m], distinct.
-
-    Returns
-    -------
-    lower, upper : ndarray
-        Band edges [m]; a wavelength lam lies in a band when lower < lam <= upper (in_band).
-    """
-    lam = np.asarray(wavelength, dtype=float)
-    lo, hi = band_edges(lam)
-    n = np.round(-10 * np.log10(lam))
-    exact = 10.0 ** (-n / 10)
-    on = np.abs(lam / exact - 1) <= NOMINAL_TOLERANCE
-    lo = np.where(on, exact * 10 ** (-1 / 20), lo)
-    hi = np.where(on, exact * 10 ** (1 / 20), hi)
-    return lo, hi
-
-
-def in_band(lam, lower, upper):
-    """Whether wavelengths lie in a band: lower < lam <= upper (a line on an edge belongs to the band of
-    the shorter wavelengths), the one rule of the synthesis (spectrum_coefficients) and the analysis
-    (rail.studies.bands.band_mean_square), so that a realised spectrum is analysed back to its levels.
-
-    Parameters
-    ----------
-    lam : ndarray
-        Wavelengths [m].
-    lower, upper : float
-        Band edges [m].
-
-    Returns
-    -------
-    ndarray of bool
-    """
-    lam = np.asarray(lam)
-    return (lam > lower) & (lam <= upper)
 
 
 def spectrum_coefficients(wavelength, level_dB, period: float, J: int, seed: int, source: str = "spectrum"):

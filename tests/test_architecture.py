@@ -210,7 +210,9 @@ def test_the_private_name_check_finds_an_import_and_an_attribute(tmp_path):
 # The order inside the physics layer (rail/*.py and rail/contact/): a module imports only modules of
 # the groups above its own. The report's chain read from the bottom up; each group with its reason.
 PHYSICS_ORDER = [
-    ({"_lazyjit", "provenance", "csvinput"}, "tools: the lazy numba decorator, the rerun hash, the CSV reader"),
+    ({"_lazyjit", "provenance", "csvinput", "bands"},
+     "tools: the lazy numba decorator, the rerun hash, the CSV reader; the one-third-octave bands (IEC 61260-1), "
+     "in frequency for the decay rate and in wavelength for the roughness"),
     ({"quadrature", "halfspace"}, "quadrature rules; the elastic half-space and contact-spring damping (report 4.1)"),
     ({"track"}, "the Timoshenko rail on periodic discrete supports (4.2)"),
     ({"cell"}, "supports that vary over a cell of bays, built from track's parts"),

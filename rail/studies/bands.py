@@ -5,7 +5,8 @@ coefficients Z_j of its Fourier series (rail.interaction.Roughness):
 
 * Centre wavelengths: the exact base-ten third-octave series lambda_n = 10^(-n/10) m (1 m, 0.794 m,
   ..., 3.16 mm), labelled by EN 15610's nominal values (1, 0.8, 0.63, ... m). Band edges
-  lambda_n 10^(+-1/20), so neighbouring bands meet and partition the wavelength axis.
+  lambda_n 10^(+-1/20), so neighbouring bands meet and partition the wavelength axis (rail.bands:
+  the one edge rule, IEC 61260-1, and its wavelength_bands).
 * No window: a periodic profile over its own period has no leakage, so a band's mean square is the
   sum of the mean squares of the lines 2 pi j / (N L) inside it, 2 abs(Z_j)^2 (Parseval; a line on an
   edge belongs to the band with the shorter wavelengths). This replaces the measured-profile
@@ -15,7 +16,7 @@ coefficients Z_j of its Fourier series (rail.interaction.Roughness):
   longer than the period or shorter than the shortest wavelength L / K holds none. Unresolved bands
   are marked (NaN level and resolved = 0), never filled.
 * Levels in dB re 1 um rms: L = 10 log10(mean square / (1e-6 m)^2).
-* A line on a band edge belongs to the band with the shorter wavelengths (rail.roughness.in_band,
+* A line on a band edge belongs to the band with the shorter wavelengths (rail.bands.in_band,
   the rule the spectrum synthesis uses too, so a spectrum start is analysed back to its levels).
 
 Rates that mean something (issue 45): a band whose level at the last save is below the floor
@@ -45,7 +46,10 @@ from dataclasses import dataclass
 import numpy as np
 
 from ..growth import DB_PER_NEPER, BandGrowth, band_growth
-from ..roughness import NOMINAL_WAVELENGTHS_M, in_band, nominal_band
+# the bands and their rule are rail.bands's; ThirdOctaveBands and third_octave_bands (= wavelength_bands)
+# stay importable from here
+from ..bands import NOMINAL_WAVELENGTHS_M, ThirdOctaveBands, in_band, nominal_band
+from ..bands import wavelength_bands as third_octave_bands
 from .validity import VALIDITY_ATTRS, validity_text
 
 __all__ = ["NOMINAL_WAVELENGTHS_M", "ThirdOctaveBands", "third_octave_bands", "band_mean_square", "band_levels", "RATE_FLOOR_DB", "limit_tolerance", "ranked_bands",
@@ -55,7 +59,7 @@ __all__ = ["NOMINAL_WAVELENGTHS_M", "ThirdOctaveBands", "third_octave_bands", "b
 RATE_FLOOR_DB = -30.0
 
 # NOMINAL_WAVELENGTHS_M: EN 15610 nominal centre wavelengths (m) of the exact series 10^(-n/10) m,
-# n = 0..25 (rail.roughness, where the limit spectrum is read and checked against them)
+# n = 0..25 (rail.bands; rail.roughness reads the limit spectrum and checks it against them)
 
 
 def readable_count(x: float, digits: int = 3) -> str:
@@ -79,37 +83,6 @@ def readable_count(x: float, digits: int = 3) -> str:
     if abs(r) >= 10 ** (digits - 1):
         return f"{int(round(r)):,}"
     return f"{r:,.{max(digits - 1 - int(np.floor(np.log10(abs(r)))), 0)}f}"
-
-
-@dataclass(frozen=True)
-class ThirdOctaveBands:
-    """centre : exact centre wavelengths [m]; nominal : EN 15610 labels [m]; lower, upper : edges [m]."""
-
-    centre: np.ndarray
-    nominal: np.ndarray
-    lower: np.ndarray
-    upper: np.ndarray
-
-
-def third_octave_bands(longest: float = 1.0, shortest: float = 0.00315) -> ThirdOctaveBands:
-    """The third-octave wavelength bands from ``longest`` to ``shortest`` centre wavelength.
-
-    Parameters
-    ----------
-    longest, shortest : float
-        Range of the centre wavelengths [m], within 1 m .. 3.15 mm.
-
-    Returns
-    -------
-    ThirdOctaveBands
-    """
-    n = np.arange(len(NOMINAL_WAVELENGTHS_M))
-    exact = 10.0 ** (-n / 10)
-    sel = (NOMINAL_WAVELENGTHS_M <= longest * 1.0001) & (NOMINAL_WAVELENGTHS_M >= shortest * 0.9999)
-    if not sel.any():
-        raise ValueError(f"no third-octave band between {longest} m and {shortest} m.")
-    c = exact[sel]
-    return ThirdOctaveBands(c, NOMINAL_WAVELENGTHS_M[sel], c * 10 ** (-1 / 20), c * 10 ** (1 / 20))
 
 
 def band_mean_square(Z, period: float, bands: ThirdOctaveBands, min_lines: int = 1):
@@ -345,7 +318,7 @@ def bands_dataset(growth, L: float, bands: ThirdOctaveBands, min_lines: int, lim
     min_lines : int
         Lines a band must hold to be resolved [-].
     limit : (wavelength [m], level [dB re 1 µm]) arrays, optional
-        Limit spectrum; matched to the bands by rail.roughness.nominal_band (within 1.5 % of a nominal
+        Limit spectrum; matched to the bands by rail.bands.nominal_band (within 1.5 % of a nominal
         label or exact centre; others are left out).
     per_day : float, optional
         Wheel passages per day on the rail [1/day] (when ``traffic`` is not given: days only).

@@ -7,8 +7,7 @@ import numpy as np
 import xarray as xr
 
 from ..uncertainty import band_statistics
-from ..roughness import in_band
-from .bands import third_octave_bands
+from ..bands import in_band, wavelength_bands
 from ..setup.io import data_var
 
 __all__ = ["ensemble_dataset"]
@@ -40,12 +39,12 @@ def ensemble_dataset(members, values: dict, interval=(0.1, 0.9)) -> xr.Dataset:
         if not np.array_equal(m["wavelength"].values, lam):
             raise ValueError("the ensemble's spectra must share their lines (one figures.rate_spectrum for every member).")
     g = np.array([m["growth_dB_per_1e5_axles"].values.reshape(-1, lam.size)[0] for m in members])
-    bands = third_octave_bands(float(lam.max()), float(lam.min()))
-    keep = (bands.upper > lam.min()) & (bands.lower < lam.max())
-    centre, nominal, lower, upper = (x[keep] for x in (bands.centre, bands.nominal, bands.lower, bands.upper))
+    bands = wavelength_bands(float(lam.max()), float(lam.min()))
+    bands = bands.select((bands.upper > lam.min()) & (bands.lower < lam.max()))
+    centre, nominal, lower, upper = bands.centre, bands.nominal, bands.lower, bands.upper
     gb = np.full((len(members), centre.size), np.nan)
     for b in range(centre.size):
-        sel = in_band(lam, lower[b], upper[b])  # the one band rule (rail.roughness)
+        sel = in_band(lam, lower[b], upper[b])  # the one band rule (rail.bands)
         if sel.any():
             gb[:, b] = g[:, sel].mean(axis=1)
     med, lo, hi = band_statistics(gb, interval)

@@ -13,10 +13,10 @@ from dataclasses import dataclass
 
 import numpy as np
 
-from ..roughness import NOMINAL_WAVELENGTHS_M
+from ..bands import NOMINAL_TOLERANCE, NOMINAL_WAVELENGTHS_M, ThirdOctaveBands, exact_centres, exact_edges, wavelength_bands
 from ..traffic import AXLES_PER_RATE, DB_PER_NEPER, Traffic
 from . import bands as band_view
-from .bands import RATE_FLOOR_DB, ThirdOctaveBands, band_mean_square, empty_band_reasons
+from .bands import RATE_FLOOR_DB, band_mean_square, empty_band_reasons
 from .validity import validity_text
 
 __all__ = ["ROLLING_NOISE_WAVELENGTHS_M", "rolling_noise_bands", "rolling_noise_levels", "combined_roughness",
@@ -24,7 +24,7 @@ __all__ = ["ROLLING_NOISE_WAVELENGTHS_M", "rolling_noise_bands", "rolling_noise_
 
 # Nominal centre wavelengths [m] of the one-third-octave bands CNOSSOS-EU tabulates rail and wheel
 # roughness in (Directive (EU) 2015/996, Annex II sec. 2.3 and Appendix G, Table G-1: 2000 mm down
-# to 0.8 mm), the exact centres 10^(-n/10) m for n = -3..31; the EN 15610 labels (rail.roughness)
+# to 0.8 mm), the exact centres 10^(-n/10) m for n = -3..31; the EN 15610 labels (rail.bands)
 # inside 1 m .. 3.15 mm. (Table G-1 prints 125, 12.5, 3.15 and 1.25 mm as 120, 12, 3.2 and 1.2 mm.)
 ROLLING_NOISE_WAVELENGTHS_M = np.concatenate([[2.0, 1.6, 1.25], NOMINAL_WAVELENGTHS_M, [0.0025, 0.002, 0.0016, 0.00125, 0.001, 0.0008]])
 
@@ -35,10 +35,11 @@ def rolling_noise_bands() -> ThirdOctaveBands:
     Returns
     -------
     ThirdOctaveBands
-        Exact centres 10^(-n/10) m, n = -3..31, edges at 10^(+-1/20) of the centre.
+        Exact centres 10^(-n/10) m, n = -3..31, edges at 10^(+-1/20) of the centre (rail.bands.exact_edges).
     """
-    c = 10.0 ** (-np.arange(-3, 32) / 10)
-    return ThirdOctaveBands(c, ROLLING_NOISE_WAVELENGTHS_M.copy(), c * 10 ** (-1 / 20), c * 10 ** (1 / 20))
+    n = np.arange(-3, 32)
+    lower, upper = exact_edges(n, "m")  # the one edge rule (rail.bands)
+    return ThirdOctaveBands(centre=exact_centres(n, "m"), nominal=ROLLING_NOISE_WAVELENGTHS_M.copy(), lower=lower, upper=upper, unit="m")
 
 
 def rolling_noise_levels(Z, period: float, min_lines: int = 1):
@@ -74,7 +75,7 @@ def rolling_noise_levels(Z, period: float, min_lines: int = 1):
 def wheel_levels_on_bands(wavelength, level, source: str = "wheel roughness") -> np.ndarray:
     """A wheel roughness spectrum (rail.roughness.read_third_octave_spectrum) on the rolling-noise
     bands: each wavelength must name one of them (within 1.5 % of its nominal label or exact centre,
-    rail.roughness.NOMINAL_TOLERANCE); bands it does not give are NaN.
+    rail.bands.NOMINAL_TOLERANCE); bands it does not give are NaN.
 
     Parameters
     ----------
@@ -95,8 +96,6 @@ def wheel_levels_on_bands(wavelength, level, source: str = "wheel roughness") ->
     ValueError
         Naming the wavelength and the nearest band when it names none, or a band given twice.
     """
-    from ..roughness import NOMINAL_TOLERANCE
-
     bands = rolling_noise_bands()
     out = np.full(len(bands.centre), np.nan)
     for v, lv in zip(np.asarray(wavelength, dtype=float), np.asarray(level, dtype=float)):
@@ -114,7 +113,7 @@ def wheel_levels_on_bands(wavelength, level, source: str = "wheel roughness") ->
 
 def spectrum_on_bands(wavelength, level) -> np.ndarray:
     """An input spectrum (the initial roughness's) on the rolling-noise bands: a wavelength within
-    rail.roughness.NOMINAL_TOLERANCE of a band's nominal label or exact centre gives its level; other
+    rail.bands.NOMINAL_TOLERANCE of a band's nominal label or exact centre gives its level; other
     wavelengths are left out (a spectrum input may use any centres).
 
     Parameters
@@ -127,8 +126,6 @@ def spectrum_on_bands(wavelength, level) -> np.ndarray:
     ndarray, shape (35,)
         [dB re 1 µm]; NaN where the input gives no level.
     """
-    from ..roughness import NOMINAL_TOLERANCE
-
     bands = rolling_noise_bands()
     out = np.full(len(bands.centre), np.nan)
     for v, lv in zip(np.asarray(wavelength, dtype=float), np.asarray(level, dtype=float)):
@@ -434,7 +431,7 @@ def band_outputs(growth, L: float, settings: dict, name: str, *, limit=None, tra
     """
     from .validity import validity_text as _validity
 
-    tob = band_view.third_octave_bands(float(settings["longest"]), float(settings["shortest"]))
+    tob = wavelength_bands(float(settings["longest"]), float(settings["shortest"]))
     min_lines = int(settings["min_lines"])
     ds = band_view.bands_dataset(growth, L, tob, min_lines, limit, traffic=traffic, floor_dB=floor_dB)
     grinding = ds.attrs["grinding_interval_text"]

@@ -12,7 +12,7 @@ import xarray as xr
 from .. import chain, interaction
 from .validity import creepage_model_text
 from ..fleet import Fleet
-from ..roughness import in_band
+from ..bands import in_band, wavelength_bands
 from ..growth_spectrum import FleetRateSpectrum
 from ..traffic import Traffic
 from . import datasets
@@ -213,7 +213,7 @@ def band_rates(wavelength, rate, bands) -> np.ndarray:
         Line wavelengths [m].
     rate : ndarray
         A rate per line (any unit) on the last axis.
-    bands : rail.studies.bands.ThirdOctaveBands
+    bands : rail.bands.ThirdOctaveBands
 
     Returns
     -------
@@ -224,7 +224,7 @@ def band_rates(wavelength, rate, bands) -> np.ndarray:
     rate = np.asarray(rate, dtype=float)
     out = np.full(rate.shape[:-1] + (bands.centre.size,), np.nan)
     for b, (lo, hi) in enumerate(zip(bands.lower, bands.upper)):
-        sel = in_band(lam, lo, hi)  # the one band rule (rail.roughness)
+        sel = in_band(lam, lo, hi)  # the one band rule (rail.bands)
         if sel.any():
             out[..., b] = rate[..., sel].mean(axis=-1)
     return out
@@ -249,8 +249,6 @@ def traffic_study_dataset(spectra, cases) -> xr.Dataset:
         [dB per 100,000 axle passages]; attributes pinned_pinned_wavelength_m and pinned_pinned_band_m
         (the nominal centre of the band holding it).
     """
-    from .bands import third_octave_bands
-
     drives = list(dict.fromkeys(d for d, _ in cases))
     spreads = sorted({float(s) for _, s in cases})
     lam = spectra[0]["wavelength"].values
@@ -262,9 +260,8 @@ def traffic_study_dataset(spectra, cases) -> xr.Dataset:
         g[drives.index(d), spreads.index(float(s))] = ds["growth_dB_per_1e5_axles"].values
     if np.isnan(g).any():
         raise ValueError("the traffic study needs one spectrum for every (drive, spread).")
-    bands = third_octave_bands(float(lam.max()), float(lam.min()))
-    bands = type(bands)(*(x[(bands.upper > lam.min()) & (bands.lower < lam.max())] for x in
-                          (bands.centre, bands.nominal, bands.lower, bands.upper)))
+    bands = wavelength_bands(float(lam.max()), float(lam.min()))
+    bands = bands.select((bands.upper > lam.min()) & (bands.lower < lam.max()))
     gb = band_rates(lam, g, bands)
     pp = float(spectra[0].attrs["pinned_pinned_wavelength_m"])
     ib = int(np.flatnonzero((bands.lower <= pp) & (pp < bands.upper))[0])

@@ -15,7 +15,8 @@ import xarray as xr
 
 from ..cell import TrackCell, cell_stationary_receptance
 from ..track import Track, pinned_pinned_frequency, stationary_receptance
-from .bands import band_levels, third_octave_bands
+from ..bands import wavelength_bands
+from .bands import band_levels
 from ..setup.io import data_var
 
 __all__ = ["support_labels", "support_receptances", "case_dataset", "band_summary", "FREQUENCIES_HZ"]
@@ -97,7 +98,7 @@ def band_summary(growth: xr.Dataset, speed: float, track: Track) -> dict:
     Z = growth["Z_real"].values[-1] + 1j * growth["Z_imag"].values[-1]
     N = int(growth.attrs.get("bays", 1))
     period = N * track.L
-    bands = third_octave_bands(1.0, 0.02)
+    bands = wavelength_bands(1.0, 0.02)
     lev, resolved = band_levels(Z, period, bands)
     lam_pp = speed / pinned_pinned_frequency(track)
     b = int(np.argmin(np.abs(np.log(bands.centre / lam_pp))))

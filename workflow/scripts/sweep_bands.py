@@ -2,6 +2,7 @@
 
 import sys
 
+from rail.bands import wavelength_bands
 from rail.plotting import report
 from rail.setup import build, io
 from rail.studies import bands
@@ -13,7 +14,7 @@ def main(config, study, keys, values, indices, units, run_paths, data_path, figu
         with io.open_intermediate(path) as ds:
             runs.append(ds.load())
     s = config["figures"]["bands"]
-    tob = bands.third_octave_bands(float(s["longest"]), float(s["shortest"]))
+    tob = wavelength_bands(float(s["longest"]), float(s["shortest"]))
     ds = bands.sweep_band_map(runs, keys, values, indices, units, build.track(config)[0].L, tob, int(s["min_lines"]))
     io.write_netcdf(io.finalize(ds, config, title=f"Band growth over the sweep {study}", source="rail.studies.bands.sweep_band_map", scenario=f"sweep study {study}"), data_path)
     report.sweep_band_map(ds).savefig(figure_path, dpi=150)
