@@ -264,7 +264,7 @@ def traffic_study_dataset(spectra, cases) -> xr.Dataset:
     bands = bands.select((bands.upper > lam.min()) & (bands.lower < lam.max()))
     gb = band_rates(lam, g, bands)
     pp = float(spectra[0].attrs["pinned_pinned_wavelength_m"])
-    ib = int(np.flatnonzero((bands.lower <= pp) & (pp < bands.upper))[0])
+    ib = int(np.flatnonzero(in_band(pp, bands.lower, bands.upper))[0])  # the one band rule (rail.bands)
     first = spectra[0]
     return xr.Dataset(
         {
