@@ -508,8 +508,8 @@ def rate_spectrum(scn: Scenario, table, lines, eps: float = 1e-9, grid_phases: i
         'probe': the previous path, each line from the difference of two nonlinear marches over the
         N bays (one line per pair of classes per march, _batches), the reference of the tests;
         about seven times the cost at the default resolution. With the wheelset's dynamic creepage or falling
-        friction (scn.material.longitudinal, friction_decay) 'linear' falls back to 'probe', and the
-        method says so.
+        friction or the rail's longitudinal flexibility (scn.material.longitudinal, friction_decay,
+        rail_flexibility) 'linear' falls back to 'probe', and the method says so.
     progress : callable, optional
         Called with one line of text as the work proceeds ("<i> of <n> probe batches, grid phase
         <p> of <P>"; method 'linear'); default None, silent.
@@ -544,9 +544,11 @@ def rate_spectrum(scn: Scenario, table, lines, eps: float = 1e-9, grid_phases: i
     if method not in ("linear", "probe"):
         raise ValueError(f"method = {method!r} is not allowed: it must be 'linear' or 'probe'.")
     forced = ""
-    if method == "linear" and (scn.material.longitudinal is not None or scn.material.friction_decay > 0):
+    if method == "linear" and (scn.material.longitudinal is not None or scn.material.friction_decay > 0
+                               or getattr(scn.material, "rail_flexibility", None) is not None):
         # the tangent march (rail.contact.tangent) differentiates the report's march: no u_bar, step friction
-        method, forced = "probe", " (the tangent march has no dynamic creepage or falling friction)"
+        method, forced = "probe", (" (the tangent march has no dynamic creepage (the wheelset's or the rail's "
+                                   "longitudinal flexibility) or falling friction)")
     for p, phase in enumerate(np.arange(grid_phases) / grid_phases):
         linear = method == "linear"
         if linear:

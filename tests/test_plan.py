@@ -48,7 +48,8 @@ def test_every_named_target_list_is_reproduced(P, target, method):
 
 # scenario files added after the lists were frozen (issue 43's dynamic-creepage study): one-train scenario
 # files at the default speeds, whose study targets are those of nonhertzian.yaml under their own name
-ADDED_SINCE = ("dyn_fixed", "dyn_rigid", "dyn_trailer", "dyn_trailer_independent", "dyn_driven")
+ADDED_SINCE = ("dyn_fixed", "dyn_rigid", "dyn_trailer", "dyn_trailer_independent", "dyn_driven", "dyn_rail", "dyn_rail_trailer",
+               "dyn_rail_driven")
 
 
 def test_every_study_target_is_reproduced_scenarios_sweeps_and_fleets(P):
