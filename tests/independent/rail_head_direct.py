@@ -44,6 +44,23 @@ def beam_green(x, omega, track):
     return GwF, GwM, GpF, GpM
 
 
+def dpsi_green(x, omega, track):
+    """d psi / dx at x per unit force at 0: -(kGA / 2) sum_j d_j i p_j exp(i p_j abs(x)), continuous at 0."""
+    EI, kGA, _ = _stiff(track, omega)
+    r = track.rail
+    rA, rI = r.density * r.area, r.density * r.second_moment_of_area
+    a = kGA * EI
+    b = -omega**2 * (kGA * rI + rA * EI)
+    c = -rA * omega**2 * (kGA - rI * omega**2)
+    disc = np.sqrt(b * b - 4 * a * c + 0j)
+    s = np.array([(-b + disc) / (2 * a), (-b - disc) / (2 * a)])
+    d = np.array([1 / (s[0] - s[1]), 1 / (s[1] - s[0])]) / a
+    p = np.sqrt(s + 0j)
+    p = np.where(p.imag < 0, -p, p)
+    ax = np.abs(np.asarray(x, dtype=float))[..., None]
+    return np.sum(-kGA * d * 1j * p * np.exp(1j * p * ax) / 2, axis=-1)
+
+
 def rod_green(x, omega, track):
     """u(x) of the free rod per unit longitudinal force at 0."""
     _, _, EA = _stiff(track, omega)
@@ -62,7 +79,7 @@ def _support(track, omega):
 
 
 def stationary_beam(x0, omega, track, n=200):
-    """(psi/F, psi/M, w/M) at the load point x0 [m from a support] of the rail on 2n+1 supports."""
+    """(psi/F, psi/M, w/M, dpsi/dx / F) at the load point x0 [m from a support] of the rail on 2n+1 supports."""
     xs = np.arange(-n, n + 1) * track.L
     Ks = _support(track, omega)
     G = beam_green(xs[:, None] - xs[None, :], omega, track)[0]
@@ -77,7 +94,9 @@ def stationary_beam(x0, omega, track, n=200):
         out.append(psi)
         if load == 1:
             out.append(Gl[1][0] - Gs[0] @ R)  # w at x0 from M
-    return tuple(out)
+        else:
+            dpsi = dpsi_green(0.0, omega, track) - dpsi_green(x0 - xs, omega, track) @ R
+    return tuple(out) + (dpsi,)
 
 
 def stationary_rod(x0, omega, track, kx, eta_x, n=400):
