@@ -224,6 +224,11 @@ def bay_wear(forces: ForceResult, wheel_index: int, roughness: Roughness, materi
     )
 
 
+# the most Newton steps with the rail's flexibility: its loop gain near the pinned-pinned frequency is
+# larger than the wheelset's (the contact's stiffness against the head's compliance)
+RAIL_NEWTON_STEPS = 30
+
+
 def march_with_creepage(mi: MarchInputs, material: ContactMaterial, speed: float, numerics: ContactNumerics,
                         tol: float = 1e-5, max_iter: int = 12, harmonics: int | None = None):
     """The tangential march of a passage with the dynamic creepage u_bar of eq 26 in its periodic steady
@@ -281,13 +286,15 @@ def march_with_creepage(mi: MarchInputs, material: ContactMaterial, speed: float
         q_ref = float(carter(0.0, Pm, material, speed, material.wheel_radius)[2])
     slope = carter_creep_slope(Pm, material) / speed  # dQ / d(u_bar rate) [N s/m]
     rigid = modes is not None and any(o == 0 for o in modes.omega)
-    op, extra, u_P = None, None, 0.0
+    op, extra, u_P, lag = None, None, 0.0, 0.0
     label = modes.label if modes is not None else ""
     if head is not None:
         op = _rail_operator(head, speed, harmonics, mi)
         extra = op.diagonal(mi.Nx)
         u_P = op.from_vertical(mi.P[period])  # the vertical force's share: fixed over the Newton steps
         label = f"{label} and the {head.label}" if label else head.label
+        lag = float(np.mean(mi.a[period])) / speed  # the stiff rail loads the contact up to its spring range
+        max_iter = max(max_iter, RAIL_NEWTON_STEPS)
     idx = (np.arange(steps) - mi.spin) % mi.Nx
     t_all = np.cumsum(dt_all)
     p, vbar = np.zeros(mi.Nx), 0.0
@@ -301,7 +308,7 @@ def march_with_creepage(mi: MarchInputs, material: ContactMaterial, speed: float
         if op is not None:
             target = target + op.from_force(Q) - u_P
         r = target - p
-        dp = precondition(r - np.mean(r), T, modes, slope, extra)
+        dp = precondition(r - np.mean(r), T, modes, slope, extra, lag)
         dv = -Fm / slope if (rigid and slope != 0) else 0.0
         size = max(float(np.max(np.abs(np.diff(np.concatenate([dp[-1:], dp])) / dtp))), abs(dv)) / scale
         if size < tol:
