@@ -30,7 +30,7 @@ from .interaction import Roughness
 from .moving import MovingReceptance
 from .scenario import Scenario
 
-__all__ = ["wear_rates", "RateSpectrum", "spectrum_lines", "rate_spectrum", "locked_operator", "class_operator",
+__all__ = ["wear_rates", "linear_unsupported", "RateSpectrum", "spectrum_lines", "rate_spectrum", "locked_operator", "class_operator",
            "FleetRateSpectrum", "fleet_rate_spectrum", "combine_spectra"]
 
 
@@ -468,6 +468,32 @@ def _sorted_eigenvalues(M):
     return ev[np.argsort(ev.real)]
 
 
+def linear_unsupported(material) -> str:
+    """What of the contact the tangent march (rail.contact.tangent, method 'linear') does not have, or ''.
+
+    The tangent march differentiates the report's march: a fixed creepage (no u_bar) and the step
+    friction law. The wheelset's modes, the rail's longitudinal flexibility and falling friction make
+    rate_spectrum fall back to the probes.
+
+    Parameters
+    ----------
+    material : rail.contact.ContactMaterial
+
+    Returns
+    -------
+    str
+        The missing mechanisms as text [-] ('' when the tangent march applies).
+    """
+    parts = []
+    if material.longitudinal is not None:
+        parts.append("dynamic creepage from the wheelset")
+    if getattr(material, "rail_flexibility", None) is not None:
+        parts.append("dynamic creepage from the rail's longitudinal flexibility")
+    if material.friction_decay > 0:
+        parts.append("falling friction")
+    return " or ".join(parts)
+
+
 def rate_spectrum(scn: Scenario, table, lines, eps: float = 1e-9, grid_phases: int = 2,
                   check_lines: int = 4, method: str = "linear", progress=None) -> RateSpectrum:
     """Growth-rate spectrum about the smooth rail at the given lines.
@@ -508,8 +534,8 @@ def rate_spectrum(scn: Scenario, table, lines, eps: float = 1e-9, grid_phases: i
         'probe': the previous path, each line from the difference of two nonlinear marches over the
         N bays (one line per pair of classes per march, _batches), the reference of the tests;
         about seven times the cost at the default resolution. With the wheelset's dynamic creepage or falling
-        friction (scn.material.longitudinal, friction_decay) 'linear' falls back to 'probe', and the
-        method says so.
+        friction or the rail's longitudinal flexibility (scn.material.longitudinal, friction_decay,
+        rail_flexibility) 'linear' falls back to 'probe', and the method says so.
     progress : callable, optional
         Called with one line of text as the work proceeds ("<i> of <n> probe batches, grid phase
         <p> of <P>"; method 'linear'); default None, silent.
@@ -544,9 +570,8 @@ def rate_spectrum(scn: Scenario, table, lines, eps: float = 1e-9, grid_phases: i
     if method not in ("linear", "probe"):
         raise ValueError(f"method = {method!r} is not allowed: it must be 'linear' or 'probe'.")
     forced = ""
-    if method == "linear" and (scn.material.longitudinal is not None or scn.material.friction_decay > 0):
-        # the tangent march (rail.contact.tangent) differentiates the report's march: no u_bar, step friction
-        method, forced = "probe", " (the tangent march has no dynamic creepage or falling friction)"
+    if method == "linear" and (why := linear_unsupported(scn.material)):
+        method, forced = "probe", f" (the tangent march has no {why})"
     for p, phase in enumerate(np.arange(grid_phases) / grid_phases):
         linear = method == "linear"
         if linear:

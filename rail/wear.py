@@ -28,6 +28,7 @@ from .contact.hertz import ContactError
 from .contact.models import roughness_slope
 from .contact.passage import SPIN_UP_TRANSITS, MarchInputs, march_inputs
 from .interaction import ForceResult, Roughness
+from .longitudinal import head_operator
 
 __all__ = ["WearLaw", "WearResult", "CreepageState", "march_with_creepage", "steady_material", "MarchInputs", "march_inputs", "bay_wear", "wear_spectrum", "apply_wear", "roughness_slope", "SPIN_UP_TRANSITS"]
 
@@ -179,7 +180,7 @@ def bay_wear(forces: ForceResult, wheel_index: int, roughness: Roughness, materi
         Largest half-length the grid must hold [m] (default: 1.02 x the bay's largest).
     creepage_start : CreepageState, optional
         Where the dynamic creepage's Newton steps start (march_with_creepage's ``start``; ignored
-        without material.longitudinal).
+        without u_bar).
 
     Returns
     -------
@@ -199,7 +200,7 @@ def bay_wear(forces: ForceResult, wheel_index: int, roughness: Roughness, materi
     mi = march_inputs(forces, wheel_index, roughness, material, numerics, grid_phase, a_max)
     P, a, shape, delta, Nx, M, spin = mi.P, mi.a, mi.shape, mi.delta, mi.Nx, mi.M, mi.spin
     min_shape, shift = mi.min_shape, mi.shift
-    sol, info = march_with_creepage(mi, material, speed, numerics, start=creepage_start)
+    sol, info = march_with_creepage(mi, material, speed, numerics, harmonics=forces.harmonics, start=creepage_start)
     # particle j is at x = (j - M - spin) Delta; the bay's points x_k = k Delta are j = spin + M + k
     j = spin + M + np.arange(Nx)
     depth = wear_law.depth(sol.work[j])
@@ -231,6 +232,11 @@ def bay_wear(forces: ForceResult, wheel_index: int, roughness: Roughness, materi
     )
 
 
+# the most Newton steps with the rail's flexibility: its loop gain near the pinned-pinned frequency is
+# larger than the wheelset's (the contact's stiffness against the head's compliance)
+RAIL_NEWTON_STEPS = 30
+
+
 @dataclass(frozen=True)
 class CreepageState:
     """The periodic u_bar of a passage (march_with_creepage), to start the next passage's Newton steps from.
@@ -252,14 +258,18 @@ class CreepageState:
 
 
 def march_with_creepage(mi: MarchInputs, material: ContactMaterial, speed: float, numerics: ContactNumerics,
-                        tol: float = 1e-5, max_iter: int = 12, start: CreepageState | None = None):
-    """The tangential march of a passage with the wheelset's dynamic creepage (material.longitudinal,
-    rail.contact.creep) in its periodic steady state over the period; without it, the march as it is.
+                        tol: float = 1e-5, max_iter: int = 12, harmonics: int | None = None,
+                        start: CreepageState | None = None):
+    """The tangential march of a passage with the dynamic creepage u_bar of eq 26 in its periodic steady
+    state over the period: the wheelset's (material.longitudinal, rail.contact.creep) and the rail's
+    (material.rail_flexibility, rail.longitudinal: u_bar_rail = A_Q Q - A_P P, from the contact's
+    tangential force Q and normal force P over the period); without either, the march as it is.
 
     u_bar over the period (its periodic part p and a mean slip rate v_bar: the torque balance) is found by
     Newton steps: march with u_bar given (rail.contact.solve_tangential's ubar), the modes' periodic
-    response to the march's Q - Q_ref (creep.periodic_response), the residual preconditioned by the
-    quasi-steady contact (creep.precondition; Carter's creep slope) and v_bar from the mean traction,
+    response to the march's Q - Q_ref (creep.periodic_response) plus the rail's, the residual
+    preconditioned by the quasi-steady contact (creep.precondition; Carter's creep slope, with the
+    modes' receptance and the rail's time-invariant part) and v_bar from the mean traction,
     until the step is below ``tol`` of the creep velocity abs(gamma) V. A lightly damped torsion near the
     sleeper-passing frequency would ring for tens of bays in a time march from rest; the periodic form
     has no such transient. Q_ref is the modes' own, or Carter's steady traction at the period's mean load.
@@ -269,7 +279,8 @@ def march_with_creepage(mi: MarchInputs, material: ContactMaterial, speed: float
     mi : MarchInputs
         The passage's inputs (march_inputs): force [N], half-length [m], grid, step times [s].
     material : ContactMaterial
-        With ``longitudinal`` (rail.contact.creep.LongitudinalModes) or None.
+        With ``longitudinal`` (rail.contact.creep.LongitudinalModes) or None, and ``rail_flexibility``
+        (rail.longitudinal.RailHead) or None.
     speed : float
         V [m/s].
     numerics : ContactNumerics
@@ -278,11 +289,13 @@ def march_with_creepage(mi: MarchInputs, material: ContactMaterial, speed: float
         The Newton step at which to stop, relative to the creep velocity abs(gamma) V [-].
     max_iter : int
         The most Newton steps (marches) [-].
+    harmonics : int, optional
+        K [-], the harmonics per bay of the rail's moving receptances (the force table's); needed with
+        material.rail_flexibility.
     start : CreepageState, optional
         Where the Newton steps start (default: u_bar = 0): the state of an earlier passage over a
-        roughness a little different, for example the last update's in a growth run or the smooth rail's
-        for a probe. The answer is the same periodic state to within ``tol``; from a near state it takes
-        one or two marches instead of three to five.
+        roughness a little different, for example the last update's in a growth run. The answer is the
+        same periodic state to within ``tol``, in fewer marches.
 
     Returns
     -------
@@ -291,10 +304,11 @@ def march_with_creepage(mi: MarchInputs, material: ContactMaterial, speed: float
         the periodic state reached ('state', a CreepageState).
     """
     modes = material.longitudinal
+    head = material.rail_flexibility
     kw = dict(closure=numerics.closure, closure_scale=numerics.closure_scale, shape=mi.shape, dt=mi.dt)
-    if modes is None:
+    if modes is None and head is None:
         return solve_tangential(mi.P, mi.a, material, speed, mi.delta, mi.M, **kw), None
-    bare = dataclasses.replace(material, longitudinal=None)
+    bare = dataclasses.replace(material, longitudinal=None, rail_flexibility=None)
     period = slice(mi.spin, mi.spin + mi.Nx)
     steps = mi.P.size
     dt_all = np.full(steps, mi.delta / speed) if mi.dt is None else np.asarray(mi.dt, dtype=float)
@@ -302,11 +316,20 @@ def march_with_creepage(mi: MarchInputs, material: ContactMaterial, speed: float
     T = float(np.sum(dtp))
     Pm = float(np.mean(mi.P[period]))
     steady = steady_material(material, speed)
-    q_ref = modes.reference_force
-    if q_ref is None:
+    q_ref = None if modes is None else modes.reference_force
+    if q_ref is None and modes is not None:
         q_ref = float(carter(0.0, Pm, steady, speed, material.wheel_radius)[2])
     slope = carter_creep_slope(Pm, steady) / speed  # dQ / d(u_bar rate) [N s/m]
-    rigid = any(o == 0 for o in modes.omega)
+    rigid = modes is not None and any(o == 0 for o in modes.omega)
+    op, extra, u_P, lag = None, None, 0.0, 0.0
+    label = modes.label if modes is not None else ""
+    if head is not None:
+        op = _rail_operator(head, speed, harmonics, mi)
+        extra = op.diagonal(mi.Nx)
+        u_P = op.from_vertical(mi.P[period])  # the vertical force's share: fixed over the Newton steps
+        label = f"{label} and the {head.label}" if label else head.label
+        lag = float(np.mean(mi.a[period])) / speed  # the stiff rail loads the contact up to its spring range
+        max_iter = max(max_iter, RAIL_NEWTON_STEPS)
     idx = (np.arange(steps) - mi.spin) % mi.Nx
     t_all = np.cumsum(dt_all)
     phase = (np.cumsum(dtp) - dtp[0]) / T  # the bay's steps over the period, from 0
@@ -316,16 +339,19 @@ def march_with_creepage(mi: MarchInputs, material: ContactMaterial, speed: float
     for it in range(1, max_iter + 1):
         sol = solve_tangential(mi.P, mi.a, bare, speed, mi.delta, mi.M, ubar=p[idx] + vbar * t_all, **kw)
         Q = sol.Q[period]
-        target, Fm = periodic_response(0.5 * (np.roll(Q, 1) + Q) - q_ref, dtp, modes)
+        target, Fm = (periodic_response(0.5 * (np.roll(Q, 1) + Q) - q_ref, dtp, modes) if modes is not None
+                      else (np.zeros(mi.Nx), 0.0))
+        if op is not None:
+            target = target + op.from_force(Q) - u_P
         r = target - p
-        dp = precondition(r - np.mean(r), T, modes, slope)
+        dp = precondition(r - np.mean(r), T, modes, slope, extra, lag)
         dv = -Fm / slope if (rigid and slope != 0) else 0.0
         size = max(float(np.max(np.abs(np.diff(np.concatenate([dp[-1:], dp])) / dtp))), abs(dv)) / scale
         if size < tol:
             break
         p, vbar = p + dp, vbar + dv
     else:
-        raise ContactError(f"the dynamic creepage of the wheelset ({modes.label}) did not settle to a periodic state in "
+        raise ContactError(f"the dynamic creepage of the {label} did not settle to a periodic state in "
                            f"{max_iter} Newton steps (last step {size:.2g} of the creep velocity): the coupled torsion is "
                            "unstable or too close to resonance for the quasi-steady preconditioner.")
     return sol, {"iterations": it, "residual": size, "reference_force": q_ref, "state": CreepageState(phase, p, vbar)}
@@ -353,6 +379,19 @@ def steady_material(material: ContactMaterial, speed: float) -> ContactMaterial:
     mu = material.friction_dynamic + (material.friction_static - material.friction_dynamic) * float(
         np.exp(-abs(material.creepage) * speed / material.friction_decay))
     return dataclasses.replace(material, friction_dynamic=mu)
+
+
+def _rail_operator(head, speed: float, harmonics, mi: MarchInputs):
+    """The rail head's operator over the march's period (rail.longitudinal.head_operator): N bays from
+    the grid, K from the force table."""
+    if harmonics is None:
+        raise ValueError("march_with_creepage needs harmonics (the force table's K) with material.rail_flexibility.")
+    span = mi.Nx * mi.delta / head.track.L
+    bays = int(round(span))
+    if bays < 1 or abs(span - bays) > 1e-6 * span:
+        raise ValueError(f"the march's period ({mi.Nx} x {mi.delta:g} m) is not a whole number of sleeper bays of "
+                         f"{head.track.L:g} m: the rail's flexibility needs the period of the track.")
+    return head_operator(head, speed, int(harmonics), bays)
 
 
 def _dynamic_creepage(sol, i, speed: float, delta: float, dt) -> float:

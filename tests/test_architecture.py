@@ -216,7 +216,8 @@ PHYSICS_ORDER = [
     ({"quadrature", "halfspace"}, "quadrature rules; the elastic half-space and contact-spring damping (report 4.1)"),
     ({"track"}, "the Timoshenko rail on periodic discrete supports (4.2)"),
     ({"cell"}, "supports that vary over a cell of bays, built from track's parts"),
-    ({"moving", "decay"}, "moving-load receptances of a track cell; its EN 15461 decay rate"),
+    ({"moving", "decay", "longitudinal"}, "moving-load receptances of a track cell; its EN 15461 decay rate; the rail "
+     "head's longitudinal receptances under moving loads (the same Bloch method, on the track alone)"),
     ({"roughness", "interaction"}, "roughness over N bays; wheel/rail forces on it (4.3), through the moving receptances"),
     ({"contact"}, "normal and tangential contact (4.4), along the force histories"),
     ({"wheelset", "wear", "growth"}, "the wheelset's modes in the slip; frictional-work wear (4.5); growth over passages (4.6)"),

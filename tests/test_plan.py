@@ -55,7 +55,8 @@ def test_every_named_target_list_is_reproduced(P, target, method):
 # files at the default speeds, whose study targets are those of nonhertzian.yaml under their own name
 # the tracks they add, each characterised under the first scenario with it: the 1e9 N/m pad of dynspeed_*_stiff
 ADDED_TRACKS = ("dynspeed_driven_stiff",)
-ADDED_SINCE = ("dyn_fixed", "dyn_rigid", "dyn_trailer", "dyn_trailer_independent", "dyn_driven") + tuple(
+ADDED_SINCE = ("dyn_fixed", "dyn_rigid", "dyn_trailer", "dyn_trailer_independent", "dyn_driven", "dyn_rail", "dyn_rail_trailer",
+               "dyn_rail_driven") + tuple(
     f"dynspeed_{m}{t}" for m in ("fixed", "trailer", "driven", "falling", "together") for t in ("", "_stiff"))
 
 

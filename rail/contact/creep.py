@@ -192,14 +192,26 @@ def _free_transition(om: float, ze: float, T: float):
     return ex * np.array([[cs + sg / wd * sn, sn / wd], [-(om * om) / wd * sn, cs - sg / wd * sn]])
 
 
-def precondition(residual, T: float, modes: LongitudinalModes, slope_over_speed: float):
+def precondition(residual, T: float, modes: LongitudinalModes | None, slope_over_speed: float, extra=None,
+                 lag: float = 0.0):
     """The Newton step of the periodic u_bar from a residual r over the period's steps (taken as equally
     spaced in time over T [s]): per harmonic k != 0, r_k / (1 - H(omega_k) i omega_k dQ/dgamma / V), with
-    the contact's traction response to u_bar that of quasi-steady rolling (Carter's creep slope)."""
+    the contact's traction response to u_bar that of quasi-steady rolling (Carter's creep slope). H is the
+    modes' receptance (none: 0) plus ``extra``, a receptance [m/N] at the rfft harmonics k = 0..n//2 (the
+    rail's time-invariant part, rail.longitudinal.HeadOperator.diagonal), if given. ``lag`` [s] > 0 lets the
+    contact's response lag as a first-order relaxation, i omega dQ/dgamma / V / (1 + i omega lag) (a / V: the
+    traction builds up over a rolling distance of about the half-length; a stiff contact spring at high
+    frequency instead of a creep damper growing without bound); 0 (default): quasi-steady."""
     r = np.fft.rfft(np.asarray(residual, dtype=float))
     w = 2 * np.pi * np.arange(r.size) / T
     H = np.zeros(r.size, dtype=complex)
-    H[1:] = modes.receptance(w[1:])
-    d = 1 - H * 1j * w * slope_over_speed
+    if modes is not None:
+        H[1:] = modes.receptance(w[1:])
+    if extra is not None:
+        H = H + np.asarray(extra)
+    if lag > 0:
+        d = 1 - H * 1j * w * slope_over_speed / (1 + 1j * w * lag)
+    else:
+        d = 1 - H * 1j * w * slope_over_speed
     d[0] = 1.0
     return np.fft.irfft(r / d, n=len(residual))

@@ -38,6 +38,7 @@ class ContactMaterial:
     creepage         : gamma_1, - (eq 25; negative for a driving wheel)
     friction_decay   : s_0, m/s, >= 0: friction falling with the slip velocity (rail.contact.creep); 0 (default): the report's step
     longitudinal     : rail.contact.creep.LongitudinalModes or None (default): the wheelset's rotation, u_bar of eq 26 (rail.wheelset)
+    rail_flexibility : rail.longitudinal.RailHead or None (default): the rail head's longitudinal flexibility, its share of u_bar
     """
 
     youngs_modulus: float
@@ -49,13 +50,15 @@ class ContactMaterial:
     creepage: float
     friction_decay: float = 0.0
     longitudinal: object = None
+    rail_flexibility: object = None
 
     def __repr__(self):
         # the report's fields always; the dynamic-creepage ones only where set, so that the repr (and the
         # keys hashed from it, rail.setup.study_files.class_key) of every earlier material is unchanged
         base = ", ".join(f"{k}={getattr(self, k)!r}" for k in ("youngs_modulus", "poisson_ratio", "half_width", "wheel_radius",
                                                              "friction_dynamic", "friction_static", "creepage"))
-        extra = "".join(f", {k}={getattr(self, k)!r}" for k, off in (("friction_decay", 0.0), ("longitudinal", None))
+        extra = "".join(f", {k}={getattr(self, k)!r}" for k, off in (("friction_decay", 0.0), ("longitudinal", None),
+                                                                         ("rail_flexibility", None))
                         if getattr(self, k) != off)
         return f"ContactMaterial({base}{extra})"
 

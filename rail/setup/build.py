@@ -26,6 +26,7 @@ from ..roughness import read_profile_record, record_bays
 from ..scenario import InitialRoughness, Scenario, TrackNumerics
 from ..track import Ballast, Pad, Rail, Sleeper, Track, damping_problem, min_harmonics, pinned_pinned_frequency
 from ..wear import WearLaw
+from ..longitudinal import RailHead
 from ..wheelset import Wheelset, wheelset_modes
 from .config import ConfigError, configured_speeds, setting
 
@@ -165,7 +166,18 @@ def _material(cfg: dict) -> ContactMaterial:
         creepage=float(c["creepage"]),
         friction_decay=float(setting(cfg, "contact.friction_decay")),
         longitudinal=_longitudinal(cfg),
+        rail_flexibility=_rail_flexibility(cfg),
     )
+
+
+def _rail_flexibility(cfg: dict):
+    """The rail head's longitudinal flexibility (rail.longitudinal.RailHead), None without it (the report's)."""
+    model = setting(cfg, "rail_flexibility.model")
+    if model == "none":
+        return None
+    keys = {"longitudinal_stiffness": "track.pad.longitudinal_stiffness", "longitudinal_loss_factor": "track.pad.longitudinal_loss_factor",
+            "longitudinal_viscous_damping": "track.pad.longitudinal_viscous_damping", "head_height": "track.rail.head_height"}
+    return RailHead(_track(cfg), bending=model == "rod_and_bending", **{k: float(setting(cfg, v)) for k, v in keys.items()})
 
 
 def _longitudinal(cfg: dict):
@@ -258,10 +270,11 @@ def spectrum_scenario(cfg: dict, name: str = "default", source: str = "config") 
 
 
 # What one wheel passage over a given roughness reads (forces, contact and wear: Figs 8, 22, 9-19).
-# "wheelset" is optional (absent: the report's fixed creepage); rail.setup.plan.config_part skips it when absent.
+# "wheelset" and "rail_flexibility" are optional (absent: the report's fixed creepage); rail.setup.plan.config_part
+# skips them when absent.
 PASSAGE_KEYS = ("material", "track", "wheels.mass", "wheels.radius", "wheels.static_load", "contact", "numerics.track", "numerics.contact", "wear",
-                "wheelset")
-OPTIONAL_KEYS = frozenset({"wheelset"})
+                "wheelset", "rail_flexibility")
+OPTIONAL_KEYS = frozenset({"wheelset", "rail_flexibility"})
 
 
 def passage_scenario(cfg: dict, name: str = "default", source: str = "config") -> Scenario:

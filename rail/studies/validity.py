@@ -48,7 +48,8 @@ def validity_text(attrs) -> str:
 
 def creepage_model_text(material) -> str:
     """What the contact's creepage and friction are beyond the report's (a fixed creepage, mu_s / mu_d step):
-    the wheelset's modes (rail.wheelset) and falling friction, with what is still left out.
+    the wheelset's modes (rail.wheelset), the rail's longitudinal flexibility (rail.longitudinal) and
+    falling friction, with what is still left out.
 
     Parameters
     ----------
@@ -60,11 +61,14 @@ def creepage_model_text(material) -> str:
         The creepage_model attribute of a result [-]; '' for the report's model.
     """
     parts = []
+    head = getattr(material, "rail_flexibility", None)
     if material.longitudinal is not None:
         modes = material.longitudinal
         freqs = ", ".join(f"{o / (2 * np.pi):.0f}" for o in modes.omega)
-        parts.append(f"dynamic creepage from the {modes.label or 'wheelset'} (modes at {freqs} Hz; the rail's longitudinal "
-                     "flexibility is not modelled)")
+        rail = "" if head is not None else "; the rail's longitudinal flexibility is not modelled"
+        parts.append(f"dynamic creepage from the {modes.label or 'wheelset'} (modes at {freqs} Hz{rail})")
+    if head is not None:
+        parts.append(f"dynamic creepage from the {head.label} (rail.longitudinal)")
     if material.friction_decay > 0:
         parts.append(f"friction falling with slip, s_0 = {material.friction_decay:g} m/s")
     return "; ".join(parts)

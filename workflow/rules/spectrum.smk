@@ -118,3 +118,12 @@ rule dynamic_creepage_speeds:
     dynspeed_*.yaml (docs/dynamic-creepage.md)."""
     input:
         [f"results/spectrum/{n}/rate_spectrum.png" for n in sorted(PLAN.scenarios) if n.startswith("dynspeed_")],
+
+
+rule rail_flexibility:
+    """Named target (issue 43): the growth-rate spectrum at 30, 40 and 50 m/s, 24-100 mm, with the rail's
+    longitudinal flexibility at the contact, alone and with the trailer and the motored wheelset: the
+    scenario files dyn_rail*.yaml (docs/dynamic-creepage.md, docs/field.md)."""
+    input:
+        [f"results/spectrum/{n}/rate_spectrum.png" for n in ("dyn_fixed", "dyn_rail", "dyn_rail_trailer", "dyn_rail_driven")
+         if n in PLAN.scenarios],

@@ -1,0 +1,108 @@
+"""The rail head's stationary longitudinal receptances by a direct solution, written without rail.longitudinal.
+
+The free infinite rail's Green's functions in x by residues (Timoshenko beam: w, psi from a force F
+and a moment M; axial rod: u from a longitudinal force), and a finite row of 2 n + 1 supports at
+x_j = j L, j = -n..n, whose reactions are solved for directly (a dense linear system): no lattice
+sum, no Bloch wave, no wavenumber quadrature. With the rail's damping the supports beyond n carry
+nothing the load point feels (the tests check the row's length).
+
+Conventions as rail.track: exp(+i omega t), w and F downwards, psi = dw/dx in the Euler-Bernoulli
+limit, M conjugate to psi.
+"""
+
+import numpy as np
+
+
+def _stiff(track, omega):
+    r = track.rail
+    f = 1 + 1j * r.loss_factor * np.sign(omega) if track.damping == "hysteretic" else 1 + 1j * omega * r.damping_time
+    return r.youngs_modulus * r.second_moment_of_area * f, r.shear_coefficient * r.shear_modulus * r.area * f, r.youngs_modulus * r.area * f
+
+
+def beam_green(x, omega, track):
+    """(G_wF, G_wM, G_psiF, G_psiM)(x): response at x to a unit load at 0, by residues of the 2 x 2 inverse."""
+    EI, kGA, _ = _stiff(track, omega)
+    r = track.rail
+    rA, rI = r.density * r.area, r.density * r.second_moment_of_area
+    a = kGA * EI
+    b = -omega**2 * (kGA * rI + rA * EI)
+    c = -rA * omega**2 * (kGA - rI * omega**2)
+    disc = np.sqrt(b * b - 4 * a * c + 0j)
+    s = np.array([(-b + disc) / (2 * a), (-b - disc) / (2 * a)])
+    d = np.array([1 / (s[0] - s[1]), 1 / (s[1] - s[0])]) / a
+    p = np.sqrt(s + 0j)
+    p = np.where(p.imag < 0, -p, p)
+    x = np.asarray(x, dtype=float)
+    ax, sg = np.abs(x)[..., None], np.sign(x)[..., None]
+    E = np.exp(1j * p * ax)
+    even = 1j * E / (2 * p)  # (1/2pi) int e^{-i b x} / (b^2 - s) db
+    odd = -sg * E / 2  # (1/2pi) int (-i b) e^{-i b x} / (b^2 - s) db
+    GwF = np.sum(d * (EI * s + kGA - rI * omega**2) * even, axis=-1)
+    GpM = np.sum(d * (kGA * s - rA * omega**2) * even, axis=-1)
+    GpF = np.sum(d * kGA * odd, axis=-1)  # -i b kGA / det
+    GwM = -GpF  # i b kGA / det
+    return GwF, GwM, GpF, GpM
+
+
+def dpsi_green(x, omega, track):
+    """d psi / dx at x per unit force at 0: -(kGA / 2) sum_j d_j i p_j exp(i p_j abs(x)), continuous at 0."""
+    EI, kGA, _ = _stiff(track, omega)
+    r = track.rail
+    rA, rI = r.density * r.area, r.density * r.second_moment_of_area
+    a = kGA * EI
+    b = -omega**2 * (kGA * rI + rA * EI)
+    c = -rA * omega**2 * (kGA - rI * omega**2)
+    disc = np.sqrt(b * b - 4 * a * c + 0j)
+    s = np.array([(-b + disc) / (2 * a), (-b - disc) / (2 * a)])
+    d = np.array([1 / (s[0] - s[1]), 1 / (s[1] - s[0])]) / a
+    p = np.sqrt(s + 0j)
+    p = np.where(p.imag < 0, -p, p)
+    ax = np.abs(np.asarray(x, dtype=float))[..., None]
+    return np.sum(-kGA * d * 1j * p * np.exp(1j * p * ax) / 2, axis=-1)
+
+
+def rod_green(x, omega, track):
+    """u(x) of the free rod per unit longitudinal force at 0."""
+    _, _, EA = _stiff(track, omega)
+    r = track.rail
+    p = np.sqrt(r.density * r.area * omega**2 / EA + 0j)
+    p = p if p.imag >= 0 else -p
+    return 1j * np.exp(1j * p * np.abs(np.asarray(x, dtype=float))) / (2 * p * EA)
+
+
+def _support(track, omega):
+    def k(k0, eta, c):
+        return k0 * (1 + 1j * eta * np.sign(omega)) if track.damping == "hysteretic" else k0 + 1j * omega * c
+    kp = k(track.pad.stiffness, track.pad.loss_factor, track.pad.viscous_damping)
+    kb = k(track.ballast.stiffness, track.ballast.loss_factor, track.ballast.viscous_damping) - track.sleeper.mass * omega**2
+    return kp * kb / (kp + kb)
+
+
+def stationary_beam(x0, omega, track, n=200):
+    """(psi/F, psi/M, w/M, dpsi/dx / F) at the load point x0 [m from a support] of the rail on 2n+1 supports."""
+    xs = np.arange(-n, n + 1) * track.L
+    Ks = _support(track, omega)
+    G = beam_green(xs[:, None] - xs[None, :], omega, track)[0]
+    Aeq = np.eye(xs.size) / Ks + G  # R_j / K + sum_l G(x_j - x_l) R_l = w_load(x_j)
+    out = []
+    for load in (0, 1):  # F, M
+        rhs = beam_green(xs - x0, omega, track)[load]  # w at the supports from the load
+        R = np.linalg.solve(Aeq, rhs)
+        Gl = beam_green(np.array([0.0]), omega, track)
+        Gs = beam_green(x0 - xs, omega, track)
+        psi = Gl[2 + load][0] - Gs[2] @ R  # psi at x0: free + reactions (upwards)
+        out.append(psi)
+        if load == 1:
+            out.append(Gl[1][0] - Gs[0] @ R)  # w at x0 from M
+        else:
+            dpsi = dpsi_green(0.0, omega, track) - dpsi_green(x0 - xs, omega, track) @ R
+    return tuple(out) + (dpsi,)
+
+
+def stationary_rod(x0, omega, track, kx, eta_x, n=400):
+    """u at the load point x0 per unit longitudinal force, the rod on 2n+1 longitudinal springs."""
+    xs = np.arange(-n, n + 1) * track.L
+    K = kx * (1 + 1j * eta_x * np.sign(omega))
+    Aeq = np.eye(xs.size) / K + rod_green(xs[:, None] - xs[None, :], omega, track)
+    R = np.linalg.solve(Aeq, rod_green(xs - x0, omega, track))
+    return rod_green(0.0, omega, track) - rod_green(x0 - xs, omega, track) @ R
