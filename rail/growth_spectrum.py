@@ -487,7 +487,7 @@ def linear_unsupported(material) -> str:
     parts = []
     if material.longitudinal is not None:
         parts.append("dynamic creepage from the wheelset")
-    if getattr(material, "rail_flexibility", None) is not None:
+    if material.rail_flexibility is not None:
         parts.append("dynamic creepage from the rail's longitudinal flexibility")
     if material.friction_decay > 0:
         parts.append("falling friction")

@@ -43,3 +43,25 @@ def defaults(root):
     from rail.setup.config import load_yaml
 
     return load_yaml(root / "config/config.yaml")
+
+
+@pytest.fixture(scope="module")
+def default_study():
+    """api.load('default'): the study of config/config.yaml."""
+    from rail.app import api
+
+    return api.load("default")
+
+
+@pytest.fixture
+def nothing_computed(monkeypatch):
+    """Fail a test that computes (a receptance table, a fleet's tables, a growth run) before a door has
+    checked its arguments."""
+    from rail.app import api
+
+    def never(*args, **kwargs):
+        raise AssertionError("computed before the arguments were checked")
+
+    monkeypatch.setattr(api.chain, "receptance_table", never)
+    monkeypatch.setattr(api.chain, "fleet_tables", never)
+    monkeypatch.setattr(api.chain, "grow", never)

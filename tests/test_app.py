@@ -94,20 +94,6 @@ def test_a_scenario_file_is_read_from_the_project_not_the_current_folder(root, t
 # naming the argument, its value and what is allowed
 
 
-@pytest.fixture(scope="module")
-def default_study():
-    return api.load("default")
-
-
-@pytest.fixture
-def nothing_computed(monkeypatch):
-    def never(*args, **kwargs):
-        raise AssertionError("computed before the arguments were checked")
-
-    monkeypatch.setattr(api.chain, "receptance_table", never)
-    monkeypatch.setattr(api.chain, "grow", never)
-
-
 @pytest.mark.parametrize("speeds", ["89", "40", [], (), [40.0, float("nan")], float("nan"), -4.0, 0, True, [40.0, True],
                                     [40.0, "50"], None, float("inf")])
 def test_spectrum_refuses_speeds_that_are_not_positive_numbers_before_computing(default_study, nothing_computed, speeds):

@@ -27,21 +27,6 @@ FLEET = """fleet:
 """
 
 
-@pytest.fixture(scope="module")
-def default_study():
-    return api.load("default")
-
-
-@pytest.fixture
-def nothing_computed(monkeypatch):
-    def never(*args, **kwargs):
-        raise AssertionError("computed before the arguments were checked")
-
-    monkeypatch.setattr(api.chain, "receptance_table", never)
-    monkeypatch.setattr(api.chain, "fleet_tables", never)
-    monkeypatch.setattr(api.chain, "grow", never)
-
-
 @pytest.fixture
 def fleet_file(tmp_path):
     path = tmp_path / "mix.yaml"
