@@ -221,7 +221,11 @@ def min_harmonics(track: Track, speed: float) -> int:
     """
     if not (np.isfinite(speed) and speed > 0):
         raise ValueError(f"speed = {np.asarray(speed).tolist()!r} m/s is not allowed in min_harmonics: it must be a finite number > 0.")
-    return int(np.ceil(pinned_pinned_frequency(track) * track.L / speed - 1e-9))
+    ratio = pinned_pinned_frequency(track) * track.L / speed
+    if not np.isfinite(ratio):  # a speed so small (2e-311 m/s) that f_pp L / V overflows
+        raise ValueError(f"speed = {speed!r} m/s is not allowed: it is so small that the harmonics needed, f_pp L / V, "
+                         "are not a finite number; it must be > 0 and of the order of a train's speed.")
+    return int(np.ceil(ratio - 1e-9))
 
 
 def damping_problem(track: Track) -> str | None:

@@ -597,3 +597,17 @@ def test_fuzzed_api_calls_are_accepted_or_refused_naming_the_argument(key, value
 
 class _Reached(Exception):
     """The computation was reached: the arguments passed every check."""
+
+
+def test_a_denormal_speed_is_refused_naming_speeds_not_an_overflow(schema, defaults):
+    # found by the fuzz above: speeds [2.2e-311] made min_harmonics overflow (int of infinity) in the
+    # physics check, an OverflowError instead of a line naming the key
+    from rail.setup import build
+    from rail.setup.config import validate_config
+    from rail.track import min_harmonics
+
+    cfg = validate_config({**defaults, "speeds": [2.225073858507e-311]}, schema)
+    problems = build.physics_problems(cfg, "config")
+    assert len(problems) == 1 and "speeds" in problems[0] and "2.225073858507e-311" in problems[0]
+    with pytest.raises(ValueError, match="speed = 2.225073858507e-311 m/s is not allowed"):
+        min_harmonics(build.scenario(validate_config(defaults, schema)).track, 2.225073858507e-311)

@@ -246,7 +246,11 @@ def physics_problems(cfg: dict, source: str) -> list[str]:
             tr = dataclasses.replace(tr, sleeper=Sleeper(tr.sleeper.mass, float(np.mean(cell["spacing"]))))
     K = int(cfg["numerics"]["track"]["harmonics"])
     for V in configured_speeds(cfg):
-        need = min_harmonics(tr, V)
+        try:
+            need = min_harmonics(tr, V)
+        except ValueError as e:
+            out.append(f"{source}: speeds: {e}")
+            continue
         if K < need:
             out.append(
                 f"{source}: numerics.track.harmonics = {K} is not allowed at V = {V:g} m/s: K V / L = {K * V / tr.L:.0f} Hz "
