@@ -57,7 +57,7 @@ def test_every_named_target_list_is_reproduced(P, target, method):
 ADDED_TRACKS = ("dynspeed_driven_stiff",)
 ADDED_SINCE = ("dyn_fixed", "dyn_rigid", "dyn_trailer", "dyn_trailer_independent", "dyn_driven", "dyn_rail", "dyn_rail_trailer",
                "dyn_rail_driven") + tuple(
-    f"dynspeed_{m}{t}" for m in ("fixed", "trailer", "driven", "falling", "together") for t in ("", "_stiff"))
+    f"dynspeed_{m}{t}" for m in ("fixed", "trailer", "driven", "rail", "falling", "together") for t in ("", "_stiff"))
 
 
 def test_every_study_target_is_reproduced_scenarios_sweeps_and_fleets(P):

@@ -114,7 +114,7 @@ rule dynamic_creepage:
 rule dynamic_creepage_speeds:
     """Named target (issue 43): the growth-rate spectrum at 20, 40, 60 and 80 m/s, 20-120 mm, on the default
     and a stiff-pad (1e9 N/m) track, with the report's fixed creepage, the trailer and the motored wheelsets'
-    torsion, friction falling with slip, and the motored wheelset with falling friction: the scenario files
+    torsion, the rail's longitudinal flexibility, friction falling with slip, and all of them together: the scenario files
     dynspeed_*.yaml (docs/dynamic-creepage.md)."""
     input:
         [f"results/spectrum/{n}/rate_spectrum.png" for n in sorted(PLAN.scenarios) if n.startswith("dynspeed_")],
