@@ -1,0 +1,94 @@
+"""The dynamic-creepage study over speed (rail.studies.speed_study): what each case holds, read from its
+configuration; the verdict on frequency against wavelength; the dataset's lines and its pinned-pinned line."""
+
+import os
+from pathlib import Path
+
+import numpy as np
+import pytest
+import xarray as xr
+import yaml
+
+from rail.setup.config import load_yaml, validate_config
+from rail.setup.plan import plan
+from rail.studies import speed_study
+
+ROOT = Path(__file__).resolve().parents[1]
+LAM = 2 * 0.6 / np.arange(10, 61)  # the lines of 2 bays: 120 mm to 20 mm
+
+
+@pytest.fixture(scope="module")
+def scenarios():
+    here = Path.cwd()
+    os.chdir(ROOT)
+    try:
+        schema = load_yaml("config/schema/config.schema.yaml")
+        yield plan(validate_config(load_yaml("config/config.yaml"), schema), schema).scenarios
+    finally:
+        os.chdir(here)
+
+
+def test_each_study_file_is_labelled_by_what_its_configuration_switches_on(scenarios):
+    want = {"fixed": "fixed creepage", "trailer": "trailer wheelset", "driven": "motored wheelset", "rail": "rail flexibility",
+            "falling": "falling friction", "together": "motored wheelset + rail flexibility + falling friction"}
+    for m, label in want.items():
+        for t in ("", "_stiff"):
+            assert speed_study.mechanism_label(scenarios[f"dynspeed_{m}{t}"]) == label
+            assert speed_study.track_label(scenarios[f"dynspeed_{m}{t}"]) == speed_study.track_label(scenarios[f"dynspeed_fixed{t}"])
+    assert speed_study.track_label(scenarios["dynspeed_fixed_stiff"]) == "pad 1e+09 N/m"
+    assert speed_study.track_label(scenarios["dynspeed_fixed"]) != speed_study.track_label(scenarios["dynspeed_fixed_stiff"])
+    # a friction law that does not fall (mu_d = mu_s) is no falling friction
+    assert speed_study.mechanism_label({"contact": {"friction_static": 0.3, "friction_dynamic": 0.3, "friction_decay": 1.0}}) == "fixed creepage"
+
+
+def _spectra(rate_of, speeds=(20.0, 40.0, 60.0, 80.0), cfg=None):
+    cfg = cfg or {"track": {"pad": {"stiffness": 1.3e9}}}
+    out = []
+    for V in speeds:
+        r = rate_of(V, V / LAM)
+        out.append(xr.Dataset({"growth_dB_per_1e5_axles": (("speed", "wavelength"), r[None, :])},
+                              coords={"speed": [V], "wavelength": LAM}, attrs={"config": yaml.safe_dump(cfg)}))
+    return out
+
+
+def _bump(centre_f=None, centre_lam=None, peak=0.3):
+    def rate(V, f):
+        x = np.log(f / centre_f) if centre_f else np.log((V / f) / centre_lam)
+        return peak - 2.0 * x ** 2 * 10
+    return rate
+
+
+def test_a_band_at_one_frequency_is_said_to_keep_its_frequency_and_one_at_one_wavelength_its_wavelength():
+    cases = {"f": _spectra(_bump(centre_f=1000.0)), "lam": _spectra(_bump(centre_lam=0.05)),
+             "none": _spectra(lambda V, f: -1.0 - 0 * f)}
+    ds = speed_study.study_dataset(cases, {n: 1069.0 for n in cases})
+    assert ds["verdict"].sel(case="f").item().startswith("constant frequency")
+    assert ds["verdict"].sel(case="lam").item().startswith("constant wavelength")
+    assert ds["verdict"].sel(case="none").item() == "nothing grows"
+    # the fastest line of the frequency case is the line nearest 1 kHz at each speed, and it grows
+    f = ds["fastest_frequency"].sel(case="f").values
+    assert np.all(np.abs(np.log(f / 1000.0)) <= np.log(LAM[:-1] / LAM[1:]).max())
+    assert np.all(ds["fastest_dB_per_1e5_axles"].sel(case="f").values > 0)
+    np.testing.assert_allclose(ds["fastest_wavelength"].sel(case="lam").values, LAM[np.argmin(np.abs(LAM - 0.05))])
+
+
+def test_a_peak_on_the_range_edge_is_said_to_be_there_and_one_speed_is_not_a_trend():
+    edge = {"e": _spectra(lambda V, f: np.where(V / f >= LAM.max() * 0.999, 0.1, -1.0) + 0 * f)}
+    v = speed_study.study_dataset(edge, {"e": 1069.0})["verdict"].item()
+    assert v.startswith("constant wavelength") and "edge" in v
+    one = {"o": _spectra(lambda V, f: np.where((V == 40.0) & (np.abs(f - 1000) < 30), 0.2, -1.0) + 0 * f)}
+    assert speed_study.study_dataset(one, {"o": 1069.0})["verdict"].item().startswith("grows at one speed only (40 m/s")
+
+
+def test_the_pinned_pinned_line_is_the_line_nearest_its_frequency_and_mismatched_lines_are_refused():
+    cases = {"a": _spectra(lambda V, f: -np.abs(np.log(f / 1069.0)))}
+    ds = speed_study.study_dataset(cases, {"a": 1069.0})
+    for V in ds["speed"].values:
+        want = LAM[np.argmin(np.abs(np.log(V / LAM / 1069.0)))]
+        assert ds["pinned_pinned_wavelength"].sel(case="a", speed=V).item() == want
+    bad = _spectra(lambda V, f: 0 * f)
+    bad[1] = bad[1].assign_coords(wavelength=LAM * 1.01)
+    with pytest.raises(ValueError, match="lines"):
+        speed_study.study_dataset({"a": cases["a"], "b": bad}, {"a": 1069.0, "b": 1069.0})
+    table = speed_study.summary_table(ds)
+    assert table.count("\n| fixed creepage |") == 4 + 1  # four speeds and the verdict
