@@ -233,3 +233,18 @@ def test_the_spectrum_falls_back_to_the_probes_with_the_rail_and_says_why():
     assert linear_unsupported(M0) == ""
     both = dataclasses.replace(mat, friction_decay=1.0)
     assert linear_unsupported(both) == "dynamic creepage from the rail's longitudinal flexibility or falling friction"
+
+
+@pytest.mark.parametrize("damping", ["hysteretic", "viscous"])
+def test_the_free_beam_matrix_displacement_term_is_the_tracks_free_receptance(damping):
+    """H_ww of the (F, M) -> (W, Psi) matrix and rail.track.free_receptance are one quantity written twice
+    (the bending and shear of the same Timoshenko rail): equal to rounding over wavenumber and frequency,
+    below, near and above the rail's shear cut-on."""
+    from rail.track import free_receptance
+
+    tr = _track(damping=damping)
+    beta = np.linspace(-60.0, 60.0, 241)[:, None]
+    omega = 2 * np.pi * np.array([5.0, 300.0, 1069.0, 5000.0, 2.0e4])[None, :]
+    H_ww = lg.free_beam_matrix(beta, omega, tr)[0]
+    H = free_receptance(beta, omega, tr)
+    np.testing.assert_allclose(H_ww, H, rtol=1e-11, atol=0.0)

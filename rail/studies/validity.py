@@ -61,7 +61,7 @@ def creepage_model_text(material) -> str:
         The creepage_model attribute of a result [-]; '' for the report's model.
     """
     parts = []
-    head = getattr(material, "rail_flexibility", None)
+    head = material.rail_flexibility
     if material.longitudinal is not None:
         modes = material.longitudinal
         freqs = ", ".join(f"{o / (2 * np.pi):.0f}" for o in modes.omega)
