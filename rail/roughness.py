@@ -360,8 +360,8 @@ def record_bays(length: float, L: float) -> int:
 def longest_resolved_band(length: float, cycles: float = RECORD_CYCLES) -> float:
     """The longest one-third-octave wavelength band a record length resolves.
 
-    A band is resolved when the length holds ``cycles`` wavelengths of its upper band edge
-    2^(1/6) lambda_c (EN 15610 asks for a record several times the longest wavelength analysed;
+    A band is resolved when the length holds ``cycles`` wavelengths of its upper band edge, the
+    exact edge of the one band rule, 10^(1/20) lambda_c (rail.bands.exact_edges; EN 15610 asks for a record several times the longest wavelength analysed;
     docs/roughness-input.md). Bands are those of the exact series lambda_c = 10^(-n/10) m (n any
     integer; the nominal labels of rail.bands.NOMINAL_WAVELENGTHS_M are within 1 % of them).
 
@@ -379,7 +379,8 @@ def longest_resolved_band(length: float, cycles: float = RECORD_CYCLES) -> float
     """
     if not (np.isfinite(length) and length > 0):
         raise ValueError(f"record length = {length!r} m is not allowed: it must be a finite number > 0.")
-    n = int(np.ceil(-10 * np.log10(length / (cycles * 2 ** (1 / 6))) - 1e-9))
+    # band n's upper edge 10^(-(2n - 1)/20) m <= length / cycles
+    n = int(np.ceil((1.0 - 20.0 * np.log10(length / cycles)) / 2.0 - 1e-9))
     return float(10.0 ** (-n / 10))
 
 

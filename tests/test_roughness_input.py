@@ -407,13 +407,23 @@ def test_spike_removal_is_a_scenario_option_stated_in_the_attributes(tmp_path):
 
 
 def test_the_longest_resolved_band_of_a_known_record_length():
-    # a band is resolved when the record holds 3 wavelengths of its upper edge 2^(1/6) lambda_c:
-    # 3 m / (3 x 1.1225) = 0.891 m, so the 0.8 m band (exact 10^(-0.1) = 0.794 m, edge 0.891 m) is the
-    # longest and 1 m (edge 1.122 m) is not; 2.4 m: 0.713 m -> 0.63 m; 10 m: 2.97 m -> 2.5 m
+    # a band is resolved when the record holds 3 wavelengths of its upper edge, the exact edge of the one
+    # band rule 10^(1/20) lambda_c (rail.bands.exact_edges): 3 m / 3 = 1 m, so the 0.8 m band (exact
+    # 10^(-0.1) = 0.794 m, edge 0.891 m) is the longest and 1 m (edge 1.122 m) is not; 2.4 m: 0.8 m ->
+    # 0.63 m (0.8 m's edge 0.891 m is longer); 10 m: 3.33 m -> 3.15 m (edge 3.548 m > 3.33: not) -> 2.5 m
+    from rail.bands import exact_edges
+
     assert R.longest_resolved_band(3.0) == pytest.approx(10 ** -0.1)
     assert R.longest_resolved_band(2.4) == pytest.approx(10 ** -0.2)
     assert R.longest_resolved_band(10.0) == pytest.approx(10 ** 0.4)
-    assert R.longest_resolved_band(3 * 2 ** (1 / 6) * 0.1) == pytest.approx(0.1)  # exactly at the edge: resolved
+    for n in (-4, 1, 2, 5, 10):  # exactly at a band's upper edge: resolved; a part in 1e6 short: the next band down
+        lo, hi = exact_edges(np.array([n]), "m")
+        upper = float(max(lo[0], hi[0]))
+        assert R.longest_resolved_band(3 * upper) == pytest.approx(10 ** (-n / 10))
+        assert R.longest_resolved_band(3 * upper * (1 - 1e-6)) == pytest.approx(10 ** (-(n + 1) / 10))
+    # the band whose 2^(1/6) edge (the rule before) and 10^(1/20) edge lie on either side of the length
+    # (the 0.63 m band: exact upper edge 10^(-0.15) = 0.70795 m, 2^(1/6) x 10^(-0.2) = 0.70822 m)
+    assert R.longest_resolved_band(3 * 0.7080) == pytest.approx(10 ** -0.2)
     np.testing.assert_array_equal(R.resolved_bands([1.0, 0.8, 0.63, 0.1], 3.0), [False, True, True, True])
 
 
