@@ -7,24 +7,10 @@ import re
 import numpy as np
 import pytest
 
+from fleets import TWO_VEHICLES
 from test_workflow import assert_stops_at_start_up, job_counts, snakemake, workdir  # noqa: F401 (fixture)
 
-MIX = """fleet:
-  vehicles:
-    - name: loco
-      positions: [0.0, 3.3]
-      static_load: 1.0e+5
-      unsprung_mass: 1350.0
-      creepage: [-0.001, -0.001]
-      share: 0.4
-    - name: coach
-      positions: [0.0, 2.6]
-      static_load: 5.0e+4
-      unsprung_mass: 800.0
-      creepage: [0.0005, 0.0005]
-      share: 0.6
-  speeds: {distribution: uniform, low: 36.0, high: 44.0, classes: 3}
-"""
+MIX = TWO_VEHICLES
 # another fleet on the same track: a three-axle vehicle at two of the speeds above and one more
 OTHER = """fleet:
   vehicles:
