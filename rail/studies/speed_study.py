@@ -102,7 +102,7 @@ def study_dataset(cases: dict, pinned_pinned: dict) -> xr.Dataset:
     f = V[:, None] / lam[None, :]
     fpp = np.array([float(pinned_pinned[n]) for n in names])
     ds = xr.Dataset(
-        {"growth_dB_per_1e5_axles": data_var(("case", "speed", "wavelength"), rate, "dB per 1e5 axles",
+        {"growth_dB_per_1e5_axles": data_var(("case", "speed", "wavelength"), rate, "dB per 100000 axle passages",
                                              "growth rate of the roughness level at the line (negative: decay)")},
         coords={"case": data_var("case", np.array(names), "1", "scenario"),
                 "speed": data_var("speed", V, "m/s", "train speed"),
@@ -117,9 +117,9 @@ def study_dataset(cases: dict, pinned_pinned: dict) -> xr.Dataset:
     pick = lambda idx: np.take_along_axis(rate, idx[..., None], axis=2)[..., 0]  # noqa: E731
     ds["fastest_wavelength"] = data_var(("case", "speed"), lam[fast], "m", "wavelength of the fastest line (growing or least decaying)")
     ds["fastest_frequency"] = data_var(("case", "speed"), V[None, :] / lam[fast], "Hz", "its frequency")
-    ds["fastest_dB_per_1e5_axles"] = data_var(("case", "speed"), pick(fast), "dB per 1e5 axles", "its growth rate")
+    ds["fastest_dB_per_1e5_axles"] = data_var(("case", "speed"), pick(fast), "dB per 100000 axle passages", "its growth rate")
     ds["pinned_pinned_wavelength"] = data_var(("case", "speed"), lam[near], "m", "the line nearest the pinned-pinned frequency")
-    ds["pinned_pinned_dB_per_1e5_axles"] = data_var(("case", "speed"), pick(near), "dB per 1e5 axles",
+    ds["pinned_pinned_dB_per_1e5_axles"] = data_var(("case", "speed"), pick(near), "dB per 100000 axle passages",
                                                     "growth rate at the line nearest the pinned-pinned frequency")
     ds["growing_lines"] = data_var(("case", "speed"), np.sum(rate > 0, axis=2), "1", "lines with a positive growth rate")
     ds["verdict"] = data_var("case", np.array([verdict(ds.isel(case=i)) for i in range(len(names))]), "1",
