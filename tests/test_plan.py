@@ -86,10 +86,15 @@ def test_the_traffic_study_fleet_classes_and_their_shared_spectra(P):
     job = JOBS["traffic_study_summary"]
     assert P.traffic_study_inputs() == job["input"]
     assert P.traffic_study_labels() == job["params"]["cases"]
+    # issue 45: a class job is named <vehicle>_V<speed>_<hash>; the frozen lists name it by the hash alone,
+    # the same hash (its content), so the frozen name is the part after the last "_"
+    def frozen(key):
+        return key.rsplit("_", 1)[-1]
+
     for name in P.traffic_cases:
-        assert [f"results/fleet/classes/{k}.npz" for k in P.fleet_spectrum_keys[name]] == JOBS[f"fleet_rate_spectrum/{name}"]["input"]
+        assert [f"results/fleet/classes/{frozen(k)}.npz" for k in P.fleet_spectrum_keys[name]] == JOBS[f"fleet_rate_spectrum/{name}"]["input"]
     for key, (name, i) in P.fleet_spectrum_jobs.items():
-        job = JOBS[f"fleet_class_spectrum/{key}"]
+        job = JOBS[f"fleet_class_spectrum/{frozen(key)}"]
         c = P.fleet_classes[name][i]
         bays = int(P.scenarios[name]["figures"]["rate_spectrum"]["bays"])
         assert [P.fleet_table_file(name, c.speed, bays)] == [f for f in job["input"] if "receptance" in f]
@@ -97,6 +102,26 @@ def test_the_traffic_study_fleet_classes_and_their_shared_spectra(P):
         # issue 45, item 14: the hash-named job says what it holds (its message and the first line of its log)
         label = P.fleet_class_label(key)
         assert label.startswith(f"{c.label} (fleets: ") and name in label
+
+
+def test_fleet_class_jobs_and_logs_are_named_by_vehicle_and_speed_and_stay_unique(P):
+    import re
+
+    rule = (ROOT / "workflow/rules/fleet.smk").read_text()
+    constraint = re.search(r'rule fleet_class_spectrum:.*?key="([^"]+)"', rule, re.S).group(1)
+    assert 'log:\n        "logs/fleet/classes/{key}.log"' in rule
+    keys = list(P.fleet_spectrum_jobs)
+    assert len(keys) == len(set(keys)) == len({k.rsplit("_", 1)[-1] for k in keys}) > 4  # one job per content
+    for key, (name, i) in P.fleet_spectrum_jobs.items():
+        c = P.fleet_classes[name][i]
+        assert key.startswith(f"{c.vehicle}_V{c.speed:.4g}_"), key
+        assert re.fullmatch(constraint, key), key
+    # the same vehicle at the same speed in two traffic cases (other creepage or speed spread): two names
+    by_class = {}
+    for key, (name, i) in P.fleet_spectrum_jobs.items():
+        c = P.fleet_classes[name][i]
+        by_class.setdefault((c.vehicle, f"{c.speed:.4g}"), set()).add(key)
+    assert any(len(v) > 1 for v in by_class.values())
 
 
 def test_every_receptance_table_and_its_offsets(P):

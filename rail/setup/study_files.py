@@ -90,8 +90,12 @@ def traffic_cases(study: dict) -> dict:
 
 
 def class_key(fleet_class, settings: dict) -> str:
-    """A name for one class's spectrum that is the same in every fleet holding the class: a hash of its
-    scenario (vehicle, speed, track, contact, ...; not its name) and the spectrum's settings.
+    """A name for one class's spectrum that says what it holds and is the same in every fleet holding
+    the class: ``<vehicle>_V<speed>_<hash>``, the vehicle's name (characters other than letters,
+    digits, ``.`` and ``-`` written as ``-``), the speed to four significant figures, and a hash of its
+    scenario (vehicle, speed, track, contact, ...; not the scenario's name) and the spectrum's settings,
+    which keeps two classes of the same vehicle and speed on other tracks or settings apart. The name
+    is a label only: the plan maps it to its class, nothing parses it back.
 
     Parameters
     ----------
@@ -102,14 +106,16 @@ def class_key(fleet_class, settings: dict) -> str:
     Returns
     -------
     str
-        16 hexadecimal digits.
+        e.g. ``locomotive_V40_3f2a9c0d1e4b5a67`` (the hash: 16 hexadecimal digits).
     """
     import hashlib
     import json
+    import re
 
     scn = dataclasses.replace(fleet_class.scenario, name="")
     text = repr(scn) + json.dumps({k: settings[k] for k in sorted(settings) if k != "speeds"}, sort_keys=True, default=str)
-    return hashlib.sha256(text.encode()).hexdigest()[:16]
+    vehicle = re.sub(r"[^A-Za-z0-9.-]+", "-", str(fleet_class.vehicle)).strip("-") or "vehicle"
+    return f"{vehicle}_V{fleet_class.speed:.4g}_{hashlib.sha256(text.encode()).hexdigest()[:16]}"
 
 
 def check_convergence_study(study: dict, source: str = "config/convergence.yaml") -> None:
