@@ -36,7 +36,7 @@ from .build import OPTIONAL_KEYS, PASSAGE_KEYS, fleet_classes, scenario, spectru
 from .config import (ConfigError, check_scenario_names, expand_sweep, load_yaml, resolve_scenario_file, scenario_files, schema_unit,
                      validate_config)
 from .inputs import check_inputs, check_speed, fleet_checked
-from .study_files import check_convergence_study, class_key, traffic_cases
+from .study_files import check_convergence_study, class_estimate, class_key, traffic_cases
 from .tables import table_key
 
 __all__ = ["Plan", "Sweep", "SweepPoint", "Table", "plan", "speed_label", "fleet_speed_label", "config_part", "physics_part",
@@ -344,6 +344,17 @@ class Plan:
         name, i = self.fleet_class_owner(key)
         holders = [n for n, keys in self.fleet_spectrum_keys.items() if key in keys]
         return f"{self.fleet_classes[name][i].label} (fleets: {', '.join(holders)})"
+
+    def fleet_class_estimate(self, key: str):
+        """Memory and CPU time of a class spectrum job (rail.setup.study_files.class_estimate)."""
+        name, i = self.fleet_class_owner(key)
+        return class_estimate(self.fleet_classes[name][i], self.scenarios[name]["figures"]["rate_spectrum"])
+
+    def fleet_class_resources(self, key: str) -> dict:
+        """A class spectrum job's resources: mem_mb its estimate x 1.3 + 300 [MB], runtime three times
+        its estimated CPU time plus 10 min [min] (as the growth jobs')."""
+        e = self.fleet_class_estimate(key)
+        return {"mem_mb": int(300 + 1.3 * e.memory_mb), "runtime": int(10 + 3 * e.cpu_seconds / 60)}
 
     def fleet_class_owner(self, key: str) -> tuple[str, int]:
         """(scenario, class index) of a class spectrum job."""

@@ -95,8 +95,8 @@ rule fleet_class_spectrum:
     benchmark:
         "benchmarks/fleet/classes/{key}.tsv"
     resources:
-        mem_mb=3400,  # measured: max_rss 1893 MB (four-axle locomotive, 61 lines of a 10-bay period), x 1.5 + 500
-        runtime=30,
+        mem_mb=lambda w: PLAN.fleet_class_resources(w.key)["mem_mb"],  # from its lines and axles: 2.3 GB at the fleet defaults (docs/traffic.md)
+        runtime=lambda w: PLAN.fleet_class_resources(w.key)["runtime"],
     script:
         "../scripts/fleet_class_spectrum.py"
 
