@@ -26,7 +26,7 @@ def supports(ds):
     configuration the dataset carries: the cell's (a voided sleeper described), or None for uniform
     track (every sleeper, drawn by the figure itself)."""
     cfg = yaml.safe_load(ds.attrs["config"]) if "config" in ds.attrs else None
-    cell = build.track_cell(cfg) if cfg else None
+    cell = build.track_cell(cfg) if isinstance(cfg, dict) and "track" in cfg else None
     return None if cell is None else irregular.support_marks(cell)
 
 
