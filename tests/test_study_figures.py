@@ -398,6 +398,15 @@ def test_band_view_keys_every_save_with_a_level_each_in_its_own_colour_and_marke
     assert {"linear growth fits better", "exponential growth fits better"} <= set(labels)  # one key for the figure
 
 
+def test_narrow_band_view_keys_its_saves_in_colours_and_line_styles_alike():
+    fig = report.growth_narrowband(growth_run(saved=6, bays=2))
+    for ax in fig.axes[:2]:
+        lines = [ln for ln in ax.get_lines() if ln.get_label().endswith("passages")]
+        assert [ln.get_label() for ln in lines] == ["0 passages", "30,000 passages", "50,000 passages"]  # first, middle, last
+        assert len({matplotlib.colors.to_hex(ln.get_color()) for ln in lines}) == 3
+        assert len({ln.get_linestyle() for ln in lines}) == 3
+
+
 def _jump_run():
     """A rough rail whose spectrum jumps by 60 dB between two neighbouring lines and grows by 6 dB."""
     ds = growth_run(saved=6, smooth=False, K=24)

@@ -319,10 +319,11 @@ def growth_narrowband(ds: xr.Dataset, supports=None):
     n = ds["passage"].values
     picks = sorted({0, len(n) // 2, len(n) - 1})
     comb = (ds["harmonic"].values % N) == 0
+    colours = dict(zip(picks, _passage_colours(picks)))  # line style and colour both tell the saves apart
     for style, i in zip(_STYLES, picks):
         lev = ds["level"].values[i]
-        a1.semilogx(lam, lev, linestyle=style, color="k", lw=0.8, label=text.passages(n[i]))
-        a1.plot(lam[comb], lev[comb], "o", mfc="none", color="k", ms=3)
+        a1.semilogx(lam, lev, linestyle=style, color=colours[i], lw=0.8, label=text.passages(n[i]))
+        a1.plot(lam[comb], lev[comb], "o", mfc="none", color=colours[i], ms=3)
     a1.set_xlabel("wavelength (mm)")
     a1.set_ylabel("roughness level (dB re 1 µm)")
     a1.set_ylim(bottom=max(a1.get_ylim()[0], float(np.nanmax(ds["level"].values)) - 80))
@@ -331,7 +332,7 @@ def growth_narrowband(ds: xr.Dataset, supports=None):
     a1.set_title(f"narrow band over {N} bays (circles: the one-bay comb L/k)", fontsize=9)
     a1.legend(fontsize=8)
     for style, i in zip(_STYLES, picks):
-        a2.plot(ds["position"], ds["profile"].values[i] * 1e6, linestyle=style, color="k", lw=0.7, label=text.passages(n[i]))
+        a2.plot(ds["position"], ds["profile"].values[i] * 1e6, linestyle=style, color=colours[i], lw=0.7, label=text.passages(n[i]))
     key = mark_supports(a2, supports if supports is not None else uniform_supports(ds))
     a2.set_xlabel(f"position over the {N}-bay period (m)\n{key}")
     a2.set_ylabel("roughness (µm)")
