@@ -235,6 +235,7 @@ def test_a_decay_rate_above_a_hundred_db_per_metre_is_refused(tmp_path):
 # item 8: one cross-key check of a fleet for every door (rail.setup.inputs.fleet_checked): a fleet on a
 # voided-sleeper track passed `check` and was refused by the workflow; `check` describes what runs; a
 # fleet.speeds of the wrong type names the accepted forms
+VOIDED_SPECTRUM = {"bays": 4, "shortest": 0.02, "longest": 0.14, "per_octave": 12}  # the cell's period: fleet.spectrum
 VOIDED = """track:
   cell:
     bays: 4
@@ -244,20 +245,42 @@ roughness:
 numerics:
   track:
     harmonics: 36
-figures:
-  rate_spectrum:
-    bays: 4
-    shortest: 0.02
-    longest: 0.14
-    per_octave: 12
 """
+FLEET_VOIDED = FLEET + "  spectrum: {bays: 4, shortest: 0.02, longest: 0.14, per_octave: 12}\n" + VOIDED  # a fleet's spectrum: fleet.spectrum
 CELL_MESSAGE = (r"mix\.yaml: fleet with track\.cell is not allowed: a fleet's receptance tables are one per speed shared by "
                 r"its vehicles, a track cell's are its own Bloch tables")
 
 
+def test_a_fleet_file_setting_figures_rate_spectrum_is_told_to_set_fleet_spectrum(tmp_path):
+    # issue 45, item 14: a fleet's class spectra take fleet.spectrum (defaults sized for 2 cores, 8 GB);
+    # figures.rate_spectrum in a fleet file would be silently unused, so it is refused in one line
+    from rail.setup.config import load_yaml, project_schema, resolve_scenario_file
+
+    path = tmp_path / "mix.yaml"
+    path.write_text(FLEET + "figures:\n  rate_spectrum:\n    per_octave: 30\n")
+    with pytest.raises(ConfigError, match=r"mix\.yaml: figures\.rate_spectrum\.per_octave is not used by a fleet: its class spectra "
+                                          r"take fleet\.spectrum \(docs/traffic\.md\); set fleet\.spectrum\.per_octave instead\.$"):
+        api.load(path)
+    path.write_text(FLEET + "figures:\n  rate_spectrum:\n    speeds: [40.0]\n")  # speeds: unused by a fleet, harmless
+    study = api.load(path)
+    assert {k: study.config["figures"]["rate_spectrum"][k] for k in ("bays", "shortest", "longest", "per_octave", "eps", "grid_phases")} == {
+        "bays": 5, "shortest": 0.02, "longest": 0.3, "per_octave": 6, "eps": 1.0e-9, "grid_phases": 1}  # the schema's fleet defaults
+    defaults = load_yaml(api.ROOT / "config/config.yaml")
+    own = resolve_scenario_file(defaults, project_schema(), load_yaml(_written(FLEET + "  spectrum: {bays: 8, per_octave: 12}\n", tmp_path)),
+                                "own.yaml")
+    assert own["figures"]["rate_spectrum"]["bays"] == 8 and own["figures"]["rate_spectrum"]["per_octave"] == 12
+    assert own["figures"]["rate_spectrum"]["longest"] == 0.3  # the other keys: the defaults
+
+
+def _written(text, tmp_path):
+    path = tmp_path / "own.yaml"
+    path.write_text(text)
+    return path
+
+
 def test_a_fleet_on_a_track_cell_is_refused_by_check_and_the_api_as_by_the_workflow(tmp_path, capsys, nothing_computed):
     path = tmp_path / "mix.yaml"
-    path.write_text(FLEET + VOIDED)
+    path.write_text(FLEET_VOIDED)
     assert cli.main(["check", str(path)]) == 2
     err = capsys.readouterr().err.strip()
     assert re.fullmatch(rf"railgrowth: .*{CELL_MESSAGE}.*", err) and "\n" not in err, err
@@ -275,7 +298,7 @@ def test_the_plan_refuses_a_fleet_on_a_track_cell_with_the_same_line(root, tmp_p
         f.unlink()
     (tmp_path / "config/traffic_study.yaml").unlink(missing_ok=True)
     (tmp_path / "config/uncertainty.yaml").unlink(missing_ok=True)
-    (tmp_path / "config/scenarios/mix.yaml").write_text(FLEET + VOIDED)
+    (tmp_path / "config/scenarios/mix.yaml").write_text(FLEET_VOIDED)
     P = plan(defaults, schema, tmp_path)  # the file is left out of the run (item 9): its targets stop with the line
     assert "mix" in P.broken and "mix" not in P.fleet_classes
     with pytest.raises(ConfigError, match=CELL_MESSAGE):
@@ -397,6 +420,11 @@ def test_fuzzed_fleets_and_track_cells_run_or_are_refused_in_one_line_per_proble
         scen = {**scen, **yaml.safe_load(VOIDED)}
     if not fleet and key[0] != "fleet":
         del scen["fleet"]
+    if cell or key[0] == "track":  # the spectrum's period is the cell's: a fleet's in fleet.spectrum, else figures.rate_spectrum
+        if isinstance(scen.get("fleet"), dict):
+            scen["fleet"]["spectrum"] = dict(VOIDED_SPECTRUM)
+        else:
+            scen["figures"] = {"rate_spectrum": dict(VOIDED_SPECTRUM)}
     _set(scen, key, value)
     path = tmp_path / "fuzz.yaml"
     path.write_text(yaml.safe_dump(scen))

@@ -430,7 +430,14 @@ def test_fleet_spectrum_per_axle_figure_and_the_traffic_study_summary_from_class
     np.testing.assert_allclose(ds["growth_dB_per_MGT"].values, ds["growth_dB_per_1e5_axles"].values / 1e5 * 1e6 / load_t, rtol=1e-12)
     ds.attrs.update({"pinned_pinned_frequency_Hz": 1000.0, "mean_speed_m_per_s": 40.0,
                      "pinned_pinned_wavelength_m": float(ds["wavelength"].values.mean())})
-    plots.fleet_spectrum_figure(ds).savefig(tmp_path / "f.png")
+    fig = plots.fleet_spectrum_figure(ds)
+    fig.savefig(tmp_path / "f.png")
+    # issue 45: long wavelengths on the left as every study figure, the frequency at the mean speed on top,
+    # dB per MGT at the traffic's mean axle load on the right
+    ax = fig.axes[0]
+    assert ax.get_xlim()[0] > ax.get_xlim()[1]
+    assert [a.get_xlabel() for a in ax.child_axes if a.get_xlabel()] == ["frequency at mean V = 40 m/s (Hz)"]
+    assert [a.get_ylabel() for a in ax.child_axes if a.get_ylabel()] == [f"dB per MGT (axle load {load_t:.3g} t)"]
     twice = ds.copy(deep=True)
     twice["growth_dB_per_1e5_axles"] = 2 * ds["growth_dB_per_1e5_axles"]
     st = FS.traffic_study_dataset([ds, twice], [("driven", 0.0), ("driven", 0.1)])
@@ -442,5 +449,7 @@ def test_fleet_spectrum_per_axle_figure_and_the_traffic_study_summary_from_class
         assert (np.isnan(got) and not sel.any()) or got == pytest.approx(2 * g[sel].mean(), rel=1e-14)
     text = FS.traffic_summary_markdown(st)
     assert "| driven | ±0 % |" in text and "| driven | ±10 % |" in text
-    plots.traffic_study_figure(st).savefig(tmp_path / "t.png")
+    fig = plots.traffic_study_figure(st)
+    fig.savefig(tmp_path / "t.png")
+    assert all(a.get_xlim()[0] > a.get_xlim()[1] for a in fig.axes if a.get_xlabel() == "wavelength (mm)")
     assert isinstance(st, xr.Dataset) and (tmp_path / "t.png").stat().st_size > 5000

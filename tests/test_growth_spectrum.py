@@ -339,7 +339,7 @@ def test_spectrum_figures_draw_the_lines_they_are_given(tmp_path):
                                   np.zeros(lines.size), np.zeros(lines.size), 1e-4, 1e-9, 4, 1)
     ds = rate_spectrum_dataset(spectra, 0.6, 1)
     fig = plots.rate_spectrum_figure(ds)
-    lo, hi = fig.axes[0].get_xlim()
+    hi, lo = fig.axes[0].get_xlim()  # wavelength decreases to the right (rail.plotting.axes)
     assert 35 < lo < 40 and 100 < hi < 110  # mm
     fig.savefig(tmp_path / "s.png")
     sweep = sweep_rate_spectrum([ds.isel(speed=[i]) for i in range(2)], ["speed"], [[20.0, 40.0]], [(0,), (1,)], ["m/s"])

@@ -86,10 +86,15 @@ def test_the_traffic_study_fleet_classes_and_their_shared_spectra(P):
     job = JOBS["traffic_study_summary"]
     assert P.traffic_study_inputs() == job["input"]
     assert P.traffic_study_labels() == job["params"]["cases"]
+    # issue 45: a class job is named <vehicle>_V<speed>_<hash>; the frozen lists name it by the hash alone,
+    # the same hash (its content), so the frozen name is the part after the last "_"
+    def frozen(key):
+        return key.rsplit("_", 1)[-1]
+
     for name in P.traffic_cases:
-        assert [f"results/fleet/classes/{k}.npz" for k in P.fleet_spectrum_keys[name]] == JOBS[f"fleet_rate_spectrum/{name}"]["input"]
+        assert [f"results/fleet/classes/{frozen(k)}.npz" for k in P.fleet_spectrum_keys[name]] == JOBS[f"fleet_rate_spectrum/{name}"]["input"]
     for key, (name, i) in P.fleet_spectrum_jobs.items():
-        job = JOBS[f"fleet_class_spectrum/{key}"]
+        job = JOBS[f"fleet_class_spectrum/{frozen(key)}"]
         c = P.fleet_classes[name][i]
         bays = int(P.scenarios[name]["figures"]["rate_spectrum"]["bays"])
         assert [P.fleet_table_file(name, c.speed, bays)] == [f for f in job["input"] if "receptance" in f]
@@ -97,6 +102,26 @@ def test_the_traffic_study_fleet_classes_and_their_shared_spectra(P):
         # issue 45, item 14: the hash-named job says what it holds (its message and the first line of its log)
         label = P.fleet_class_label(key)
         assert label.startswith(f"{c.label} (fleets: ") and name in label
+
+
+def test_fleet_class_jobs_and_logs_are_named_by_vehicle_and_speed_and_stay_unique(P):
+    import re
+
+    rule = (ROOT / "workflow/rules/fleet.smk").read_text()
+    constraint = re.search(r'rule fleet_class_spectrum:.*?key="([^"]+)"', rule, re.S).group(1)
+    assert 'log:\n        "logs/fleet/classes/{key}.log"' in rule
+    keys = list(P.fleet_spectrum_jobs)
+    assert len(keys) == len(set(keys)) == len({k.rsplit("_", 1)[-1] for k in keys}) > 4  # one job per content
+    for key, (name, i) in P.fleet_spectrum_jobs.items():
+        c = P.fleet_classes[name][i]
+        assert key.startswith(f"{c.vehicle}_V{c.speed:.4g}_"), key
+        assert re.fullmatch(constraint, key), key
+    # the same vehicle at the same speed in two traffic cases (other creepage or speed spread): two names
+    by_class = {}
+    for key, (name, i) in P.fleet_spectrum_jobs.items():
+        c = P.fleet_classes[name][i]
+        by_class.setdefault((c.vehicle, f"{c.speed:.4g}"), set()).add(key)
+    assert any(len(v) > 1 for v in by_class.values())
 
 
 def test_every_receptance_table_and_its_offsets(P):
@@ -199,9 +224,9 @@ DRAFTS = {
     "draft_tab.yaml": "track:\n\tpad: 1\n",  # not YAML
     "draft_fleet.yaml": ("fleet:\n  vehicles:\n    - {name: loco, positions: [0.0, 3.3], static_load: 1.0e+5, unsprung_mass: 1350.0, "
                          "creepage: [-0.001, -0.001], share: 1.0}\n  speeds: {values: [40.0], weights: [1.0]}\n"
+                         "  spectrum: {bays: 4, shortest: 0.02, longest: 0.14, per_octave: 12}\n"
                          "track:\n  cell:\n    bays: 4\n    ballast: [1.0, 1.0e-3, 1.0, 1.0]\nroughness:\n  bays: 4\n"
-                         "numerics:\n  track:\n    harmonics: 36\nfigures:\n  rate_spectrum:\n    bays: 4\n    shortest: 0.02\n"
-                         "    longest: 0.14\n    per_octave: 12\n"),  # refused by the fleet's cross-key check
+                         "numerics:\n  track:\n    harmonics: 36\n"),  # refused by the fleet's cross-key check
     "draft_input.yaml": "roughness:\n  kind: spectrum\n  file: config/roughness/draft_levels.csv\n",  # refused reading its file
 }
 
@@ -262,3 +287,55 @@ def test_a_target_that_needs_a_broken_scenario_file_stops_naming_its_problem(wit
 def test_a_broken_sweep_study_stays_a_target_of_sweeps_that_stops(P, with_drafts):
     assert with_drafts.broken_sweeps == {"draft_sweep"}
     assert set(with_drafts.sweep_targets()) == set(P.sweep_targets()) | {"results/sweeps/draft_sweep.nc", "results/sweeps/draft_sweep.png"}
+
+
+def test_a_fleets_default_class_spectra_fit_a_two_core_8_GB_machine(P):
+    # issue 45, item 14: a fleet's class spectrum was sized by figures.rate_spectrum (a scenario file's
+    # 222 lines of a 48-bay period on two grids: about 6.9 GB and 47 min CPU for a four-axle class);
+    # fleet.spectrum's defaults give 31 lines of a 5-bay period on one grid
+    import re
+
+    from rail.setup import build
+    from rail.setup.config import load_yaml, project_schema, resolve_scenario_file
+    from rail.setup.study_files import CLASS_MEMORY_MB, class_estimate
+
+    vehicle = {"name": "loco", "positions": [0.0, 3.3, 10.0, 13.3], "static_load": 1.0e5, "unsprung_mass": 1350.0,
+               "creepage": [-0.001] * 4, "share": 1.0}
+    fleet = {"vehicles": [vehicle], "speeds": {"distribution": "uniform", "low": 45.0, "high": 55.0, "classes": 3}}
+    cfg = resolve_scenario_file(load_yaml(ROOT / "config/config.yaml"), project_schema(), {"fleet": fleet}, "mix.yaml")
+    classes = build.fleet_classes(cfg, build.spectrum_scenario(cfg, "mix"))
+    est = [class_estimate(c, cfg["figures"]["rate_spectrum"]) for c in classes]
+    assert {(e.lines, e.axles) for e in est} == {(31, 4)}
+    key = next(k for k, (name, i) in P.fleet_spectrum_jobs.items() if P.fleet_classes[name][i].vehicle == "class87")
+    e = P.fleet_class_estimate(key)  # a traffic-study class: the same settings, the same four axles
+    assert (e.lines, e.axles) == (31, 4)
+    res = P.fleet_class_resources(key)
+    extra, factor = 300, 1.3  # mem_mb = its estimate x 1.3 + 300 (rail.setup.plan.Plan.fleet_class_resources)
+    assert res["mem_mb"] == int(extra + factor * e.memory_mb) and res["runtime"] == int(10 + 3 * e.cpu_seconds / 60)
+    assert "PLAN.fleet_class_resources(w.key)" in (ROOT / "workflow/rules/fleet.smk").read_text()
+    mem_mb = [extra + factor * x.memory_mb for x in est]
+    assert 2 * max(mem_mb) <= 6000  # two jobs under -j2 leave 2 GB of 8 GB for the system and Snakemake
+    assert max(e.cpu_seconds for e in est) <= 600  # minutes, not half an hour, on one core
+    # the coefficients cover every measured job (max_rss, MB; lines x axles): traffic study, first attempt
+    # (61 x 4: locomotive 1893, coach 2183), at 31 x 4 (926-1485), and issue 45's class87 at 40 m/s (31 x 4)
+    for lines, axles, rss in ((61, 4, 1893), (61, 4, 2183), (31, 4, 1485), (31, 4, MEASURED_CLASS87_RSS)):
+        assert CLASS_MEMORY_MB[0] + CLASS_MEMORY_MB[1] * lines * axles >= rss
+    # the settings a fleet had before: one job alone would not have fitted beside another in 8 GB
+    old = dict(cfg["figures"]["rate_spectrum"], bays=48, shortest=0.0, longest=0.6, per_octave=30, grid_phases=2)
+    scn = build.spectrum_scenario({**cfg, "figures": {**cfg["figures"], "rate_spectrum": old}}, "mix")
+    before = class_estimate(build.fleet_classes(cfg, scn)[0], old)
+    assert before.lines == 222 and extra + factor * before.memory_mb > 8000
+
+
+MEASURED_CLASS87_RSS = 1184  # max_rss of benchmarks/fleet/classes/class87_V40_263e4cb40354cd39.tsv (docs/traffic.md)
+
+
+def test_the_plan_module_stays_under_800_lines_and_keeps_every_name():
+    # issue 44: no module of rail/ over 800 lines; the labels, configuration parts, fixed target sets and
+    # records moved to rail.setup.targets are the same objects under rail.setup.plan
+    import rail.setup.plan as plan_module
+    import rail.setup.targets as targets
+
+    assert len((ROOT / "rail/setup/plan.py").read_text().splitlines()) < 800
+    assert all(getattr(plan_module, name) is getattr(targets, name) for name in targets.__all__)
+    assert all(hasattr(plan_module, name) for name in plan_module.__all__)

@@ -82,3 +82,55 @@ def test_progress_goes_to_the_log_whole_and_to_the_terminal_as_a_bar():
     shown = term.getvalue()
     assert "[growth default V40] resuming from x.npz" in shown
     assert "growth default V40" in shown and "20000/20000" in shown  # the tqdm bar, completed
+
+
+def test_time_left_is_extrapolated_from_the_fraction_done():
+    from rail.setup.progress import duration, time_left
+
+    assert time_left(1, 4, 30.0) == 90.0  # a quarter in 30 s: three quarters left take 90 s
+    assert time_left(4, 4, 120.0) == 0.0
+    assert time_left(0, 4, 5.0) is None and time_left(0, 0, 5.0) is None  # nothing to extrapolate from
+    assert [duration(s) for s in (0.4, 45, 119, 120, 1800, 7199, 7200, 9000)] == [
+        "0 s", "45 s", "119 s", "2 min", "30 min", "120 min", "2.0 h", "2.5 h"]
+
+
+def test_spectrum_progress_lines_say_the_time_used_and_left_on_a_fake_clock():
+    # issue 45: a spectrum's log gave the time used but no time left
+    import io as _io
+
+    from rail.setup.progress import progress_lines
+
+    ticks = iter([0.0, 60.0, 120.0, 125.0, 300.0, 600.0])  # made at 0; the lines at 60, 120, ... s
+    log = _io.StringIO()
+    cb = progress_lines(log, clock=lambda: next(ticks))
+    cb("1 of 4 probe batches (grid phase 1 of 1, 10 lines)")
+    cb("2 of 4 probe batches (grid phase 1 of 1, 10 lines)")
+    cb("linearity check: 2 nm against 1 nm")
+    cb("3 of 4 probe batches (grid phase 1 of 1, 10 lines)")
+    cb("4 of 4 probe batches (grid phase 1 of 1, 10 lines)")
+    assert log.getvalue().splitlines() == [
+        "1 of 4 probe batches (grid phase 1 of 1, 10 lines), 60 s elapsed, about 3 min left",  # 60 s x 3
+        "2 of 4 probe batches (grid phase 1 of 1, 10 lines), 2 min elapsed, about 2 min left",
+        "linearity check: 2 nm against 1 nm, 2 min elapsed",
+        "3 of 4 probe batches (grid phase 1 of 1, 10 lines), 5 min elapsed, about 100 s left",
+        "4 of 4 probe batches (grid phase 1 of 1, 10 lines), 10 min elapsed, about 0 s left"]
+
+
+def test_a_count_within_a_count_is_timed_on_its_own():
+    # a table job counts node blocks within each table and the tables: each estimate from its own clock
+    import io as _io
+
+    from rail.setup.progress import progress_lines
+
+    ticks = iter([0.0, 0.0, 10.0, 20.0, 20.0, 30.0, 40.0, 50.0])
+    log = _io.StringIO()
+    cb = progress_lines(log, "receptance V40: ", clock=lambda: next(ticks))
+    for text in ("0 of 2 node blocks", "1 of 2 node blocks", "2 of 2 node blocks", "1 of 2 tables",
+                 "0 of 2 node blocks", "1 of 2 node blocks", "2 of 2 tables"):
+        cb(text)
+    lines = log.getvalue().splitlines()
+    assert lines[0] == "0 of 2 node blocks, 0 s elapsed [receptance V40]"  # no estimate from nothing
+    assert lines[1] == "1 of 2 node blocks, 10 s elapsed, about 10 s left [receptance V40]"
+    assert lines[3] == "1 of 2 tables, 20 s elapsed, about 20 s left [receptance V40]"  # from the start, not the last block
+    assert lines[5] == "1 of 2 node blocks, 40 s elapsed, about 10 s left [receptance V40]"  # the second table's blocks from their 0
+    assert lines[6] == "2 of 2 tables, 50 s elapsed, about 0 s left [receptance V40]"

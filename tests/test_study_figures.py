@@ -92,8 +92,9 @@ def test_no_plotting_module_formats_passages_with_g_or_int():
 def test_overview_legend_lists_every_saved_passage_count(smooth):
     ds = growth_run(saved=6, smooth=smooth)
     fig = report.scenario_overview(ds, None, "my_pad")
-    assert len(fig.legends) == 1
-    labels = [t.get_text() for t in fig.legends[0].get_texts()]
+    key = [leg for leg in fig.legends if leg.get_title().get_text() == "passages"]  # the other: the notes below the panels
+    assert len(key) == 1
+    labels = [t.get_text() for t in key[0].get_texts()]
     assert len(labels) == ds.sizes["passage"] == 6
     assert labels[1:] == ["10,000", "20,000", "30,000", "40,000", "50,000"]
     assert labels[0] == ("0 (smooth: no level)" if smooth else "0")
@@ -105,7 +106,7 @@ def test_overview_legend_lists_every_saved_passage_count(smooth):
 
 def test_overview_with_many_saved_counts_has_a_colour_bar_of_passages():
     fig = report.scenario_overview(growth_run(saved=25, step=4_000), None, "my_pad")
-    assert not fig.legends
+    assert not [leg for leg in fig.legends if leg.get_title().get_text() == "passages"]
     bars = [a for a in fig.axes if a.get_ylabel() == "passages"]
     assert len(bars) == 1
     ticks = [t.get_text() for t in bars[0].get_yticklabels()]
@@ -238,3 +239,237 @@ def test_two_speed_spectrum_keeps_its_map():
     fig = study_plots.rate_spectrum_figure(_rate_spectrum([40.0, 50.0]))
     assert any(isinstance(c, matplotlib.collections.QuadMesh) for c in fig.axes[1].collections)  # the map (its colour bar has one too)
     assert fig.axes[1].get_ylabel() == "speed (m/s)"
+
+
+# -- figures a practitioner shows a colleague (issue 45, item 4) -------------------------------------
+
+def _bands(saved=6, smooth=True, traffic=None):
+    """The band view's dataset of a growth run (rail.studies.bands.bands_dataset, as the workflow builds it)."""
+    from rail.studies.bands import bands_dataset, third_octave_bands
+
+    g = growth_run(saved=saved, smooth=smooth, K=24)
+    return bands_dataset(g, L, third_octave_bands(), 1, per_day=20_000.0, traffic=traffic)
+
+
+def _rate_spectrum_with_traffic(speeds):
+    from rail.growth_spectrum import RateSpectrum
+    from rail.studies.rate_spectrum import rate_spectrum_dataset
+    from rail.traffic import Traffic
+
+    lines = np.arange(24, 61, 4)
+    spectra = {v: RateSpectrum(4 * 0.6 / lines, lines, (lines % 4 == 0).astype(int), np.linspace(-1, 1, lines.size) * 1e-7 + 0j,
+                               np.linspace(-1, 1, lines.size) * 1e-7 + 0j, np.zeros(lines.size), np.zeros(lines.size),
+                               np.zeros(lines.size), 1e-4, 1e-9, 4, 1) for v in speeds}
+    return rate_spectrum_dataset(spectra, 0.6, 1, traffic=Traffic(20_000.0, 22.5))
+
+
+def _study_figures():
+    """Every study figure of a growth run and a growth-rate spectrum, drawn from small synthetic datasets,
+    with the notes they can carry (a missing default, the wear path)."""
+    from rail.traffic import Traffic
+
+    run = growth_run(saved=6, smooth=True, K=24, bays=2).assign_attrs(wear_path="patch: on the patch")
+    note = "no default run at 45 m/s (the default scenario runs at 20, 40, 60, 80 m/s): no comparison with the default"
+    return {
+        "overview, no default": report.scenario_overview(run, None, "x45", note),
+        "overview, default": report.scenario_overview(run, growth_run(), "x40", "", [(0.0, ""), (0.6, "ballast ×0.001"), (1.2, "")]),
+        "3-D": report.growth_3d(run, "wavelength", "x45"),
+        "narrow band": report.growth_narrowband(run),
+        "bands": report.band_spectra(_bands(traffic=Traffic(20_000.0, 22.5)).assign_attrs(wear_path="patch: on the patch")),
+        "spectrum, one speed": study_plots.rate_spectrum_figure(_rate_spectrum_with_traffic([50.0])),
+        "spectrum, two speeds": study_plots.rate_spectrum_figure(_rate_spectrum_with_traffic([40.0, 50.0])),
+    }
+
+
+def _text_boxes(fig):
+    """(what, window extent) of every piece of text a reader reads as a unit: the figure's title and
+    legends, and each axes' titles, axis labels and legend (secondary axes included)."""
+    fig.canvas.draw()
+    r = fig.canvas.get_renderer()
+    out = []
+    if fig._suptitle is not None and fig._suptitle.get_text():
+        out.append(("suptitle", fig._suptitle.get_window_extent(r)))
+    for i, leg in enumerate(fig.legends):
+        out.append((f"figure legend {i} ({leg.get_gid()})", leg.get_window_extent(r)))
+    out += [(f"figure text {t.get_text()[:30]!r}", t.get_window_extent(r)) for t in fig.texts
+            if t.get_text() and t is not fig._suptitle]
+    for k, ax in enumerate(fig.axes):
+        axes = [ax] + list(ax.child_axes)
+        for j, a in enumerate(axes):
+            name = f"axes {k}" + (f" secondary {j}" if j else "")
+            for loc in ("left", "center", "right") if not j else ():
+                t = a.get_title(loc)
+                if t:
+                    out.append((f"{name} title {t[:30]!r}", a.title.get_window_extent(r) if loc == "center" else
+                                (a._left_title if loc == "left" else a._right_title).get_window_extent(r)))
+            if hasattr(a, "zaxis"):
+                continue  # a 3-D axes' labels sit on its box, projected; checked against the title below
+            for axis in (a.xaxis, a.yaxis):
+                if axis.label.get_text() and axis.label.get_visible():
+                    out.append((f"{name} label {axis.label.get_text()[:30]!r}", axis.label.get_window_extent(r)))
+            if a.get_legend() is not None:
+                out.append((f"{name} legend", a.get_legend().get_window_extent(r)))
+    return out
+
+
+@pytest.mark.parametrize("which", ["overview, no default", "overview, default", "3-D", "narrow band", "bands",
+                                   "spectrum, one speed", "spectrum, two speeds"])
+def test_no_text_of_a_study_figure_covers_another_or_a_curve(which):
+    fig = _study_figures()[which]
+    boxes = _text_boxes(fig)
+    clash = [(a, b) for i, (a, ba) in enumerate(boxes) for b, bb in boxes[i + 1:] if ba.overlaps(bb)]
+    assert not clash, clash
+    # the notes (a missing default, the wear path) sit outside every axes: they cover no curve
+    r = fig.canvas.get_renderer()
+    assert not [t for t in fig.texts if t is not fig._suptitle]  # a note placed by hand in figure coordinates is not kept off the axes by the layout
+    notes = [leg for leg in fig.legends if leg.get_gid() == "notes"]
+    assert which.startswith("3-D") or notes  # every figure here carries the wear-path note
+    for leg in notes:
+        for ax in fig.axes:
+            assert not leg.get_window_extent(r).overlaps(ax.get_window_extent(r)), ax.get_title()
+
+
+def test_missing_default_is_a_note_below_the_panels_not_over_the_curves():
+    fig = _study_figures()["overview, no default"]
+    notes = [leg for leg in fig.legends if leg.get_gid() == "notes"]
+    assert len(notes) == 1
+    texts = [t.get_text() for t in notes[0].get_texts()]
+    assert texts[0].startswith("no default run at 45 m/s") and "true path" in texts[-1]
+    assert matplotlib.colors.to_hex(notes[0].get_texts()[0].get_color()) == matplotlib.colors.to_hex("firebrick")
+    assert not any("no default run" in t.get_text() for ax in fig.axes for t in ax.texts)  # nothing inside a panel
+
+
+def test_every_wavelength_axis_decreases_to_the_right():
+    # one direction everywhere, as EN 15610 roughness spectra and the report's wavenumber axes run
+    checked = 0
+    for name, fig in _study_figures().items():
+        for ax in fig.axes:
+            if "wavelength" in ax.get_xlabel():
+                lo, hi = ax.get_xlim()
+                assert lo > hi, f"{name}: {ax.get_xlabel()} runs from {lo:g} to {hi:g}"
+                checked += 1
+    assert checked >= 10
+
+
+def _secondary(ax, which):
+    return [a for a in ax.child_axes if (a.get_xlabel() if which == "x" else a.get_ylabel())]
+
+
+def test_spectrum_has_a_frequency_axis_at_its_speed_and_a_per_MGT_axis():
+    fig = _study_figures()["spectrum, one speed"]
+    fig.canvas.draw()  # a secondary axis takes its limits from its parent's when drawn
+    ax = fig.axes[0]
+    top, = _secondary(ax, "x")
+    assert top.get_xlabel() == "frequency at V = 50 m/s (Hz)"
+    # f = V / lambda: 1000 Hz sits above 50 mm at 50 m/s, 2000 Hz above 25 mm
+    for f, lam_mm in ((1000.0, 50.0), (2000.0, 25.0)):
+        assert top.transData.transform((f, 0))[0] == pytest.approx(ax.transData.transform((lam_mm, 0))[0], abs=1e-6)
+    right, = _secondary(ax, "y")
+    assert right.get_ylabel() == "dB per MGT (axle load 22.5 t)"
+    # 1 dB per 100,000 axles of 22.5 t is 1e6 / 22.5 / 1e5 = 0.444 dB per MGT
+    assert right.transData.transform((0, 1e6 / 22.5 / 1e5))[1] == pytest.approx(ax.transData.transform((0, 1.0))[1], abs=1e-6)
+    # two speeds: no one frequency, the per-MGT axis stays
+    two = _study_figures()["spectrum, two speeds"].axes[0]
+    assert not _secondary(two, "x") and _secondary(two, "y")[0].get_ylabel() == "dB per MGT (axle load 22.5 t)"
+
+
+def test_band_view_has_frequency_axes_and_its_level_rate_a_per_MGT_axis():
+    fig = _study_figures()["bands"]
+    a1, a2, a3 = fig.axes[:3]
+    for ax in (a1, a2, a3):
+        assert [s.get_xlabel() for s in _secondary(ax, "x")] == ["frequency at V = 40 m/s (Hz)"]
+    assert [s.get_ylabel() for s in _secondary(a2, "y")] == ["dB per MGT (axle load 22.5 t)"]
+    assert not _secondary(a3, "y")  # µm per 100,000 axles has no dB per MGT
+
+
+def test_band_view_keys_every_save_with_a_level_each_in_its_own_colour_and_marker():
+    ds = _bands(saved=6, smooth=True)
+    fig = report.band_spectra(ds)
+    with_level = np.isfinite(ds["level"].values[:, ds["resolved"].values.astype(bool)]).any(axis=1)
+    assert with_level.sum() == 5  # the smooth rail at 0 passages has no level
+    key, = [leg for leg in fig.legends if leg.get_gid() != "notes"]
+    labels = [t.get_text() for t in key.get_texts()]
+    saves = [lab for lab in labels if lab[0].isdigit()]
+    assert saves == ["10,000 (0.5 days)", "20,000 (1 day)", "30,000 (1.5 days)", "40,000 (2 days)", "50,000 (2.5 days)"]
+    lines = [ln for ln in fig.axes[0].get_lines() if ln.get_label() in saves]
+    assert len(lines) == 5
+    assert len({matplotlib.colors.to_hex(ln.get_color()) for ln in lines}) == 5
+    assert len({ln.get_marker() for ln in lines}) == 5
+    assert {"linear growth fits better", "exponential growth fits better"} <= set(labels)  # one key for the figure
+
+
+def test_narrow_band_view_keys_its_saves_in_colours_and_line_styles_alike():
+    fig = report.growth_narrowband(growth_run(saved=6, bays=2))
+    for ax in fig.axes[:2]:
+        lines = [ln for ln in ax.get_lines() if ln.get_label().endswith("passages")]
+        assert [ln.get_label() for ln in lines] == ["0 passages", "30,000 passages", "50,000 passages"]  # first, middle, last
+        assert len({matplotlib.colors.to_hex(ln.get_color()) for ln in lines}) == 3
+        assert len({ln.get_linestyle() for ln in lines}) == 3
+
+
+def _jump_run():
+    """A rough rail whose spectrum jumps by 60 dB between two neighbouring lines and grows by 6 dB."""
+    ds = growth_run(saved=6, smooth=False, K=24)
+    level = ds["level"].values.copy()
+    level[:, ds["harmonic"].values > 8] -= 60.0
+    return ds.assign(level=(ds["level"].dims, level, ds["level"].attrs))
+
+
+def test_3d_plot_height_is_the_growth_not_a_jump_in_the_spectrum():
+    ds = _jump_run()
+    ax = report.growth_3d(ds, "wavelength", "jump").axes[0]
+    lo, hi = ax.get_zlim()
+    assert hi - lo < 15.0  # the growth, 20 log10(2) = 6 dB, fills the height, not the 60 dB jump
+    assert "change" in ax.get_zlabel() and "dB" in ax.get_zlabel()
+    lo, hi = ax.get_xlim()
+    assert lo > hi  # long wavelengths on the left, as the other study figures
+    # the default scenario's section-5 plot stays the report's level over wavenumber
+    ax = report.growth_3d(ds).axes[0]
+    assert ax.get_zlabel() == "level (dB re 1 µm)" and ax.get_zlim()[1] - ax.get_zlim()[0] > 60
+
+
+def _support_lines(ax, gid):
+    return sorted(float(ln.get_xdata()[0]) for ln in ax.get_lines() if ln.get_gid() == gid)
+
+
+def test_sleepers_are_marked_along_the_rail_at_the_support_positions():
+    ds = growth_run(saved=3, bays=2)
+    fig = report.scenario_overview(ds, None, "x")
+    for ax in (fig.axes[2], fig.axes[3]):  # (c) profile, (d) force
+        assert _support_lines(ax, "support") == pytest.approx([0.0, L, 2 * L])
+        assert "dotted: sleepers" in ax.get_xlabel()
+    assert _support_lines(report.growth_narrowband(ds).axes[1], "support") == pytest.approx([0.0, L, 2 * L])
+
+
+def test_a_voided_support_is_marked_and_described_where_the_cell_has_it():
+    from rail.cell import make_cell
+    from rail.setup import build
+    from rail.setup.config import project_schema, resolve, load_yaml
+    from rail.studies.irregular import support_marks
+
+    cfg = resolve(load_yaml(ROOT / "config/config.yaml"), project_schema(), load_yaml(ROOT / "config/scenarios/irregular_voided.yaml"))
+    cell = build.track_cell(cfg)
+    marks = support_marks(cell)
+    assert marks == [(0.0, ""), (pytest.approx(0.6), "ballast ×0.001"), (pytest.approx(1.2), ""), (pytest.approx(1.8), ""),
+                     (pytest.approx(2.4), "")]
+    assert support_marks(make_cell(cell.track, 2, pad=[1.0, 2.0]))[1][1] == "pad ×2"
+    fig = report.scenario_overview(growth_run(saved=3, bays=4), None, "irregular_voided", "", marks)
+    for ax in (fig.axes[2], fig.axes[3]):
+        assert _support_lines(ax, "support-differs") == pytest.approx([0.6])
+        assert _support_lines(ax, "support") == pytest.approx([0.0, 1.2, 1.8, 2.4])
+        assert "red dashed: ballast ×0.001 at 0.6 m" in ax.get_xlabel()
+
+
+def test_the_overview_script_reads_the_cell_from_the_runs_configuration():
+    import yaml
+    from rail.setup.config import project_schema, resolve, load_yaml
+
+    spec = importlib.util.spec_from_file_location("growth_figure", ROOT / "workflow/scripts/growth_figure.py")
+    script = importlib.util.module_from_spec(spec)
+    spec.loader.exec_module(script)
+    defaults = load_yaml(ROOT / "config/config.yaml")
+    voided = resolve(defaults, project_schema(), load_yaml(ROOT / "config/scenarios/irregular_voided.yaml"))
+    run = growth_run(saved=2, bays=4)
+    assert [m[1] for m in script.supports(run.assign_attrs(config=yaml.safe_dump(voided)))][1] == "ballast ×0.001"
+    assert script.supports(run.assign_attrs(config=yaml.safe_dump(resolve(defaults, project_schema())))) is None  # uniform: the figure's own
+    assert script.supports(run) is None

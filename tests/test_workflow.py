@@ -516,7 +516,7 @@ def test_a_table_job_writes_progress_lines_to_its_log(root, workdir):
     run = snakemake(root, "-j1", tables[0], cwd=workdir)
     assert run.returncode == 0, run.stderr[-2000:]
     log = (workdir / tables[0].replace("results/", "logs/").replace(".nc", ".log")).read_text()
-    lines = re.findall(r"^(\d) of 3 tables \(Bloch fraction (\d)/4, \d+ nodes\), \d+ s$", log, re.M)
+    lines = re.findall(r"^(\d) of 3 tables \(Bloch fraction (\d)/4, \d+ nodes\), \d+ s elapsed, about \d+ s left$", log, re.M)
     assert lines == [("1", "0"), ("2", "1"), ("3", "2")], log
 
 

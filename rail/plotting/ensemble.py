@@ -9,6 +9,8 @@ import matplotlib.pyplot as plt  # noqa: E402
 
 import xarray as xr  # noqa: E402
 
+from .axes import wavelength_axis  # noqa: E402
+
 __all__ = ["band_interval_figure"]
 
 
@@ -24,10 +26,7 @@ def band_interval_figure(ds: xr.Dataset):
     for m in ds["member"].values:
         ax.plot(x, ds["band_growth_dB_per_1e5_axles"].sel(member=m).values, ".", color="0.6", ms=2)
     ax.axhline(0, color="0.3", lw=0.7)
-    ax.set_xscale("log")
-    ax.set_xticks([t for t in (20, 31.5, 50, 80, 125, 200, 315) if x.min() <= t <= x.max()])
-    ax.xaxis.set_major_formatter(matplotlib.ticker.FormatStrFormatter("%g"))
-    ax.xaxis.set_minor_formatter(matplotlib.ticker.NullFormatter())
+    wavelength_axis(ax, x, ticks=(20, 31.5, 50, 80, 125, 200, 315))  # decreasing to the right, as every study figure
     ax.set_xlabel("one-third-octave band centre wavelength (mm)")
     ax.set_ylabel("growth (dB per 100,000 axle passages)")
     ax.set_title("growth-rate band spectrum with the uncertainty of the inputs", fontsize=9)

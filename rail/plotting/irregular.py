@@ -11,6 +11,7 @@ import numpy as np  # noqa: E402
 import xarray as xr  # noqa: E402
 
 from . import text  # noqa: E402
+from .axes import mark_supports, wavelength_axis  # noqa: E402
 
 __all__ = ["case_figure", "summary_figure"]
 
@@ -38,7 +39,11 @@ def case_figure(ds: xr.Dataset, title: str):
     b.plot(np.concatenate([xu + k * L for k in range(reps)]), np.tile(ds["uniform_force"].values, reps) / 1e3, "k--", lw=1.0,
            label="uniform track")
     b.set_xlim(x[0], x[-1])
-    b.set_xlabel("wheel position along the cell (m)")
+    xlabel = "wheel position along the cell (m)"
+    if "support_position" in ds.coords:  # the supports, a differing one (a voided sleeper) in red
+        marks = [(float(p), str(d)) for p, d in zip(ds["support_position"].values, ds["support_difference"].values)]
+        xlabel += "\n" + mark_supports(b, marks + [(float(ds.attrs["cell_period_m"]), marks[0][1])])
+    b.set_xlabel(xlabel)
     b.set_ylabel("contact force (kN)")
     b.set_title(f"one wheel over the smooth rail at {ds.attrs['speed_m_per_s']:g} m/s", fontsize=9)
     b.legend(fontsize=8)
@@ -60,10 +65,9 @@ def case_figure(ds: xr.Dataset, title: str):
     d.set_ylabel("growth (dB per 100,000 axle passages)")
     d.set_title("linearised growth-rate spectrum from the smooth rail", fontsize=9)
     d.legend(fontsize=8)
-    for ax in (c, d):  # plain millimetre ticks on the log axes
-        ax.xaxis.set_major_formatter(matplotlib.ticker.FormatStrFormatter("%g"))
-        ax.xaxis.set_minor_formatter(matplotlib.ticker.NullFormatter())
-        ax.set_xticks([t for t in (20, 30, 50, 100, 200, 300, 500, 1000, 2000) if ax.get_xlim()[0] <= t <= ax.get_xlim()[1]])
+    for ax in (c, d):  # plain millimetre ticks, wavelength decreasing to the right as every study figure
+        lo, hi = ax.get_xlim()
+        wavelength_axis(ax, (lo, hi), pad=1.0, ticks=(20, 30, 50, 100, 200, 300, 500, 1000, 2000))
     lpp = 1e3 * float(ds.attrs["pinned_pinned_wavelength_m"])
     for ax in (c, d):
         ax.axvline(lpp, color="tab:red", lw=0.8, ls=":")

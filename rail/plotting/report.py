@@ -17,6 +17,7 @@ import numpy as np  # noqa: E402
 import xarray as xr  # noqa: E402
 
 from . import text  # noqa: E402
+from .axes import frequency_axis, mark_supports, per_mgt_axis, wavelength_axis  # noqa: E402
 
 __all__ = ["fig02", "fig03", "fig04", "fig05", "fig06", "fig08", "fig09", "fig10", "fig11", "fig_wear", "fig_wear_spectrum", "fig22", "growth_profiles", "growth_spectra", "growth_final_profiles", "growth_3d", "sweep_map"]
 
@@ -194,6 +195,25 @@ def fig_wear_spectrum(ds: xr.Dataset):
 
 
 _STYLES = ["-", "--", "-.", ":"]
+_MARKERS = ["o", "s", "^", "v", "D", "P", "X", "*", "<", ">", "h", "p"]
+
+
+def _speed_name(ds) -> str:
+    """How a run's speed is named on an axis: "mean V" under a fleet, else "V"."""
+    return "mean V" if "fleet_speeds" in ds.attrs else "V"
+
+
+def _speed_text(ds) -> str:
+    """The run's speed for a title: "V = 40 m/s" or "fleet at mean V = 40 m/s"."""
+    return f"{'fleet at ' if 'fleet_speeds' in ds.attrs else ''}{_speed_name(ds)} = {ds.attrs['speed_m_per_s']:g} m/s"
+
+
+def uniform_supports(ds):
+    """The sleepers over a growth dataset's period, every L = period / N from 0 (0 above a sleeper) to the
+    period's end, as (position [m], "") pairs for rail.plotting.axes.mark_supports."""
+    N = int(ds.attrs.get("bays", 1))
+    x = ds["position"].values
+    return [(float(x[0] + j * (x[-1] - x[0]) / N), "") for j in range(N + 1)]
 
 
 def growth_profiles(ds: xr.Dataset):
@@ -241,9 +261,13 @@ def growth_3d(ds: xr.Dataset, axis: str = "wavenumber", name: str = ""):
     ds : xarray.Dataset
         A growth dataset (rail.studies.datasets.growth).
     axis : str
-        "wavenumber" (rad/m, linear; as the report describes the plot, used for the default
-        scenario's section-5 plot) or "wavelength" (mm, log scale; a scenario's plot, as its other
-        figures).
+        "wavenumber" (rad/m, linear; the level as the report describes the plot, used for the default
+        scenario's section-5 plot) or "wavelength" (mm, log scale, decreasing to the right as every
+        study figure; a scenario's plot). Against wavelength the height is the change in level of each
+        line since the initial state (level_change: since the first state with a level when the rail
+        starts smooth), for the lines within 80 dB of the highest, so that the growth, not the
+        spectrum's shape (a jump of tens of dB between neighbouring lines of an N-bay period), sets the
+        scale; the slope along the passage axis is the growth rate either way.
     name : str
         The scenario, named in the title when given.
     """
@@ -254,111 +278,140 @@ def growth_3d(ds: xr.Dataset, axis: str = "wavenumber", name: str = ""):
     level = ds["level"].values
     keep = np.any(np.isfinite(level), axis=1)  # a smooth rail (no level) is left out, not drawn at a floor
     k = ds["wavenumber"].values
-    x = k if axis == "wavenumber" else np.log10(2 * np.pi / k * 1e3)  # mplot3d has no log axis: log10 of mm, ticks in mm
-    xx, nn = np.meshgrid(x, ds["passage"].values[keep])
-    ax.plot_surface(xx, nn / 1e3, level[keep], cmap="viridis", linewidth=0)
     if axis == "wavenumber":
+        xx, nn = np.meshgrid(k, ds["passage"].values[keep])
+        ax.plot_surface(xx, nn / 1e3, level[keep], cmap="viridis", linewidth=0)
         ax.set_xlabel("wavenumber (rad/m)")
+        ax.set_zlabel("level (dB re 1 µm)")
     else:
+        change, ref = level_change(ds)
+        top = float(np.nanmax(level)) if keep.any() else 0.0
+        lines = np.isfinite(level[-1]) & (level[-1] >= top - 80)
+        lam = 2 * np.pi / k[lines] * 1e3
+        order = np.argsort(lam)[::-1]  # long wavelengths first: decreasing to the right
+        x = np.log10(lam[order])  # mplot3d has no log axis: log10 of mm, ticks in mm
+        rows = np.arange(len(level)) >= (ref if ref is not None else len(level))
+        z = change[rows][:, lines][:, order]
+        xx, nn = np.meshgrid(x, ds["passage"].values[rows])
+        lim = max(float(np.nanmax(np.abs(z))) if np.isfinite(z).any() else 1.0, 1e-6)
+        ax.plot_surface(xx, nn / 1e3, z, cmap="RdBu_r", vmin=-lim, vmax=lim, linewidth=0)
         ticks = [t for t in (1, 2, 5, 10, 20, 50, 100, 200, 500, 1000, 2000, 5000) if x.min() - 1e-9 <= np.log10(t) <= x.max() + 1e-9]
         ax.set_xticks(np.log10(ticks), [f"{t:g}" for t in ticks])
+        ax.set_xlim(x.max(), x.min())
         ax.set_xlabel("wavelength (mm, log scale)")
-        ax.set_box_aspect(None, zoom=0.9)  # room for the tick labels in mm below the axis
+        since = "initially" if ref in (0, None) else text.passages(ds["passage"].values[ref])
+        ax.set_zlabel(f"change in level since {since} (dB)" if ref in (0, None) else f"change since {since} (dB)")
+        ax.set_box_aspect(None, zoom=0.85)  # room for the tick labels in mm below the axis
     ax.set_ylabel("passages (thousands)")
-    ax.set_zlabel("level (dB re 1 µm)")
     ax.set_title(f"roughness growth{f' of {name}' if name else ''}, V = {ds.attrs['speed_m_per_s']:g} m/s", fontsize=9)
     return fig
 
 
-def growth_narrowband(ds: xr.Dataset):
+def growth_narrowband(ds: xr.Dataset, supports=None):
     """Growth over a roughness period of N bays: (left) the narrow-band level spectrum against
-    wavelength at the first, middle and last saved passage counts, with the lines of the one-bay
-    comb L / k (every N-th wavenumber) marked; (right) the profiles over the N bays."""
+    wavelength (frequency at the run's speed on top) at the first, middle and last saved passage
+    counts, with the lines of the one-bay comb L / k (every N-th wavenumber) marked; (right) the
+    profiles over the N bays with the supports marked (``supports``: (position [m], description)
+    pairs as rail.plotting.axes.mark_supports takes them; default every sleeper of uniform track)."""
     N = int(ds.attrs.get("bays", 1))
     fig, (a1, a2) = plt.subplots(1, 2, figsize=(11.0, 4.2), layout="constrained")
     lam = 2 * np.pi / ds["wavenumber"].values * 1e3
     n = ds["passage"].values
     picks = sorted({0, len(n) // 2, len(n) - 1})
     comb = (ds["harmonic"].values % N) == 0
+    colours = dict(zip(picks, _passage_colours(picks)))  # line style and colour both tell the saves apart
     for style, i in zip(_STYLES, picks):
         lev = ds["level"].values[i]
-        a1.semilogx(lam, lev, linestyle=style, color="k", lw=0.8, label=text.passages(n[i]))
-        a1.plot(lam[comb], lev[comb], "o", mfc="none", color="k", ms=3)
+        a1.semilogx(lam, lev, linestyle=style, color=colours[i], lw=0.8, label=text.passages(n[i]))
+        a1.plot(lam[comb], lev[comb], "o", mfc="none", color=colours[i], ms=3)
     a1.set_xlabel("wavelength (mm)")
     a1.set_ylabel("roughness level (dB re 1 µm)")
     a1.set_ylim(bottom=max(a1.get_ylim()[0], float(np.nanmax(ds["level"].values)) - 80))
-    a1.set_title(f"narrow band, period {N} bays (circles: the one-bay comb L/k), V = {ds.attrs['speed_m_per_s']:g} m/s", fontsize=9)
+    wavelength_axis(a1, lam)
+    frequency_axis(a1, ds.attrs["speed_m_per_s"], _speed_name(ds))
+    a1.set_title(f"narrow band over {N} bays (circles: the one-bay comb L/k)", fontsize=9)
     a1.legend(fontsize=8)
     for style, i in zip(_STYLES, picks):
-        a2.plot(ds["position"], ds["profile"].values[i] * 1e6, linestyle=style, color="k", lw=0.7, label=text.passages(n[i]))
-    a2.set_xlabel(f"position over the {N}-bay period (m), 0 above a sleeper")
+        a2.plot(ds["position"], ds["profile"].values[i] * 1e6, linestyle=style, color=colours[i], lw=0.7, label=text.passages(n[i]))
+    key = mark_supports(a2, supports if supports is not None else uniform_supports(ds))
+    a2.set_xlabel(f"position over the {N}-bay period (m)\n{key}")
     a2.set_ylabel("roughness (µm)")
     a2.legend(fontsize=8)
+    fig.suptitle(f"{_speed_text(ds)}, roughness period {N} bays", fontsize=9)
+    text.validity_note(fig, ds.attrs)
     return fig
 
 
 def band_spectra(ds: xr.Dataset):
-    """One-third-octave bands of a growth run: (left) band levels at the first, middle and last saved
-    passage counts with a level against the limit; (middle) the level growth rate per band in dB per
-    100,000 axle passages at the last save with its error, as in the band export (the law the data
-    prefer marked: o linear, ^ exponential); (right) the amplitude growth rate in µm per 100,000 axle
-    passages, which ranks the bands where growth is linear (from a smooth rail every such band's dB
-    rate is the same, about 8.7 dB at 100,000 passages)."""
-    fig, (a1, a2, a3) = plt.subplots(1, 3, figsize=(15.0, 4.2), layout="constrained")
+    """One-third-octave bands of a growth run: (left) band levels at every saved passage count with a
+    level (one colour and marker per save, up to _MAX_LEGEND saves evenly chosen) against the limit;
+    (middle) the level growth rate per band in dB per 100,000 axle passages at the last save with its
+    error, as in the band export, and in dB per MGT on the right when the traffic's axle load is known
+    (the law the data prefer marked: o linear, ^ exponential); (right) the amplitude growth rate in µm
+    per 100,000 axle passages, which ranks the bands where growth is linear (from a smooth rail every
+    such band's dB rate is the same, about 8.7 dB at 100,000 passages). Wavelength decreases to the
+    right with the band's frequency at the run's speed on top; one key beside the panels."""
+    fig, (a1, a2, a3) = plt.subplots(1, 3, figsize=(15.0, 4.6), layout="constrained")
     lam = ds["nominal_wavelength"].values * 1e3
     n = ds["passage"].values
     res = ds["resolved"].values.astype(bool)
     has = np.nonzero(np.isfinite(ds["level"].values[:, res]).any(axis=1))[0] if res.any() else np.arange(len(n))
     has = has if has.size else np.arange(len(n))  # the saves with a level (not the smooth rail at the start)
-    for style, i in zip(_STYLES, sorted({int(has[0]), int(has[len(has) // 2]), int(has[-1])})):
+    shown = has if has.size <= _MAX_LEGEND else has[np.unique(np.linspace(0, has.size - 1, _MAX_LEGEND).round().astype(int))]
+    colours = _passage_colours(shown)
+    for j, i in enumerate(shown):
         days = ds["days"].values[i]
-        label = f"{text.count(n[i])} axle passages" + (f" ({text.count(days)} days)" if np.isfinite(days) else "")
-        a1.semilogx(lam[res], ds["level"].values[i][res], linestyle=style, marker="o", ms=3, color="k", lw=0.8, label=label)
+        label = f"{text.count(n[i])}" + (f" ({text.count(days)} day{'' if days == 1 else 's'})" if np.isfinite(days) else "")
+        a1.plot(lam[res], ds["level"].values[i][res], color=colours[j], marker=_MARKERS[j % len(_MARKERS)], ms=3.5, lw=0.9,
+                label=label)
     if np.isfinite(ds["limit"].values).any():
-        a1.semilogx(lam, ds["limit"].values, color="0.5", lw=2, label="limit")
+        a1.plot(lam, ds["limit"].values, color="0.5", lw=2.5, label="limit")
     if "rate_floor_dB_re_1um" in ds.attrs:  # below it a band's rate is not ranked (rail.studies.bands)
         a1.axhline(float(ds.attrs["rate_floor_dB_re_1um"]), color="0.5", lw=0.8, ls=":", label="floor: rates below not ranked")
-    a1.invert_xaxis()
-    a1.set_xlabel("one-third-octave band, centre wavelength (mm)")
+    wavelength_axis(a1, lam)
+    a1.set_xlabel("band centre wavelength (mm)")
     a1.set_ylabel("roughness level (dB re 1 µm)")
+    a1.set_title("band levels", fontsize=9)
     nb = int(ds.attrs['bays'])
-    speed = (f"fleet at mean V = {ds.attrs['speed_m_per_s']:g} m/s" if "fleet_speeds" in ds.attrs
-             else f"V = {ds.attrs['speed_m_per_s']:g} m/s")
-    title = f"{speed}, roughness period {nb} bay{'s' if nb > 1 else ''}"
+    title = f"{_speed_text(ds)}, roughness period {nb} bay{'s' if nb > 1 else ''}"
     if ds.attrs.get("grinding_interval_text"):
         title += "\n" + ds.attrs["grinding_interval_text"]
     fig.suptitle(title, fontsize=9)
-    a1.legend(fontsize=7)
     law = ds["growth_law"].values
     # the rates of the ranked bands only: a band below the floor grows from nothing (rail.studies.bands)
     rank = res & (ds["ranked"].values.astype(bool) if "ranked" in ds else True)
     floor = ds.attrs.get("rate_floor_dB_re_1um")
-    below = (f"\n{int((res & ~rank).sum())} bands below {floor:g} dB re 1 µm not ranked (growth from nothing)"
-             if floor is not None and (res & ~rank).any() else "")
+    below = ([(f"{int((res & ~rank).sum())} bands below {floor:g} dB re 1 µm have no rate drawn (growth from nothing: not ranked)", "0.2")]
+             if floor is not None and (res & ~rank).any() else [])
     _band_rate_panel(a2, lam, ds["growth_dB_per_1e5_axles"].values, ds["growth_dB_per_1e5_axles_error"].values, rank, law,
-                     a1.get_xlim(), "level growth (dB per 100,000 axle passages)", "level growth rate at the last save" + below)
-    a2.legend(fontsize=7)
+                     "level growth\n(dB per 100,000 axle passages)", "level growth rate at the last save")
+    load = ds.attrs.get("axle_load_t", ds.attrs.get("mean_axle_load_t"))  # a fleet states its traffic-weighted mean
+    if load is not None:
+        per_mgt_axis(a2, float(load))
     _band_rate_panel(a3, lam, ds["amplitude_growth_um_per_1e5_axles"].values, ds["amplitude_growth_um_per_1e5_axles_error"].values,
-                     rank, law, a1.get_xlim(), "amplitude growth (µm rms per 100,000 axle passages)",
-                     "amplitude growth rate: ranks the linearly growing bands" + below)
-    text.validity_note(fig, ds.attrs)
+                     rank, law, "amplitude growth\n(µm rms per 100,000 axle passages)", "amplitude growth rate (ranks linear growth)")
+    for a in (a1, a2, a3):
+        frequency_axis(a, ds.attrs["speed_m_per_s"], _speed_name(ds))
+    handles, labels = a1.get_legend_handles_labels()
+    h2, l2 = a2.get_legend_handles_labels()
+    fig.legend(handles + h2, labels + l2, title="axle passages", loc="outside right upper", fontsize=7, title_fontsize=8)
+    text.validity_note(fig, ds.attrs, below)
     return fig
 
 
-def _band_rate_panel(ax, lam, value, err, resolved, law, xlim, ylabel, title):
+def _band_rate_panel(ax, lam, value, err, resolved, law, ylabel, title):
     """One rate panel of band_spectra: the resolved bands' rates with their errors, marked by the
     growth law that fits better, against the band's centre wavelength (mm, the levels' axis)."""
     ok = resolved & np.isfinite(value)
     ax.errorbar(lam[ok], value[ok], yerr=err[ok], fmt="none", ecolor="k", lw=0.6)
     for mark, name in (("o", "linear"), ("^", "exponential")):
         sel = ok & (law == name)
-        ax.semilogx(lam[sel], value[sel], mark, color="k", mfc="none", label=f"{name} growth fits better")
+        ax.plot(lam[sel], value[sel], mark, color="k", mfc="none", label=f"{name} growth fits better")
     ax.axhline(0.0, color="0.6", lw=0.6)
-    ax.set_xscale("log")
-    ax.set_xlim(xlim)  # already inverted: the same bands under each other
-    ax.set_xlabel("one-third-octave band, centre wavelength (mm)")
+    wavelength_axis(ax, lam)  # the same bands under each other
+    ax.set_xlabel("band centre wavelength (mm)")
     ax.set_ylabel(ylabel)
-    ax.set_title(title, fontsize=8)
+    ax.set_title(title, fontsize=9)
 
 
 def sweep_panels(ds: xr.Dataset, name: str, across: str, extra_width: float = 0.0):
@@ -446,17 +499,6 @@ def _passage_key(fig, n, colours, drawn):
     bar.set_ticks(ticks, labels=[text.count(n[i]) for i in ticks])
 
 
-def _mm_axis(ax, lam_mm):
-    """A log wavelength axis in mm over the lines lam_mm, ticked at round values written plainly
-    (20, 50, 100, not 2×10¹)."""
-    lo, hi = float(np.min(lam_mm)), float(np.max(lam_mm))
-    ax.set_xscale("log")
-    ax.set_xlim(lo / 1.05, hi * 1.05)
-    ax.set_xticks([t for t in (1, 2, 5, 10, 20, 50, 100, 200, 500, 1000, 2000, 5000, 10000) if lo / 1.05 <= t <= hi * 1.05])
-    ax.xaxis.set_major_formatter(matplotlib.ticker.FormatStrFormatter("%g"))
-    ax.xaxis.set_minor_formatter(matplotlib.ticker.NullFormatter())
-
-
 def level_change(ds: xr.Dataset):
     """Change in level of every line since a reference state [dB]: the initial state where it has a
     level, else (a smooth rail) the first saved state with a level. Returns (change, ref): change of
@@ -470,17 +512,21 @@ def level_change(ds: xr.Dataset):
     return level - level[ref], ref
 
 
-def scenario_overview(ds: xr.Dataset, default: xr.Dataset | None = None, name: str = "", default_note: str = ""):
+def scenario_overview(ds: xr.Dataset, default: xr.Dataset | None = None, name: str = "", default_note: str = "", supports=None):
     """A growth run of any scenario on one page, every saved passage count in one colour per count
     (legend, or a colour bar beyond 16 counts):
     (a) the narrow-band level against wavelength, with the default scenario's final spectrum at the
-    same speed (grey) or, when there is none, a note saying so (``default_note``, or a generic one);
+    same speed (grey) or, when there is none, a note saying so (``default_note``, or a generic one) in
+    the box of notes below the panels;
     (b) the change in level of every line since the initial state (since the first state with a level
     when the rail starts smooth; then linear amplitude growth gives 20 log10(n / n_ref) dB at every
     line, drawn as dotted lines), for the lines within 80 dB of the highest;
-    (c) the profiles over the period; (d) the contact force of the first wheel at the start and the end.
+    (c) the profiles over the period; (d) the contact force of the first wheel at the start and the end;
+    on (c) and (d) the supports (``supports``: (position [m], description) pairs as
+    rail.plotting.axes.mark_supports takes them; default every sleeper of uniform track).
+    Wavelength decreases to the right, with the frequency at the run's speed on top.
     """
-    fig, axes = plt.subplots(2, 2, figsize=(13.0, 8.0), layout="constrained")
+    fig, axes = plt.subplots(2, 2, figsize=(13.0, 8.5), layout="constrained")
     (a1, a4), (a2, a3) = axes
     N = int(ds.attrs.get("bays", 1))
     lam = 2 * np.pi / ds["wavenumber"].values * 1e3
@@ -488,20 +534,20 @@ def scenario_overview(ds: xr.Dataset, default: xr.Dataset | None = None, name: s
     colours = _passage_colours(n)
     level = ds["level"].values
     drawn = np.isfinite(level).any(axis=1)
+    notes = []
     for i in range(len(n)):
         if drawn[i]:
-            a1.semilogx(lam, level[i], color=colours[i], lw=0.8)
+            a1.plot(lam, level[i], color=colours[i], lw=0.8)
     if default is not None:
         dl = 2 * np.pi / default["wavenumber"].values * 1e3
-        a1.semilogx(dl, default["level"].values[-1], color="0.6", lw=1.6, zorder=0,
-                    label=f"default scenario, {text.passages(default['passage'].values[-1])}")
-        a1.legend(fontsize=7, loc="lower left")
+        a1.plot(dl, default["level"].values[-1], color="0.6", lw=1.6, zorder=0,
+                label=f"default scenario, {text.passages(default['passage'].values[-1])}")
+        a1.legend(fontsize=7, loc="lower right")
     elif name != "default":
-        a1.text(0.02, 0.98, default_note or "no default run to compare with", transform=a1.transAxes, fontsize=7,
-                va="top", ha="left", color="firebrick", bbox={"facecolor": "w", "edgecolor": "firebrick", "lw": 0.6})
+        notes.append((default_note or "no default run to compare with", "firebrick"))
     a1.set_xlabel("wavelength (mm)")
     a1.set_ylabel("roughness level (dB re 1 µm)")
-    _mm_axis(a1, lam)
+    wavelength_axis(a1, lam)
     top = float(np.nanmax(level)) if drawn.any() else 0.0
     a1.set_ylim(top - 80, top + 5)
     a1.set_title("(a) roughness level of each line", fontsize=9)
@@ -510,22 +556,26 @@ def scenario_overview(ds: xr.Dataset, default: xr.Dataset | None = None, name: s
     shown = np.isfinite(level[-1]) & (level[-1] >= top - 80)
     if ref is not None:
         for i in range(ref + 1, len(n)):
-            a4.semilogx(lam[shown], change[i][shown], color=colours[i], lw=0.8)
+            a4.plot(lam[shown], change[i][shown], color=colours[i], lw=0.8)
             if ref > 0:  # from a smooth rail: the change of a line growing linearly in amplitude
                 a4.axhline(20 * np.log10(n[i] / n[ref]), color=colours[i], lw=0.8, ls=":")
-        since = ("the start" if ref == 0 else
-                 f"{text.passages(n[ref])}\n(the rail starts smooth; dotted: linear growth, 20 log10(n / {text.count(n[ref])}) dB)")
+        since = "the start" if ref == 0 else text.passages(n[ref])
+        if ref > 0:
+            notes.append((f"(b) the rail starts smooth, so the change is since {text.passages(n[ref])}; dotted: linear growth in "
+                          f"amplitude, 20 log10(n / {text.count(n[ref])}) dB", "0.2"))
     else:
         since = "the start (no state has a level)"
     a4.axhline(0.0, color="0.3", lw=0.6)
     a4.set_xlabel("wavelength (mm)")
-    _mm_axis(a4, lam)
+    wavelength_axis(a4, lam)
     a4.set_ylabel("change in level (dB)")
-    a4.set_title(f"(b) change in level of each line since {since}", fontsize=9)
+    a4.set_title(f"(b) change in level since {since}", fontsize=9)
+    for a in (a1, a4):
+        frequency_axis(a, ds.attrs["speed_m_per_s"], _speed_name(ds))
 
+    marks = supports if supports is not None else uniform_supports(ds)
     for i in range(len(n)):
         a2.plot(ds["position"], ds["profile"].values[i] * 1e6, color=colours[i], lw=0.7)
-    a2.set_xlabel(f"position over the {N}-bay period (m), 0 above a sleeper")
     a2.set_ylabel("roughness (µm)")
     a2.set_title("(c) roughness profile", fontsize=9)
     if "force" in ds:
@@ -534,13 +584,12 @@ def scenario_overview(ds: xr.Dataset, default: xr.Dataset | None = None, name: s
                     label=text.after(n[i]).capitalize())
         a3.set_ylabel("contact force, first wheel (kN)")
         a3.legend(fontsize=7)
-    a3.set_xlabel(f"position over the {N}-bay period (m)")
     a3.set_title("(d) contact force at the start and the end", fontsize=9)
+    for a in (a2, a3):
+        a.set_xlabel(f"position over the {N}-bay period (m)\n{mark_supports(a, marks)}")
     _passage_key(fig, n, colours, drawn)
     contact = ds.attrs.get("normal_contact")
-    speed = (f"fleet at mean V = {ds.attrs['speed_m_per_s']:g} m/s" if "fleet_speeds" in ds.attrs
-             else f"V = {ds.attrs['speed_m_per_s']:g} m/s")
-    title = (f"{name + ': ' if name else ''}{speed}, roughness period {N} bay{'s' if N > 1 else ''}"
+    title = (f"{name + ': ' if name else ''}{_speed_text(ds)}, roughness period {N} bay{'s' if N > 1 else ''}"
              + (f", normal contact {contact}" if contact else ""))
     if ds.attrs.get("stopped"):  # the run left the model: say where, on the page
         reason = ds.attrs["stopped"].split(": ", 2)
@@ -548,5 +597,5 @@ def scenario_overview(ds: xr.Dataset, default: xr.Dataset | None = None, name: s
                      "the states up to there are shown", fontsize=10, color="firebrick")
     else:
         fig.suptitle(title, fontsize=10)
-    text.validity_note(fig, ds.attrs)
+    text.validity_note(fig, ds.attrs, notes)
     return fig

@@ -15,6 +15,7 @@ import numpy as np  # noqa: E402
 import xarray as xr  # noqa: E402
 
 from . import text  # noqa: E402
+from .axes import frequency_axis, per_mgt_axis, wavelength_axis  # noqa: E402
 from .report import sweep_panels  # noqa: E402
 
 __all__ = ["closure_spectra", "closure_wear_spectra", "convergence_figure"]
@@ -106,13 +107,20 @@ def _wavelength_edges(lam):
 
 
 def _wavelength_axis(ax, lam_edges):
-    """A log wavelength axis (mm) spanning the lines, with round ticks inside it only."""
-    lo, hi = float(lam_edges.min()), float(lam_edges.max())
-    ax.set_xscale("log")
-    ax.set_xticks([t for t in (5, 10, 20, 30, 50, 100, 200, 300, 600) if lo <= t <= hi])
-    ax.set_xlim(lo, hi)
-    ax.xaxis.set_major_formatter(matplotlib.ticker.FormatStrFormatter("%g"))
-    ax.xaxis.set_minor_formatter(matplotlib.ticker.NullFormatter())
+    """A log wavelength axis (mm) spanning the lines' cells, decreasing to the right (rail.plotting.axes),
+    with round ticks inside it only."""
+    wavelength_axis(ax, lam_edges, pad=1.0, ticks=(5, 10, 20, 30, 50, 100, 200, 300, 600, 1000, 2000))
+
+
+def _rate_axes(ax, ds, speed=None, what="V"):
+    """The secondary axes of a growth-rate panel against wavelength: the frequency at ``speed`` on top
+    (none when the panel holds several speeds) and dB per MGT on the right when the dataset states its
+    axle load (attribute axle_load_t, or a fleet's mean_axle_load_t)."""
+    if speed is not None:
+        frequency_axis(ax, speed, what)
+    load = ds.attrs.get("axle_load_t", ds.attrs.get("mean_axle_load_t"))  # a fleet states its traffic-weighted mean
+    if load is not None:
+        per_mgt_axis(ax, float(load))
 
 
 def _growth_norm(values):
@@ -144,14 +152,17 @@ def rate_spectrum_figure(ds: xr.Dataset):
     ax.set_ylabel(GROWTH_LABEL)
     if not one:
         ax.legend(fontsize=8, ncol=2, loc="best", framealpha=0.9)
-    ax.set_title(f"linearised growth-rate spectrum{f' at {float(ds.speed.values[0]):g} m/s' if one else ''} "
-                 f"({int(ds.attrs['wheels'])} wheel(s), probe {ds.attrs['eps_m'] * 1e9:g} nm; grey: comb L/k)", fontsize=9)
+    wheels = int(ds.attrs['wheels'])
+    ax.set_title(f"linearised growth-rate spectrum{f' at {float(ds.speed.values[0]):g} m/s' if one else ''}, "
+                 f"{wheels} wheel{'' if wheels == 1 else 's'}", fontsize=9)
+    method = [(f"probe amplitude {ds.attrs['eps_m'] * 1e9:g} nm; grey lines: the one-bay comb L/k", "0.2")]
     lam_edges = _wavelength_edges(lam)
     if one:
         ax.set_xlabel("wavelength (mm)")
         _wavelength_axis(ax, lam_edges)
+        _rate_axes(ax, ds, float(ds.speed.values[0]))
         _mark_contact(ds, (ax,), lam_edges)
-        text.validity_note(fig, ds.attrs)
+        text.validity_note(fig, ds.attrs, method)
         return fig
     norm, ticks = _growth_norm(g.values)
     V = ds["speed"].values
@@ -162,8 +173,9 @@ def rate_spectrum_figure(ds: xr.Dataset):
     bx.set_ylabel("speed (m/s)")
     for a in (ax, bx):
         _wavelength_axis(a, lam_edges)
+    _rate_axes(ax, ds)
     _mark_contact(ds, (ax, bx), lam_edges)
-    text.validity_note(fig, ds.attrs)
+    text.validity_note(fig, ds.attrs, method)
     return fig
 
 
@@ -179,7 +191,7 @@ def _mark_contact(ds: xr.Dataset, axes, lam_edges):
             a.axvline(two_a, color="k", ls="--", lw=0.9)
             if i == 0:
                 a.text(two_a, 0.02, f" contact length 2a = {two_a:.1f} mm", transform=a.get_xaxis_transform(), fontsize=7,
-                       rotation=90, va="bottom", ha="right")
+                       rotation=90, va="bottom", ha="left")
         if "report_model_valid_above_m" in ds.attrs:
             limit = 1e3 * float(ds.attrs["report_model_valid_above_m"])
             if limit > lo:
@@ -231,6 +243,7 @@ def fleet_spectrum_figure(ds: xr.Dataset, title: str = ""):
         ax.axvline(x, color="k", ls=":", lw=1)
         ax.text(x, 0.98, f" pinned-pinned {x:.1f} mm", transform=ax.get_xaxis_transform(), fontsize=7, va="top")
     _wavelength_axis(ax, _wavelength_edges(lam))
+    _rate_axes(ax, ds, ds.attrs.get("mean_speed_m_per_s"), "mean V")
     ax.set_xlabel("wavelength (mm)")
     ax.set_ylabel(GROWTH_LABEL)
     ax.set_title(title or f"growth-rate spectrum under the fleet ({ds.attrs.get('scenario', '')})", fontsize=9)
@@ -253,8 +266,9 @@ def traffic_study_figure(ds: xr.Dataset):
         ax.axvline(pp, color="k", ls=":", lw=1)
         ax.text(pp, 0.98, f" pinned-pinned {pp:.1f} mm", transform=ax.get_xaxis_transform(), fontsize=7, va="top")
         _wavelength_axis(ax, _wavelength_edges(lam))
+        frequency_axis(ax, float(ds.attrs["mean_speed_m_per_s"]), "mean V")
         ax.set_xlabel("wavelength (mm)")
-        ax.set_title(f"locomotive {d}, mean {float(ds.attrs['mean_speed_m_per_s']):g} m/s", fontsize=9)
+        ax.set_title(f"locomotive {d}", fontsize=9)
     axes[0][0].set_ylabel(GROWTH_LABEL)
     axes[0][0].legend(fontsize=7, loc="best", framealpha=0.9)
     return fig

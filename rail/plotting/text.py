@@ -9,8 +9,9 @@ from __future__ import annotations
 
 import math
 import numbers
+import textwrap
 
-__all__ = ["count", "passages", "after", "limit_reached", "number"]
+__all__ = ["count", "passages", "after", "limit_reached", "number", "validity_notes", "validity_note"]
 
 _SUPERSCRIPT = str.maketrans("-0123456789", "⁻⁰¹²³⁴⁵⁶⁷⁸⁹")
 
@@ -73,22 +74,37 @@ def number(x, significant: int = 3) -> str:
     return power if m == "1" else f"{m}×{power}"
 
 
-def validity_note(fig, attrs) -> None:
-    """A note in a top corner of a figure saying where its result leaves the model or how the wear was
-    placed (issue 42): in red when the contact-centre flag is raised (attribute contact_shift_warning),
-    in grey when the wear is on the patch's true path; nothing for the report's model within its range,
-    so that the report's figures are unchanged.
+def validity_notes(attrs) -> list:
+    """The notes saying where a result leaves the model or how the wear was placed (issue 42), as
+    (text, colour): red when the contact-centre flag is raised (attribute contact_shift_warning), grey
+    when the wear is on the patch's true path; none for the report's model within its range.
 
     Parameters
     ----------
-    fig : matplotlib Figure
     attrs : mapping
         The plotted dataset's attributes (wear_path, contact_shift_warning).
     """
     warning = attrs.get("contact_shift_warning")
     if warning:
-        fig.text(0.003, 0.998, "outside validity: " + " ".join(str(warning).split())[:120] + "...", fontsize=6.5,
-                 color="firebrick", ha="left", va="top")
-    elif str(attrs.get("wear_path", "")).startswith("patch"):
-        fig.text(0.997, 0.998, "wear on the contact patch's true path (docs/contact.md)", fontsize=6.5, color="0.4",
-                 ha="right", va="top")
+        return [("\n".join(textwrap.wrap("outside validity: " + " ".join(str(warning).split()), 150)), "firebrick")]
+    if str(attrs.get("wear_path", "")).startswith("patch"):
+        return [("wear on the contact patch's true path (docs/contact.md)", "0.4")]
+    return []
+
+
+def validity_note(fig, attrs, extra=()) -> None:
+    """The notes of ``extra`` ((text, colour) pairs) and validity_notes(attrs) in one box below the axes
+    (rail.plotting.axes.footer: never over a curve or a label); nothing when there are none, so that
+    the report's figures are unchanged.
+
+    Parameters
+    ----------
+    fig : matplotlib Figure (constrained layout)
+    attrs : mapping
+        The plotted dataset's attributes (wear_path, contact_shift_warning).
+    extra : sequence of (str, colour)
+        Notes of the figure itself, first.
+    """
+    from .axes import footer
+
+    footer(fig, [*extra, *validity_notes(attrs)])

@@ -17,7 +17,7 @@ import numpy as np
 import yaml
 from jsonschema import Draft202012Validator
 
-__all__ = ["ConfigError", "load_yaml", "deep_merge", "validate_config", "resolve", "expand_sweep", "check_scenario_names",
+__all__ = ["ConfigError", "load_yaml", "deep_merge", "validate_config", "resolve", "FLEET_SPECTRUM_KEYS", "fleet_spectrum", "expand_sweep", "check_scenario_names",
            "scenario_files", "RESERVED_SCENARIO_NAMES", "SCENARIO_SUFFIXES"]
 
 
@@ -366,13 +366,49 @@ def validate_config(cfg: dict, schema: dict, source: str = "config") -> dict:
     return cfg
 
 
+FLEET_SPECTRUM_KEYS = ("bays", "shortest", "longest", "per_octave", "eps", "grid_phases")
+
+
 def resolve(defaults: dict, schema: dict, scenario: dict | None = None, source: str = "config") -> dict:
     """Merge a scenario (only the keys that differ) onto the defaults and validate the result.
 
-    Problems are reported against ``source``, the scenario file's name.
+    Problems are reported against ``source``, the scenario file's name. With a fleet, the
+    figures.rate_spectrum every door reads for the class spectra is the fleet's (fleet_spectrum).
     """
     merged = deep_merge(defaults, scenario or {})
-    return validate_config(merged, schema, source)
+    cfg = validate_config(merged, schema, source)
+    return fleet_spectrum(cfg, scenario or {}, schema, source) if cfg.get("fleet") is not None else cfg
+
+
+def fleet_spectrum(cfg: dict, scenario: dict, schema: dict, source: str) -> dict:
+    """A fleet's configuration with figures.rate_spectrum set to the class spectra's settings: the keys
+    of fleet.spectrum as the file gives them, else the schema's defaults (sized for a 2-core, 8 GB
+    machine, docs/traffic.md); figures.rate_spectrum.speeds is kept (a fleet does not use it).
+
+    Parameters
+    ----------
+    cfg : dict
+        The validated configuration, with a fleet.
+    scenario : dict
+        The scenario's own keys (before the merge): a figures.rate_spectrum key other than speeds is
+        refused, since a fleet would not use it.
+    schema : dict
+    source : str
+        The scenario file, named in the error.
+
+    Raises
+    ------
+    ConfigError
+        One line naming the key and the fleet.spectrum key to set instead.
+    """
+    given = [k for k in ((scenario.get("figures") or {}).get("rate_spectrum") or {}) if k != "speeds"]
+    if given:
+        raise ConfigError(f"invalid configuration:\n  {source}: figures.rate_spectrum.{given[0]} is not used by a fleet: its class "
+                          f"spectra take fleet.spectrum (docs/traffic.md); set fleet.spectrum.{given[0]} instead.")
+    out = copy.deepcopy(cfg)
+    out["figures"]["rate_spectrum"] = {**out["figures"]["rate_spectrum"],
+                                       **{k: setting(out, f"fleet.spectrum.{k}", schema) for k in FLEET_SPECTRUM_KEYS}}
+    return out
 
 
 # What every scenario file starts from on top of config/config.yaml: config.yaml reproduces the report

@@ -4,7 +4,9 @@ A Snakemake script job writes to its log file; its terminal is the Snakemake pro
 writes every line to the log unchanged and, when there is a terminal, keeps a live progress bar
 there (tqdm) that follows the "<done> of <total> <unit>" lines of the long jobs (growth: "passages",
 receptance tables: "tables" or "node blocks", growth-rate spectrum: "probe batches"); other lines
-(warnings, resuming) are printed above the bar. Nothing is lost from the log.
+(warnings, resuming) are printed above the bar. Nothing is lost from the log. A count's lines in the
+log say the time used and the time left (``progress_lines``: "3 of 10 probe batches, 6 min elapsed,
+about 14 min left"; the growth loop writes its own "s left").
 
 The terminal is the process's stderr if that is a TTY, else the controlling terminal /dev/tty if
 the process has one (Snakemake run as ``snakemake ... 2>&1 | tee run.txt`` or with its stderr in a
@@ -24,7 +26,7 @@ import time
 
 from tqdm import tqdm
 
-__all__ = ["Tee", "controlling_terminal", "progress_lines"]
+__all__ = ["Tee", "controlling_terminal", "time_left", "duration", "Progress", "progress_lines"]
 
 _DONE = re.compile(r"^(\d+) of (\d+) ([^,(\n]+)")
 _FALLBACK_COLUMNS = 80
@@ -133,10 +135,84 @@ class Tee:
             self.terminal = None
 
 
-def progress_lines(stream, prefix: str = ""):
+def time_left(done: float, total: float, elapsed: float) -> float | None:
+    """Seconds left of a count, extrapolated from the fraction done: elapsed (total - done) / done.
+
+    Parameters
+    ----------
+    done, total : float
+        Steps done and steps in all [-] (0 <= done <= total).
+    elapsed : float
+        Seconds since the count started [s], >= 0.
+
+    Returns
+    -------
+    float or None
+        None before the first step is done (nothing to extrapolate from), or for an empty count.
+    """
+    if done <= 0 or total <= 0:
+        return None
+    return max(elapsed, 0.0) * max(total - done, 0.0) / done
+
+
+def duration(seconds: float) -> str:
+    """A time span as a reader takes it in: "45 s", "12 min", "2.3 h" (seconds below 2 minutes, minutes
+    below 2 hours)."""
+    if seconds < 120:
+        return f"{seconds:.0f} s"
+    if seconds < 7200:
+        return f"{seconds / 60:.0f} min"
+    return f"{seconds / 3600:.1f} h"
+
+
+class Progress:
+    """The lines of a progress callback with the time used and the time left.
+
+    A "<done> of <total> <unit>" line gets ", <elapsed> elapsed, about <left> left": elapsed since the
+    callback was made, left extrapolated from the fraction done of that count (time_left). Each count
+    (unit and total) is timed on its own, so that a job counting tables, and node blocks within each
+    table, states both: a count's clock starts at its "0 of" line, or when it has none at the
+    callback's making (its first run) or at the line before (a count that starts again). Any other line
+    gets the elapsed time.
+
+    Parameters
+    ----------
+    clock : callable
+        Seconds, monotonic (default time.perf_counter; a test passes a fake one).
+    """
+
+    def __init__(self, clock=time.perf_counter):
+        self.clock = clock
+        self.t0 = self.last = clock()
+        self._counts = {}  # (unit, total) -> (last done, start time)
+
+    def line(self, text: str) -> str:
+        """The line to write for ``text``."""
+        now = self.clock()
+        elapsed = now - self.t0
+        m = _DONE.match(text)
+        if m is None:
+            self.last = now
+            return f"{text}, {duration(elapsed)} elapsed"
+        done, total, unit = int(m.group(1)), int(m.group(2)), m.group(3).strip()
+        key = (unit, total)
+        if key not in self._counts:
+            start = now if done == 0 else self.t0
+        elif done < self._counts[key][0]:
+            start = now if done == 0 else self.last
+        else:
+            start = self._counts[key][1]
+        self._counts[key] = (done, start)
+        self.last = now
+        left = time_left(done, total, now - start)
+        return f"{text}, {duration(elapsed)} elapsed" + ("" if left is None else f", about {duration(left)} left")
+
+
+def progress_lines(stream, prefix: str = "", clock=time.perf_counter):
     """A progress callback for rail's long computations (``progress=`` of rail.chain.track_table,
     rail.growth_spectrum.rate_spectrum): each line it is given is written to ``stream`` (a log or a
-    Tee) with the seconds since the callback was made, and flushed.
+    Tee) with the time since the callback was made and, on a "<done> of <total>" line, the time left
+    (Progress), and flushed.
 
     Parameters
     ----------
@@ -144,20 +220,22 @@ def progress_lines(stream, prefix: str = ""):
     prefix : str
         Put before each line (e.g. "receptance V40: "); a "<done> of <total>" line keeps its start
         so that a Tee draws it as a bar, the prefix is then appended in brackets.
+    clock : callable
+        Seconds, monotonic (a test passes a fake one).
 
     Returns
     -------
     callable
         ``callback(text)``.
     """
-    t0 = time.perf_counter()
+    timer = Progress(clock)
 
     def callback(text: str) -> None:
-        elapsed = time.perf_counter() - t0
+        line = timer.line(text)
         if _DONE.match(text):
-            line = f"{text}, {elapsed:.0f} s" + (f" [{prefix.rstrip(': ')}]" if prefix else "")
+            line += f" [{prefix.rstrip(': ')}]" if prefix else ""
         else:
-            line = f"{prefix}{text}, {elapsed:.0f} s"
+            line = prefix + line
         print(line, file=stream, flush=True)
 
     return callback

@@ -8,7 +8,7 @@ import dataclasses
 
 import numpy as np
 
-__all__ = ["TRAFFIC_KEYS", "traffic_cases", "class_key", "check_convergence_study"]
+__all__ = ["TRAFFIC_KEYS", "traffic_cases", "class_key", "ClassEstimate", "class_estimate", "check_convergence_study"]
 
 
 # The traffic study (config/traffic_study.yaml, README "Traffic"): cases of one fleet at a spread of
@@ -23,7 +23,7 @@ def _study_error(key, value, rule):
 
 def traffic_cases(study: dict) -> dict:
     """The scenario mappings of the traffic study, one per (drive, spread): the keys a scenario file
-    would hold (``fleet`` and ``figures.rate_spectrum``), named ``traffic_study-<drive>-s<percent>``.
+    would hold (``fleet``, with the study's ``spectrum`` as ``fleet.spectrum``), named ``traffic_study-<drive>-s<percent>``.
 
     Parameters
     ----------
@@ -31,7 +31,7 @@ def traffic_cases(study: dict) -> dict:
         config/traffic_study.yaml: speed [m/s], spreads [-] (uniform on speed (1 -+ s)), distribution
         ('uniform' or 'normal': a normal of standard deviation s speed / sqrt(3), the uniform's),
         classes [-], vehicles (name, positions [m], static_load [N], unsprung_mass [kg], share [-]),
-        drives ({drive: {vehicle: creepage [-]}}), spectrum (figures.rate_spectrum keys).
+        drives ({drive: {vehicle: creepage [-]}}), spectrum (fleet.spectrum keys).
 
     Returns
     -------
@@ -85,13 +85,17 @@ def traffic_cases(study: dict) -> dict:
                 speeds = {"distribution": "normal", "mean": float(V), "std": V * s / np.sqrt(3), "classes": n}
             fleet = {"vehicles": [{**v, "creepage": [float(creep[v["name"]])] * len(v["positions"])} for v in vehicles],
                      "speeds": speeds}
-            out[f"traffic_study-{d}-s{100 * s:g}"] = {"fleet": fleet, "figures": {"rate_spectrum": dict(study["spectrum"])}}
+            out[f"traffic_study-{d}-s{100 * s:g}"] = {"fleet": {**fleet, "spectrum": dict(study["spectrum"])}}
     return out
 
 
 def class_key(fleet_class, settings: dict) -> str:
-    """A name for one class's spectrum that is the same in every fleet holding the class: a hash of its
-    scenario (vehicle, speed, track, contact, ...; not its name) and the spectrum's settings.
+    """A name for one class's spectrum that says what it holds and is the same in every fleet holding
+    the class: ``<vehicle>_V<speed>_<hash>``, the vehicle's name (characters other than letters,
+    digits, ``.`` and ``-`` written as ``-``), the speed to four significant figures, and a hash of its
+    scenario (vehicle, speed, track, contact, ...; not the scenario's name) and the spectrum's settings,
+    which keeps two classes of the same vehicle and speed on other tracks or settings apart. The name
+    is a label only: the plan maps it to its class, nothing parses it back.
 
     Parameters
     ----------
@@ -102,14 +106,65 @@ def class_key(fleet_class, settings: dict) -> str:
     Returns
     -------
     str
-        16 hexadecimal digits.
+        e.g. ``locomotive_V40_3f2a9c0d1e4b5a67`` (the hash: 16 hexadecimal digits).
     """
     import hashlib
     import json
+    import re
 
     scn = dataclasses.replace(fleet_class.scenario, name="")
     text = repr(scn) + json.dumps({k: settings[k] for k in sorted(settings) if k != "speeds"}, sort_keys=True, default=str)
-    return hashlib.sha256(text.encode()).hexdigest()[:16]
+    vehicle = re.sub(r"[^A-Za-z0-9.-]+", "-", str(fleet_class.vehicle)).strip("-") or "vehicle"
+    return f"{vehicle}_V{fleet_class.speed:.4g}_{hashlib.sha256(text.encode()).hexdigest()[:16]}"
+
+
+# A class spectrum's cost (rule fleet_class_spectrum), fitted to max_rss and CPU time of measured jobs
+# (docs/traffic.md, docs/cluster.md): the four-axle locomotive and coach of the traffic study, 17 axle offsets.
+CLASS_MEMORY_MB = (700.0, 7.0)  # MB: base, and per line and axle
+CLASS_CPU_SECONDS = 1.6         # s per line, axle and contact grid (61 nodes, one core)
+
+
+@dataclasses.dataclass(frozen=True)
+class ClassEstimate:
+    """What one class spectrum job needs.
+
+    lines       : wavenumber lines of the spectrum [-]
+    axles       : axles of the class's vehicle [-]
+    memory_mb   : resident memory [MB], CLASS_MEMORY_MB[0] + CLASS_MEMORY_MB[1] x lines x axles
+    cpu_seconds : CPU time on one core [s], CLASS_CPU_SECONDS x lines x axles x grid phases x (nodes / 61)^2
+    """
+
+    lines: int
+    axles: int
+    memory_mb: float
+    cpu_seconds: float
+
+
+def class_estimate(fleet_class, settings: dict) -> ClassEstimate:
+    """The memory and CPU time of one class spectrum (rule fleet_class_spectrum), from its lines
+    (rail.growth_spectrum.spectrum_lines over the settings' wavelengths and period), its axles and its
+    contact grids; the coefficients are fitted to measured jobs (CLASS_MEMORY_MB, CLASS_CPU_SECONDS).
+
+    Parameters
+    ----------
+    fleet_class : rail.fleet.FleetClass
+        Its scenario gives the sleeper spacing, harmonics, axles and contact nodes.
+    settings : dict
+        figures.rate_spectrum of the fleet (bays, shortest, longest, per_octave, grid_phases) [m, -].
+
+    Returns
+    -------
+    ClassEstimate
+    """
+    from ..growth_spectrum import spectrum_lines
+
+    scn = fleet_class.scenario
+    lines = len(spectrum_lines(scn.L, int(settings["bays"]), scn.harmonics, float(settings["shortest"]), float(settings["longest"]),
+                               int(settings["per_octave"])))
+    axles = len(scn.wheels.positions)
+    nodes = scn.contact_numerics.nodes
+    return ClassEstimate(lines, axles, CLASS_MEMORY_MB[0] + CLASS_MEMORY_MB[1] * lines * axles,
+                         CLASS_CPU_SECONDS * lines * axles * int(settings["grid_phases"]) * (nodes / 61) ** 2)
 
 
 def check_convergence_study(study: dict, source: str = "config/convergence.yaml") -> None:

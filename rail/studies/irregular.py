@@ -19,16 +19,17 @@ from ..bands import wavelength_bands
 from .bands import band_levels
 from ..setup.io import data_var
 
-__all__ = ["support_labels", "support_receptances", "case_dataset", "band_summary", "FREQUENCIES_HZ"]
+__all__ = ["support_differences", "support_labels", "support_marks", "support_receptances", "case_dataset", "band_summary", "FREQUENCIES_HZ"]
 
 FREQUENCIES_HZ = np.geomspace(50.0, 3000.0, 80)
 
 
-def support_labels(cell: TrackCell) -> list[str]:
-    """A short label per support: its position and how it differs from the nominal support."""
+def support_differences(cell: TrackCell) -> list[str]:
+    """How each support differs from the nominal one, "" for a nominal support ("ballast ×0.001" for a
+    voided sleeper, "pad ×2, sleeper ×0.5", ...)."""
     tr = cell.track
     out = []
-    for j, s in enumerate(cell.supports):
+    for s in cell.supports:
         diff = []
         if not np.isclose(s.pad.stiffness, tr.pad.stiffness, rtol=1e-9):
             diff.append(f"pad ×{s.pad.stiffness / tr.pad.stiffness:.3g}")
@@ -36,8 +37,22 @@ def support_labels(cell: TrackCell) -> list[str]:
             diff.append(f"ballast ×{s.ballast.stiffness / tr.ballast.stiffness:.3g}")
         if not np.isclose(s.sleeper_mass, tr.sleeper.mass, rtol=1e-9):
             diff.append(f"sleeper ×{s.sleeper_mass / tr.sleeper.mass:.3g}")
-        out.append(f"support {j} at {s.position:.3f} m" + (f" ({', '.join(diff)})" if diff else ""))
+        out.append(", ".join(diff))
     return out
+
+
+def support_labels(cell: TrackCell) -> list[str]:
+    """A short label per support: its position and how it differs from the nominal support."""
+    return [f"support {j} at {s.position:.3f} m" + (f" ({d})" if d else "")
+            for j, (s, d) in enumerate(zip(cell.supports, support_differences(cell)))]
+
+
+def support_marks(cell: TrackCell) -> list[tuple[float, str]]:
+    """The supports over one period of the cell for a figure along the rail (rail.plotting.axes.mark_supports):
+    (position [m], how it differs from the nominal support, "" if it does not) per support, and the
+    first support again at the period's end."""
+    diff = support_differences(cell)
+    return [(float(s.position), d) for s, d in zip(cell.supports, diff)] + [(float(cell.period), diff[0])]
 
 
 def support_receptances(cell: TrackCell, uniform: Track, frequencies=FREQUENCIES_HZ):
@@ -169,6 +184,10 @@ def case_dataset(cell: TrackCell, uniform: Track, speed: float, growth: xr.Datas
             "frequency": data_var("frequency", np.asarray(frequencies, dtype=float), "Hz", "frequency"),
             "support": data_var("support", np.arange(cell.bays), "1", "support index in the cell"),
             "support_label": data_var("support", np.array(labels), "1", "support position and how it differs from the nominal"),
+            "support_position": data_var("support", np.array([x.position for x in cell.supports], dtype=float), "m",
+                                         "position of the support in the cell"),
+            "support_difference": data_var("support", np.array(support_differences(cell)), "1",
+                                           "how the support differs from the nominal one (empty: it does not)"),
             "position": data_var("position", x, "m", "wheel position along the cell"),
             "position_uniform": data_var("position_uniform", xu, "m", "wheel position along the uniform track's period"),
             "wavelength": data_var("wavelength", lam, "m", "roughness wavelength of the line"),

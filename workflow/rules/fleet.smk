@@ -74,14 +74,15 @@ rule fleet_growth:
 
 rule fleet_class_spectrum:
     """Growth-rate spectrum of one (vehicle, speed) class of a fleet, per passage of its train
-    (rail.growth_spectrum.rate_spectrum): a job of its own, shared by every fleet holding the class."""
+    (rail.growth_spectrum.rate_spectrum): a job of its own, shared by every fleet holding the class,
+    named <vehicle>_V<speed>_<hash of its content> (rail.setup.study_files.class_key)."""
     input:
         kernels=kernels("tangent"),
         table=fleet_class_table,
     output:
         "results/fleet/classes/{key}.npz",
     wildcard_constraints:
-        key="[0-9a-f]{16}",
+        key="[A-Za-z0-9.-]+_V[0-9.e+-]+_[0-9a-f]{16}",
     params:
         code=code("fleet_class_spectrum.py"),
         cfg=fleet_class_config,
@@ -94,8 +95,8 @@ rule fleet_class_spectrum:
     benchmark:
         "benchmarks/fleet/classes/{key}.tsv"
     resources:
-        mem_mb=3400,  # measured: max_rss 1893 MB (four-axle locomotive, 61 lines of a 10-bay period), x 1.5 + 500
-        runtime=30,
+        mem_mb=lambda w: PLAN.fleet_class_resources(w.key)["mem_mb"],  # from its lines and axles: 2.3 GB at the fleet defaults (docs/traffic.md)
+        runtime=lambda w: PLAN.fleet_class_resources(w.key)["runtime"],
     script:
         "../scripts/fleet_class_spectrum.py"
 

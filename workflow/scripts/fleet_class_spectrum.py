@@ -14,7 +14,7 @@ from rail.studies import fleet as fleet_study
 
 def main(config, name, index, speed, table_path, out_path, log, label=""):
     if label:
-        print(f"class spectrum {Path(out_path).stem}: {label}", file=log, flush=True)  # the log is named by the hash
+        print(f"class spectrum {Path(out_path).stem}: {label}", file=log, flush=True)  # the fleets holding it
     scn = build.spectrum_scenario(config, name)  # smooth rail, the spectrum's N-bay period
     c = build.fleet_classes(config, scn)[index]
     with io.open_intermediate(table_path) as t:

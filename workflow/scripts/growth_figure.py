@@ -4,10 +4,11 @@ scenario's overview, from growth datasets."""
 import sys
 
 import matplotlib.pyplot as plt
+import yaml
 
 from rail.plotting import report
-from rail.setup import io
-from rail.studies import datasets
+from rail.setup import build, io
+from rail.studies import datasets, irregular
 
 
 def _load(path):
@@ -18,6 +19,15 @@ def _load(path):
 def _save(fig, path, dpi):
     fig.savefig(path, dpi=dpi)
     plt.close(fig)
+
+
+def supports(ds):
+    """The supports of the run's track over its period for the figures along the rail, from the resolved
+    configuration the dataset carries: the cell's (a voided sleeper described), or None for uniform
+    track (every sleeper, drawn by the figure itself)."""
+    cfg = yaml.safe_load(ds.attrs["config"]) if "config" in ds.attrs else None
+    cell = build.track_cell(cfg) if isinstance(cfg, dict) and "track" in cfg else None
+    return None if cell is None else irregular.support_marks(cell)
 
 
 def report_figures(runs, config, data_paths, figure_paths):
@@ -43,13 +53,15 @@ def main(rule, name, inputs, outputs, params):
         axis = params.get("axis", "wavenumber")
         _save(report.growth_3d(_load(inputs[0]), axis, "" if axis == "wavenumber" else name), outputs[0], dpi=130)
     elif rule == "growth_narrowband":
-        _save(report.growth_narrowband(_load(inputs[0])), outputs[0], dpi=150)
+        ds = _load(inputs[0])
+        _save(report.growth_narrowband(ds, supports(ds)), outputs[0], dpi=150)
     elif rule in ("scenario_overview", "fleet_overview"):
         default = _load(inputs.default) if "default" in inputs.keys() else None
         note = params.get("default_note", "")
         if default is None and note:
             print(f"{name}: {note}", file=sys.stderr)  # the log says it too, not only the figure
-        _save(report.scenario_overview(_load(inputs.run), default, name, note), outputs[0], dpi=130)
+        run = _load(inputs.run)
+        _save(report.scenario_overview(run, default, name, note, supports(run)), outputs[0], dpi=130)
     else:
         raise ValueError(f"growth_figure.py: unknown rule {rule!r}")
 
