@@ -126,6 +126,88 @@ def _tangent_batches(free, locked_probes, N: int):
     return out
 
 
+def _probe_roughness(Z0, j: int, kind: str, eps: float):
+    """Z0 with a probe of amplitude eps [m] added at line j: a cosine (kind 'free' or 'cos') or a sine
+    ('sin'); Z_j = (a - i b) / 2 for a cos + b sin."""
+    J = len(Z0) // 2
+    c = -1j if kind == "sin" else 1.0
+    Z = np.array(Z0, dtype=complex)
+    Z[J + j] += c * eps / 2
+    Z[J - j] += np.conj(c) * eps / 2
+    return Z
+
+
+def _held_grid(mi, ref, bays: int):
+    """GridMismatch unless the probe's march inputs mi lie on the reference's grid (ref: the smooth rail's
+    inputs over one period; mi over ``bays`` of those periods) with its patch inside the grid."""
+    same = (mi.M == ref.M and mi.Nx == bays * ref.Nx and abs(mi.delta - ref.delta) <= 1e-12 * ref.delta
+            and float(np.max(mi.a)) < (mi.M - 0.5) * mi.delta)
+    if not same:
+        raise GridMismatch(f"the probe's contact grid (M {mi.M}, Nx {mi.Nx}) differs from the smooth rail's (M {ref.M}, "
+                           f"Nx {bays} x {ref.Nx}); use method='probe'.")
+
+
+def _input_names(ref):
+    """The march inputs a probe changes: force and half-length, the pressure shape with the normal
+    contact 'nonhertzian', the step times on the patch's true path."""
+    return ("P", "a") + (("shape",) if ref.shape is not None else ()) + (("dt",) if ref.dt is not None else ())
+
+
+def _column_chunk(ref, ncol: int, max_columns=None) -> int:
+    """Columns per tangent march: all, or with a pressure shape about 200 MB of its derivative."""
+    chunk = ncol if ref.shape is None else max(1, int(2e8 // (8 * ref.P.size * (2 * ref.M + 1))))
+    return max(1, min(chunk, max_columns or chunk, ncol))
+
+
+def _wear_tangent(scn, wheel: int, ref, speed: float, d: dict):
+    """The wear depth of one wheel's passage with the march inputs ``ref`` (the smooth rail's) and its
+    derivative along input directions, by the tangent of the contact march (rail.contact.tangent).
+
+    Parameters
+    ----------
+    scn : Scenario
+    wheel : int
+        Index of the wheel (its contact parameters, chain.wheel_material).
+    ref : rail.wear.MarchInputs
+        The reference passage.
+    speed : float
+        V [m/s].
+    d : dict
+        {'P': (steps, nc) [N], 'a': (steps, nc) [m], 'shape': (steps, 2M + 1, nc) [-], 'dt': (steps, nc) [s]}:
+        the input directions of nc columns (shape and dt where ref has them).
+
+    Returns
+    -------
+    depth : (Nx,) the reference's wear depth at the period's points x_k = k delta [m] (eq 49)
+    ddepth : (Nx, nc) its derivative along each column [m per unit of the column]
+    """
+    nums = scn.contact_numerics
+    work, dwork = work_tangent(ref.P, ref.a, chain.wheel_material(scn, wheel), speed, ref.delta, ref.M, d["P"], d["a"], d.get("shape"),
+                               closure=nums.closure, closure_scale=nums.closure_scale, shape=ref.shape, dt=ref.dt, ddt=d.get("dt"))
+    points = ref.spin + ref.M + np.arange(ref.Nx)
+    kd = scn.wear_law.coefficient / scn.wear_law.density
+    return scn.wear_law.depth(work[points]), kd * dwork[points]
+
+
+def _line_coefficient(gws: dict, c, jj: int, periods: int, imag=None):
+    """Wear coefficient W_jj per unit probe (eq 53) from derivatives of the depth gws = {n: (n, ncol)}
+    at the points x_k = k P / n of one period P (each wheel's grid size summed apart), over a roughness
+    period of ``periods`` such periods (Bloch form: the derivative is e^{i 2 pi r x / (N L)} times a
+    P-periodic function, so one period's points give the line); column c, plus i times column imag."""
+    total = 0.0
+    for n, gw in gws.items():
+        k = np.arange(n)
+        g = gw[:, c] if imag is None else gw[:, c] + 1j * gw[:, imag]
+        total = total + np.sum(g * np.exp(-2j * np.pi * jj * k / (periods * n))) / n
+    return total
+
+
+def _cos_sin_column(D):
+    """The column (cosine, sine parts) of the 2 x 2 operator from the wear coefficient D per unit
+    amplitude of a probe: D = (c - i d) / 2."""
+    return 2 * D.real, -2 * D.imag
+
+
 def _linear_rates(scn, tabs, free, locked, eps, phase, max_columns=None, progress=None):
     """R_j at the free lines (and their sideband ratios) and the 2 x 2 operators M at the locked lines
     (line, kind), by the tangent of the contact march about the smooth rail (method 'linear').
@@ -163,9 +245,8 @@ def _linear_rates(scn, tabs, free, locked, eps, phase, max_columns=None, progres
         return Z
     probes = _tangent_batches(free, locked, N)
     cols = []  # (probe, wheel) -> columns
-    dP, da, dsh, ddt = [[] for _ in order], [[] for _ in order], [[] for _ in order], [[] for _ in order]
-    nonh = ref[0].shape is not None  # the normal contact gives a pressure shape: differentiate it too
-    path = ref[0].dt is not None  # the patch's true path: its step times vary with the roughness too
+    names = _input_names(ref[0])
+    dirs = [{name: [] for name in names} for _ in order]
     Z0N = np.zeros(2 * J + 1, dtype=complex)
     fN0 = chain.solve_forces(scn, tabs, Roughness(Z0N, N))
     base = []
@@ -176,28 +257,22 @@ def _linear_rates(scn, tabs, free, locked, eps, phase, max_columns=None, progres
     for i_batch, batch in enumerate(probes):
         if progress is not None and i_batch:
             progress(i_batch, len(probes))
-        Z = Z0N.copy()
+        Z = Z0N
         for j, kind in batch:
-            c = -1j if kind == "sin" else 1.0
-            Z[J + j] += c * eps / 2
-            Z[J - j] += np.conj(c) * eps / 2
+            Z = _probe_roughness(Z, j, kind, eps)
         fN = chain.solve_forces(scn, tabs, Roughness(Z, N))
         for w_i, l in enumerate(order):
             mi1, b0 = ref[w_i], base[w_i]
             mi = wear.march_inputs(fN, l, Roughness(Z + on_period(wear_before[w_i]), N), chain.wheel_material(scn, l), nums, phase,
                                    grid=(mi1.delta, mi1.Nx, mi1.M, mi1.spin))  # the smooth rail's grid
             # the same grid (the spin-up may differ by a step: positions are taken from each one's own)
-            same = (mi.M == b0.M == mi1.M and mi.Nx == b0.Nx == N * mi1.Nx
-                    and abs(mi.delta - mi1.delta) <= 1e-12 * mi1.delta and abs(b0.delta - mi1.delta) <= 1e-12 * mi1.delta)
-            same = same and float(np.max(mi.a)) < (mi.M - 0.5) * mi.delta  # the probe's patch inside the grid
-            if not same:
-                raise GridMismatch(f"the probe's contact grid (M {mi.M}, Nx {mi.Nx}) differs from the smooth rail's (M {mi1.M}, "
-                                   f"Nx {N} x {mi1.Nx}); use method='probe'.")
+            _held_grid(mi, mi1, N)
+            _held_grid(b0, mi1, N)
             nx1, nxN = mi1.Nx, b0.Nx
             pos = (np.arange(mi1.spin + nx1 + 2 * mi1.M + 1) - mi1.spin)[None, :] + nx1 * np.arange(N)[:, None]
             F = {}
-            for name, arr, arr0 in (("P", mi.P, b0.P), ("a", mi.a, b0.a)) + ((("shape", mi.shape, b0.shape),) if nonh else ()) + (
-                    (("dt", mi.dt, b0.dt),) if path else ()):
+            for name in names:
+                arr, arr0 = getattr(mi, name), getattr(b0, name)
                 d = arr[mi.spin + pos % nxN] - arr0[b0.spin + pos % nxN]
                 F[name] = np.fft.fft(d, axis=0) / N  # class r: F[r]
             for j, kind in batch:
@@ -207,12 +282,8 @@ def _linear_rates(scn, tabs, free, locked, eps, phase, max_columns=None, progres
                 for part in parts:
                     if w_i == 0:
                         cols.append((j, kind, part is np.imag))
-                    dP[w_i].append(part(F["P"][r]) * scale)
-                    da[w_i].append(part(F["a"][r]) * scale)
-                    if nonh:
-                        dsh[w_i].append(part(F["shape"][r]) * scale)
-                    if path:
-                        ddt[w_i].append(part(F["dt"][r]) * scale)
+                    for name in names:
+                        dirs[w_i][name].append(part(F[name][r]) * scale)
     if progress is not None:
         progress(len(probes), len(probes))
     ncol = len(cols)
@@ -220,45 +291,91 @@ def _linear_rates(scn, tabs, free, locked, eps, phase, max_columns=None, progres
     # grids may hold a different number of points per bay (4131 and 4132 for two axles of one
     # locomotive at 40 m/s); wheels on grids of one size are summed there, each size transformed apart
     gws = {}
-    kd = scn.wear_law.coefficient / scn.wear_law.density
     for w_i, l in enumerate(order):
         mi1 = ref[w_i]
         gw = gws.setdefault(mi1.Nx, np.zeros((mi1.Nx, ncol)))
-        nn = 2 * mi1.M + 1
-        chunk = ncol if not nonh else max(1, int(2e8 // (8 * mi1.P.size * nn)))
-        chunk = min(chunk, max_columns or chunk)
+        chunk = _column_chunk(mi1, ncol, max_columns)
         for c0 in range(0, ncol, chunk):
             sl = slice(c0, min(c0 + chunk, ncol))
-            dPc = np.array(dP[w_i][sl]).T
-            dac = np.array(da[w_i][sl]).T
-            dshc = np.moveaxis(np.array(dsh[w_i][sl]), 0, -1) if nonh else None
-            ddtc = np.array(ddt[w_i][sl]).T if path else None
-            _, dwork = work_tangent(mi1.P, mi1.a, chain.wheel_material(scn, l), tabs[0].speed, mi1.delta, mi1.M, dPc, dac, dshc, closure=nums.closure,
-                                    closure_scale=nums.closure_scale, shape=mi1.shape, dt=mi1.dt, ddt=ddtc)
-            gw[:, sl] += kd * dwork[mi1.spin + mi1.M + np.arange(mi1.Nx)]
-    def coef(c, jj, imag=None):  # W_jj per unit probe from the bay-0 derivatives of columns c (+ i imag)
-        total = 0.0
-        for nx1, gw in gws.items():
-            k = np.arange(nx1)
-            g = gw[:, c] if imag is None else gw[:, c] + 1j * gw[:, imag]
-            total = total + np.sum(g * np.exp(-2j * np.pi * jj * k / (N * nx1))) / nx1
-        return total
+            d = {name: np.moveaxis(np.array(dirs[w_i][name][sl]), 0, -1) for name in names}
+            gw[:, sl] += _wear_tangent(scn, l, mi1, tabs[0].speed, d)[1]
 
     R, side, Ms = {}, {}, {}
     c = 0
     while c < ncol:
         j, kind, _ = cols[c]
         if kind == "free":
-            R[j] = coef(c, j, c + 1)
+            R[j] = _line_coefficient(gws, c, j, N, c + 1)
             near = [j + m for m in (-N, N) if abs(j + m) <= J]
-            side[j] = max(abs(coef(c, jj, c + 1)) for jj in near) / max(abs(R[j]), 1e-300) if near else 0.0
+            side[j] = max(abs(_line_coefficient(gws, c, jj, N, c + 1)) for jj in near) / max(abs(R[j]), 1e-300) if near else 0.0
             c += 2
         else:
-            D = coef(c, j)
-            Ms.setdefault(j, {})[kind] = (2 * D.real, -2 * D.imag)
+            Ms.setdefault(j, {})[kind] = _cos_sin_column(_line_coefficient(gws, c, j, N))
             c += 1
     Mout = {j: np.array([v["cos"], v["sin"]]).T for j, v in Ms.items()}
     return R, side, Mout
+
+
+def _cell_linear_operators(scn, table, lines, eps, phase, max_columns=None, progress=None):
+    """The 2 x 2 (cosine, sine) wear operators M at every line of a track cell, and the smooth rail's
+    wear over the cell, by the tangent of the contact march about the smooth rail (method 'linear' of
+    _cell_rate_spectrum).
+
+    On a cell of N bays whose supports differ, the smooth rail's state is periodic over the cell, and
+    the derivative of the wear for a roughness at line j is a general function over the cell: one
+    march of the smooth rail over the cell (with its spin-up), carrying the derivative along a cosine
+    and a sine probe of every line at once (rail.contact.tangent), gives every operator; the line's
+    column is the derivative's Fourier coefficient at j (as a locked line of _linear_rates). Each
+    column's inputs (force, half-length, pressure shape, step times at every step) are the difference
+    of the model's own march inputs with and without a probe of amplitude eps (one force solve and
+    one march_inputs per probe, no march), on the smooth rail's grid. With several wheels, each rolls
+    on the smooth rail's wear of the wheels before it (from the tangent's own reference march); the
+    derivative of that wear is left out, as in _linear_rates.
+
+    Returns
+    -------
+    M : (n, 2, 2) [1 per train passage]; W0 : (2 N K + 1,) the smooth rail's wear of one train passage [m]
+    """
+    N = scn.roughness.bays
+    Z0 = _smooth(scn)
+    J = len(Z0) // 2
+    probes = [(int(j), kind) for j in lines for kind in ("cos", "sin")]
+    ncol = len(probes)
+    f0 = chain.solve_forces(scn, table, Roughness(Z0, N))
+    forces = [chain.solve_forces(scn, table, Roughness(_probe_roughness(Z0, j, kind, eps), N)) for j, kind in probes]
+    order = [int(l) for l in np.argsort(scn.wheels.positions)[::-1]]
+    nums = scn.contact_numerics
+    cur, W0, gws, done = Roughness(Z0, N), np.zeros_like(Z0), {}, 0
+    for l in order:
+        mat = chain.wheel_material(scn, l)
+        ref = wear.march_inputs(f0, l, cur, mat, nums, phase)
+        grid = (ref.delta, ref.Nx // N, ref.M, ref.spin)
+        names = _input_names(ref)
+        gw = gws.setdefault(ref.Nx, np.zeros((ref.Nx, ncol)))
+        chunk = _column_chunk(ref, ncol, max_columns)
+        depth = None
+        for c0 in range(0, ncol, chunk):
+            cs = range(c0, min(c0 + chunk, ncol))
+            d = {name: [] for name in names}
+            for c in cs:
+                j, kind = probes[c]
+                mi = wear.march_inputs(forces[c], l, Roughness(cur.Z + _probe_roughness(Z0, j, kind, eps), N), mat, nums, phase, grid=grid)
+                _held_grid(mi, ref, 1)
+                for name in names:
+                    d[name].append((getattr(mi, name) - getattr(ref, name)) / eps)
+                done += 1
+                if progress is not None:
+                    progress(done, ncol * len(order))
+            depth, dd = _wear_tangent(scn, l, ref, table.speed, {k: np.moveaxis(np.array(v), 0, -1) for k, v in d.items()})
+            gw[:, c0:cs.stop] += dd
+        Wl = wear.wear_spectrum(depth, J)
+        W0 += Wl
+        cur = wear.apply_wear(cur, Wl)
+    M = np.zeros((len(lines), 2, 2))
+    for n, j in enumerate(lines):
+        for k in range(2):
+            M[n, :, k] = _cos_sin_column(_line_coefficient(gws, 2 * n + k, int(j), 1))
+    return M, W0
 
 
 @dataclass(frozen=True)
@@ -553,8 +670,14 @@ def rate_spectrum(scn: Scenario, table, lines, eps: float = 1e-9, grid_phases: i
         raise ValueError(f"eps = {eps!r} m is not allowed: it must be a finite number > 0.")
     if not (isinstance(grid_phases, (int, np.integer)) and grid_phases >= 1):
         raise ValueError(f"grid_phases = {grid_phases!r} is not allowed: it must be an integer >= 1.")
+    if method not in ("linear", "probe"):
+        raise ValueError(f"method = {method!r} is not allowed: it must be 'linear' or 'probe'.")
+    forced = ""
+    if method == "linear" and (why := linear_unsupported(scn.material)):
+        method, forced = "probe", f" (the tangent march has no {why})"
     if getattr(scn, "cell", None) is not None:
-        return _cell_rate_spectrum(scn, table, lines, eps, grid_phases, progress=progress)
+        sp = _cell_rate_spectrum(scn, table, lines, eps, grid_phases, method, progress=progress)
+        return dataclasses.replace(sp, method=sp.method + forced)
     tabs = (table,) if isinstance(table, MovingReceptance) else tuple(table)
     locked = np.where(lines % N == 0, 1, np.where((N % 2 == 0) & (lines % N == N // 2) & (N > 1), 2, 0))
     if N == 1:
@@ -567,11 +690,6 @@ def rate_spectrum(scn: Scenario, table, lines, eps: float = 1e-9, grid_phases: i
     sideband = np.zeros(lines.size)
     changes = []
     fallbacks = []  # grid phases where method 'linear' fell back to the probes (GridMismatch)
-    if method not in ("linear", "probe"):
-        raise ValueError(f"method = {method!r} is not allowed: it must be 'linear' or 'probe'.")
-    forced = ""
-    if method == "linear" and (why := linear_unsupported(scn.material)):
-        method, forced = "probe", f" (the tangent march has no {why})"
     for p, phase in enumerate(np.arange(grid_phases) / grid_phases):
         linear = method == "linear"
         if linear:
@@ -661,18 +779,21 @@ def rate_spectrum(scn: Scenario, table, lines, eps: float = 1e-9, grid_phases: i
                         method=(method + forced) if not fallbacks else f"{method}, probes at " + "; ".join(fallbacks), operator=operator)
 
 
-def _cell_rate_spectrum(scn: Scenario, table: MovingReceptance, lines, eps: float, grid_phases: int, progress=None) -> RateSpectrum:
+def _cell_rate_spectrum(scn: Scenario, table: MovingReceptance, lines, eps: float, grid_phases: int, method: str = "linear",
+                        progress=None, max_columns=None) -> RateSpectrum:
     """rate_spectrum on a track periodic over a cell of N bays whose supports differ (rail.cell).
 
     The smooth rail's state is periodic over the cell, not over one bay, so the Bloch classes that
     keep the lines of the uniform track apart are coupled by the supports, and the cosine and the
     sine of every line couple through the cell harmonic 2 j: every line is treated as the comb of
-    the uniform track is, by the 2 x 2 operator of a probing cosine and sine over the cell
-    (_locked, the nonlinear march over the N bays), its eigenvalues the rate and the other rate,
-    and the smooth rail's wear at the line its parametric source.  Two marches per line and grid
-    phase.  The coupling of a line to the others (its sidebands j + m, every m) is not in the
-    diagonal rate; growth runs (rail.chain.grow) carry it. ``progress(text)``, if given, is told
-    after every line (these marches over the cell are the slow part: minutes per line).
+    the uniform track is, by the 2 x 2 operator of a probing cosine and sine over the cell, its
+    eigenvalues the rate and the other rate, and the smooth rail's wear at the line its parametric
+    source. Method 'linear': every operator from one march of the smooth rail over the cell carrying
+    the derivative along every probe (_cell_linear_operators); 'probe': two nonlinear marches over the
+    cell per line and grid phase (_locked), the reference. The coupling of a line to the others (its
+    sidebands j + m, every m) is not in the diagonal rate; growth runs (rail.chain.grow) carry it.
+    ``progress(text)``, if given, is told as the work proceeds (after every line for 'probe', after
+    every probe's inputs for 'linear').
     """
     N = scn.roughness.bays
     lines = np.asarray(lines, dtype=int)
@@ -681,19 +802,33 @@ def _cell_rate_spectrum(scn: Scenario, table: MovingReceptance, lines, eps: floa
     J = len(_smooth(scn)) // 2
     Ms = np.zeros((grid_phases, lines.size, 2, 2))
     source = np.zeros(lines.size)
-    changes = []
+    changes, fallbacks = [], []
     for p, phase in enumerate(np.arange(grid_phases) / grid_phases):
         Z0 = _smooth(scn)
-        W0, _ = chain.train_wear(scn, table, Z0, phase)
-        for n, j in enumerate(lines):
-            Ms[p, n] = _locked(scn, table, int(j), eps, phase, Z0, W0)
-            source[n] += 2 * abs(W0[J + int(j)]) / grid_phases
+        W0 = None
+        if method == "linear":
+            step = None
             if progress is not None:
-                progress(f"{p * lines.size + n + 1} of {grid_phases * lines.size} lines (grid phase {p + 1} of {grid_phases}; "
-                         f"a cosine and a sine probe each, marched over the cell of {N} bays)")
+                def step(i, n, p=p):
+                    progress(f"{p * n + i} of {grid_phases * n} probe inputs (grid phase {p + 1} of {grid_phases}, {lines.size} lines, "
+                             f"a cosine and a sine each over the cell of {N} bays)")
+                    if i == n:
+                        progress(f"grid phase {p + 1} of {grid_phases}: the tangent of the contact march over the cell, every probe at once")
+            try:
+                Ms[p], W0 = _cell_linear_operators(scn, table, lines, eps, phase, max_columns=max_columns, progress=step)
+            except GridMismatch as err:  # the probes of the nonlinear march for this grid phase
+                fallbacks.append(f"grid phase {phase:g}: {err}")
+        if W0 is None:
+            W0, _ = chain.train_wear(scn, table, Z0, phase)
+            for n, j in enumerate(lines):
+                Ms[p, n] = _locked(scn, table, int(j), eps, phase, Z0, W0)
+                if progress is not None:
+                    progress(f"{p * lines.size + n + 1} of {grid_phases * lines.size} lines (grid phase {p + 1} of {grid_phases}; "
+                             f"a cosine and a sine probe each, marched over the cell of {N} bays)")
+        source += 2 * np.abs(W0[J + lines]) / grid_phases
         if p == 0:
             if progress is not None:
-                progress("linearity check: a probe of 2 eps at the first line")
+                progress("linearity check: a probe of 2 eps at the first line by the nonlinear march")
             M2 = _locked(scn, table, int(lines[0]), 2 * eps, phase, Z0, W0)
             changes.append(abs(_sorted_eigenvalues(M2)[0].real / _sorted_eigenvalues(Ms[0, 0])[0].real - 1))
     rate = np.zeros(lines.size, dtype=complex)
@@ -702,10 +837,13 @@ def _cell_rate_spectrum(scn: Scenario, table: MovingReceptance, lines, eps: floa
     for n in range(lines.size):
         rate[n], other[n] = _sorted_eigenvalues(Ms[:, n].mean(axis=0))
         spread[n] = np.ptp([_sorted_eigenvalues(M)[0].real for M in Ms[:, n]]) / 2
+    how = {"linear": "the tangent of the contact march over the cell at every line",
+           "probe": "cosine and sine probes at every line (nonlinear march)"}[method]
+    if fallbacks:
+        how += "; probes at " + "; ".join(fallbacks)
     return RateSpectrum(wavelength=N * scn.L / lines, line=lines, locked=np.ones(lines.size, dtype=int), rate=rate, rate_other=other,
                         source=source, grid_spread=spread, sideband=np.zeros(lines.size), linearity=float(max(changes)), eps=float(eps),
-                        bays=N, grid_phases=int(grid_phases), method=f"cell of {N} bays: cosine and sine probes at every line (nonlinear march)",
-                        operator=Ms.mean(axis=0))
+                        bays=N, grid_phases=int(grid_phases), method=f"cell of {N} bays: {how}", operator=Ms.mean(axis=0))
 
 
 def class_operator(scn: Scenario, table, lines, eps: float = 1e-9, grid_phases: int = 2):
