@@ -407,7 +407,8 @@ class RateSpectrum:
     grid_phases : contact grids averaged over [-]
     method : 'linear' (the tangent march) or 'probe'; 'linear, probes at ...' names the grid
                  phases where the probes' contact grid differed from the smooth rail's and the
-                 probes of the nonlinear march were taken instead
+                 probes of the nonlinear march were taken instead; on a track cell 'cell of N bays: '
+                 and the path taken (the tangent, or the cosine and sine probes)
     operator : (n, 2, 2) the (cosine, sine) wear operator per train passage averaged over the grids
                  at the locked lines (its eigenvalues are rate and rate_other), zero at free lines;
                  kept so that operators of several trains can be summed (fleet_rate_spectrum)
@@ -616,7 +617,7 @@ def rate_spectrum(scn: Scenario, table, lines, eps: float = 1e-9, grid_phases: i
     """Growth-rate spectrum about the smooth rail at the given lines.
 
     Free lines by wear_rates (one probing cosine per pair of classes per wear evaluation over the N
-    bays). Lines whose class is its own conjugate (the comb, j = k N, and for even N the half-comb,
+    bays; on a track cell, scn.cell, every line as a locked line: _cell_rate_spectrum). Lines whose class is its own conjugate (the comb, j = k N, and for even N the half-comb,
     j = (k + 1/2) N) couple the roughness at +j and -j through the supports: there the cosine and the
     sine are probed separately on the shortest period that holds the line (1 bay for the comb,
     2 for the half-comb; the same classes of the same tables) and the eigenvalues of the 2 x 2
@@ -647,15 +648,19 @@ def rate_spectrum(scn: Scenario, table, lines, eps: float = 1e-9, grid_phases: i
     method : str
         'linear' (default): every line from one march of the smooth rail over one bay carrying the
         derivative of the contact along every probe (_linear_rates, rail.contact.tangent); the
-        linearity is then the change of the rate from the derivative to probes of 2 eps.
+        linearity is then the change of the rate from the derivative to probes of 2 eps. On a track
+        cell (scn.cell), one march of the smooth rail over the cell carrying a cosine and a sine
+        column for every line (_cell_linear_operators).
         'probe': the previous path, each line from the difference of two nonlinear marches over the
-        N bays (one line per pair of classes per march, _batches), the reference of the tests;
-        about seven times the cost at the default resolution. With the wheelset's dynamic creepage or falling
+        N bays (one line per pair of classes per march, _batches; on a cell a cosine and a sine
+        march per line), the reference of the tests; about seven times the cost at the default
+        resolution (four times on the irregular_voided cell). With the wheelset's dynamic creepage or falling
         friction or the rail's longitudinal flexibility (scn.material.longitudinal, friction_decay,
         rail_flexibility) 'linear' falls back to 'probe', and the method says so.
     progress : callable, optional
         Called with one line of text as the work proceeds ("<i> of <n> probe batches, grid phase
-        <p> of <P>"; method 'linear'); default None, silent.
+        <p> of <P>"; method 'linear'; on a cell "<i> of <n> probe inputs ..." or, for 'probe',
+        "<i> of <n> lines ..."); default None, silent.
 
     Returns
     -------
