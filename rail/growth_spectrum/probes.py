@@ -77,7 +77,7 @@ def wear_rates(scn: Scenario, table, lines, eps: float = 1e-8, reference=None, g
 
 def probe_rates(scn, table, lines, eps, Z0, W0, grid_phase, sidebands=False):
     """R_j at the lines about the reference Z0, whose wear W0 on the same grid is given; with
-    sidebands, also the largest |wear at j +- N| / |wear at j| (the same class, probed by j alone)."""
+    sidebands, also the largest abs(wear at j +- N) / abs(wear at j) (the same class, probed by j alone)."""
     J = len(Z0) // 2
     N = scn.roughness.bays
     rates, side = {}, {}
