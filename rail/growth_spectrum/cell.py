@@ -33,9 +33,35 @@ def cell_linear_operators(scn, table, lines, eps, phase, max_columns=None, progr
     on the smooth rail's wear of the wheels before it (from the tangent's own reference march); the
     derivative of that wear is left out, as in linear_rates.
 
+    Parameters
+    ----------
+    scn : Scenario
+        With scn.cell and roughness.bays = N (the cell's bays).
+    table : MovingReceptance
+        The cell's one table at the speed (rail.moving.cell_receptance_table).
+    lines : sequence of int
+        Lines j, 1 <= j <= N K [-] (wavenumbers 2 pi j / (N L)).
+    eps : float
+        Amplitude of the probing cosine and sine [m].
+    phase : float
+        Contact grid phase in [0, 1) [-] (rail.wear.bay_wear).
+    max_columns : int, optional
+        The most columns per tangent march [-] (default: about 200 MB of the pressure shape's derivative).
+    progress : callable, optional
+        progress(i, n) after each of the n probes' march inputs (per wheel).
+
     Returns
     -------
-    M : (n, 2, 2) [1 per train passage]; W0 : (2 N K + 1,) the smooth rail's wear of one train passage [m]
+    M : ndarray, shape (n, 2, 2)
+        Per line, the operator on (a, b) of a cos + b sin [1 per train passage]: column 0 the wear
+        (cosine, sine parts) of a unit cosine, column 1 of a unit sine.
+    W0 : ndarray, shape (2 N K + 1,)
+        The smooth rail's wear of one train passage [m] (the parametric source).
+
+    Raises
+    ------
+    GridMismatch
+        Where a probe's patch outgrows the smooth rail's contact grid.
     """
     N = scn.roughness.bays
     Z0 = smooth_roughness(scn)
