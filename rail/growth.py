@@ -336,6 +336,51 @@ def step_error(rate_before, rate_after, Z_after, train_passages: float) -> float
     return float(num / max(np.linalg.norm(Z_after), 1e-300))
 
 
+def _resume(ck: Path, fp: str, on_mismatch: str, passages: int, progress):
+    """run_growth's state from its checkpoint ck: (done, Z, update, history, rate_before), or None to
+    start afresh (an unreadable checkpoint, or with on_mismatch 'restart' one written for another
+    fingerprint, is moved aside; without 'restart' the latter is an error)."""
+    try:
+        with np.load(ck, allow_pickle=False) as data:
+            saved = {k: data[k] for k in ("fingerprint", "done", "Z", "update", "hist_passages", "hist_Z", "step_error",
+                                          "full_slip", "rate")}
+    except Exception as e:  # noqa: BLE001 - truncated, empty, random or incomplete: never resumable
+        aside = _move_aside(ck, "unreadable")
+        print(f"warning: checkpoint {ck} cannot be read ({type(e).__name__}: {e}); moved to {aside}, starting afresh",
+              file=progress, flush=True)
+        return None
+    if str(saved["fingerprint"]) != fp:
+        if on_mismatch != "restart":
+            raise ValueError(f"checkpoint {ck} was written for another configuration or code; delete it to start afresh.")
+        aside = _move_aside(ck, "other")
+        print(f"checkpoint {ck} belongs to another configuration, input or code: moved to {aside}, starting afresh",
+              file=progress, flush=True)
+        return None
+    done, Z, update = int(saved["done"]), saved["Z"].copy(), int(saved["update"])
+    history = GrowthHistory(saved["hist_passages"].copy(), saved["hist_Z"].copy(), saved["step_error"].copy(),
+                            saved["full_slip"].copy())
+    rate_before = saved["rate"].copy()  # saved after an update, so always there
+    print(f"resuming from {ck}: {done} of {passages} passages done", file=progress)
+    return done, Z, update, history, rate_before
+
+
+def _check_update(history: GrowthHistory, settings: GrowthSettings, train_passages: float, ck, rate_before, rate_after, Z_after,
+                  passages_after: int):
+    """Append the update's estimated error (step_error) to the history; GrowthStepError, naming a step
+    that would pass, where it exceeds settings.step_tolerance or is not finite."""
+    err = step_error(rate_before, rate_after, Z_after, train_passages)
+    history.step_error = np.append(history.step_error, err)
+    if not np.isfinite(err) or err > settings.step_tolerance:
+        ppu = settings.passages_per_update
+        suggest = max(int(ppu * settings.step_tolerance / err), 1) if np.isfinite(err) and err > 0 else 1
+        raise GrowthStepError(
+            f"growth.passages_per_update = {ppu} is too large: the update ending at {passages_after} passages has an "
+            f"estimated error of {100 * err:.3g} % of the roughness (growth.step_tolerance = {settings.step_tolerance:g}); "
+            f"use at most about {suggest} passages per update (the error is first order in the step). "
+            + (f"The roughness saved up to {int(history.passages[-1])} passages is in {ck}." if ck is not None else "")
+        )
+
+
 def run_growth(
     train_wear,
     roughness: Roughness,
@@ -400,28 +445,9 @@ def run_growth(
     done, update = 0, 0
     rate_before = None  # wear per train passage of the last update (for the next update's error estimate)
     ck = Path(checkpoint) if checkpoint else None
-    if ck is not None and ck.exists():
-        try:
-            with np.load(ck, allow_pickle=False) as data:
-                saved = {k: data[k] for k in ("fingerprint", "done", "Z", "update", "hist_passages", "hist_Z", "step_error",
-                                              "full_slip", "rate")}
-        except Exception as e:  # noqa: BLE001 - truncated, empty, random or incomplete: never resumable
-            aside = _move_aside(ck, "unreadable")
-            print(f"warning: checkpoint {ck} cannot be read ({type(e).__name__}: {e}); moved to {aside}, starting afresh",
-                  file=progress, flush=True)
-            saved = None
-        if saved is not None and str(saved["fingerprint"]) != fp:
-            if on_mismatch != "restart":
-                raise ValueError(f"checkpoint {ck} was written for another configuration or code; delete it to start afresh.")
-            aside = _move_aside(ck, "other")
-            print(f"checkpoint {ck} belongs to another configuration, input or code: moved to {aside}, starting afresh",
-                  file=progress, flush=True)
-        elif saved is not None:
-            done, Z, update = int(saved["done"]), saved["Z"].copy(), int(saved["update"])
-            history = GrowthHistory(saved["hist_passages"].copy(), saved["hist_Z"].copy(), saved["step_error"].copy(),
-                                    saved["full_slip"].copy())
-            rate_before = saved["rate"].copy()  # saved after an update, so always there
-            print(f"resuming from {ck}: {done} of {settings.passages} passages done", file=progress)
+    resumed = _resume(ck, fp, on_mismatch, settings.passages, progress) if ck is not None and ck.exists() else None
+    if resumed is not None:
+        done, Z, update, history, rate_before = resumed
 
     def same_grid(u1, u2):
         return not settings.vary_grid_spacing or grid_phase(u1) == grid_phase(u2)
@@ -435,17 +461,7 @@ def run_growth(
         return dZ, slip
 
     def check(rate_before, rate_after, Z_after, passages_after):
-        err = step_error(rate_before, rate_after, Z_after, train_passages_per_update)
-        history.step_error = np.append(history.step_error, err)
-        if not np.isfinite(err) or err > settings.step_tolerance:
-            ppu = settings.passages_per_update
-            suggest = max(int(ppu * settings.step_tolerance / err), 1) if np.isfinite(err) and err > 0 else 1
-            raise GrowthStepError(
-                f"growth.passages_per_update = {ppu} is too large: the update ending at {passages_after} passages has an "
-                f"estimated error of {100 * err:.3g} % of the roughness (growth.step_tolerance = {settings.step_tolerance:g}); "
-                f"use at most about {suggest} passages per update (the error is first order in the step). "
-                + (f"The roughness saved up to {int(history.passages[-1])} passages is in {ck}." if ck is not None else "")
-            )
+        _check_update(history, settings, train_passages_per_update, ck, rate_before, rate_after, Z_after, passages_after)
 
     def stop(e, Z):
         """The history up to the state the model broke at, with the reason (see Notes)."""

@@ -151,18 +151,71 @@ def test_schema_accepts_the_cell_and_refuses_a_bad_spread(cfg):
         config.resolve(cfg, schema, bad, "test.yaml")
 
 
-@pytest.mark.slow
-def test_cell_spectrum_on_a_uniform_cell_is_the_bloch_spectrum(cfg):
-    # the cell's path (cosine and sine probes at every line over the cell) against rate_spectrum's
-    # probes on the Bloch tables, for identical supports: measured 6e-10 .. 1e-8 of the rate
+def _spectrum_cell(cfg, bays: int, normal: str = "report", path: str = "wheel", K: int = 16, nodes: int = 61, **cell):
+    """The spectrum's scenario on a cell of ``bays`` bays (supports from ``cell``: rail.cell.make_cell's overrides)."""
+    m = config.deep_merge(cfg, {"track": {"cell": {"bays": bays, **cell}}, "roughness": {"bays": bays},
+                                "figures": {"rate_spectrum": {"bays": bays}}, "contact": {"normal": normal, "wear_path": path}})
+    scn = build.spectrum_scenario(m, "cell")
+    return dataclasses.replace(scn, track_numerics=dataclasses.replace(scn.track_numerics, harmonics=K),
+                               contact_numerics=dataclasses.replace(scn.contact_numerics, nodes=nodes))
+
+
+@pytest.mark.parametrize("normal,path,wheels", [("report", "wheel", (0.0,)), pytest.param("nonhertzian", "patch", (0.0,), marks=pytest.mark.slow),
+                                                pytest.param("nonhertzian", "patch", (0.0, 2.5), marks=pytest.mark.slow)])
+def test_linear_cell_spectrum_matches_the_probes_of_the_nonlinear_march(cfg, normal, path, wheels):
+    """Issue 44: the cell's 'linear' spectrum (one tangent march of the smooth rail over the cell,
+    every probe's column at once) against its probes of the nonlinear march over the cell (method
+    'probe'), on three bays with a voided sleeper, lines from 600 mm to 60 mm. Judged per line, the
+    growth rate against itself wherever it exceeds a hundredth of the largest. The two differ by the
+    probes' O(eps) nonlinearity and the tangent's difference of the influence matrix: measured at most
+    4e-7 of the growth rate (both contacts); with two wheels 1.3e-6 (the tangent leaves out the
+    derivative of the first wheel's wear under the second, of relative size the wear per passage).
+    The uniform track's tangent shows up to 3e-4 of |R| (tests/test_growth_spectrum.py), hence 1e-3,
+    ten times below the issue's 1 %. A derivative term left out (the step times, the pressure shape)
+    gives errors of several percent."""
     from rail import chain
     from rail import growth_spectrum as gs
-    m = config.deep_merge(cfg, {"track": {"cell": {"bays": 2}}, "roughness": {"bays": 2}, "figures": {"rate_spectrum": {"bays": 2}}})
-    scn = build.spectrum_scenario(m, "uniform_cell")
-    scn = dataclasses.replace(scn, track_numerics=dataclasses.replace(scn.track_numerics, harmonics=16))
+    scn = _spectrum_cell(cfg, 3, normal, path, nodes=41, ballast=[1.0, 1e-3, 1.0])
+    scn = dataclasses.replace(scn, wheels=dataclasses.replace(scn.wheels, positions=wheels))
+    tab = chain.receptance_table(scn, V)
+    lines = np.array([3, 5, 12, 30])  # the cell's comb (3: one bay), its neighbour, 150 and 60 mm
+    told = []
+    fast = gs.rate_spectrum(scn, tab, lines, grid_phases=1, progress=told.append)
+    ref = gs.rate_spectrum(scn, tab, lines, grid_phases=1, method="probe")
+    assert fast.method == "cell of 3 bays: the tangent of the contact march over the cell at every line"
+    assert ref.method == "cell of 3 bays: cosine and sine probes at every line (nonlinear march)"
+    g0 = ref.growth_rate
+    big = np.abs(g0) > np.abs(g0).max() / 100
+    assert big.sum() >= 3
+    err = np.abs(fast.growth_rate - g0) / np.abs(g0)
+    assert err[big].max() < 1e-3, dict(zip(lines, err))
+    # both eigenvalues, complex (the drift too), against their own size
+    assert np.all(np.abs(fast.rate - ref.rate) < 1e-3 * np.abs(ref.rate))
+    assert np.all(np.abs(fast.rate_other - ref.rate_other) < 1e-3 * np.abs(ref.rate_other))
+    # the smooth rail's source: the tangent's reference march is the nonlinear march itself
+    assert np.allclose(fast.source, ref.source, rtol=1e-9, atol=0)
+    assert 0 < fast.linearity < 1e-2
+    # progress: every probe's inputs (a cosine and a sine per line) counted, then the march and the check
+    counted = [t.split(" probe inputs")[0] for t in told if " probe inputs" in t]
+    n = 2 * lines.size * len(wheels)  # each wheel's inputs along every probe
+    assert counted == [f"{i} of {n}" for i in range(1, n + 1)]
+    assert sum(t.startswith("linearity check") for t in told) == 1
+
+
+@pytest.mark.slow
+def test_cell_spectrum_on_a_uniform_cell_is_the_bloch_spectrum(cfg):
+    """A uniform 'cell' (every support the same) gives the uniform track's spectrum: the cell's
+    probes (cosine and sine at every line over the cell) against rate_spectrum's probes on the Bloch
+    tables (measured 6e-10 .. 1e-8 of the rate), and the cell's tangent (method 'linear', the
+    default) against the uniform track's tangent over one bay (measured at most 9e-7 of the growth
+    rate and 2e-7 of the drift: the two differ by the probes' inputs, differenced over the cell
+    against split into the Bloch classes)."""
+    from rail import chain
+    from rail import growth_spectrum as gs
+    scn = _spectrum_cell(cfg, 2)
     lines = np.array([3, 8])  # a free line and a comb line of the uniform track
     told = []
-    rc = gs.rate_spectrum(scn, chain.receptance_table(scn, V), lines, progress=told.append)
+    rc = gs.rate_spectrum(scn, chain.receptance_table(scn, V), lines, progress=told.append, method="probe")
     # its progress lines count every line of every grid phase (this path was silent for minutes per line)
     counted = [t.split(" lines (")[0] for t in told if " lines (grid phase" in t]
     assert counted == [f"{i} of {2 * lines.size}" for i in range(1, 2 * lines.size + 1)]
@@ -171,6 +224,13 @@ def test_cell_spectrum_on_a_uniform_cell_is_the_bloch_spectrum(cfg):
     rb = gs.rate_spectrum(s0, chain.receptance_table(s0, V), lines, method="probe")
     assert np.allclose(rc.rate.real, rb.rate.real, rtol=1e-6, atol=0)
     assert rc.method.startswith("cell of 2 bays")
+    lc = gs.rate_spectrum(scn, chain.receptance_table(scn, V), lines)
+    lb = gs.rate_spectrum(s0, chain.receptance_table(s0, V), lines)
+    assert lc.method.startswith("cell of 2 bays: the tangent") and lb.method == "linear"
+    assert np.allclose(lc.rate.real, lb.rate.real, rtol=1e-5, atol=0)
+    # at the free line the eigenvalues are R and its conjugate: compare the drifts as a set
+    drift_c, drift_b = np.sort([lc.rate.imag, lc.rate_other.imag], axis=0), np.sort([lb.rate.imag, lb.rate_other.imag], axis=0)
+    assert np.allclose(drift_c, drift_b, rtol=1e-5, atol=0)
 
 
 def test_decay_rate_of_a_uniform_cell_is_the_uniform_tracks(tr):

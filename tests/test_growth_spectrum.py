@@ -30,7 +30,7 @@ def setup():
 
 
 def test_batches_hold_one_line_per_pair_of_classes():
-    b = GS._batches([5, 9, 6, 3, 7, 8, 1], 4)
+    b = GS.batches([5, 9, 6, 3, 7, 8, 1], 4)
     for batch in b:
         keys = [min(j % 4, (4 - j % 4) % 4) for j in batch]
         assert len(keys) == len(set(keys))
@@ -73,7 +73,7 @@ def test_spectrum_lines_are_finer_than_a_tenth_of_a_third_octave():
     ratio = lam[:-1] / lam[1:]
     assert lam[0] == pytest.approx(0.6) and lam[-1] <= 0.02 < lam[-2]
     assert 1 < ratio.min() and ratio.max() <= 2 ** (1 / 30)
-    assert len(GS._batches(lines, 48)) <= int(np.ceil(len(lines) / 25)) + 1
+    assert len(GS.batches(lines, 48)) <= int(np.ceil(len(lines) / 25)) + 1
     with pytest.raises(ValueError, match=r"a roughness period of 16 bays spaces the lines by 6\.2 % at 0\.6 m, coarser than "
                                          r"1/30 octave \(2\.3 %\): use at least 43 bays"):
         GS.spectrum_lines(0.6, 16, 64, 0.02, 0.6, 30)
@@ -407,7 +407,7 @@ def test_linear_method_falls_back_to_the_probes_where_a_probe_changes_the_contac
         raise GS.GridMismatch("the probe's contact grid (M 32, Nx 132672) differs from the smooth rail's")
 
     ref = GS.rate_spectrum(scn, tabs, lines, grid_phases=1, check_lines=1, method="probe")
-    monkeypatch.setattr(GS, "_linear_rates", mismatch)
+    monkeypatch.setattr(GS.spectrum, "linear_rates", mismatch)
     fell = GS.rate_spectrum(scn, tabs, lines, grid_phases=1, check_lines=1, method="linear")
     assert fell.method.startswith("linear, probes at grid phase 0:")
     np.testing.assert_array_equal(fell.rate, ref.rate)

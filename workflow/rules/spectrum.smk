@@ -1,4 +1,4 @@
-# The linearised growth-rate spectrum (rail/growth_spectrum.py, docs/growth-spectrum.md): which
+# The linearised growth-rate spectrum (rail/growth_spectrum/, docs/growth-spectrum.md): which
 # wavelengths grow and how fast, per speed, from the smooth rail. Named target rate_spectrum (README).
 # Its Bloch tables (the spectrum's N-bay period, the scenario's own wheels) are the content-named
 # receptance tables of workflow/rules/track.smk (common.smk rate_spectrum_table).

@@ -1,0 +1,222 @@
+"""The tangent of the contact march about the smooth rail (method 'linear' of the growth-rate spectrum):
+the march inputs' differences along each probe, the derivative of the wear along them
+(rail.contact.tangent), a line's coefficient and a locked line's operator column from it; and the
+uniform track's rates from one march over one bay (linear_rates).
+"""
+
+from __future__ import annotations
+
+import dataclasses
+
+import numpy as np
+
+from .. import chain, wear
+from ..contact.tangent import work_tangent
+from ..interaction import Roughness
+from .probes import GridMismatch, batches
+
+__all__ = ["tangent_batches", "probe_roughness", "check_held_grid", "input_names", "column_chunk", "wear_tangent", "line_coefficient",
+           "cos_sin_column", "linear_rates"]
+
+
+def tangent_batches(free, locked_probes, N: int):
+    """Batches of probes for linear_rates: the free lines by batches (one per pair of classes), and
+    the locked lines' cosine and sine probes, at most one of class 0 and one of class N/2 per batch."""
+    out = [[(j, "free") for j in b] for b in batches(free, N)]
+    for r in (0, N // 2):
+        probes = [pr for pr in locked_probes if pr[0] % N == r]
+        for n, pr in enumerate(probes):
+            while len(out) <= n:
+                out.append([])
+            out[n].append(pr)
+    return out
+
+
+def probe_roughness(Z0, j: int, kind: str, eps: float):
+    """Z0 with a probe of amplitude eps [m] added at line j: a cosine (kind 'free' or 'cos') or a sine
+    ('sin'); Z_j = (a - i b) / 2 for a cos + b sin."""
+    J = len(Z0) // 2
+    c = -1j if kind == "sin" else 1.0
+    Z = np.array(Z0, dtype=complex)
+    Z[J + j] += c * eps / 2
+    Z[J - j] += np.conj(c) * eps / 2
+    return Z
+
+
+def check_held_grid(mi, ref, bays: int):
+    """GridMismatch unless the probe's march inputs mi lie on the reference's grid (ref: the smooth rail's
+    inputs over one period; mi over ``bays`` of those periods) with its patch inside the grid."""
+    same = (mi.M == ref.M and mi.Nx == bays * ref.Nx and abs(mi.delta - ref.delta) <= 1e-12 * ref.delta
+            and float(np.max(mi.a)) < (mi.M - 0.5) * mi.delta)
+    if not same:
+        raise GridMismatch(f"the probe's contact grid (M {mi.M}, Nx {mi.Nx}) differs from the smooth rail's (M {ref.M}, "
+                           f"Nx {bays} x {ref.Nx}); use method='probe'.")
+
+
+def input_names(ref):
+    """The march inputs a probe changes: force and half-length, the pressure shape with the normal
+    contact 'nonhertzian', the step times on the patch's true path."""
+    return ("P", "a") + (("shape",) if ref.shape is not None else ()) + (("dt",) if ref.dt is not None else ())
+
+
+def column_chunk(ref, ncol: int, max_columns=None) -> int:
+    """Columns per tangent march: all, or with a pressure shape about 200 MB of its derivative."""
+    chunk = ncol if ref.shape is None else max(1, int(2e8 // (8 * ref.P.size * (2 * ref.M + 1))))
+    return max(1, min(chunk, max_columns or chunk, ncol))
+
+
+def wear_tangent(scn, wheel: int, ref, speed: float, d: dict):
+    """The wear depth of one wheel's passage with the march inputs ``ref`` (the smooth rail's) and its
+    derivative along input directions, by the tangent of the contact march (rail.contact.tangent).
+
+    Parameters
+    ----------
+    scn : Scenario
+    wheel : int
+        Index of the wheel (its contact parameters, chain.wheel_material).
+    ref : rail.wear.MarchInputs
+        The reference passage.
+    speed : float
+        V [m/s].
+    d : dict
+        {'P': (steps, nc) [N], 'a': (steps, nc) [m], 'shape': (steps, 2M + 1, nc) [-], 'dt': (steps, nc) [s]}:
+        the input directions of nc columns (shape and dt where ref has them).
+
+    Returns
+    -------
+    depth : (Nx,) the reference's wear depth at the period's points x_k = k delta [m] (eq 49)
+    ddepth : (Nx, nc) its derivative along each column [m per unit of the column]
+    """
+    nums = scn.contact_numerics
+    work, dwork = work_tangent(ref.P, ref.a, chain.wheel_material(scn, wheel), speed, ref.delta, ref.M, d["P"], d["a"], d.get("shape"),
+                               closure=nums.closure, closure_scale=nums.closure_scale, shape=ref.shape, dt=ref.dt, ddt=d.get("dt"))
+    points = ref.spin + ref.M + np.arange(ref.Nx)
+    kd = scn.wear_law.coefficient / scn.wear_law.density
+    return scn.wear_law.depth(work[points]), kd * dwork[points]
+
+
+def line_coefficient(gws: dict, c, jj: int, periods: int, imag=None):
+    """Wear coefficient W_jj per unit probe (eq 53) from derivatives of the depth gws = {n: (n, ncol)}
+    at the points x_k = k P / n of one period P (each wheel's grid size summed apart), over a roughness
+    period of ``periods`` such periods (Bloch form: the derivative is e^{i 2 pi r x / (N L)} times a
+    P-periodic function, so one period's points give the line); column c, plus i times column imag."""
+    total = 0.0
+    for n, gw in gws.items():
+        k = np.arange(n)
+        g = gw[:, c] if imag is None else gw[:, c] + 1j * gw[:, imag]
+        total = total + np.sum(g * np.exp(-2j * np.pi * jj * k / (periods * n))) / n
+    return total
+
+
+def cos_sin_column(D):
+    """The column (cosine, sine parts) of the 2 x 2 operator from the wear coefficient D per unit
+    amplitude of a probe: D = (c - i d) / 2."""
+    return 2 * D.real, -2 * D.imag
+
+
+def linear_rates(scn, tabs, free, locked, eps, phase, max_columns=None, progress=None):
+    """R_j at the free lines (and their sideband ratios) and the 2 x 2 operators M at the locked lines
+    (line, kind), by the tangent of the contact march about the smooth rail (method 'linear').
+
+    The smooth rail's state is periodic over one bay, so the derivative of the wear for roughness of
+    the Bloch class r = j mod N is e^{i 2 pi r x / (N L)} times a bay-periodic function: one march of
+    the smooth rail over one bay (with its spin-up), carrying the derivative along every probe at once
+    (rail.contact.tangent), gives every line. The normal contact's inputs along each probe (force,
+    half-length, pressure shape at every step) are the difference of the model's own inputs with
+    and without a probe of amplitude eps over the N bays (one evaluation per batch of lines, as the
+    probes of method 'probe' but without the march), split into the classes by a DFT over the bays.
+    With several wheels, the wear of the wheels before a wheel is taken at the smooth rail's (its
+    derivative, of relative size the wear per passage, ~1e-6, is left out). ``progress(i, n)``, if
+    given, is called after each of the n batches of probes."""
+    N = scn.roughness.bays
+    K = scn.harmonics
+    J = N * K
+    nums = scn.contact_numerics  # the contact parameters of each wheel: chain.wheel_material (its own creepage)
+    s1 = dataclasses.replace(scn, roughness=dataclasses.replace(scn.roughness, bays=1))
+    Z01 = np.zeros(2 * K + 1, dtype=complex)
+    f1 = chain.solve_forces(s1, tabs[0], Roughness(Z01, 1))
+    order = [int(l) for l in np.argsort(scn.wheels.positions)[::-1]]
+    # the reference inputs of each wheel over one bay, and the smooth rail's wear before each wheel
+    ref, cur1, wear_before = [], Roughness(Z01, 1), []
+    for l in order:
+        mi = wear.march_inputs(f1, l, cur1, chain.wheel_material(scn, l), nums, phase)
+        ref.append(mi)
+        w = chain.passage_wear(s1, f1, cur1, l, phase)
+        wear_before.append(cur1.Z.copy())
+        cur1 = wear.apply_wear(cur1, w.Z)
+    # the same on the N-bay period (the 1-bay coefficients k on the lines k N)
+    def on_period(Z1):
+        Z = np.zeros(2 * J + 1, dtype=complex)
+        Z[J + N * np.arange(-K, K + 1)] = Z1
+        return Z
+    probes = tangent_batches(free, locked, N)
+    cols = []  # (probe, wheel) -> columns
+    names = input_names(ref[0])
+    dirs = [{name: [] for name in names} for _ in order]
+    Z0N = np.zeros(2 * J + 1, dtype=complex)
+    fN0 = chain.solve_forces(scn, tabs, Roughness(Z0N, N))
+    base = []
+    for w_i, l in enumerate(order):
+        g1 = ref[w_i]
+        base.append(wear.march_inputs(fN0, l, Roughness(on_period(wear_before[w_i]), N), chain.wheel_material(scn, l), nums, phase,
+                                      grid=(g1.delta, g1.Nx, g1.M, g1.spin)))
+    for i_batch, batch in enumerate(probes):
+        if progress is not None and i_batch:
+            progress(i_batch, len(probes))
+        Z = Z0N
+        for j, kind in batch:
+            Z = probe_roughness(Z, j, kind, eps)
+        fN = chain.solve_forces(scn, tabs, Roughness(Z, N))
+        for w_i, l in enumerate(order):
+            mi1, b0 = ref[w_i], base[w_i]
+            mi = wear.march_inputs(fN, l, Roughness(Z + on_period(wear_before[w_i]), N), chain.wheel_material(scn, l), nums, phase,
+                                   grid=(mi1.delta, mi1.Nx, mi1.M, mi1.spin))  # the smooth rail's grid
+            # the same grid (the spin-up may differ by a step: positions are taken from each one's own)
+            check_held_grid(mi, mi1, N)
+            check_held_grid(b0, mi1, N)
+            nx1, nxN = mi1.Nx, b0.Nx
+            pos = (np.arange(mi1.spin + nx1 + 2 * mi1.M + 1) - mi1.spin)[None, :] + nx1 * np.arange(N)[:, None]
+            F = {}
+            for name in names:
+                arr, arr0 = getattr(mi, name), getattr(b0, name)
+                d = arr[mi.spin + pos % nxN] - arr0[b0.spin + pos % nxN]
+                F[name] = np.fft.fft(d, axis=0) / N  # class r: F[r]
+            for j, kind in batch:
+                r = j % N
+                scale = 2 / eps if kind == "free" else 1 / eps
+                parts = (np.real, np.imag) if kind == "free" else (np.real,)
+                for part in parts:
+                    if w_i == 0:
+                        cols.append((j, kind, part is np.imag))
+                    for name in names:
+                        dirs[w_i][name].append(part(F[name][r]) * scale)
+    if progress is not None:
+        progress(len(probes), len(probes))
+    ncol = len(cols)
+    # each wheel's derivative on its own grid: the wheels' patches differ (their forces do), so their
+    # grids may hold a different number of points per bay (4131 and 4132 for two axles of one
+    # locomotive at 40 m/s); wheels on grids of one size are summed there, each size transformed apart
+    gws = {}
+    for w_i, l in enumerate(order):
+        mi1 = ref[w_i]
+        gw = gws.setdefault(mi1.Nx, np.zeros((mi1.Nx, ncol)))
+        chunk = column_chunk(mi1, ncol, max_columns)
+        for c0 in range(0, ncol, chunk):
+            sl = slice(c0, min(c0 + chunk, ncol))
+            d = {name: np.moveaxis(np.array(dirs[w_i][name][sl]), 0, -1) for name in names}
+            gw[:, sl] += wear_tangent(scn, l, mi1, tabs[0].speed, d)[1]
+
+    R, side, Ms = {}, {}, {}
+    c = 0
+    while c < ncol:
+        j, kind, _ = cols[c]
+        if kind == "free":
+            R[j] = line_coefficient(gws, c, j, N, c + 1)
+            near = [j + m for m in (-N, N) if abs(j + m) <= J]
+            side[j] = max(abs(line_coefficient(gws, c, jj, N, c + 1)) for jj in near) / max(abs(R[j]), 1e-300) if near else 0.0
+            c += 2
+        else:
+            Ms.setdefault(j, {})[kind] = cos_sin_column(line_coefficient(gws, c, j, N))
+            c += 1
+    Mout = {j: np.array([v["cos"], v["sin"]]).T for j, v in Ms.items()}
+    return R, side, Mout
