@@ -56,7 +56,7 @@ def test_every_named_target_list_is_reproduced(P, target, method):
 # the tracks they add, each characterised under the first scenario with it: the 1e9 N/m pad of dynspeed_*_stiff
 ADDED_TRACKS = ("dynspeed_driven_stiff",)
 ADDED_SINCE = ("dyn_fixed", "dyn_rigid", "dyn_trailer", "dyn_trailer_independent", "dyn_driven", "dyn_rail", "dyn_rail_trailer",
-               "dyn_rail_driven", "dyn_rail_pinned") + tuple(
+               "dyn_rail_driven", "dyn_rail_pinned", "dyn_rail_pinned_slow") + tuple(
     f"dynspeed_{m}{t}" for m in ("fixed", "trailer", "driven", "rail", "falling", "together") for t in ("", "_stiff"))
 
 
