@@ -14,7 +14,7 @@ x = 2 theta / pi, on _TABLE_PIECES equal pieces of [0, 1] with _TABLE_NODES firs
 nodes each (tabulated by exact rebuilds, for the lead cells a march visits). Measured against the
 exact rebuild: 2e-10 of the largest entry of the loaded columns (tests/test_influence_table.py).
 
-The march chooses by ``influence``: 'table' (the default) or 'exact'. A cell whose distinct values of
+The march chooses by ``influence``: 'table' (the default) or 'exact'. A march whose distinct values of
 a are fewer than the table's rebuilds is rebuilt exactly even with 'table' (a fixed a is one rebuild).
 """
 
@@ -50,8 +50,10 @@ def _lead_cell(ai, delta, M):
 
 
 def table_cells(a, delta: float, M: int, nodes: int | None = None, pieces: int | None = None):
-    """The lead cells a march tabulates: those whose distinct half-lengths outnumber the table's
-    rebuilds (nodes x pieces).
+    """The lead cells a march tabulates: every cell a visits if its distinct half-lengths outnumber the
+    table's rebuilds (nodes x pieces per cell), else none (a fixed a is one exact rebuild). All or none:
+    a small change of the inputs leaves the choice as it is, so that the march stays a smooth function
+    of them (a finite difference of it does not mix the table with the exact rebuild).
 
     Parameters
     ----------
@@ -74,9 +76,10 @@ def table_cells(a, delta: float, M: int, nodes: int | None = None, pieces: int |
     a = np.unique(np.asarray(a, dtype=float))
     if a.size == 0:
         return np.zeros(0, dtype=np.int64)
-    leads = np.floor(a / delta - 1e-12).astype(np.int64) + M
-    cells, counts = np.unique(leads, return_counts=True)
-    return np.ascontiguousarray(cells[counts > nodes * pieces], dtype=np.int64)
+    cells = np.unique(np.floor(a / delta - 1e-12).astype(np.int64) + M)
+    if a.size <= nodes * pieces * cells.size:  # fewer rebuilds without the table
+        return np.zeros(0, dtype=np.int64)
+    return np.ascontiguousarray(cells, dtype=np.int64)
 
 
 @njit(cache=True)
