@@ -27,7 +27,7 @@ import numpy as np
 from .._lazyjit import njit
 from .basis import _closure_matrix, _influence_arrays
 
-__all__ = ["INFLUENCE"]
+__all__ = ["INFLUENCE", "influence_table", "table_cells"]
 
 INFLUENCE = ("table", "exact")  # how the march gets the influence matrix at a(t)
 _TABLE_NODES = 6  # first-kind Chebyshev nodes per piece
