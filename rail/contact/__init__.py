@@ -8,6 +8,7 @@
   with its filter and its patch; the scenario holds one (ContactNumerics.normal).
 * ``numerics``: the grid, the closures, ContactNumerics.
 * ``basis``: the square-root-weighted traction basis and its log-kernel influence matrix.
+* ``influence``: the influence matrix at a(t), rebuilt exactly or interpolated in a from a table.
 * ``steps``: the steps of one time step (pressure, particle entry, stick solve, exit slip, step
   work), compiled; ``march`` runs them (solve_tangential) and ``tangent`` differentiates them
   (work_tangent).

@@ -45,7 +45,8 @@ import numpy as np
 from .._lazyjit import njit
 from .creep import LongitudinalModes, _advance_modes
 from .steady import carter
-from .basis import _basis_workspace, _closure_matrix, _influence_arrays, chebyshev_hat_moments
+from .basis import _basis_workspace, _influence_arrays, chebyshev_hat_moments
+from .influence import INFLUENCE, _influence_at, influence_table
 from .hertz import ContactError, ContactMaterial, compliance, hertz_half_length, report_rigid_compliance
 from .numerics import CLOSURES, rolling_grid
 from .steps import (_advance, _all_finite, _enter_particles, _exit_slip, _pressure, _restore_rows, _shape_mean,
@@ -128,12 +129,14 @@ CHECKERBOARD_LIMIT = 0.25
 
 @njit(cache=True)
 def _march(P, a, shape, xi, Mom, mu, ws, k, delta, M, speed, dts, gds, g, mu_d, mu_s, half_width, closure, closure_scale,
-           report_coef, q0, max_iter, checkerboard_limit, dus, om, ze, cp, q_ref, decay, settle, xm0, vm0):
+           report_coef, q0, max_iter, checkerboard_limit, dus, om, ze, cp, q_ref, decay, settle, xm0, vm0, table):
     """The time loop of solve_tangential (compiled): each step is the sequence of rail.contact.steps.
     dus: the given change of u_bar in each step [m]; om, ze, cp: the modes of the longitudinal
     receptance at the contact (rail.contact.creep; empty: none), driven by Q - q_ref [N] extrapolated
     from the two steps before, from step ``settle`` on (before it the traction builds up from zero, which
-    is no force on the wheelset: its torque holds q_ref); decay: s_0 of the falling friction [m/s] (0: the step law).
+    is no force on the wheelset: its torque holds q_ref); decay: s_0 of the falling friction [m/s] (0: the step law);
+    table: the influence matrix's table (rail.contact.influence.influence_table; its cells are interpolated,
+    the others rebuilt exactly).
     Returns the histories and a status (code, step, value): 0 ok, 1 no convergence of the stick/slip
     iteration, 2 not finite, 3 the report's closure diverged (value: the checkerboard measure)."""
     nn = xi.size
@@ -149,8 +152,9 @@ def _march(P, a, shape, xi, Mom, mu, ws, k, delta, M, speed, dts, gds, g, mu_d, 
     status = np.zeros(3)
     C, r_edge, r_trail, w, AT, r_a, wu = _influence_arrays(nn)
     q = q0.copy()
-    _closure_matrix(a[0], Mom, mu, xi, k, delta, M, closure, closure_scale, report_coef, C, r_edge, w, r_trail,
-                    AT, r_a, wu, ws)
+    lw, dlw = np.empty(table[5].size), np.empty(table[5].size)
+    _influence_at(a[0], table, Mom, mu, xi, k, delta, M, closure, closure_scale, report_coef, C, r_edge, w, r_trail, AT,
+                  r_a, wu, ws, lw, dlw)
     a_built = a[0]
     u_old = C @ q
     u_edge_old = np.dot(r_edge, q)
@@ -194,8 +198,8 @@ def _march(P, a, shape, xi, Mom, mu, ws, k, delta, M, speed, dts, gds, g, mu_d, 
         ubar[i] = ub
         gd = gds[i] + dub  # the step's rigid slip gamma V dt and the change of u_bar
         if ai != a_built:  # the basis depends on a(t) only
-            _closure_matrix(ai, Mom, mu, xi, k, delta, M, closure, closure_scale, report_coef, C, r_edge, w,
-                            r_trail, AT, r_a, wu, ws)
+            _influence_at(ai, table, Mom, mu, xi, k, delta, M, closure, closure_scale, report_coef, C, r_edge, w, r_trail,
+                          AT, r_a, wu, ws, lw, dlw)
             a_built = ai
         E = C[:nn]
         p0 = _pressure(P[i], ai, xi, shape[i], half_width, p, inside)
@@ -270,7 +274,8 @@ def _checkerboard_nb(q, stick, inside, p0, mu):
 
 
 def solve_tangential(P, a, m: ContactMaterial, speed: float, delta: float, M: int, closure: str = "default",
-                     closure_scale: float = 1.0, q0=None, max_iter: int = 200, shape=None, dt=None, ubar=None) -> TangentialSolution:
+                     closure_scale: float = 1.0, q0=None, max_iter: int = 200, shape=None, dt=None, ubar=None,
+                     influence: str = "table") -> TangentialSolution:
     """Time-step the unsteady 2D rolling contact over len(P) steps of Delta = V dt (eqs 26-33).
 
     Parameters
@@ -307,6 +312,10 @@ def solve_tangential(P, a, m: ContactMaterial, speed: float, delta: float, M: in
     ubar : ndarray, shape (len(P),), optional
         A given global relative displacement u_bar [m] at each step (eq 26; rail.contact.creep), added to
         that of m.longitudinal's modes; its change over a step enters the step's slip. Default 0.
+    influence : str
+        How the influence matrix follows a(t) (rail.contact.influence): 'table' (interpolated in a
+        within each grid cell the patch edge visits, from exact rebuilds; 2e-10 of the matrix's scale)
+        or 'exact' (rebuilt at every step where a changes).
 
     The material's ``longitudinal`` modes (rail.contact.creep.LongitudinalModes), when given, are driven
     by Q - Q_ref (Q of the step before; Q_ref the modes' reference_force, or Carter's steady traction
@@ -351,6 +360,8 @@ def solve_tangential(P, a, m: ContactMaterial, speed: float, delta: float, M: in
     if P.size and not (np.all(a > 0) and np.all(P > 0)):
         raise ValueError("solve_tangential needs a loaded patch at every step (P > 0, a > 0); contact loss is "
                          "detected before (rail.interaction).")
+    if influence not in INFLUENCE:
+        raise ValueError(f"influence = {influence!r} is not allowed: it must be one of {list(INFLUENCE)}.")
     nn = 2 * M + 1
     if shape is None:
         shape = np.ones((P.size, nn))
@@ -364,11 +375,14 @@ def solve_tangential(P, a, m: ContactMaterial, speed: float, delta: float, M: in
     report_coef = report_rigid_compliance(m)  # 1/sigma per unit a, eq 33
     dts, gds = step_times(P.size, delta, speed, m.creepage, dt)
     dus, om, ze, cp, q_ref = _creep_inputs(m, P, speed, ubar)
+    cl = 0 if closure == "default" else 1
+    ws = _basis_workspace(nn)
+    table = influence_table(a, Mom, mu, xi, k, delta, M, cl, float(closure_scale), report_coef, ws, influence)
     q, s, Q, work, power, stick_count, total_iter, status, ub = _march(
-        P, a, shape, xi, Mom, mu, _basis_workspace(nn), k, delta, M, float(speed), dts, gds, float(m.creepage), float(m.friction_dynamic),
-        float(m.friction_static), float(m.half_width), 0 if closure == "default" else 1, float(closure_scale),
+        P, a, shape, xi, Mom, mu, ws, k, delta, M, float(speed), dts, gds, float(m.creepage), float(m.friction_dynamic),
+        float(m.friction_static), float(m.half_width), cl, float(closure_scale),
         report_coef, q_init, int(max_iter if m.friction_decay == 0 else max(max_iter, 2000)), CHECKERBOARD_LIMIT, dus, om, ze, cp, q_ref, float(m.friction_decay),
-        _settle_steps(a, delta, q0), np.zeros(om.size), np.zeros(om.size))  # the modes start at rest
+        _settle_steps(a, delta, q0), np.zeros(om.size), np.zeros(om.size), table)  # the modes start at rest
     code, i = int(status[0]), int(status[1])
     if code == 1:
         raise ContactError(f"the stick/slip iteration did not converge at step {i} (a = {a[i]:.4g} m).")

@@ -23,6 +23,7 @@ import numpy as np
 
 from .._lazyjit import njit
 from .basis import _basis_workspace, _closure_matrix, _influence_arrays, chebyshev_hat_moments
+from .influence import INFLUENCE, _influence_d_at, _lead_cell, influence_table
 from .hertz import ContactError, ContactMaterial, compliance, report_rigid_compliance
 from .march import step_times
 from .steps import (_advance, _all_finite, _enter_particles, _entry_fraction, _exit_fraction, _exit_slip, _pressure,
@@ -92,6 +93,14 @@ def _d_closure_matrix(ai, Mom, mu, xi, k, delta, M, closure, closure_scale, repo
     for n in range(nn):
         r_edge_d[n] = (r_edge2[n] - r_edge3[n]) / hd
         r_trail_d[n] = (r_trail2[n] - r_trail3[n]) / hd
+
+
+@njit(cache=True)
+def _tabulated(ai, table, delta, M):
+    """Whether the influence table holds the lead cell of ai."""
+    slot = table[4]
+    lead, _ = _lead_cell(ai, delta, M)
+    return lead < slot.size and slot[lead] >= 0
 
 
 @njit(cache=True)
@@ -235,10 +244,12 @@ def _d_step_work(n, i, xi, delta, a_prev, ai, da_prev, dai, p0m, dp0_prev, dp0, 
 
 @njit(cache=True)
 def _march_tangent(P, a, shape, dP, da, dshape, has_dshape, xi, Mom, mu, ws, ws2, ws3, k, delta, M, speed, dts, gds, ddts, g, mu_d,
-                   mu_s, half_width, closure, closure_scale, report_coef, max_iter):
+                   mu_s, half_width, closure, closure_scale, report_coef, max_iter, table):
     """The march of rail.contact.march._march (its steps, rail.contact.steps) from zero traction and,
     with it, the derivative of every step along the columns of dP, da, dshape, the stick/slip sets
-    held. Returns (work, dwork, status): status as _march's (0 ok, 1 no convergence, 2 not finite)."""
+    held. table: the influence matrix's table (rail.contact.influence.influence_table): in its cells the
+    matrix and its derivative in a are the interpolant's, elsewhere _d_closure_matrix's.
+    Returns (work, dwork, status): status as _march's (0 ok, 1 no convergence, 2 not finite)."""
     nn = xi.size
     steps = P.size
     nc = dP.shape[1]
@@ -251,6 +262,7 @@ def _march_tangent(P, a, shape, dP, da, dshape, has_dshape, xi, Mom, mu, ws, ws2
     C2, r_edge2, r_trail2, w2, AT2, r_a2, wu2 = _influence_arrays(nn)
     C3, r_edge3, r_trail3, w3, AT3, r_a3, wu3 = _influence_arrays(nn)
     Cd = np.empty((nn + 1, nn))
+    lw, dlw = np.empty(table[5].size), np.empty(table[5].size)
     r_edge_d = np.empty(nn)
     r_trail_d = np.empty(nn)
     q = np.zeros(nn)
@@ -296,7 +308,11 @@ def _march_tangent(P, a, shape, dP, da, dshape, has_dshape, xi, Mom, mu, ws, ws2
     _d_pressure(p0_prev, dp0_prev, a[0], da[0], xi, shape[0], dshape[0], has_dshape, dp_prev)
     for i in range(steps):
         ai = a[i]
-        if ai != a_built:
+        if ai != a_built and _tabulated(ai, table, delta, M):
+            _influence_d_at(ai, table, C, r_edge, w, r_trail, Cd, r_edge_d, r_trail_d, C2, r_edge2, w2, r_trail2, delta, M,
+                            lw, dlw)
+            a_built = ai
+        elif ai != a_built:
             _d_closure_matrix(ai, Mom, mu, xi, k, delta, M, closure, closure_scale, report_coef, C, r_edge, w, r_trail, AT,
                               r_a, wu, ws, C2, r_edge2, w2, r_trail2, AT2, r_a2, wu2, ws2, C3, r_edge3, w3, r_trail3, AT3,
                               r_a3, wu3, ws3, Cd, r_edge_d, r_trail_d)
@@ -361,7 +377,7 @@ def _march_tangent(P, a, shape, dP, da, dshape, has_dshape, xi, Mom, mu, ws, ws2
 
 
 def work_tangent(P, a, m: ContactMaterial, speed: float, delta: float, M: int, dP, da, dshape=None, closure: str = "default",
-                 closure_scale: float = 1.0, shape=None, max_iter: int = 200, dt=None, ddt=None):
+                 closure_scale: float = 1.0, shape=None, max_iter: int = 200, dt=None, ddt=None, influence: str = "table"):
     """The frictional work of solve_tangential from zero traction and its derivative along input directions.
 
     Parameters
@@ -374,6 +390,9 @@ def work_tangent(P, a, m: ContactMaterial, speed: float, delta: float, M: int, d
         Direction of the pressure shape factor (default: none).
     ddt : ndarray, shape (len(P), nc), optional
         Direction of the step times [s] (the patch's true path, rail.contact.passage; default: none).
+    influence : str
+        As solve_tangential: 'table' (the influence matrix and its derivative in a from the interpolant
+        of rail.contact.influence) or 'exact' (rebuilt, the derivative by a central difference).
 
     Returns
     -------
@@ -394,16 +413,22 @@ def work_tangent(P, a, m: ContactMaterial, speed: float, delta: float, M: int, d
     dshape = np.ascontiguousarray(dshape, dtype=float) if has else np.zeros((1, 1, dP.shape[1]))
     if np.any(a >= M * delta) or not (np.all(a > 0) and np.all(P > 0)):
         raise ValueError("work_tangent needs a loaded patch inside the grid at every step.")
+    if influence not in INFLUENCE:
+        raise ValueError(f"influence = {influence!r} is not allowed: it must be one of {list(INFLUENCE)}.")
     xi = (np.arange(nn) - M) * delta
     Mom, mu = chebyshev_hat_moments(nn)
+    cl = 0 if closure == "default" else 1
+    ws = _basis_workspace(nn)
+    table = influence_table(a, Mom, mu, xi, compliance(m), delta, M, cl, float(closure_scale), report_rigid_compliance(m), ws,
+                            influence)
     dts, gds = step_times(P.size, delta, speed, m.creepage, dt)
     ddts = np.zeros(dP.shape) if ddt is None else np.ascontiguousarray(ddt, dtype=float)
     if ddts.shape != dP.shape:
         raise ValueError(f"ddt must have the shape of dP {dP.shape}; got {ddts.shape}.")
     work, dwork, status = _march_tangent(
-        P, a, shape, dP, da, dshape, has, xi, Mom, mu, _basis_workspace(nn), _basis_workspace(nn), _basis_workspace(nn), compliance(m), delta, M,
+        P, a, shape, dP, da, dshape, has, xi, Mom, mu, ws, _basis_workspace(nn), _basis_workspace(nn), compliance(m), delta, M,
         float(speed), dts, gds, ddts, float(m.creepage), float(m.friction_dynamic), float(m.friction_static), float(m.half_width),
-        0 if closure == "default" else 1, float(closure_scale), report_rigid_compliance(m), int(max_iter))
+        cl, float(closure_scale), report_rigid_compliance(m), int(max_iter), table)
     if int(status[0]) != 0:
         raise ContactError(f"the tangent march failed at step {int(status[1])} (code {int(status[0])}).")
     return work, dwork
