@@ -339,3 +339,15 @@ def test_the_plan_module_stays_under_800_lines_and_keeps_every_name():
     assert len((ROOT / "rail/setup/plan.py").read_text().splitlines()) < 800
     assert all(getattr(plan_module, name) is getattr(targets, name) for name in targets.__all__)
     assert all(hasattr(plan_module, name) for name in plan_module.__all__)
+
+
+def test_the_speed_study_reads_every_dynspeed_scenario_at_its_own_speeds(P):
+    """Rule speed_study's inputs (issue 43), read here from the scenario files themselves: every
+    config/scenarios/dynspeed_*.yaml, one spectrum per speed its figures.rate_spectrum.speeds lists."""
+    files = sorted((ROOT / "config" / "scenarios").glob("dynspeed_*.yaml"))
+    assert len(files) == 12  # six mechanisms (fixed, trailer, driven, rail, falling, together) on two tracks
+    got = P.speed_study_spectra()
+    assert sorted(got) == [f.stem for f in files]
+    for f in files:
+        speeds = load_yaml(str(f))["figures"]["rate_spectrum"]["speeds"]
+        assert got[f.stem] == [f"results/spectrum/{f.stem}/V{v:g}.nc" for v in speeds]

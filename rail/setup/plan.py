@@ -308,6 +308,12 @@ class Plan:
                 out += self.study_targets(name)
         return out
 
+    def speed_study_spectra(self) -> dict[str, list[str]]:
+        """The dynamic-creepage study over speed (issue 43, rule speed_study): each dynspeed_*.yaml scenario's
+        name -> its per-speed spectra, results/spectrum/<name>/V<speed>.nc, at figures.rate_spectrum.speeds."""
+        return {n: [f"results/spectrum/{n}/V{speed_label(v)}.nc" for v in self.scenarios[n]["figures"]["rate_spectrum"]["speeds"]]
+                for n in sorted(self.scenarios) if n.startswith("dynspeed_")}
+
     def _periodic(self) -> list[str]:
         """Scenarios with a roughness period of N > 1 bays, neither sweep points nor fleets."""
         points = self.sweep_points

@@ -111,27 +111,21 @@ rule dynamic_creepage:
          if n in PLAN.scenarios],
 
 
-def dynspeed_spectra():
-    """The dynamic-creepage study over speed: scenario name -> its per-speed spectra (the dynspeed_*.yaml files)."""
-    return {n: [f"results/spectrum/{n}/V{speed_label(v)}.nc" for v in SCENARIOS[n]["figures"]["rate_spectrum"]["speeds"]]
-            for n in sorted(PLAN.scenarios) if n.startswith("dynspeed_")}
-
-
 rule speed_study:
     """The dynamic-creepage study over speed in one dataset, figure and table: per mechanism, track and speed
     the fastest line and its frequency, the line nearest the pinned-pinned frequency, and whether the
     growing band keeps its frequency or its wavelength (rail.studies.speed_study)."""
     localrule: True
     input:
-        spectra=[f for files in dynspeed_spectra().values() for f in files],
+        spectra=[f for files in PLAN.speed_study_spectra().values() for f in files],
     output:
         data="results/dynamic_creepage/speeds.nc",
         figure=report("results/dynamic_creepage/speeds.png", caption="../report/speed_study.rst", category="Dynamic creepage"),
         table=report("results/dynamic_creepage/speeds.md", caption="../report/speed_study.rst", category="Dynamic creepage"),
     params:
         code=code("speed_study.py"),
-        cfg={n: SCENARIOS[n] for n in dynspeed_spectra()},
-        spectra=dynspeed_spectra(),
+        cfg={n: SCENARIOS[n] for n in PLAN.speed_study_spectra()},
+        spectra=PLAN.speed_study_spectra(),
     resources:
         mem_mb=400,
         runtime=5,
@@ -149,7 +143,7 @@ rule dynamic_creepage_speeds:
     torsion, the rail's longitudinal flexibility, friction falling with slip, and all of them together: the scenario files
     dynspeed_*.yaml (docs/dynamic-creepage.md), each scenario's map, and the study's summary (rule speed_study)."""
     input:
-        [f"results/spectrum/{n}/rate_spectrum.png" for n in dynspeed_spectra()],
+        [f"results/spectrum/{n}/rate_spectrum.png" for n in PLAN.speed_study_spectra()],
         "results/dynamic_creepage/speeds.png",
 
 
