@@ -136,6 +136,15 @@ def test_cell_configuration_is_checked_at_start_up(cfg):
     bad = config.deep_merge(cfg, {"track": {"cell": {"bays": 4}}, "roughness": {"bays": 2}})
     with pytest.raises(ConfigError, match=r"roughness.bays = 2 is not allowed with track.cell.bays = 4"):
         build.scenario(bad)
+    # the rail head's longitudinal receptance is the uniform track's: a cell with the rail's flexibility is refused,
+    # in the run's and in the spectrum's scenario alike
+    flex = config.deep_merge(cfg, {"track": {"cell": {"bays": 2, "damper": {"mass": 4.0, "frequency": 1070.0}}},
+                                   "roughness": {"bays": 2}, "figures": {"rate_spectrum": {"bays": 2}},
+                                   "rail_flexibility": {"model": "rod_and_bending"}})
+    for make in (build.scenario, build.spectrum_scenario):
+        with pytest.raises(ConfigError, match=r"rail_flexibility.model = 'rod_and_bending' is not allowed with track.cell"):
+            make(flex)
+    build.scenario(config.deep_merge(flex, {"rail_flexibility": {"model": "none"}}))
     good = config.deep_merge(cfg, {"track": {"cell": {"bays": 4, "spacing": [0.55, 0.65, 0.6, 0.6]}}, "roughness": {"bays": 4}})
     scn = build.scenario(good)
     assert scn.cell.bays == 4 and scn.track.L == pytest.approx(0.6)

@@ -242,6 +242,12 @@ def physics_problems(cfg: dict, source: str) -> list[str]:
         for key in ("spacing", "pad", "ballast", "sleeper_mass"):
             if key in cell and len(cell[key]) != nb:
                 out.append(f"{source}: track.cell.{key} has {len(cell[key])} values: it needs one per bay, track.cell.bays = {nb}.")
+        flex = (cfg.get("rail_flexibility") or {}).get("model", "none")
+        if flex != "none":
+            out.append(f"{source}: rail_flexibility.model = {flex!r} is not allowed with track.cell: the rail head's "
+                       "longitudinal receptance (rail.longitudinal.RailHead) is that of the uniform track, so a cell's "
+                       "supports and dampers would change the vertical forces but not the head's motion they drive; "
+                       "use rail_flexibility.model = 'none' on a cell, or the rail's flexibility on a track without track.cell.")
         if "spacing" in cell and len(cell["spacing"]) == nb:
             tr = dataclasses.replace(tr, sleeper=Sleeper(tr.sleeper.mass, float(np.mean(cell["spacing"]))))
     K = int(cfg["numerics"]["track"]["harmonics"])
