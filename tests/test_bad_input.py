@@ -98,10 +98,14 @@ def test_target_speed_and_scenario_are_checked_before_any_job(root, tmp_path):
 # 4. NaN and inf are never valid
 
 
-@pytest.mark.parametrize("key", [("contact", "friction_static"), ("growth", "step_tolerance"), ("track", "pad", "stiffness")])
+@pytest.mark.parametrize("key", [("contact", "friction_static"), ("growth", "step_tolerance"), ("track", "pad", "stiffness"),
+                                 # the dynamic creepage's keys (issue 43): falling friction, the wheelset, the rail head
+                                 ("contact", "friction_decay"), ("wheelset", "axle_stiffness"), ("wheelset", "damping"),
+                                 ("track", "pad", "longitudinal_stiffness"), ("track", "rail", "head_height")])
 @pytest.mark.parametrize("value", [float("nan"), float("inf")])
 def test_nan_and_inf_fail_validation_naming_the_key(defaults, schema, key, value):
-    cfg = _with(rconfig.deep_merge(defaults, {}), key, value)
+    base = {"wheelset": {"model": "torsional"}, "rail_flexibility": {"model": "rod_and_bending"}}  # the keys in use
+    cfg = _with(rconfig.deep_merge(defaults, base), key, value)
     with pytest.raises(rconfig.ConfigError, match=re.escape(f"s.yaml: {'.'.join(key)} = {value!r} is not allowed: it must be a finite number")):
         rconfig.validate_config(cfg, schema, source="s.yaml")
 
