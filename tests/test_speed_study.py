@@ -92,3 +92,20 @@ def test_the_pinned_pinned_line_is_the_line_nearest_its_frequency_and_mismatched
         speed_study.study_dataset({"a": cases["a"], "b": bad}, {"a": 1069.0, "b": 1069.0})
     table = speed_study.summary_table(ds)
     assert table.count("\n| fixed creepage |") == 4 + 1  # four speeds and the verdict
+
+
+def test_the_figures_frequency_tick_labels_are_plain_and_do_not_overlap():
+    # a panel per mechanism and track, as the study's twelve files give: log frequency axes ticked at round
+    # values written plainly (200, 500, 1000, not 2×10²) whose labels do not run into each other
+    from rail.plotting.speed_study import speed_study_figure
+    cases = {n: _spectra(_bump(centre_f=1000.0)) for n in ("a", "b", "c", "d", "e", "f")}
+    fig = speed_study_figure(speed_study.study_dataset(cases, {n: 1069.0 for n in cases}))
+    fig.canvas.draw()
+    r = fig.canvas.get_renderer()
+    for ax in fig.axes:
+        labels = [t for t in ax.get_xticklabels(which="both") if t.get_visible() and t.get_text()]
+        if not labels:
+            continue
+        assert all("times" not in t.get_text() and "^" not in t.get_text() for t in labels), [t.get_text() for t in labels]
+        boxes = sorted((t.get_window_extent(r) for t in labels), key=lambda b: b.x0)
+        assert all(a.x1 < b.x0 for a, b in zip(boxes, boxes[1:])), [t.get_text() for t in labels]

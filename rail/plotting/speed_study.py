@@ -7,10 +7,13 @@ import matplotlib
 
 matplotlib.use("Agg")
 import matplotlib.pyplot as plt  # noqa: E402
+import matplotlib.ticker  # noqa: E402
 import numpy as np  # noqa: E402
 import xarray as xr  # noqa: E402
 
 __all__ = ["speed_study_figure"]
+
+_TICKS_HZ = (50, 100, 200, 500, 1000, 2000, 5000)  # round frequencies, written plainly (200, not 2×10²)
 
 
 def speed_study_figure(ds: xr.Dataset):
@@ -33,6 +36,9 @@ def speed_study_figure(ds: xr.Dataset):
         ax.axvline(float(c["pinned_pinned_Hz"]), color="0.4", ls="--", lw=0.9, label="pinned-pinned")
         ax.axhline(0.0, color="k", lw=0.6)
         ax.set_xscale("log")
+        ax.xaxis.set_major_locator(matplotlib.ticker.FixedLocator(_TICKS_HZ))
+        ax.xaxis.set_major_formatter(matplotlib.ticker.FormatStrFormatter("%g"))
+        ax.xaxis.set_minor_formatter(matplotlib.ticker.NullFormatter())
         ax.set_title(f"{c['mechanism'].item()}\n{c['track'].item()}", fontsize=8)
     for ax in axs[-1]:
         ax.set_xlabel("frequency V / λ (Hz)")
