@@ -54,9 +54,9 @@ def test_every_named_target_list_is_reproduced(P, target, method):
 # scenario files added after the lists were frozen (issue 43's dynamic-creepage study): one-train scenario
 # files at the default speeds, whose study targets are those of nonhertzian.yaml under their own name
 # the tracks they add, each characterised under the first scenario with it (by name): the 1e9 N/m pad of dyn_rail_pinned_stiff and dynspeed_*_stiff
-ADDED_TRACKS = ("dyn_rail_pinned_stiff",)
+ADDED_TRACKS = ("dyn_rail_pinned_stiff", "dyn_rail_shear_soft", "dyn_rail_shear_stiff")
 ADDED_SINCE = ("dyn_fixed", "dyn_rigid", "dyn_trailer", "dyn_trailer_independent", "dyn_driven", "dyn_rail", "dyn_rail_trailer",
-               "dyn_rail_driven", "dyn_rail_pinned", "dyn_rail_pinned_slow", "dyn_rail_pinned_stiff") + tuple(
+               "dyn_rail_driven", "dyn_rail_pinned", "dyn_rail_pinned_slow", "dyn_rail_pinned_stiff", "dyn_rail_shear_soft", "dyn_rail_shear_stiff") + tuple(
     f"dynspeed_{m}{t}" for m in ("fixed", "trailer", "driven", "rail", "falling", "together") for t in ("", "_stiff"))
 
 
