@@ -58,7 +58,31 @@ def roughness_slope(roughness, period: float):
     np.add.at(acc, j % n, 1j * j * (2 * np.pi / period) * roughness.Z)
     values = np.real(np.fft.ifft(acc)) * n
     grid = np.arange(n) * period / n
-    return lambda x: np.interp(x, grid, values, period=period)
+    return _periodic_interpolant(grid, values, period)
+
+
+def _periodic_interpolant(xp, fp, period: float):
+    """x -> np.interp(x, xp, fp, period=period), with the table wrapped once rather than at each call.
+
+    Parameters
+    ----------
+    xp : ndarray, shape (n,)
+        Increasing sample positions in [0, period) [m].
+    fp : ndarray, shape (n,)
+        The values there [any unit].
+    period : float
+        The period [m], > 0.
+
+    Returns
+    -------
+    callable
+        x [m] (any shape) -> the periodic linear interpolant at x [unit of fp]; the same numbers as
+        numpy.interp with ``period`` (which wraps x to [0, period) and pads the table with one
+        sample at each end, as here).
+    """
+    xp_wrapped = np.concatenate((xp[-1:] - period, xp, xp[:1] + period))
+    fp_wrapped = np.concatenate((fp[-1:], fp, fp[:1]))
+    return lambda x: np.interp(np.asarray(x, dtype=float) % period, xp_wrapped, fp_wrapped)
 
 
 def curvature_on_grid(roughness, n: int, period: float):
