@@ -39,6 +39,7 @@ from dataclasses import dataclass
 
 import numpy as np
 
+from .._lazyjit import njit
 from .hertz import ContactError, ContactMaterial, composite_modulus, compliance
 
 __all__ = ["composite_modulus", "influence_matrix", "NormalSolution", "solve_normal", "approach_filter",
@@ -289,11 +290,9 @@ def _cheb_coefficients(f):
     return c
 
 
-CLENSHAW_BLOCK = 16384  # array elements per block of rows in _u_series (its buffers stay in the cache)
-
-
-def _clenshaw_u(c, sigma):
-    """sum_{m>=1} c_m U_{m-1}(sigma) by Clenshaw's recurrence, on buffers reused in place.
+@njit(cache=True)
+def _clenshaw_u(c, sigma, out):
+    """out = sum_{m>=1} c_m U_{m-1}(sigma) row by row, by Clenshaw's recurrence (compiled).
 
     Parameters
     ----------
@@ -301,39 +300,39 @@ def _clenshaw_u(c, sigma):
         Chebyshev coefficients c_m [any unit].
     sigma : ndarray, shape (rows, q)
         Points in [-1, 1] [-].
-
-    Returns
-    -------
-    ndarray, shape (rows, q)
-        The sum [unit of c]; b_m = c_m + 2 sigma b_{m+1} - b_{m+2}, evaluated in that order.
+    out : ndarray, shape (rows, q)
+        Filled with the sum [unit of c]: b_m = c_m + 2 sigma b_{m+1} - b_{m+2} from b_n = b_{n+1} = 0,
+        evaluated in that order (numpy's operations on whole arrays give the same numbers).
     """
-    two_sigma = 2 * sigma
-    b1 = np.zeros(two_sigma.shape)
-    b2 = np.zeros_like(b1)
-    t = np.empty_like(b1)
-    for m in range(c.shape[-1] - 1, 0, -1):  # sum_{j=0}^{n-2} c_{j+1} U_j(sigma)
-        np.multiply(two_sigma, b1, out=t)
-        t += c[:, m:m + 1]
-        np.subtract(t, b2, out=b2)  # b2 now holds the new b1
-        b1, b2 = b2, b1
-    return b1
+    rows, n = c.shape
+    q = sigma.shape[1]
+    two_sigma = np.empty(q)
+    b1 = np.empty(q)
+    b2 = np.empty(q)
+    for i in range(rows):
+        for k in range(q):
+            two_sigma[k] = 2 * sigma[i, k]
+            b1[k] = 0.0
+            b2[k] = 0.0
+        for m in range(n - 1, 0, -1):  # sum_{j=0}^{n-2} c_{j+1} U_j(sigma)
+            cm = c[i, m]
+            for k in range(q):
+                t = cm + two_sigma[k] * b1[k] - b2[k]
+                b2[k] = b1[k]
+                b1[k] = t
+        for k in range(q):
+            out[i, k] = b1[k]
 
 
-def _u_series(c, sigma, block: int = CLENSHAW_BLOCK):
+def _u_series(c, sigma):
     """sum_{m>=1} c_m U_{m-1}(sigma) for c (..., n) and sigma (..., q) by Clenshaw's recurrence.
-
-    The rows (the leading axes, broadcast) are summed in blocks of about ``block`` elements of the
-    (rows, q) result, so that the recurrence's buffers stay in the processor's cache (a passage's
-    11,746 steps x 65 patch nodes is 6 MB a buffer); every block is summed as one.
 
     Parameters
     ----------
     c : ndarray, shape (..., n)
         Chebyshev coefficients c_m, m = 0..n-1 (c_0 does not enter) [any unit].
     sigma : ndarray, shape (..., q)
-        Points in [-1, 1] [-].
-    block : int
-        Elements of the result per block [-].
+        Points in [-1, 1] [-]; the leading axes of c and sigma broadcast.
 
     Returns
     -------
@@ -344,12 +343,10 @@ def _u_series(c, sigma, block: int = CLENSHAW_BLOCK):
     sigma = np.asarray(sigma, dtype=float)
     lead = np.broadcast_shapes(c.shape[:-1], sigma.shape[:-1])
     n, q = c.shape[-1], sigma.shape[-1]
-    c2 = np.broadcast_to(c, lead + (n,)).reshape(-1, n)
-    s2 = np.broadcast_to(sigma, lead + (q,)).reshape(-1, q)
+    c2 = np.ascontiguousarray(np.broadcast_to(c, lead + (n,)).reshape(-1, n))
+    s2 = np.ascontiguousarray(np.broadcast_to(sigma, lead + (q,)).reshape(-1, q))
     out = np.empty((s2.shape[0], q))
-    rows = max(1, block // max(q, 1))
-    for r in range(0, s2.shape[0], rows):
-        out[r:r + rows] = _clenshaw_u(c2[r:r + rows], s2[r:r + rows])
+    _clenshaw_u(c2, s2, out)
     return out.reshape(lead + (q,))
 
 
