@@ -95,6 +95,19 @@ def _periodic_interpolant(xp, fp, period: float):
 
 
 @njit(cache=True)
+def _wrap(x, period):
+    """x % period [m] (Python's and numpy's: fmod, plus the period where the sign differs), the same number
+    (-0 kept): x itself in [0, period), x - period (exact) in [period, 2 period), x + period in [-period, 0)."""
+    if 0.0 <= x < period:
+        return x
+    if period <= x < 2.0 * period:
+        return x - period
+    if -period <= x < 0.0:
+        return x + period
+    return x % period
+
+
+@njit(cache=True)
 def _interp_wrapped(x, xp, fp, slopes, period, out):
     """out = numpy.interp(x % period, xp, fp) for an increasing table xp covering [0, period] [unit of fp].
 
@@ -105,7 +118,7 @@ def _interp_wrapped(x, xp, fp, slopes, period, out):
     n = xp.size
     h = (xp[n - 1] - xp[0]) / (n - 1)
     for i in range(x.size):
-        y = x[i] % period
+        y = _wrap(x[i], period)
         if y != y:
             out[i] = y
             continue
