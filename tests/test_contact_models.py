@@ -135,12 +135,13 @@ def test_the_roughness_slope_is_numpys_periodic_interpolation():
     grid = np.arange(n) * period / n
     values = np.cos(2 * np.pi * 3 * grid / period)
     x = np.linspace(-1.3 * period, 2.7 * period, 10001).reshape(73, 137)
-    assert np.array_equal(models._periodic_interpolant(grid, values, period)(x), np.interp(x, grid, values, period=period))
+    interpolant = models._periodic_interpolant(grid, values, period)
+    assert np.array_equal(interpolant(x), np.interp(x, grid, values, period=period))
     # the table's own points, the period's ends, just below 0, and random points
     edges = np.concatenate((grid, grid - period, [0.0, -0.0, period, -period, -1e-300, np.nextafter(period, 0), 1e-17]))
     rand = np.random.default_rng(4).uniform(-3 * period, 3 * period, 20000)
     for y in (edges, rand):
-        assert np.array_equal(models._periodic_interpolant(grid, values, period)(y), np.interp(y, grid, values, period=period))
+        assert np.array_equal(interpolant(y), np.interp(y, grid, values, period=period))
     # and the slope is the harmonic's, r' = 2 Re(i beta Z_1 e^{i beta x}), to the interpolation's error
     slope = models.roughness_slope(rough, period)(x)
     beta = 2 * np.pi / period

@@ -202,7 +202,8 @@ def test_u_series_against_the_derivative_of_a_chebyshev_series():
     got = N._u_series(c, sigma)
     d = np.zeros((rows, n))
     d[:, 1:] = c[:, 1:] / np.arange(1, n)
-    want = np.array([np.polynomial.chebyshev.chebval(sigma[i], np.polynomial.chebyshev.chebder(d[i])) for i in range(rows)])
+    cheb = np.polynomial.chebyshev
+    want = np.array([cheb.chebval(sigma[i], cheb.chebder(d[i])) for i in range(rows)])
     scale = np.sum(np.abs(c) * np.arange(n) ** 2, axis=1, keepdims=True)  # max abs(U_{m-1}) = m, at +-1
     assert np.max(np.abs(got - want) / scale) < 1e-14
     # the compiled recurrence gives numpy's numbers: the same operations in the same order on whole arrays

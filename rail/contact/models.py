@@ -88,7 +88,8 @@ def _periodic_interpolant(xp, fp, period: float):
     def interpolant(x):
         x = np.asarray(x, dtype=float)
         out = np.empty(x.shape)
-        _interp_wrapped(np.ascontiguousarray(x).reshape(-1), xp_wrapped, fp_wrapped, slopes, float(period), out.reshape(-1))
+        _interp_wrapped(np.ascontiguousarray(x).reshape(-1), xp_wrapped, fp_wrapped, slopes, float(period),
+                        out.reshape(-1))
         return out
 
     return interpolant

@@ -404,7 +404,8 @@ def patch_contact(P, x_wheel, slope, m: ContactMaterial, xi, nodes: int = CHEBYS
     target = 4 * Pw / (np.pi * Estar)  # a c_1(a) must equal this [m]
 
     def coefficients(a):  # the gap slope's Chebyshev coefficients over the patch [-]
-        return _cheb_coefficients(a[:, None] * tau[None, :] / m.wheel_radius - slope(xw[:, None] + a[:, None] * tau[None, :]))
+        at = a[:, None] * tau[None, :]
+        return _cheb_coefficients(at / m.wheel_radius - slope(xw[:, None] + at))
 
     def load(a):  # a c_1(a) - target, c_1 / a (the effective curvature) and the coefficients
         c = coefficients(a)
