@@ -22,6 +22,7 @@ P_j0 = the static load, are the parametric excitation by the supports.  The whee
 
 from __future__ import annotations
 
+import functools
 from dataclasses import dataclass
 
 import numpy as np
@@ -530,8 +531,32 @@ def force_tail(result: ForceResult, tail_harmonics: int | None = None):
     rhs = (qfit[None, :] ** 2 * result.P[:, J + qfit] * np.exp(-1j * bP * np.outer(result.positions, qfit))).T
     C = np.linalg.lstsq(E, rhs, rcond=1e-12)[0].T  # (wheel, attachment); exact unless two attachments nearly coincide
     q = np.arange(J + 1, J + M * N + 1)
-    T = (C @ np.exp(-1j * bP * np.outer(s, q))) / q[None, :] ** 2
+    T = (C @ _tail_phases(float(bP), tuple(s.tolist()), J + 1, J + M * N)) / q[None, :] ** 2
     return q, T
+
+
+@functools.lru_cache(maxsize=4)
+def _tail_phases(bP: float, s: tuple, q_first: int, q_last: int):
+    """exp(-i q beta_P s_j) of force_tail, kept for the next call on the same track (it does not depend on the force).
+
+    Parameters
+    ----------
+    bP : float
+        beta_P = 2 pi / (N L) [rad/m].
+    s : tuple of float
+        The attachments s_j [m].
+    q_first, q_last : int
+        The tail's harmonics q = q_first..q_last [-].
+
+    Returns
+    -------
+    ndarray, shape (len(s), q_last - q_first + 1), complex, read-only
+        The phase factors [-] (48 supports x 49,152 harmonics: 38 MB).
+    """
+    q = np.arange(q_first, q_last + 1)
+    E = np.exp(-1j * bP * np.outer(np.asarray(s, dtype=float), q))
+    E.flags.writeable = False
+    return E
 
 
 def force_history(result: ForceResult, x, tail: bool = True, tail_harmonics: int | None = None):

@@ -366,8 +366,10 @@ def free_receptance(beta, omega, track: Track):
     EI, kGA = rail_stiffnesses(track, omega)
     rho, A, I = track.rail.density, track.rail.area, track.rail.second_moment_of_area
     b2 = beta**2
-    num = EI * b2 + kGA - rho * I * omega**2
-    return num / (kGA * b2 * (EI * b2 - rho * I * omega**2) - rho * A * omega**2 * num)
+    bending = EI * b2  # EI beta^2 and rho I omega^2, each formed once
+    inertia = rho * I * omega**2
+    num = bending + kGA - inertia
+    return num / (kGA * b2 * (bending - inertia) - rho * A * omega**2 * num)
 
 
 def free_receptance_poles(omega, track: Track):

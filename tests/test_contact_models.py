@@ -125,3 +125,25 @@ def test_the_contact_grid_sizes_the_patch_from_the_model():
     a = C.ReportNormal().half_lengths(P, rough, 0.6, MATERIAL)
     kappa = models.curvature_on_grid(rough, 64, 0.6)
     np.testing.assert_allclose(a, C.hertz_half_length(1e5, 0.46, MATERIAL) * np.sqrt(1 / (1 + 0.46 * kappa)), rtol=1e-12)
+
+
+def test_the_roughness_slope_is_numpys_periodic_interpolation():
+    # the table wrapped once (models._periodic_interpolant) gives numpy.interp(period=...)'s numbers exactly
+    period = 2.4
+    rough = I.Roughness(np.array([0.0, 2e-6 - 1e-6j, 0.0, 2e-6 + 1e-6j, 0.0]), 1)
+    n = 64 * 2
+    grid = np.arange(n) * period / n
+    values = np.cos(2 * np.pi * 3 * grid / period)
+    x = np.linspace(-1.3 * period, 2.7 * period, 10001).reshape(73, 137)
+    interpolant = models._periodic_interpolant(grid, values, period)
+    assert np.array_equal(interpolant(x), np.interp(x, grid, values, period=period))
+    # the table's own points, the period's ends, just below 0, and random points
+    edges = np.concatenate((grid, grid - period, [0.0, -0.0, period, -period, -1e-300, np.nextafter(period, 0), 1e-17]))
+    rand = np.random.default_rng(4).uniform(-3 * period, 3 * period, 20000)
+    for y in (edges, rand):
+        assert np.array_equal(interpolant(y), np.interp(y, grid, values, period=period))
+    # and the slope is the harmonic's, r' = 2 Re(i beta Z_1 e^{i beta x}), to the interpolation's error
+    slope = models.roughness_slope(rough, period)(x)
+    beta = 2 * np.pi / period
+    exact = np.real(2 * 1j * beta * rough.Z[3] * np.exp(1j * beta * x))
+    assert np.max(np.abs(slope - exact)) < 2e-3 * np.max(np.abs(exact))

@@ -181,3 +181,22 @@ def test_roughness_from_a_file_and_its_errors(tmp_path):
     header.write_text("harmonic,A,B\n")
     with pytest.raises(ValueError, match=r"header\.csv, line 1: the header must be 'k,A_m,B_m'"):
         I.read_roughness_coefficients(header)
+
+
+def test_the_force_tails_phase_factors_are_kept_with_the_same_numbers():
+    # force_tail keeps exp(-i q beta_P s_j) (it does not depend on the force): the tail is the direct formula's
+    rng = np.random.default_rng(0)
+    for N, K, supports in ((48, 4, None), (4, 6, np.array([0.0, 0.3, 0.61, 1.2, 1.75]))):
+        J = N * K
+        P = rng.standard_normal((2, 2 * J + 1)) + 1j * rng.standard_normal((2, 2 * J + 1))
+        r = I.ForceResult(P=P, speed=40.0, L=0.6, positions=np.array([0.0, 2.5]), bays=N, supports=supports)
+        q, T_kept = I.force_tail(r)
+        q2, T_again = I.force_tail(r)  # from the kept factors
+        s = np.arange(N) * 0.6 if supports is None else supports
+        bP = r.beta0 / N
+        qfit = np.arange(J - len(s) + 1, J + 1)
+        rhs = (qfit[None, :] ** 2 * P[:, J + qfit] * np.exp(-1j * bP * np.outer(r.positions, qfit))).T
+        C = np.linalg.lstsq(np.exp(-1j * bP * np.outer(qfit, s)), rhs, rcond=1e-12)[0].T
+        direct = (C @ np.exp(-1j * bP * np.outer(s, q))) / q[None, :] ** 2
+        assert np.array_equal(q, np.arange(J + 1, J + 16 * K * N + 1)) and np.array_equal(q2, q)
+        assert np.array_equal(T_kept, direct) and np.array_equal(T_again, direct)

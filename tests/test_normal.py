@@ -193,6 +193,31 @@ def test_patch_contact_reports_contact_lost_inside_the_patch():
     assert N.solve_normal(x, x**2 / (2 * R) - D * np.cos(beta * x), PW, M).zones > 1
 
 
+def test_u_series_against_the_derivative_of_a_chebyshev_series():
+    # sum_{m>=1} c_m U_{m-1}(x) = d/dx sum_{m>=1} (c_m / m) T_m(x), as numpy.polynomial.chebyshev evaluates it
+    rng = np.random.default_rng(3)
+    n, rows, q = 32, 50, 65
+    c = rng.standard_normal((rows, n)) / (1 + np.arange(n)) ** 2
+    sigma = np.clip(np.linspace(-1.1, 1.1, q)[None, :] * (1 + 0.2 * rng.random((rows, 1))), -1.0, 1.0)
+    got = N._u_series(c, sigma)
+    d = np.zeros((rows, n))
+    d[:, 1:] = c[:, 1:] / np.arange(1, n)
+    cheb = np.polynomial.chebyshev
+    want = np.array([cheb.chebval(sigma[i], cheb.chebder(d[i])) for i in range(rows)])
+    scale = np.sum(np.abs(c) * np.arange(n) ** 2, axis=1, keepdims=True)  # max abs(U_{m-1}) = m, at +-1
+    assert np.max(np.abs(got - want) / scale) < 1e-14
+    # the compiled recurrence gives numpy's numbers: the same operations in the same order on whole arrays
+    b1, b2 = np.zeros((rows, q)), np.zeros((rows, q))
+    for m in range(n - 1, 0, -1):
+        b1, b2 = c[:, m:m + 1] + 2 * sigma * b1 - b2, b1
+    assert np.array_equal(got, b1)
+    # leading axes broadcast: row m of the identity gives U_{m-1}
+    x = np.linspace(-1, 1, 9)
+    U = N._u_series(np.eye(5), x)
+    assert np.array_equal(U[0], np.zeros(9))
+    assert np.allclose(U[1:], [np.ones(9), 2 * x, 4 * x**2 - 1, 8 * x**3 - 4 * x], rtol=0, atol=1e-14)
+
+
 @pytest.mark.parametrize("bad, match", [
     (dict(load=-1.0), r"load = -1\.0 N/m is not allowed"),
     (dict(load=np.nan), r"load = nan N/m is not allowed"),

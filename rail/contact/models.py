@@ -26,6 +26,7 @@ from typing import ClassVar
 
 import numpy as np
 
+from .._lazyjit import njit
 from .hertz import ContactError, ContactMaterial, equivalent_radius, hertz_half_length
 
 __all__ = ["NormalContact", "ReportNormal", "NonHertzianNormal", "Patches", "NORMAL_MODELS", "normal_contact",
@@ -58,7 +59,79 @@ def roughness_slope(roughness, period: float):
     np.add.at(acc, j % n, 1j * j * (2 * np.pi / period) * roughness.Z)
     values = np.real(np.fft.ifft(acc)) * n
     grid = np.arange(n) * period / n
-    return lambda x: np.interp(x, grid, values, period=period)
+    return _periodic_interpolant(grid, values, period)
+
+
+def _periodic_interpolant(xp, fp, period: float):
+    """x -> np.interp(x, xp, fp, period=period), the same numbers, by a compiled loop on the wrapped table.
+
+    Parameters
+    ----------
+    xp : ndarray, shape (n,)
+        Increasing sample positions in [0, period) [m], about equally spaced (each point's interval is
+        first guessed from the mean spacing).
+    fp : ndarray, shape (n,)
+        The values there [any unit].
+    period : float
+        The period [m], > 0.
+
+    Returns
+    -------
+    callable
+        x [m] (any shape) -> the periodic linear interpolant at x [unit of fp], as numpy.interp with
+        ``period``: x wrapped to [0, period), the table padded with one sample at each end.
+    """
+    xp_wrapped = np.concatenate((xp[-1:] - period, xp, xp[:1] + period))
+    fp_wrapped = np.concatenate((fp[-1:], fp, fp[:1]))
+    slopes = np.diff(fp_wrapped) / np.diff(xp_wrapped)  # as numpy.interp: (f_{j+1} - f_j) / (x_{j+1} - x_j)
+
+    def interpolant(x):
+        x = np.asarray(x, dtype=float)
+        out = np.empty(x.shape)
+        _interp_wrapped(np.ascontiguousarray(x).reshape(-1), xp_wrapped, fp_wrapped, slopes, float(period),
+                        out.reshape(-1))
+        return out
+
+    return interpolant
+
+
+@njit(cache=True)
+def _wrap(x, period):
+    """x % period [m] (Python's and numpy's: fmod, plus the period where the sign differs), the same number
+    (-0 kept): x itself in [0, period), x - period (exact) in [period, 2 period), x + period in [-period, 0)."""
+    if 0.0 <= x < period:
+        return x
+    if period <= x < 2.0 * period:
+        return x - period
+    if -period <= x < 0.0:
+        return x + period
+    return x % period
+
+
+@njit(cache=True)
+def _interp_wrapped(x, xp, fp, slopes, period, out):
+    """out = numpy.interp(x % period, xp, fp) for an increasing table xp covering [0, period] [unit of fp].
+
+    The interval j (the largest with xp_j <= x) is guessed from the mean spacing and walked to, which is
+    numpy's binary search's answer; the value is numpy's, slopes_j (x - xp_j) + fp_j, fp_j where
+    x = xp_j or at the table's last point, and NaN for NaN x. x [m], period [m]; out: shape of x.
+    """
+    n = xp.size
+    h = (xp[n - 1] - xp[0]) / (n - 1)
+    for i in range(x.size):
+        y = _wrap(x[i], period)
+        if y != y:
+            out[i] = y
+            continue
+        j = min(max(int((y - xp[0]) / h), 0), n - 1)
+        while j > 0 and xp[j] > y:
+            j -= 1
+        while j < n - 1 and xp[j + 1] <= y:
+            j += 1
+        if j == n - 1 or xp[j] == y:
+            out[i] = fp[j]
+        else:
+            out[i] = slopes[j] * (y - xp[j]) + fp[j]
 
 
 def curvature_on_grid(roughness, n: int, period: float):

@@ -39,6 +39,7 @@ from dataclasses import dataclass
 
 import numpy as np
 
+from .._lazyjit import njit
 from .hertz import ContactError, ContactMaterial, composite_modulus, compliance
 
 __all__ = ["composite_modulus", "influence_matrix", "NormalSolution", "solve_normal", "approach_filter",
@@ -289,14 +290,64 @@ def _cheb_coefficients(f):
     return c
 
 
+@njit(cache=True)
+def _clenshaw_u(c, sigma, out):
+    """out = sum_{m>=1} c_m U_{m-1}(sigma) row by row, by Clenshaw's recurrence (compiled).
+
+    Parameters
+    ----------
+    c : ndarray, shape (rows, n)
+        Chebyshev coefficients c_m [any unit].
+    sigma : ndarray, shape (rows, q)
+        Points in [-1, 1] [-].
+    out : ndarray, shape (rows, q)
+        Filled with the sum [unit of c]: b_m = c_m + 2 sigma b_{m+1} - b_{m+2} from b_n = b_{n+1} = 0,
+        evaluated in that order (numpy's operations on whole arrays give the same numbers).
+    """
+    rows, n = c.shape
+    q = sigma.shape[1]
+    two_sigma = np.empty(q)
+    b1 = np.empty(q)
+    b2 = np.empty(q)
+    for i in range(rows):
+        for k in range(q):
+            two_sigma[k] = 2 * sigma[i, k]
+            b1[k] = 0.0
+            b2[k] = 0.0
+        for m in range(n - 1, 0, -1):  # sum_{j=0}^{n-2} c_{j+1} U_j(sigma)
+            cm = c[i, m]
+            for k in range(q):
+                t = cm + two_sigma[k] * b1[k] - b2[k]
+                b2[k] = b1[k]
+                b1[k] = t
+        for k in range(q):
+            out[i, k] = b1[k]
+
+
 def _u_series(c, sigma):
-    """sum_{m>=1} c_m U_{m-1}(sigma) for c (..., n) and sigma (..., q) by Clenshaw's recurrence."""
-    n = c.shape[-1]
-    b1 = np.zeros(c.shape[:-1] + (sigma.shape[-1],))
-    b2 = np.zeros_like(b1)
-    for m in range(n - 1, 0, -1):  # sum_{j=0}^{n-2} c_{j+1} U_j(sigma)
-        b1, b2 = c[..., m:m + 1] + 2 * sigma * b1 - b2, b1
-    return b1
+    """sum_{m>=1} c_m U_{m-1}(sigma) for c (..., n) and sigma (..., q) by Clenshaw's recurrence.
+
+    Parameters
+    ----------
+    c : ndarray, shape (..., n)
+        Chebyshev coefficients c_m, m = 0..n-1 (c_0 does not enter) [any unit].
+    sigma : ndarray, shape (..., q)
+        Points in [-1, 1] [-]; the leading axes of c and sigma broadcast.
+
+    Returns
+    -------
+    ndarray, shape (..., q)
+        The sum [unit of c].
+    """
+    c = np.asarray(c, dtype=float)
+    sigma = np.asarray(sigma, dtype=float)
+    lead = np.broadcast_shapes(c.shape[:-1], sigma.shape[:-1])
+    n, q = c.shape[-1], sigma.shape[-1]
+    c2 = np.ascontiguousarray(np.broadcast_to(c, lead + (n,)).reshape(-1, n))
+    s2 = np.ascontiguousarray(np.broadcast_to(sigma, lead + (q,)).reshape(-1, q))
+    out = np.empty((s2.shape[0], q))
+    _clenshaw_u(c2, s2, out)
+    return out.reshape(lead + (q,))
 
 
 def patch_contact(P, x_wheel, slope, m: ContactMaterial, xi, nodes: int = CHEBYSHEV_NODES, a_start=None, tol: float = 1e-13,
@@ -352,18 +403,23 @@ def patch_contact(P, x_wheel, slope, m: ContactMaterial, xi, nodes: int = CHEBYS
     tau = np.cos((np.arange(nodes) + 0.5) * np.pi / nodes)  # Gauss-Chebyshev nodes
     target = 4 * Pw / (np.pi * Estar)  # a c_1(a) must equal this [m]
 
-    def load(a):  # a c_1(a) - target, and c_1 / a (the effective curvature)
-        c1 = _cheb_coefficients(a[:, None] * tau[None, :] / m.wheel_radius
-                                - slope(xw[:, None] + a[:, None] * tau[None, :]))[:, 1]
-        return a * c1 - target, c1 / a
+    def coefficients(a):  # the gap slope's Chebyshev coefficients over the patch [-]
+        at = a[:, None] * tau[None, :]
+        return _cheb_coefficients(at / m.wheel_radius - slope(xw[:, None] + at))
+
+    def load(a):  # a c_1(a) - target, c_1 / a (the effective curvature) and the coefficients
+        c = coefficients(a)
+        return a * c[:, 1] - target, c[:, 1] / a, c
 
     # secant iteration on a c_1(a) = 4 P' / (pi E*), from Hertz with R_w and with 1/R_eq
     a0 = np.sqrt(target * m.wheel_radius) if a_start is None else np.asarray(a_start, dtype=float).copy()
-    f0, kappa = load(a0)
+    f0, kappa, _ = load(a0)
     a1 = np.sqrt(target / np.where(kappa > 0, kappa, 1 / m.wheel_radius))
     a1 = np.where(np.abs(a1 - a0) > 1e-9 * a0, a1, a0 * (1 + 1e-6))
+    a_last = c_last = None
     for _ in range(max_iter):
-        f1, kappa = load(a1)
+        f1, kappa, c_last = load(a1)
+        a_last = a1
         if np.all(np.abs(f1) <= tol * target):
             break
         den = np.where(f1 != f0, f1 - f0, 1.0)
@@ -382,7 +438,7 @@ def patch_contact(P, x_wheel, slope, m: ContactMaterial, xi, nodes: int = CHEBYS
         raise ContactError(f"multiple contact: at x = {xw[i]:.5g} m the roughness under the patch (a = {a1[i] * 1e3:.3g} mm) "
                            "leaves no single contact zone (effective curvature <= 0).")
     a = a1
-    c = _cheb_coefficients(a[:, None] * tau[None, :] / m.wheel_radius - slope(xw[:, None] + a[:, None] * tau[None, :]))
+    c = c_last if a is a_last else coefficients(a)  # converged: the last iteration's coefficients
     sigma = np.clip(np.asarray(xi, dtype=float)[None, :] / a[:, None], -1.0, 1.0)
     # smallest shape over the whole patch, edges included: on a fixed fine sigma grid, by one product
     check = np.linspace(-1, 1, 4 * nodes + 1)
