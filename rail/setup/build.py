@@ -242,7 +242,7 @@ def physics_problems(cfg: dict, source: str) -> list[str]:
         for key in ("spacing", "pad", "ballast", "sleeper_mass"):
             if key in cell and len(cell[key]) != nb:
                 out.append(f"{source}: track.cell.{key} has {len(cell[key])} values: it needs one per bay, track.cell.bays = {nb}.")
-        flex = (cfg.get("rail_flexibility") or {}).get("model", "none")
+        flex = setting(cfg, "rail_flexibility.model")  # the schema's default where the key is absent, as _rail_flexibility reads it
         if flex != "none":
             out.append(f"{source}: rail_flexibility.model = {flex!r} is not allowed with track.cell: the rail head's "
                        "longitudinal receptance (rail.longitudinal.RailHead) is that of the uniform track, so a cell's "
