@@ -18,6 +18,9 @@ from rail import moving
 from rail import roughness as R
 from rail.setup import config as rconfig
 
+# Runs snakemake or sphinx in a subprocess with a time limit: .ci/run runs these tests one at a time.
+pytestmark = pytest.mark.workflow
+
 
 def _with(cfg: dict, key: tuple, value) -> dict:
     """cfg with the nested key (a tuple of names) set to value (in place; returns cfg)."""

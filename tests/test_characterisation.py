@@ -15,6 +15,9 @@ from rail.studies import characterisation
 from rail import track as T
 from rail.plotting import track as plots
 
+# Runs snakemake or sphinx in a subprocess with a time limit: .ci/run runs these tests one at a time.
+pytestmark = pytest.mark.workflow
+
 RHO, AREA, I2, E, G, KAPPA, ETA_R = 7850.0, 7.69e-3, 30.55e-6, 2.1e11, 0.81e11, 0.4, 0.01
 PAD, ETA_P, M_S, BALLAST, ETA_B, SPACING = 3.5e8, 0.25, 162.0, 5.0e7, 1.0, 0.6
 

@@ -20,6 +20,9 @@ import pytest
 import rail
 import rail.contact
 
+# Runs snakemake or sphinx in a subprocess with a time limit: .ci/run runs these tests one at a time.
+pytestmark = pytest.mark.workflow
+
 ROOT = Path(__file__).resolve().parents[1]
 README = ROOT / "README.md"
 

@@ -14,6 +14,9 @@ import xarray as xr
 
 from rail.app import api, cli
 
+# Runs snakemake or sphinx in a subprocess with a time limit: .ci/run runs these tests one at a time.
+pytestmark = pytest.mark.workflow
+
 # two one-wheel vehicles at one speed, from the example spectrum over one bay, reduced numerics
 # (K = 36 is the least the configured speeds allow; 21 contact nodes)
 TINY = """fleet:

@@ -10,6 +10,9 @@ import pytest
 from fleets import TWO_VEHICLES
 from test_workflow import assert_stops_at_start_up, job_counts, snakemake, workdir  # noqa: F401 (fixture)
 
+# Runs snakemake in a subprocess with a time limit: .ci/run runs these tests one at a time.
+pytestmark = pytest.mark.workflow
+
 MIX = TWO_VEHICLES
 # another fleet on the same track: a three-axle vehicle at two of the speeds above and one more
 OTHER = """fleet:

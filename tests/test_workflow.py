@@ -10,6 +10,9 @@ import pytest
 import xarray as xr
 import yaml
 
+# Runs snakemake or sphinx in a subprocess with a time limit: .ci/run runs these tests one at a time.
+pytestmark = pytest.mark.workflow
+
 
 def snakemake(root, *args, cwd=None):
     cmd = [sys.executable, "-m", "snakemake", "-s", str(root / "Snakefile"), *args]
