@@ -351,3 +351,13 @@ def test_the_speed_study_reads_every_dynspeed_scenario_at_its_own_speeds(P):
     for f in files:
         speeds = load_yaml(str(f))["figures"]["rate_spectrum"]["speeds"]
         assert got[f.stem] == [f"results/spectrum/{f.stem}/V{v:g}.nc" for v in speeds]
+
+
+def test_rail_flexibility_target_is_dyn_fixed_and_every_dyn_rail_scenario(P):
+    """The named target rail_flexibility: dyn_fixed for comparison and every dyn_rail*.yaml, found from
+    the files (a new dyn_rail_*.yaml joins the target without an edit of the rule)."""
+    files = sorted((ROOT / "config" / "scenarios").glob("dyn_rail*.yaml"))
+    assert len(files) == 8
+    got = P.rail_flexibility_targets()
+    want = ["dyn_fixed"] + [f.stem for f in files]
+    assert sorted(got) == sorted(f"results/spectrum/{n}/rate_spectrum.png" for n in want)

@@ -308,6 +308,13 @@ class Plan:
                 out += self.study_targets(name)
         return out
 
+    def rail_flexibility_targets(self) -> list[str]:
+        """The named target rail_flexibility (issue 43): the growth-rate spectrum of dyn_fixed (the rigid
+        rail head, for comparison) and of every dyn_rail*.yaml scenario (the rail's longitudinal
+        flexibility, alone or with a wheelset's torsion), of those scenario files that exist."""
+        names = [n for n in sorted(self.scenarios) if n == "dyn_fixed" or n.startswith("dyn_rail")]
+        return [f"results/spectrum/{n}/rate_spectrum.png" for n in names]
+
     def speed_study_spectra(self) -> dict[str, list[str]]:
         """The dynamic-creepage study over speed (issue 43, rule speed_study): each dynspeed_*.yaml scenario's
         name -> its per-speed spectra, results/spectrum/<name>/V<speed>.nc, at figures.rate_spectrum.speeds."""

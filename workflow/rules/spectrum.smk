@@ -152,5 +152,4 @@ rule rail_flexibility:
     longitudinal flexibility at the contact, alone and with the trailer and the motored wheelset: the
     scenario files dyn_rail*.yaml (docs/dynamic-creepage.md, docs/field.md)."""
     input:
-        [f"results/spectrum/{n}/rate_spectrum.png" for n in ("dyn_fixed", "dyn_rail", "dyn_rail_trailer", "dyn_rail_driven", "dyn_rail_pinned", "dyn_rail_pinned_slow", "dyn_rail_pinned_stiff", "dyn_rail_shear_soft", "dyn_rail_shear_stiff")
-         if n in PLAN.scenarios],
+        PLAN.rail_flexibility_targets(),
