@@ -28,9 +28,10 @@ from dataclasses import dataclass
 
 import numpy as np
 
+from ._lazyjit import njit
 from .quadrature import adaptive_panels, filon_weights
 from .cell import TrackCell, cell_sum_matrix, point_stiffness
-from .track import Track, damping_problem, free_receptance
+from .track import Track, damping_problem, free_receptance, rail_stiffnesses
 
 __all__ = ["MovingReceptance", "receptance_table", "bloch_tables", "cell_receptance_table", "moving_coefficients", "critical_speed"]
 
@@ -81,7 +82,104 @@ class MovingReceptance:
         return complex(self.A[offset_index, k + n + K, k + K])
 
 
-def _node_tables(beta, Omega, V, js, cell: TrackCell, static_j):
+@njit(cache=True, error_model="numpy")
+def _free_column(b, EI, kGA, inertia, rhoA_w2):
+    """H(b, omega) of rail.track.free_receptance in real arithmetic: (real, imaginary) [m^2/N], with
+    EI, kGA [N m^2, N] complex, inertia = rho I omega^2 [N] and rhoA_w2 = rho A omega^2 [N/m^2]."""
+    b2 = b * b
+    br, bi = EI.real * b2 - inertia, EI.imag * b2  # EI beta^2 - rho I omega^2
+    nr, ni = br + kGA.real, bi + kGA.imag  # the numerator, + kappa G A
+    tr, ti = kGA.real * b2, kGA.imag * b2
+    dr = tr * br - ti * bi - rhoA_w2 * nr
+    di = tr * bi + ti * br - rhoA_w2 * ni
+    inv = 1.0 / (dr * dr + di * di)
+    return (nr * dr + ni * di) * inv, (ni * dr - nr * di) * inv
+
+
+@njit(cache=True, error_model="numpy")
+def _uniform_columns(beta, js, bP, EI, kGA, inertia, rhoA_w2, coef, P):
+    """The uniform track's node tables in one pass (``_node_tables`` with one support at x = 0).
+
+    h_j = H(beta - j beta_P, omega) (rail.track.free_receptance's formula), the reactions Y_j = c h_j
+    with c = K_s / (1 + K_s S / P) per node, and the diagonal integrands h_j - h_j Y_j / P, in real
+    arithmetic without numpy's ten temporaries of nodes x columns. The numbers are numpy's to rounding
+    (a few 1e-16 of each h_j; tests/test_track.py), not bit for bit: numpy's complex product and
+    quotient round differently (its product uses fused multiply-adds where the CPU has them).
+
+    Parameters
+    ----------
+    beta : (n,) float
+        The nodes [rad/m].
+    js : (J,) int
+        The columns j [-].
+    bP : float
+        beta_P [rad/m].
+    EI, kGA : (n,) complex
+        The rail's bending and shear stiffness at omega = Omega + beta V [N m^2, N].
+    inertia, rhoA_w2 : (n,) float
+        rho I omega^2 [N] and rho A omega^2 [N/m^2].
+    coef : (n,) complex
+        c [N/m]; 0 where the caller replaces the node (the static point).
+    P : float
+        The period [m].
+
+    Returns
+    -------
+    G : (n, J) complex [m^2/N];  Y : (n, J) complex [m/N];  diag : (n, J) complex [m^2/N]
+    """
+    n, J = beta.shape[0], js.shape[0]
+    G = np.empty((n, J), dtype=np.complex128)
+    Y = np.empty((n, J), dtype=np.complex128)
+    diag = np.empty((n, J), dtype=np.complex128)
+    invP = 1.0 / P
+    for i in range(n):
+        cr, ci = coef[i].real, coef[i].imag
+        for j in range(J):
+            gr, gi = _free_column(beta[i] - js[j] * bP, EI[i], kGA[i], inertia[i], rhoA_w2[i])
+            yr, yi = cr * gr - ci * gi, cr * gi + ci * gr
+            G[i, j] = complex(gr, gi)
+            Y[i, j] = complex(yr, yi)
+            diag[i, j] = complex(gr - (gr * yr - gi * yi) * invP, gi - (gr * yi + gi * yr) * invP)
+    return G, Y, diag
+
+
+@njit(cache=True, error_model="numpy")
+def _uniform_proxy(beta, jac, js, c0, bP, EI, kGA, inertia, rhoA_w2, coef, P):
+    """What the adaptive rule follows on the uniform track, times the map's Jacobian ``jac`` (n,):
+    every column's diagonal integrand and the reactions to the central column ``c0``, shape (n, J + 1),
+    as ``_uniform_columns`` computes them (the same numbers) without forming G and Y."""
+    n, J = beta.shape[0], js.shape[0]
+    out = np.empty((n, J + 1), dtype=np.complex128)
+    invP = 1.0 / P
+    for i in range(n):
+        cr, ci = coef[i].real, coef[i].imag
+        w = jac[i]
+        for j in range(J):
+            gr, gi = _free_column(beta[i] - js[j] * bP, EI[i], kGA[i], inertia[i], rhoA_w2[i])
+            yr, yi = cr * gr - ci * gi, cr * gi + ci * gr
+            out[i, j] = complex((gr - (gr * yr - gi * yi) * invP) * w, (gi - (gr * yi + gi * yr) * invP) * w)
+            if j == c0:
+                out[i, J] = complex(yr * w, yi * w)
+    return out
+
+
+def _uniform_node_scalars(beta, omega, Kq, far, js, cell: TrackCell):
+    """The arguments of ``_uniform_columns`` (and, with the Jacobian, ``_uniform_proxy``) per node:
+    beta, js, beta_P, EI, kGA, rho I omega^2, rho A omega^2, c = K_s / (1 + K_s S / P) (0 at the
+    nodes not ``far``, which the static point's formula replaces) and P."""
+    P = cell.period
+    coef = np.zeros(len(beta), dtype=complex)
+    if far.any():
+        S = cell_sum_matrix(beta[far], omega[far], cell)
+        coef[far] = (Kq[far] / (1 + Kq[far] * S[:, :, 0] / P))[:, 0]
+    EI, kGA = rail_stiffnesses(cell.track, omega)
+    r = cell.track.rail
+    return (np.ascontiguousarray(beta, dtype=float), np.ascontiguousarray(js, dtype=np.int64), float(cell.beta_p),
+            np.ascontiguousarray(EI, dtype=complex), np.ascontiguousarray(kGA, dtype=complex),
+            r.density * r.second_moment_of_area * omega**2, r.density * r.area * omega**2, coef, float(P))
+
+
+def _node_tables(beta, Omega, V, js, cell: TrackCell, static_j, compiled: bool = True):
     """Everything the wavenumber integrands need at the nodes ``beta`` (docs/track.md, "A cell of N bays").
 
     h_j = H(beta - j beta_P, omega), omega = Omega + beta V, for the columns ``js``; the reactions of
@@ -98,6 +196,10 @@ def _node_tables(beta, Omega, V, js, cell: TrackCell, static_j):
     h / (1 + h c / P), its reactions h z / (1 + h c / P), and its row b^T B^-1 diag(K) v_k h / (1 + h c / P).
     For one support this is the combined form h (L + K_s (S - h)) / (L + K_s S) of the uniform track.
 
+    The uniform track (one support at x = 0) takes its columns from a compiled loop
+    (``_uniform_columns``: numpy's numbers to rounding, without numpy's temporaries);
+    ``compiled=False`` forms them with numpy (for tests).
+
     Returns
     -------
     G : (n, J) h_j;  diag : (n, J) diagonal integrands;  U, Y : (n, Q, J);
@@ -107,30 +209,37 @@ def _node_tables(beta, Omega, V, js, cell: TrackCell, static_j):
     P, bP = cell.period, cell.beta_p
     s = cell.positions
     omega = Omega + beta * V
-    G = free_receptance(beta[:, None] - js[None, :] * bP, omega[:, None], cell.track)
     Kq = point_stiffness(cell, omega)  # (n, Q)
-    if len(s) == 1 and s[0] == 0.0:  # the uniform track: no phases
-        U = Vv = G[:, None, :]
-    else:  # exp(i (beta - j beta_P) s_q) as the product of two small tables
-        eplus = np.exp(1j * beta[:, None] * s[None, :])[:, :, None] * np.exp(-1j * bP * np.outer(s, js))[None]
-        U = G[:, None, :] * eplus
-        Vv = G[:, None, :] / eplus
-    n, Q, J = U.shape
+    uniform = len(s) == 1 and s[0] == 0.0
+    n, Q, J = len(beta), len(s), len(js)
     near = np.zeros(n, dtype=bool)
     if static_j is not None:
         near = np.abs(beta - static_j * bP) < bP / 2
     far = ~near
-    Y = np.empty_like(U)
-    row = None
     eye = np.eye(Q)
-    if far.any():
-        S = cell_sum_matrix(beta[far], omega[far], cell)
-        if Q == 1:
-            Y[far] = (Kq[far] / (1 + Kq[far] * S[:, :, 0] / P))[:, :, None] * Vv[far]
-        else:
-            Mx = eye[None] + Kq[far][:, :, None] * S / P
-            Y[far] = np.linalg.solve(Mx, Kq[far][:, :, None] * Vv[far])
-    diag = G - (U[:, 0] * Y[:, 0] if Q == 1 else np.einsum("nqj,nqj->nj", U, Y)) / P if far.all() else None
+    if uniform and compiled:
+        G, Y2, diag = _uniform_columns(*_uniform_node_scalars(beta, omega, Kq, far, js, cell))
+        U = Vv = G[:, None, :]
+        Y = Y2[:, None, :]
+    else:
+        G = free_receptance(beta[:, None] - js[None, :] * bP, omega[:, None], cell.track)
+        if uniform:  # no phases
+            U = Vv = G[:, None, :]
+        else:  # exp(i (beta - j beta_P) s_q) as the product of two small tables
+            eplus = np.exp(1j * beta[:, None] * s[None, :])[:, :, None] * np.exp(-1j * bP * np.outer(s, js))[None]
+            U = G[:, None, :] * eplus
+            Vv = G[:, None, :] / eplus
+        Y = np.empty_like(U)
+        if far.any():
+            S = cell_sum_matrix(beta[far], omega[far], cell)
+            if Q == 1:
+                Y[far] = (Kq[far] / (1 + Kq[far] * S[:, :, 0] / P))[:, :, None] * Vv[far]
+            else:
+                Mx = eye[None] + Kq[far][:, :, None] * S / P
+                Y[far] = np.linalg.solve(Mx, Kq[far][:, :, None] * Vv[far])
+        diag = np.empty((n, J), dtype=complex)
+        diag[far] = G[far] - (U[far][:, 0] * Y[far][:, 0] if Q == 1 else np.einsum("nqj,nqj->nj", U[far], Y[far])) / P
+    row = None
     if near.any():
         col = int(np.where(js == static_j)[0][0])
         bn, on = beta[near] - static_j * bP, omega[near]
@@ -152,13 +261,10 @@ def _node_tables(beta, Omega, V, js, cell: TrackCell, static_j):
         row = np.zeros((n, J), dtype=complex)
         row[near] = P * gam[:, None] * t
         row[near, col] = 0.0
-        if diag is None:
-            Un = U[near].copy()
-            Un[:, :, col] = 0.0
-            diag = np.empty((n, J), dtype=complex)
-            diag[far] = G[far] - np.einsum("nqj,nqj->nj", U[far], Y[far]) / P
-            diag[near] = G[near] - np.einsum("nqj,nqj->nj", Un, Yn) / P
-            diag[near, col] = P * gam
+        Un = U[near].copy()
+        Un[:, :, col] = 0.0
+        diag[near] = G[near] - np.einsum("nqj,nqj->nj", Un, Yn) / P
+        diag[near, col] = P * gam
     return G, diag, U, Y, row, near
 
 
@@ -221,6 +327,7 @@ def _integrate(cell: TrackCell, V, Omega, js, offsets, static_j, rtol, cut, orde
     beta_s = -Omega / V  # where omega = 0: hysteretic damping changes sign
     has_offsets = np.any(offsets != 0)
     c0 = int(np.argmin(np.abs(js)))
+    uniform = Q == 1 and cell.positions[0] == 0.0  # the compiled columns (rail.moving._uniform_columns)
 
     def to_beta(th):
         return Bmap * np.tan(th), Bmap / np.cos(th) ** 2
@@ -236,6 +343,11 @@ def _integrate(cell: TrackCell, V, Omega, js, offsets, static_j, rtol, cut, orde
         out = []
         for lo in range(0, len(th), block):
             beta, jac = to_beta(th[lo : lo + block])
+            if uniform and (static_j is None or np.all(np.abs(beta - static_j * b0) >= b0 / 2)):
+                omega = Omega + beta * V
+                x = _uniform_node_scalars(beta, omega, point_stiffness(cell, omega), np.ones(len(beta), dtype=bool), js, cell)
+                out.append(_uniform_proxy(x[0], np.ascontiguousarray(jac, dtype=float), x[1], c0, *x[2:]))
+                continue
             G, diag, U, Y, row, near = _node_tables(beta, Omega, V, js, cell, static_j)
             out.append(np.concatenate([diag, Y[:, 0, c0][:, None]], axis=1) * jac[:, None])
         return np.concatenate(out)

@@ -254,3 +254,54 @@ def test_filon_weights_remove_the_aliasing_of_far_offsets_on_the_d0_rule(track):
         errs[filon] = np.max(np.abs(np.diag(A[0]) - diag) / column)
     assert errs[False] > 1e-2
     assert errs[True] < 2e-5
+
+
+@pytest.mark.parametrize("damping", ["hysteretic", "viscous"])
+@pytest.mark.parametrize("fraction", [0.0, 0.3])
+def test_compiled_uniform_columns_are_as_accurate_as_numpys(track, damping, fraction):
+    """The uniform track's node tables from the compiled loop (rail.moving._uniform_columns) against
+    numpy's formulas (``compiled=False``) and both against the same formulas in extended precision
+    (numpy's longdouble, from the same double inputs): h_j, the reactions and the diagonal integrand
+    h - h Y / P (a difference: its error on the scale of h) are no less accurate compiled than
+    numpy's own (the two differ at rounding: the formula's own conditioning, up to a few 1e-14 of h
+    near its free waves). The static point's nodes and row are numpy's code in both. The adaptive
+    rule's proxy is the compiled columns' numbers exactly."""
+    tr = track if damping == "hysteretic" else table1("viscous")
+    cell = TrackCell.uniform(tr)
+    V, js = 40.0, np.arange(-64, 65)
+    Omega = fraction * tr.beta0 * V
+    static = 0 if fraction == 0 else None
+    beta = np.concatenate([np.random.default_rng(3).uniform(-400, 400, 700), np.linspace(-0.4, 0.4, 8) * tr.beta0])
+    num = moving._node_tables(beta, Omega, V, js, cell, static, compiled=False)
+    com = moving._node_tables(beta, Omega, V, js, cell, static, compiled=True)
+    near = com[5]
+    assert np.array_equal(near, num[5]) and near.any() == (fraction == 0)
+    far = ~near
+    x = moving._uniform_node_scalars(beta, Omega + beta * V, moving.point_stiffness(cell, Omega + beta * V), far, js, cell)
+    # extended precision from the same double inputs
+    ld = np.clongdouble
+    b = x[0].astype(np.longdouble)[:, None] - js.astype(np.longdouble)[None, :] * np.longdouble(x[2])
+    EI, kGA, ine, ra, c = (x[3].astype(ld)[:, None], x[4].astype(ld)[:, None], x[5].astype(np.longdouble)[:, None],
+                           x[6].astype(np.longdouble)[:, None], x[7].astype(ld)[:, None])
+    b2 = b * b
+    nu = EI * b2 + kGA - ine
+    G = nu / (kGA * b2 * (EI * b2 - ine) - ra * nu)
+    Yx = c * G
+    D = G - G * Yx / np.longdouble(x[8])
+    eps = np.finfo(float).eps
+
+    def err(a, ref, scale):
+        return float(np.max(np.abs(a[far] - ref[far]) / np.maximum(np.abs(scale[far]), 1e-300)))
+
+    for a_c, a_n, ref, scale in [(com[0], num[0], G, G), (com[3][:, 0], num[3][:, 0], Yx, Yx), (com[1], num[1], D, G)]:
+        e_c, e_n = err(a_c, ref, scale), err(a_n, ref, scale)
+        assert e_c <= 2 * e_n + 8 * eps, (e_c, e_n)
+    if fraction == 0:  # the static point's nodes: numpy's code on inputs equal to rounding
+        assert np.allclose(com[4][near], num[4][near], rtol=1e-12, atol=0)
+        assert np.allclose(com[1][near], num[1][near], rtol=1e-12, atol=0)
+    # the proxy: diag and the central column's reactions, times the Jacobian, away from the static point
+    xf = moving._uniform_node_scalars(beta[far], Omega + beta[far] * V, moving.point_stiffness(cell, Omega + beta[far] * V),
+                                      np.ones(far.sum(), dtype=bool), js, cell)
+    jac = np.linspace(0.5, 2.0, far.sum())
+    proxy = moving._uniform_proxy(xf[0], jac, xf[1], 64, *xf[2:])
+    assert np.array_equal(proxy, np.concatenate([com[1][far], com[3][far][:, 0, 64][:, None]], axis=1) * jac[:, None])
