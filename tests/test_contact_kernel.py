@@ -199,3 +199,31 @@ def test_compile_kernels_compiles_every_signature_the_production_calls_use():
     solve_tangential(P, a, m, 30.0, delta, M)
     contact_tangent.work_tangent(P, a, m, 30.0, delta, M, np.ones((steps, 2)), np.zeros((steps, 2)))
     assert (list(_march.signatures), list(contact_tangent._march_tangent.signatures)) == before
+
+
+def test_the_steps_small_solve_agrees_with_lapack_and_pivots():
+    """rail.contact.steps._solve_in_place (the stick solve's and the tangent's dense solve) against
+    numpy's LAPACK solve: influence-like matrices of 1 to 61 unknowns, one and several right-hand
+    sides, to 1e-12 of the solution relative to the conditioning; a matrix with a zero leading
+    diagonal needs the row exchange; a singular one gives a non-finite answer (the march's
+    finiteness check reports it)."""
+    from rail.contact.steps import _solve_in_place
+
+    rng = np.random.default_rng(7)
+    for n in (1, 2, 5, 30, 61):
+        for m in (1, 3):
+            A = rng.normal(size=(n, n)) + n * np.eye(n) * rng.uniform(0.1, 1.0)
+            B = rng.normal(size=(n, m))
+            want = np.linalg.solve(A, B)
+            Aw, Bw = A.copy(), B.copy()
+            _solve_in_place(Aw, Bw)
+            tol = 1e-12 * np.linalg.cond(A) * np.abs(want).max()
+            assert np.abs(Bw - want).max() < tol, n
+    A = np.array([[0.0, 2.0, 1.0], [1.0, 1.0, 0.0], [3.0, 0.0, 1.0]])
+    B = np.array([[1.0], [2.0], [3.0]])
+    Aw, Bw = A.copy(), B.copy()
+    _solve_in_place(Aw, Bw)
+    assert np.allclose(A @ Bw, B, rtol=0, atol=1e-14)
+    S, b = np.array([[1.0, 2.0], [2.0, 4.0]]), np.array([[1.0], [1.0]])
+    _solve_in_place(S, b)
+    assert not np.all(np.isfinite(b))
