@@ -109,3 +109,23 @@ def test_the_figures_frequency_tick_labels_are_plain_and_do_not_overlap():
         assert all("times" not in t.get_text() and "^" not in t.get_text() for t in labels), [t.get_text() for t in labels]
         boxes = sorted((t.get_window_extent(r) for t in labels), key=lambda b: b.x0)
         assert all(a.x1 < b.x0 for a, b in zip(boxes, boxes[1:])), [t.get_text() for t in labels]
+
+
+def test_a_fastest_line_that_moves_to_another_band_is_said_to_be_two_bands():
+    """Two bands, each at its own frequency: one at 250 Hz that grows at low speed and fades, one at
+    1,100 Hz that grows at high speed. The fastest line's wavelength shortens as the speed rises, which
+    one band cannot do: the verdict says two bands and where the change is, not a constant wavelength.
+    Either band alone keeps its frequency."""
+    def two(V, f):
+        low = 0.4 - 40.0 * np.log(f / 250.0) ** 2 - 0.02 * (V - 20.0)
+        high = -0.8 + 0.02 * V - 40.0 * np.log(f / 1100.0) ** 2
+        return np.maximum(low, high)
+    ds = speed_study.study_dataset({"t": _spectra(two)}, {"t": 1069.0})
+    v = ds["verdict"].item()
+    lam = ds["fastest_wavelength"].sel(case="t").values
+    assert np.any(np.diff(lam) < 0)  # the fastest line's wavelength shortens somewhere as the speed rises
+    assert v.startswith("two bands: the fastest line changes band between"), v
+    assert "constant wavelength" not in v
+    for fc, speeds in ((250.0, (20.0, 25.0, 30.0)), (1100.0, (60.0, 70.0, 80.0))):  # where each band is in the lines
+        band = _spectra(lambda V, f: 0.4 - 40.0 * np.log(f / fc) ** 2 + 0 * V, speeds=speeds)
+        assert speed_study.study_dataset({"b": band}, {"b": 1069.0})["verdict"].item().startswith("constant frequency")

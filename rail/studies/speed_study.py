@@ -13,6 +13,13 @@ frequency ("constant frequency", as roaring rail near the pinned-pinned frequenc
 smaller frequency spread by more than a factor of 2, one that keeps its wavelength ("constant
 wavelength") the smaller wavelength spread; a peak on the edge of the computed range of wavelengths
 is said to be there, because the band may continue beyond it.
+
+One band, as the speed rises from V_1 to V_2, moves between those two limits: its wavelength
+grows by no more than the speed (ln(lambda_2 / lambda_1) in [0, ln(V_2 / V_1)], to one line's
+spacing). A fastest line whose wavelength shortens as the speed rises, or grows faster than the
+speed, has moved to another band (two mechanisms, e.g. the wheelset's torsion at low speed and the
+rail's band above pinned-pinned at high speed): the verdict then says "two bands" and where the
+fastest line changes band, and does not call the pair constant in either.
 """
 
 from __future__ import annotations
@@ -125,7 +132,9 @@ def study_dataset(cases: dict, pinned_pinned: dict) -> xr.Dataset:
     ds["verdict"] = data_var("case", np.array([verdict(ds.isel(case=i)) for i in range(len(names))]), "1",
                              "whether the fastest growing line keeps its frequency or its wavelength over speed")
     ds.attrs["verdict_rule"] = ("over the speeds at which a line grows, the spread ln(max/min) of the fastest growing line's frequency "
-                                "against that of its wavelength: the smaller by more than a factor 2 is what the band keeps")
+                                "against that of its wavelength: the smaller by more than a factor 2 is what the band keeps; "
+                                "'two bands' where, between two such speeds, its wavelength shortens as the speed rises or grows "
+                                "faster than the speed (beyond one line's spacing), which one band cannot do")
     return ds
 
 
@@ -154,6 +163,16 @@ def verdict(case: xr.Dataset) -> str:
     note = " (at the edge of the computed wavelengths: the band may continue beyond)" if edge else ""
     if grows.sum() == 1:
         return f"grows at one speed only ({where}){note}"
+    # one band moves between constant frequency and constant wavelength: 0 <= d ln(lambda) <= d ln(V),
+    # to one line's spacing; outside that the fastest line is in another band
+    lnl = np.sort(np.log(lam_all[np.isfinite(lam_all) & (lam_all > 0)]))
+    tol = float(np.max(np.diff(lnl))) if lnl.size > 1 else 0.0
+    order = np.argsort(V)
+    dV, dl = np.diff(np.log(V[order])), np.diff(np.log(lam[order]))
+    jumps = [(V[order][i], V[order][i + 1]) for i in range(dV.size) if not (-tol <= dl[i] <= dV[i] + tol)]
+    if jumps:
+        between = ", ".join(f"{a:g} and {b:g} m/s" for a, b in jumps)
+        return f"two bands: the fastest line changes band between {between} ({where}){note}"
     sf, sl = np.log(f.max() / f.min()), np.log(lam.max() / lam.min())
     if sf < sl / 2:
         kind = "constant frequency"
