@@ -29,6 +29,7 @@ from dataclasses import dataclass
 import numpy as np
 
 from ._lazyjit import njit
+from ._linalg import solve_in_place
 from .quadrature import adaptive_panels, filon_weights
 from .cell import TrackCell, cell_sum_matrix, point_stiffness
 from .track import Track, damping_problem, free_receptance, rail_stiffnesses
@@ -163,6 +164,57 @@ def _uniform_proxy(beta, jac, js, c0, bP, EI, kGA, inertia, rhoA_w2, coef, P):
     return out
 
 
+@njit(cache=True, error_model="numpy")
+def _cell_columns(beta, js, bP, EI, kGA, inertia, rhoA_w2, eb, ej, Kq, S, P):
+    """A track cell's node tables in one pass per node (``_node_tables`` with several attachments).
+
+    Per node: h_j = H(beta - j beta_P, omega) (``_free_column``), the phases
+    e_qj = exp(i (beta - j beta_P) s_q) = eb[q] ej[q, j], the row factors U = h e, the attachments'
+    reactions Y = (I + diag(K) S / P)^-1 diag(K) (h / e) (one small LU per node, every column
+    solved with it) and the diagonal integrands h_j - sum_q U_qj Y_qj / P.
+
+    Parameters
+    ----------
+    beta : (n,) float [rad/m];  js : (J,) int;  bP : beta_P [rad/m]
+    EI, kGA : (n,) complex [N m^2, N];  inertia, rhoA_w2 : (n,) float [N, N/m^2]
+    eb : (n, Q) complex, exp(i beta s_q);  ej : (Q, J) complex, exp(-i j beta_P s_q)
+    Kq : (n, Q) complex, the attachments' stiffnesses [N/m];  S : (n, Q, Q) complex, the lattice sums [m^2/N]
+    P : the cell's length [m]
+
+    Returns
+    -------
+    G : (n, J);  diag : (n, J);  U, Y : (n, Q, J), complex
+    """
+    n, J, Q = beta.shape[0], js.shape[0], eb.shape[1]
+    G = np.empty((n, J), dtype=np.complex128)
+    diag = np.empty((n, J), dtype=np.complex128)
+    U = np.empty((n, Q, J), dtype=np.complex128)
+    Y = np.empty((n, Q, J), dtype=np.complex128)
+    A = np.empty((Q, Q), dtype=np.complex128)
+    B = np.empty((Q, J), dtype=np.complex128)
+    invP = 1.0 / P
+    for i in range(n):
+        for j in range(J):
+            gr, gi = _free_column(beta[i] - js[j] * bP, EI[i], kGA[i], inertia[i], rhoA_w2[i])
+            G[i, j] = complex(gr, gi)
+        for q in range(Q):
+            for r in range(Q):
+                A[q, r] = (1.0 if q == r else 0.0) + Kq[i, q] * S[i, q, r] * invP
+            for j in range(J):
+                e = eb[i, q] * ej[q, j]
+                g = G[i, j]
+                U[i, q, j] = g * e
+                B[q, j] = Kq[i, q] * (g * e.conjugate())  # h / e: abs(e) = 1
+        solve_in_place(A, B)
+        for j in range(J):
+            acc = 0j
+            for q in range(Q):
+                Y[i, q, j] = B[q, j]
+                acc += U[i, q, j] * B[q, j]
+            diag[i, j] = G[i, j] - acc * invP
+    return G, diag, U, Y
+
+
 def _uniform_node_scalars(beta, omega, Kq, far, js, cell: TrackCell):
     """The arguments of ``_uniform_columns`` (and, with the Jacobian, ``_uniform_proxy``) per node:
     beta, js, beta_P, EI, kGA, rho I omega^2, rho A omega^2, c = K_s / (1 + K_s S / P) (0 at the
@@ -197,7 +249,8 @@ def _node_tables(beta, Omega, V, js, cell: TrackCell, static_j, compiled: bool =
     For one support this is the combined form h (L + K_s (S - h)) / (L + K_s S) of the uniform track.
 
     The uniform track (one support at x = 0) takes its columns from a compiled loop
-    (``_uniform_columns``: numpy's numbers to rounding, without numpy's temporaries);
+    (``_uniform_columns``: numpy's numbers to rounding, without numpy's temporaries), and so does a
+    cell at the nodes away from its static point (``_cell_columns``: a small LU per node);
     ``compiled=False`` forms them with numpy (for tests).
 
     Returns
@@ -221,6 +274,13 @@ def _node_tables(beta, Omega, V, js, cell: TrackCell, static_j, compiled: bool =
         G, Y2, diag = _uniform_columns(*_uniform_node_scalars(beta, omega, Kq, far, js, cell))
         U = Vv = G[:, None, :]
         Y = Y2[:, None, :]
+    elif compiled and not near.any():  # a cell, every node away from the static point
+        x = _uniform_node_scalars(beta, omega, Kq, np.zeros(n, dtype=bool), js, cell)
+        eb = np.exp(1j * beta[:, None] * s[None, :])
+        ej = np.exp(-1j * bP * np.outer(s, js))
+        G, diag, U, Y = _cell_columns(x[0], x[1], x[2], x[3], x[4], x[5], x[6], eb, ej, np.ascontiguousarray(Kq, dtype=complex),
+                                      np.ascontiguousarray(cell_sum_matrix(beta, omega, cell), dtype=complex), float(P))
+        return G, diag, U, Y, None, near
     else:
         G = free_receptance(beta[:, None] - js[None, :] * bP, omega[:, None], cell.track)
         if uniform:  # no phases
@@ -302,7 +362,7 @@ def _filon_segments(q, to_beta, order, limit):
 
 
 def _integrate(cell: TrackCell, V, Omega, js, offsets, static_j, rtol, cut, order=16, max_panels=40000, block=None, filon=True,
-               progress=None):
+               progress=None, compiled=True):
     """Adaptive wavenumber quadrature of the receptance matrices (shared by the table and the
     single-frequency coefficients).  Returns (A, error, nodes).
 
@@ -316,7 +376,8 @@ def _integrate(cell: TrackCell, V, Omega, js, offsets, static_j, rtol, cut, orde
     on the nodes of the d = 0 rule that aliases the oscillation of a far offset).  The node tables
     are evaluated in blocks of ``block`` nodes (default: about 2**21 / (attachments x columns)), so
     memory does not grow with the node count. ``progress``, if given, is called with one line of text
-    per refinement pass of the rule and per block of the Gram products ("<i> of <n> node blocks, ...")."""
+    per refinement pass of the rule and per block of the Gram products ("<i> of <n> node blocks, ...").
+    ``compiled=False`` forms the node tables with numpy (``_node_tables``; for tests)."""
     b0, P = cell.beta_p, cell.period
     offsets = np.asarray(offsets, dtype=float)
     J = len(js)
@@ -343,12 +404,12 @@ def _integrate(cell: TrackCell, V, Omega, js, offsets, static_j, rtol, cut, orde
         out = []
         for lo in range(0, len(th), block):
             beta, jac = to_beta(th[lo : lo + block])
-            if uniform and (static_j is None or np.all(np.abs(beta - static_j * b0) >= b0 / 2)):
+            if compiled and uniform and (static_j is None or np.all(np.abs(beta - static_j * b0) >= b0 / 2)):
                 omega = Omega + beta * V
                 x = _uniform_node_scalars(beta, omega, point_stiffness(cell, omega), np.ones(len(beta), dtype=bool), js, cell)
                 out.append(_uniform_proxy(x[0], np.ascontiguousarray(jac, dtype=float), x[1], c0, *x[2:]))
                 continue
-            G, diag, U, Y, row, near = _node_tables(beta, Omega, V, js, cell, static_j)
+            G, diag, U, Y, row, near = _node_tables(beta, Omega, V, js, cell, static_j, compiled)
             out.append(np.concatenate([diag, Y[:, 0, c0][:, None]], axis=1) * jac[:, None])
         return np.concatenate(out)
 
@@ -376,7 +437,7 @@ def _integrate(cell: TrackCell, V, Omega, js, offsets, static_j, rtol, cut, orde
             progress(f"{lo // block} of {n_blocks} node blocks (Gram products over {len(th)} nodes, {J} columns, "
                      f"{len(offsets)} offsets)")
         sl = slice(lo, lo + block)
-        G, diag, U, Y, row, near = _node_tables(beta[sl], Omega, V, js, cell, static_j)
+        G, diag, U, Y, row, near = _node_tables(beta[sl], Omega, V, js, cell, static_j, compiled)
         D += W[:, sl] @ diag
         if row is not None and near.any():
             U[near, :, int(np.where(js == static_j)[0][0])] = 0.0

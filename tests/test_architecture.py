@@ -213,6 +213,7 @@ PHYSICS_ORDER = [
     ({"_lazyjit", "provenance", "csvinput", "bands"},
      "tools: the lazy numba decorator, the rerun hash, the CSV reader; the one-third-octave bands (IEC 61260-1), "
      "in frequency for the decay rate and in wavelength for the roughness"),
+    ({"_linalg"}, "small compiled dense solves (numba, through the lazy decorator)"),
     ({"quadrature", "halfspace"}, "quadrature rules; the elastic half-space and contact-spring damping (report 4.1)"),
     ({"track"}, "the Timoshenko rail on periodic discrete supports (4.2)"),
     ({"cell"}, "supports that vary over a cell of bays, built from track's parts"),

@@ -202,12 +202,12 @@ def test_compile_kernels_compiles_every_signature_the_production_calls_use():
 
 
 def test_the_steps_small_solve_agrees_with_lapack_and_pivots():
-    """rail.contact.steps._solve_in_place (the stick solve's and the tangent's dense solve) against
+    """rail._linalg.solve_in_place (the stick solve's and the tangent's dense solve) against
     numpy's LAPACK solve: influence-like matrices of 1 to 61 unknowns, one and several right-hand
     sides, to 1e-12 of the solution relative to the conditioning; a matrix with a zero leading
     diagonal needs the row exchange; a singular one gives a non-finite answer (the march's
     finiteness check reports it)."""
-    from rail.contact.steps import _solve_in_place
+    from rail._linalg import solve_in_place as _solve_in_place
 
     rng = np.random.default_rng(7)
     for n in (1, 2, 5, 30, 61):

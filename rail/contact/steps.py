@@ -29,6 +29,7 @@ import math
 import numpy as np
 
 from .._lazyjit import njit
+from .._linalg import solve_in_place
 from .numerics import THETA_EDGE
 
 __all__: list[str] = []
@@ -134,45 +135,6 @@ def _restore_rows(C, saved, enter):
             j += 1
 
 
-@njit(cache=True, error_model="numpy")
-def _solve_in_place(A, B):
-    """Solve A X = B for X by Gaussian elimination with partial pivoting (LAPACK's dgesv pivoting:
-    the largest entry of the column), overwriting A with its factors and B (n, m) with X.
-
-    The step's systems are small (the stick nodes, tens): a plain loop in place costs less than
-    LAPACK's call with its copies, and compiles faster than numba's np.linalg.solve. A zero pivot
-    leaves inf or nan in X, which the march's finiteness check reports.
-    """
-    n, m = A.shape[0], B.shape[1]
-    for k in range(n):
-        piv, big = k, abs(A[k, k])
-        for r in range(k + 1, n):
-            v = abs(A[r, k])
-            if v > big:
-                piv, big = r, v
-        if piv != k:
-            for c in range(n):
-                A[k, c], A[piv, c] = A[piv, c], A[k, c]
-            for c in range(m):
-                B[k, c], B[piv, c] = B[piv, c], B[k, c]
-        inv = 1.0 / A[k, k]
-        for r in range(k + 1, n):
-            f = A[r, k] * inv
-            if f != 0.0:
-                A[r, k] = f
-                for c in range(k + 1, n):
-                    A[r, c] -= f * A[k, c]
-                for c in range(m):
-                    B[r, c] -= f * B[k, c]
-    for k in range(n - 1, -1, -1):
-        inv = 1.0 / A[k, k]
-        for c in range(m):
-            acc = B[k, c]
-            for j in range(k + 1, n):
-                acc -= A[k, j] * B[j, c]
-            B[k, c] = acc * inv
-
-
 @njit(cache=True)
 def _stick_solve(E, h, p, inside, stick, sign, qn, s, S, g, speed, gd, dt, mu_d, mu_s, max_iter, dub, decay, mus):
     """The stick solve of one step (in place): E q = h on the stick nodes, q = mu_d p sign on the slip
@@ -217,7 +179,7 @@ def _stick_solve(E, h, p, inside, stick, sign, qn, s, S, g, speed, gd, dt, mu_d,
                 rhs[r, 0] = acc
                 for cc in range(ns):
                     A[r, cc] = E[S[r], S[cc]]
-            _solve_in_place(A, rhs)
+            solve_in_place(A, rhs)
             for r in range(ns):
                 qn[S[r]] = rhs[r, 0]
         Eq = E @ qn

@@ -26,7 +26,8 @@ from .basis import _basis_workspace, _closure_matrix, _influence_arrays, chebysh
 from .influence import INFLUENCE, _influence_d_at, _lead_cell, influence_table
 from .hertz import ContactError, ContactMaterial, compliance, report_rigid_compliance
 from .march import step_times
-from .steps import (_advance, _all_finite, _solve_in_place, _enter_particles, _entry_fraction, _exit_fraction, _exit_slip, _pressure,
+from .._linalg import solve_in_place
+from .steps import (_advance, _all_finite, _enter_particles, _entry_fraction, _exit_fraction, _exit_slip, _pressure,
                     _restore_rows, _shape_mean, _shift_particles, _stick_solve, _work_terms)
 
 __all__ = ["work_tangent"]
@@ -162,7 +163,7 @@ def _d_stick_solve(E, C, Cd, r_edge, r_edge_d, qn, dai, enter, theta, dtheta, in
                 A[r, cc] = E[S[r], S[cc]]
             for c in range(nc):
                 B[r, c] = dh[S[r], c] - dEq[S[r], c] - Edq[S[r], c]
-        _solve_in_place(A, B)
+        solve_in_place(A, B)
         for r in range(ns):
             for c in range(nc):
                 dqn[S[r], c] = B[r, c]
