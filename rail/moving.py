@@ -98,6 +98,16 @@ def _free_column(b, EI, kGA, inertia, rhoA_w2):
 
 
 @njit(cache=True, error_model="numpy")
+def _uniform_entry(b, EI, kGA, inertia, rhoA_w2, cr, ci, invP):
+    """One entry of the uniform track's tables: h = H(b, omega) (``_free_column``), the reaction
+    y = c h (c = cr + i ci [N/m]) and the diagonal integrand h - h y / P (invP = 1 / P [1/m]), each as
+    (real, imaginary): (gr, gi, yr, yi, dr, di)."""
+    gr, gi = _free_column(b, EI, kGA, inertia, rhoA_w2)
+    yr, yi = cr * gr - ci * gi, cr * gi + ci * gr
+    return gr, gi, yr, yi, gr - (gr * yr - gi * yi) * invP, gi - (gr * yi + gi * yr) * invP
+
+
+@njit(cache=True, error_model="numpy")
 def _uniform_columns(beta, js, bP, EI, kGA, inertia, rhoA_w2, coef, P):
     """The uniform track's node tables in one pass (``_node_tables`` with one support at x = 0).
 
@@ -136,16 +146,15 @@ def _uniform_columns(beta, js, bP, EI, kGA, inertia, rhoA_w2, coef, P):
     for i in range(n):
         cr, ci = coef[i].real, coef[i].imag
         for j in range(J):
-            gr, gi = _free_column(beta[i] - js[j] * bP, EI[i], kGA[i], inertia[i], rhoA_w2[i])
-            yr, yi = cr * gr - ci * gi, cr * gi + ci * gr
+            gr, gi, yr, yi, dr, di = _uniform_entry(beta[i] - js[j] * bP, EI[i], kGA[i], inertia[i], rhoA_w2[i], cr, ci, invP)
             G[i, j] = complex(gr, gi)
             Y[i, j] = complex(yr, yi)
-            diag[i, j] = complex(gr - (gr * yr - gi * yi) * invP, gi - (gr * yi + gi * yr) * invP)
+            diag[i, j] = complex(dr, di)
     return G, Y, diag
 
 
 @njit(cache=True, error_model="numpy")
-def _uniform_proxy(beta, jac, js, c0, bP, EI, kGA, inertia, rhoA_w2, coef, P):
+def _uniform_proxy(beta, js, bP, EI, kGA, inertia, rhoA_w2, coef, P, jac, c0):
     """What the adaptive rule follows on the uniform track, times the map's Jacobian ``jac`` (n,):
     every column's diagonal integrand and the reactions to the central column ``c0``, shape (n, J + 1),
     as ``_uniform_columns`` computes them (the same numbers) without forming G and Y."""
@@ -156,9 +165,8 @@ def _uniform_proxy(beta, jac, js, c0, bP, EI, kGA, inertia, rhoA_w2, coef, P):
         cr, ci = coef[i].real, coef[i].imag
         w = jac[i]
         for j in range(J):
-            gr, gi = _free_column(beta[i] - js[j] * bP, EI[i], kGA[i], inertia[i], rhoA_w2[i])
-            yr, yi = cr * gr - ci * gi, cr * gi + ci * gr
-            out[i, j] = complex((gr - (gr * yr - gi * yi) * invP) * w, (gi - (gr * yi + gi * yr) * invP) * w)
+            gr, gi, yr, yi, dr, di = _uniform_entry(beta[i] - js[j] * bP, EI[i], kGA[i], inertia[i], rhoA_w2[i], cr, ci, invP)
+            out[i, j] = complex(dr * w, di * w)
             if j == c0:
                 out[i, J] = complex(yr * w, yi * w)
     return out
@@ -215,20 +223,32 @@ def _cell_columns(beta, js, bP, EI, kGA, inertia, rhoA_w2, eb, ej, Kq, S, P):
     return G, diag, U, Y
 
 
-def _uniform_node_scalars(beta, omega, Kq, far, js, cell: TrackCell):
-    """The arguments of ``_uniform_columns`` (and, with the Jacobian, ``_uniform_proxy``) per node:
-    beta, js, beta_P, EI, kGA, rho I omega^2, rho A omega^2, c = K_s / (1 + K_s S / P) (0 at the
-    nodes not ``far``, which the static point's formula replaces) and P."""
-    P = cell.period
-    coef = np.zeros(len(beta), dtype=complex)
-    if far.any():
-        S = cell_sum_matrix(beta[far], omega[far], cell)
-        coef[far] = (Kq[far] / (1 + Kq[far] * S[:, :, 0] / P))[:, 0]
+def _free_scalars(beta, omega, js, cell: TrackCell):
+    """The free rail's per-node arguments of the compiled columns (``_uniform_columns``,
+    ``_uniform_proxy``, ``_cell_columns``): beta, js, beta_P, EI, kGA, rho I omega^2, rho A omega^2."""
     EI, kGA = rail_stiffnesses(cell.track, omega)
     r = cell.track.rail
     return (np.ascontiguousarray(beta, dtype=float), np.ascontiguousarray(js, dtype=np.int64), float(cell.beta_p),
             np.ascontiguousarray(EI, dtype=complex), np.ascontiguousarray(kGA, dtype=complex),
-            r.density * r.second_moment_of_area * omega**2, r.density * r.area * omega**2, coef, float(P))
+            r.density * r.second_moment_of_area * omega**2, r.density * r.area * omega**2)
+
+
+def _support_coef(beta, omega, Kq, far, cell: TrackCell):
+    """The uniform track's c = K_s / (1 + K_s S / P) per node [N/m]; 0 at the nodes not ``far``, which
+    the static point's formula replaces."""
+    coef = np.zeros(len(beta), dtype=complex)
+    if far.any():
+        S = cell_sum_matrix(beta[far], omega[far], cell)
+        coef[far] = (Kq[far] / (1 + Kq[far] * S[:, :, 0] / cell.period))[:, 0]
+    return coef
+
+
+def _near_static(beta, static_j, bP):
+    """The nodes within half a cell wavenumber of the static point beta = static_j beta_P (none if
+    static_j is None), where ``_node_tables`` takes the divergent lattice term out of S."""
+    if static_j is None:
+        return np.zeros(len(beta), dtype=bool)
+    return np.abs(beta - static_j * bP) < bP / 2
 
 
 def _node_tables(beta, Omega, V, js, cell: TrackCell, static_j, compiled: bool = True):
@@ -265,20 +285,17 @@ def _node_tables(beta, Omega, V, js, cell: TrackCell, static_j, compiled: bool =
     Kq = point_stiffness(cell, omega)  # (n, Q)
     uniform = len(s) == 1 and s[0] == 0.0
     n, Q, J = len(beta), len(s), len(js)
-    near = np.zeros(n, dtype=bool)
-    if static_j is not None:
-        near = np.abs(beta - static_j * bP) < bP / 2
+    near = _near_static(beta, static_j, bP)
     far = ~near
     eye = np.eye(Q)
     if uniform and compiled:
-        G, Y2, diag = _uniform_columns(*_uniform_node_scalars(beta, omega, Kq, far, js, cell))
+        G, Y2, diag = _uniform_columns(*_free_scalars(beta, omega, js, cell), _support_coef(beta, omega, Kq, far, cell), float(P))
         U = Vv = G[:, None, :]
         Y = Y2[:, None, :]
     elif compiled and not near.any():  # a cell, every node away from the static point
-        x = _uniform_node_scalars(beta, omega, Kq, np.zeros(n, dtype=bool), js, cell)
         eb = np.exp(1j * beta[:, None] * s[None, :])
         ej = np.exp(-1j * bP * np.outer(s, js))
-        G, diag, U, Y = _cell_columns(x[0], x[1], x[2], x[3], x[4], x[5], x[6], eb, ej, np.ascontiguousarray(Kq, dtype=complex),
+        G, diag, U, Y = _cell_columns(*_free_scalars(beta, omega, js, cell), eb, ej, np.ascontiguousarray(Kq, dtype=complex),
                                       np.ascontiguousarray(cell_sum_matrix(beta, omega, cell), dtype=complex), float(P))
         return G, diag, U, Y, None, near
     else:
@@ -404,10 +421,12 @@ def _integrate(cell: TrackCell, V, Omega, js, offsets, static_j, rtol, cut, orde
         out = []
         for lo in range(0, len(th), block):
             beta, jac = to_beta(th[lo : lo + block])
-            if compiled and uniform and (static_j is None or np.all(np.abs(beta - static_j * b0) >= b0 / 2)):
+            if compiled and uniform and not _near_static(beta, static_j, b0).any():
                 omega = Omega + beta * V
-                x = _uniform_node_scalars(beta, omega, point_stiffness(cell, omega), np.ones(len(beta), dtype=bool), js, cell)
-                out.append(_uniform_proxy(x[0], np.ascontiguousarray(jac, dtype=float), x[1], c0, *x[2:]))
+                far = np.ones(len(beta), dtype=bool)
+                coef = _support_coef(beta, omega, point_stiffness(cell, omega), far, cell)
+                out.append(_uniform_proxy(*_free_scalars(beta, omega, js, cell), coef, float(P),
+                                          np.ascontiguousarray(jac, dtype=float), c0))
                 continue
             G, diag, U, Y, row, near = _node_tables(beta, Omega, V, js, cell, static_j, compiled)
             out.append(np.concatenate([diag, Y[:, 0, c0][:, None]], axis=1) * jac[:, None])

@@ -277,7 +277,9 @@ def test_compiled_uniform_columns_are_as_accurate_as_numpys(track, damping, frac
     near = com[5]
     assert np.array_equal(near, num[5]) and near.any() == (fraction == 0)
     far = ~near
-    x = moving._uniform_node_scalars(beta, Omega + beta * V, moving.point_stiffness(cell, Omega + beta * V), far, js, cell)
+    omega = Omega + beta * V
+    x = moving._free_scalars(beta, omega, js, cell) + (
+        moving._support_coef(beta, omega, moving.point_stiffness(cell, omega), far, cell), cell.period)
     # extended precision from the same double inputs
     ld = np.clongdouble
     b = x[0].astype(np.longdouble)[:, None] - js.astype(np.longdouble)[None, :] * np.longdouble(x[2])
@@ -300,8 +302,9 @@ def test_compiled_uniform_columns_are_as_accurate_as_numpys(track, damping, frac
         assert np.allclose(com[4][near], num[4][near], rtol=1e-12, atol=0)
         assert np.allclose(com[1][near], num[1][near], rtol=1e-12, atol=0)
     # the proxy: diag and the central column's reactions, times the Jacobian, away from the static point
-    xf = moving._uniform_node_scalars(beta[far], Omega + beta[far] * V, moving.point_stiffness(cell, Omega + beta[far] * V),
-                                      np.ones(far.sum(), dtype=bool), js, cell)
+    bf, of = beta[far], omega[far]
+    xf = moving._free_scalars(bf, of, js, cell) + (
+        moving._support_coef(bf, of, moving.point_stiffness(cell, of), np.ones(far.sum(), dtype=bool), cell), cell.period)
     jac = np.linspace(0.5, 2.0, far.sum())
-    proxy = moving._uniform_proxy(xf[0], jac, xf[1], 64, *xf[2:])
+    proxy = moving._uniform_proxy(*xf, jac, 64)
     assert np.array_equal(proxy, np.concatenate([com[1][far], com[3][far][:, 0, 64][:, None]], axis=1) * jac[:, None])
