@@ -147,6 +147,13 @@ def _schema_defaults(path: Path) -> bytes:
     """The ``default:`` of every key of the schema at ``path``, as sorted text (empty without a schema)."""
     if not path.is_file():
         return b""
+    return _defaults_of_text(path.read_text())
+
+
+@functools.lru_cache(maxsize=4)
+def _defaults_of_text(text: str) -> bytes:
+    """_schema_defaults of a schema's text, kept by the text itself: the workflow hashes the code of 44
+    scripts at start-up, and parsing the 2,000-value schema each time was most of Snakemake's 7 s there."""
     out = []
 
     def walk(node, key):
@@ -156,7 +163,7 @@ def _schema_defaults(path: Path) -> bytes:
             for name, child in node.get("properties", {}).items():
                 walk(child, f"{key}.{name}" if key else name)
 
-    walk(yaml.safe_load(path.read_text()), "")
+    walk(yaml.safe_load(text), "")
     return "\n".join(sorted(out)).encode()
 
 
