@@ -9,13 +9,22 @@ options, and rebinds the module's globals to them, so that compiled functions ca
 dispatchers when numba types them. Names imported from another module (``from .contact import
 _march``) are rebound the same way in the importing module when its own functions are first used.
 
-numba's cache is unchanged: it is keyed by the function's file, name and line, as with
-``numba.njit``.
+numba's cache (``cache=True``) is kept where numba keeps it (``__pycache__`` beside the file), but its
+freshness is judged by the code, not by the file's time: numba marks a compiled function with the
+modification time and size of its own file only, so a change in a module it calls (the march calling
+the steps of rail.contact.steps, a constant such as THETA_EDGE that the compiled code holds) left the
+old machine code in use. Here every rail function's mark is a hash of its file and every rail file that
+file imports, directly or not (rail.provenance.rail_imports, as the workflow's rerun hash): a change in
+any of them recompiles it, an untouched file keeps its cache, and the same sources in a fresh clone
+hash the same (``_SourceStamp``; tests/test_lazyjit.py).
 """
 
 from __future__ import annotations
 
+import functools
+import hashlib
 import sys
+from pathlib import Path
 
 _PENDING: dict[str, list["LazyJit"]] = {}
 
@@ -70,6 +79,7 @@ def compile_module(module: str) -> None:
     """
     from numba import njit as numba_njit
 
+    _install_stamp()
     for lazy in _PENDING.pop(module, []):
         lazy._dispatcher = numba_njit(**lazy.options)(lazy.py_func)
     namespace = sys.modules[module].__dict__
@@ -110,3 +120,69 @@ def njit(*args, **options):
         return LazyJit(func, options)
 
     return wrap
+
+
+_RAIL = Path(__file__).resolve().parent
+_STAMP_INSTALLED = []
+
+
+@functools.lru_cache(maxsize=None)
+def source_stamp(py_file: str) -> str:
+    """The freshness mark of the compiled functions of a rail file: sha256 of the file and of every rail
+    file it imports, directly or not, by their path inside the package and their text.
+
+    Parameters
+    ----------
+    py_file : str
+        A source file of the rail package (or of a copy of it: its package is the outermost folder
+        above it that holds an ``__init__.py``) [-].
+
+    Returns
+    -------
+    str
+        64 hex digits [-].
+    """
+    from .provenance import rail_imports
+
+    f = Path(py_file).resolve()
+    root = f.parent
+    while (root.parent / "__init__.py").is_file():
+        root = root.parent
+    h = hashlib.sha256()
+    for g in sorted(set(rail_imports(f, root)) | {f}):
+        h.update(str(g.relative_to(root)).encode())
+        h.update(g.read_bytes())
+    return h.hexdigest()
+
+
+def _is_rail_file(py_file) -> bool:
+    """Whether py_file is a module of this rail package."""
+    try:
+        Path(py_file).resolve().relative_to(_RAIL)
+    except (TypeError, ValueError):
+        return False
+    return True
+
+
+def _install_stamp() -> None:
+    """Put numba's cache locators for rail's files, marked by source_stamp, ahead of numba's own (once)."""
+    if _STAMP_INSTALLED:
+        return
+    from numba.core import caching
+
+    class _SourceStamp:
+        """A numba cache locator whose freshness mark is source_stamp (for rail's files only)."""
+
+        @classmethod
+        def from_function(cls, py_func, py_file):
+            if not _is_rail_file(py_file):
+                return None
+            return super().from_function(py_func, py_file)
+
+        def get_source_stamp(self):
+            return source_stamp(self._py_file)
+
+    bases = (caching.UserProvidedCacheLocator, caching.InTreeCacheLocator, caching.UserWideCacheLocator)
+    ours = [type("Stamped" + b.__name__, (_SourceStamp, b), {}) for b in bases]
+    caching.CacheImpl._locator_classes[0:0] = ours
+    _STAMP_INSTALLED.append(True)
