@@ -227,3 +227,53 @@ def test_the_steps_small_solve_agrees_with_lapack_and_pivots():
     S, b = np.array([[1.0, 2.0], [2.0, 4.0]]), np.array([[1.0], [1.0]])
     _solve_in_place(S, b)
     assert not np.all(np.isfinite(b))
+
+
+def test_the_factors_solve_to_the_same_bits_and_the_bordered_solve_equals_a_fresh_one():
+    """rail._linalg.lu_in_place / lu_solve_in_place give solve_in_place's bits (so a stick set solved
+    afresh is unchanged); the stick solve's bordered pass (rail.contact.steps._bordered_solve: the
+    stick set less up to two released nodes, from the factors of the larger set) equals a fresh solve
+    of the smaller set to the rounding of its conditioning, and a changed set it cannot serve (a node
+    added) is refused by _stick_subset."""
+    from rail._linalg import lu_in_place, lu_solve_in_place, solve_in_place
+    from rail.contact import steps
+
+    rng = np.random.default_rng(11)
+    nn = 41
+    x = np.linspace(-1, 1, nn)
+    E = -np.log(np.abs(x[:, None] - x[None, :]) + 0.01) + 0.05 * rng.normal(size=(nn, nn))  # log-kernel-like
+    h = rng.normal(size=nn)
+    for ns in (1, 7, 30):
+        S = np.sort(rng.choice(nn, ns, replace=False)).astype(np.int64)
+        A, b = E[np.ix_(S, S)].copy(), h[S].copy()
+        A1, b1 = A.copy(), b.copy()[:, None]
+        solve_in_place(A1, b1)
+        LU, piv, b2 = np.zeros((nn, nn)), np.zeros(nn, dtype=np.int64), np.zeros(nn)
+        LU[:ns, :ns], b2[:ns] = A, b
+        lu_in_place(LU, ns, piv)
+        lu_solve_in_place(LU, ns, piv, b2)
+        assert np.array_equal(b2[:ns], b1[:, 0])
+    Sf = np.arange(5, 35, dtype=np.int64)
+    nf = Sf.size
+    for released in ((), (12,), (5, 34), (20, 21)):
+        stick = np.zeros(nn, dtype=np.bool_)
+        stick[Sf] = True
+        stick[list(released)] = False
+        qn = np.where(stick, 0.0, 0.3 * rng.normal(size=nn))  # the slip nodes' tractions
+        LU, piv, pos = np.zeros((nn, nn)), np.zeros(nn, dtype=np.int64), np.zeros(nn, dtype=np.int64)
+        steps._factor_stick(E, Sf, nf, LU, piv, pos)
+        S = np.flatnonzero(stick).astype(np.int64)
+        assert steps._stick_subset(S, S.size, pos, nf, nf - S.size)
+        q = qn.copy()
+        ok = steps._bordered_solve(E, h, q, stick, S.size, LU, piv, Sf, nf, np.zeros(nn), np.zeros((2, nn)),
+                                   np.zeros((2, 2)), np.zeros((2, 1)))
+        assert ok
+        want = np.linalg.solve(E[np.ix_(S, S)], h[S] - E[np.ix_(S, np.flatnonzero(~stick))] @ qn[~stick])
+        tol = 1e-13 * np.linalg.cond(E[np.ix_(S, S)]) * np.abs(want).max()
+        assert np.abs(q[S] - want).max() < tol, released
+        assert np.array_equal(q[~stick], qn[~stick])  # the slip nodes untouched
+    # a node added to the set, or three released: factor afresh
+    pos = np.full(nn, -1, dtype=np.int64)
+    pos[Sf] = np.arange(nf)
+    assert not steps._stick_subset(np.append(Sf, 40), nf + 1, pos, nf, -1)
+    assert not steps._stick_subset(Sf[3:], nf - 3, pos, nf, 3)

@@ -29,7 +29,7 @@ import math
 import numpy as np
 
 from .._lazyjit import njit
-from .._linalg import solve_in_place
+from .._linalg import lu_in_place, lu_solve_in_place, solve_in_place
 from .numerics import THETA_EDGE
 
 __all__: list[str] = []
@@ -135,6 +135,89 @@ def _restore_rows(C, saved, enter):
             j += 1
 
 
+_BORDER_MAX = 2  # stick nodes released in one pass that the last factors still serve (more: factor afresh)
+
+
+@njit(cache=True)
+def _stick_rhs(E, h, qn, n):
+    """The right-hand side of node n's stick equation: h_n minus the slip nodes' part of (E q)_n (qn is 0
+    on the stick nodes here)."""
+    acc = h[n]
+    for c in range(qn.size):
+        if qn[c] != 0.0:
+            acc -= E[n, c] * qn[c]
+    return acc
+
+
+@njit(cache=True)
+def _factor_stick(E, S, ns, LU, piv, pos):
+    """LU factors of the stick block E[S, S] (S = S[:ns]) into LU, piv; pos[n] the place of node n in S."""
+    for n in range(pos.size):
+        pos[n] = -1
+    for r in range(ns):
+        pos[S[r]] = r
+        for c in range(ns):
+            LU[r, c] = E[S[r], S[c]]
+    lu_in_place(LU, ns, piv)
+
+
+@njit(cache=True)
+def _stick_subset(S, ns, pos, nf, released):
+    """Whether the stick set S[:ns] is the factored set less at most _BORDER_MAX nodes (released of them)."""
+    if released < 0 or released > _BORDER_MAX:
+        return False
+    for r in range(ns):
+        if pos[S[r]] < 0:
+            return False
+    return True
+
+
+@njit(cache=True)
+def _bordered_solve(E, h, qn, stick, ns, LU, piv, Sf, nf, z, ek, G, tau):
+    """The stick solve on the stick nodes (stick[n]; ns of them), the factored set Sf[:nf] less r = nf - ns
+    released nodes R, from the factors of E[Sf, Sf] (in place on qn). With A = E[Sf, Sf], z = A^-1 c (c: the stick
+    equations' right-hand sides, 0 in the rows of R) and e_k = A^-1 u_k for k in R, x = z - sum tau_k e_k
+    with x_R = 0 (an r x r system) satisfies the rows of S: A x = c - sum tau_k u_k. Two triangular
+    solves per released node instead of a new factorisation (the active set usually releases one
+    stick node per step). Returns False (nothing changed) if the r x r system is singular."""
+    r = nf - ns
+    R = np.empty(r, dtype=np.int64)  # the released nodes' places in Sf
+    j = 0
+    for m in range(nf):
+        n = Sf[m]
+        if not stick[n]:
+            R[j] = m
+            j += 1
+            z[m] = 0.0
+        else:
+            z[m] = _stick_rhs(E, h, qn, n)
+    lu_solve_in_place(LU, nf, piv, z)
+    for a in range(r):
+        e = ek[a]
+        for m in range(nf):
+            e[m] = 0.0
+        e[R[a]] = 1.0
+        lu_solve_in_place(LU, nf, piv, e)
+    for a in range(r):
+        tau[a, 0] = z[R[a]]
+        for b in range(r):
+            G[a, b] = ek[b, R[a]]
+    Gs = G[:r, :r].copy()
+    ts = tau[:r].copy()
+    if r > 0:
+        solve_in_place(Gs, ts)
+    if not _all_finite(ts[:, 0]):
+        return False
+    for m in range(nf):
+        if stick[Sf[m]]:
+            x = z[m]
+            for a in range(r):
+                x -= ts[a, 0] * ek[a, m]
+            qn[Sf[m]] = x
+    return True
+
+
+
 @njit(cache=True)
 def _stick_solve(E, h, p, inside, stick, sign, qn, s, S, g, speed, gd, dt, mu_d, mu_s, max_iter, dub, decay, mus):
     """The stick solve of one step (in place): E q = h on the stick nodes, q = mu_d p sign on the slip
@@ -158,6 +241,16 @@ def _stick_solve(E, h, p, inside, stick, sign, qn, s, S, g, speed, gd, dt, mu_d,
     if falling:
         for n in range(nn):
             mus[n] = mu_d + (mu_s - mu_d) * math.exp(-abs(s[n]) / decay)
+    # the factors of the stick block of the set Sf[:nf] last factored (nf = 0: none), kept through the passes
+    LU = np.empty((nn, nn))
+    piv = np.empty(nn, dtype=np.int64)
+    Sf = np.empty(nn, dtype=np.int64)
+    pos = np.full(nn, -1, dtype=np.int64)  # a node's place in Sf (-1: not in it)
+    z = np.empty(nn)
+    ek = np.empty((_BORDER_MAX, nn))
+    G = np.empty((_BORDER_MAX, _BORDER_MAX))
+    tau = np.empty((_BORDER_MAX, 1))
+    nf = 0
     while it < max_iter:
         ns = 0
         for n in range(nn):
@@ -169,19 +262,20 @@ def _stick_solve(E, h, p, inside, stick, sign, qn, s, S, g, speed, gd, dt, mu_d,
                 S[ns] = n
                 ns += 1
         if ns > 0:
-            A = np.empty((ns, ns))
-            rhs = np.empty((ns, 1))
-            for r in range(ns):
-                acc = h[S[r]]
-                for n in range(nn):
-                    if qn[n] != 0.0:  # the slip nodes (qn is 0 on the stick nodes here)
-                        acc -= E[S[r], n] * qn[n]
-                rhs[r, 0] = acc
-                for cc in range(ns):
-                    A[r, cc] = E[S[r], S[cc]]
-            solve_in_place(A, rhs)
-            for r in range(ns):
-                qn[S[r]] = rhs[r, 0]
+            if nf > 0 and _stick_subset(S, ns, pos, nf, nf - ns):
+                ok = _bordered_solve(E, h, qn, stick, ns, LU, piv, Sf, nf, z, ek, G, tau)
+            else:
+                ok = False
+            if not ok:  # factor the stick block afresh (a node joined the stick set, or the first pass)
+                nf = ns
+                for r in range(nf):
+                    Sf[r] = S[r]
+                _factor_stick(E, S, ns, LU, piv, pos)
+                for r in range(ns):
+                    z[r] = _stick_rhs(E, h, qn, S[r])
+                lu_solve_in_place(LU, ns, piv, z)
+                for r in range(ns):
+                    qn[S[r]] = z[r]
         Eq = E @ qn
         for n in range(nn):
             s[n] = g * speed + dub / dt + (Eq[n] - h[n] - gd) / dt
