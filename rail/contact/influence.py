@@ -170,21 +170,26 @@ def _table_eval(row0, l, T, Re, Rt, W, C, r_edge, w, r_trail):
     nn = w.size
     m = l.size
     Cf = C.reshape((nn + 1) * nn)
-    for q in range(Cf.size):
-        Cf[q] = 0.0
-    for n in range(nn):
-        r_edge[n] = 0.0
-        r_trail[n] = 0.0
-        w[n] = 0.0
-    for i in range(m):
-        li = l[i]
-        Tr = T[row0 + i]
+    if m == 6:  # the table's nodes (_TABLE_NODES): one pass over the entries, the terms in the nodes' order
+        T0, T1, T2, T3, T4, T5 = T[row0], T[row0 + 1], T[row0 + 2], T[row0 + 3], T[row0 + 4], T[row0 + 5]
+        l0, l1, l2, l3, l4, l5 = l[0], l[1], l[2], l[3], l[4], l[5]
         for q in range(Cf.size):
-            Cf[q] += li * Tr[q]
-        for n in range(nn):
-            r_edge[n] += li * Re[row0 + i, n]
-            r_trail[n] += li * Rt[row0 + i, n]
-            w[n] += li * W[row0 + i, n]
+            Cf[q] = l0 * T0[q] + l1 * T1[q] + l2 * T2[q] + l3 * T3[q] + l4 * T4[q] + l5 * T5[q]
+    else:
+        for q in range(Cf.size):
+            Cf[q] = 0.0
+        for i in range(m):
+            li = l[i]
+            Tr = T[row0 + i]
+            for q in range(Cf.size):
+                Cf[q] += li * Tr[q]
+    for n in range(nn):
+        ae, at, aw = 0.0, 0.0, 0.0
+        for i in range(m):
+            ae += l[i] * Re[row0 + i, n]
+            at += l[i] * Rt[row0 + i, n]
+            aw += l[i] * W[row0 + i, n]
+        r_edge[n], r_trail[n], w[n] = ae, at, aw
 
 
 @njit(cache=True)

@@ -29,7 +29,7 @@ import math
 import numpy as np
 
 from .._lazyjit import njit
-from .._linalg import lu_in_place, lu_solve_in_place, solve_in_place
+from .._linalg import lu_in_place, lu_solve_in_place
 from .numerics import THETA_EDGE
 
 __all__: list[str] = []
@@ -173,13 +173,14 @@ def _stick_subset(S, ns, pos, nf, released):
 
 
 @njit(cache=True)
-def _bordered_solve(E, h, qn, stick, ns, LU, piv, Sf, nf, z, ek, G, tau):
+def _bordered_solve(E, h, qn, stick, ns, LU, piv, Sf, nf, z, ek):
     """The stick solve on the stick nodes (stick[n]; ns of them), the factored set Sf[:nf] less r = nf - ns
-    released nodes R, from the factors of E[Sf, Sf] (in place on qn). With A = E[Sf, Sf], z = A^-1 c (c: the stick
-    equations' right-hand sides, 0 in the rows of R) and e_k = A^-1 u_k for k in R, x = z - sum tau_k e_k
-    with x_R = 0 (an r x r system) satisfies the rows of S: A x = c - sum tau_k u_k. Two triangular
-    solves per released node instead of a new factorisation (the active set usually releases one
-    stick node per step). Returns False (nothing changed) if the r x r system is singular."""
+    released nodes R, from the factors of E[Sf, Sf] (in place on qn). With A = E[Sf, Sf], z = A^-1 c (c: the
+    stick equations' right-hand sides, 0 in the rows of R) and e_k = A^-1 u_k for k in R, x = z - sum tau_k
+    e_k with x_R = 0 (an r x r system, r <= _BORDER_MAX = 2, by Cramer's rule) satisfies the rows of S:
+    A x = c - sum tau_k u_k. Two triangular solves per released node instead of a new factorisation (the
+    active set usually releases one stick node per step). Returns False (qn unchanged) if the r x r system
+    is singular or not finite."""
     r = nf - ns
     R = np.empty(r, dtype=np.int64)  # the released nodes' places in Sf
     j = 0
@@ -198,21 +199,28 @@ def _bordered_solve(E, h, qn, stick, ns, LU, piv, Sf, nf, z, ek, G, tau):
             e[m] = 0.0
         e[R[a]] = 1.0
         lu_solve_in_place(LU, nf, piv, e)
-    for a in range(r):
-        tau[a, 0] = z[R[a]]
-        for b in range(r):
-            G[a, b] = ek[b, R[a]]
-    Gs = G[:r, :r].copy()
-    ts = tau[:r].copy()
-    if r > 0:
-        solve_in_place(Gs, ts)
-    if not _all_finite(ts[:, 0]):
+    # tau from G tau = z_R, G = (e_b[R_a]); r <= 2, by Cramer's rule
+    t0, t1 = 0.0, 0.0
+    if r == 1:
+        if ek[0, R[0]] == 0.0:
+            return False
+        t0 = z[R[0]] / ek[0, R[0]]
+    elif r == 2:
+        g00, g01, g10, g11 = ek[0, R[0]], ek[1, R[0]], ek[0, R[1]], ek[1, R[1]]
+        det = g00 * g11 - g01 * g10
+        if det == 0.0:
+            return False
+        t0 = (z[R[0]] * g11 - g01 * z[R[1]]) / det
+        t1 = (g00 * z[R[1]] - g10 * z[R[0]]) / det
+    if not (math.isfinite(t0) and math.isfinite(t1)):
         return False
     for m in range(nf):
         if stick[Sf[m]]:
             x = z[m]
-            for a in range(r):
-                x -= ts[a, 0] * ek[a, m]
+            if r >= 1:
+                x -= t0 * ek[0, m]
+            if r == 2:
+                x -= t1 * ek[1, m]
             qn[Sf[m]] = x
     return True
 
@@ -248,8 +256,6 @@ def _stick_solve(E, h, p, inside, stick, sign, qn, s, S, g, speed, gd, dt, mu_d,
     pos = np.full(nn, -1, dtype=np.int64)  # a node's place in Sf (-1: not in it)
     z = np.empty(nn)
     ek = np.empty((_BORDER_MAX, nn))
-    G = np.empty((_BORDER_MAX, _BORDER_MAX))
-    tau = np.empty((_BORDER_MAX, 1))
     nf = 0
     while it < max_iter:
         ns = 0
@@ -263,7 +269,7 @@ def _stick_solve(E, h, p, inside, stick, sign, qn, s, S, g, speed, gd, dt, mu_d,
                 ns += 1
         if ns > 0:
             if nf > 0 and _stick_subset(S, ns, pos, nf, nf - ns):
-                ok = _bordered_solve(E, h, qn, stick, ns, LU, piv, Sf, nf, z, ek, G, tau)
+                ok = _bordered_solve(E, h, qn, stick, ns, LU, piv, Sf, nf, z, ek)
             else:
                 ok = False
             if not ok:  # factor the stick block afresh (a node joined the stick set, or the first pass)
