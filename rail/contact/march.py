@@ -31,7 +31,7 @@ traction carry no grid-position error (the unknowns stay the nodal tractions). u
 the nodes; the log-kernel influence coefficients are rebuilt with a(t) every step (_basis_matrix).
 A particle that entered the patch during the step sticks from the edge displacement at its entry
 time (interpolated between the steps); the frictional work integrates the Hertz pressure exactly
-along each path (_step_work). Each step is a small linear complementarity problem (stick: s = 0,
+along each path (_step_work_all). Each step is a small linear complementarity problem (stick: s = 0,
 abs(q) <= mu_s p; slip: q = -mu_d p sign(s)), solved by an active-set iteration that admits any
 number of stick and slip zones.
 """
@@ -49,8 +49,8 @@ from .basis import _basis_workspace, _influence_arrays, chebyshev_hat_moments
 from .influence import INFLUENCE, _influence_at, influence_table
 from .hertz import ContactError, ContactMaterial, compliance, hertz_half_length, report_rigid_compliance
 from .numerics import CLOSURES, rolling_grid
-from .steps import (_advance, _all_finite, _enter_particles, _exit_slip, _pressure, _restore_rows, _shape_mean,
-                    _shift_particles, _step_work, _stick_solve)
+from .steps import (_advance, _all_finite, _enter_particles, _exit_slip, _pressure, _restore_rows, _shift_particles,
+                    _step_work_all, _stick_solve)
 
 __all__ = ["TangentialSolution", "solve_tangential", "step_times", "checkerboard_measure", "CHECKERBOARD_LIMIT", "perturbation_growth"]
 
@@ -240,9 +240,7 @@ def _march(P, a, shape, xi, Mom, mu, ws, k, delta, M, speed, dts, gds, g, mu_d, 
         u_new = C @ qn
         _exit_slip(xi, a_prev, ai, g, speed, dt, u_old, u_new, u_trail_old, u_trail_new, inside_prev, inside, s_exit, how, dub)
         p0m = 0.5 * (p0_prev + p0)
-        for n in range(nn):
-            dw[n] = _step_work(n, xi, delta, a_prev, ai, p0m, dt, mu_d, qn, q, p, p_prev, s, s_exit, inside, inside_prev,
-                               _shape_mean(shape, i, n))
+        _step_work_all(dw, i, shape, xi, delta, a_prev, ai, p0m, dt, mu_d, qn, q, p, p_prev, s, s_exit, inside, inside_prev)
         tot = 0.0
         for n in range(nn):
             work[i + n] += dw[n]

@@ -13,7 +13,7 @@ both call these, in this order, so that the derivative differentiates the very s
    of the step (stick: s = 0, abs(q) <= mu_s p; slip: q = -mu_d p sign(s)).
 5. ``_exit_slip``: the slip update of the particles that left the patch (or a contact zone) during
    the step: their mean slip velocity over their loaded time.
-6. ``_work_terms`` / ``_step_work``: the step work, the frictional work per unit area on each
+6. ``_step_work_all`` (``_work_terms_of`` per node): the step work, the frictional work per unit area on each
    particle in the step.
 7. ``_advance``: the state carried to the next step.
 
@@ -139,17 +139,6 @@ _BORDER_MAX = 2  # stick nodes released in one pass that the last factors still 
 
 
 @njit(cache=True)
-def _stick_rhs(E, h, qn, n):
-    """The right-hand side of node n's stick equation: h_n minus the slip nodes' part of (E q)_n (qn is 0
-    on the stick nodes here)."""
-    acc = h[n]
-    for c in range(qn.size):
-        if qn[c] != 0.0:
-            acc -= E[n, c] * qn[c]
-    return acc
-
-
-@njit(cache=True)
 def _factor_stick(E, S, ns, LU, piv, pos):
     """LU factors of the stick block E[S, S] (S = S[:ns]) into LU, piv; pos[n] the place of node n in S."""
     for n in range(pos.size):
@@ -173,10 +162,10 @@ def _stick_subset(S, ns, pos, nf, released):
 
 
 @njit(cache=True)
-def _bordered_solve(E, h, qn, stick, ns, LU, piv, Sf, nf, z, ek):
+def _bordered_solve(h, Es, qn, stick, ns, LU, piv, Sf, nf, z, ek):
     """The stick solve on the stick nodes (stick[n]; ns of them), the factored set Sf[:nf] less r = nf - ns
     released nodes R, from the factors of E[Sf, Sf] (in place on qn). With A = E[Sf, Sf], z = A^-1 c (c: the
-    stick equations' right-hand sides, 0 in the rows of R) and e_k = A^-1 u_k for k in R, x = z - sum tau_k
+    stick equations' right-hand sides h - Es, Es the slip nodes' part of E q; 0 in the rows of R) and e_k = A^-1 u_k for k in R, x = z - sum tau_k
     e_k with x_R = 0 (an r x r system, r <= _BORDER_MAX = 2, by Cramer's rule) satisfies the rows of S:
     A x = c - sum tau_k u_k. Two triangular solves per released node instead of a new factorisation (the
     active set usually releases one stick node per step). Returns False (qn unchanged) if the r x r system
@@ -191,7 +180,7 @@ def _bordered_solve(E, h, qn, stick, ns, LU, piv, Sf, nf, z, ek):
             j += 1
             z[m] = 0.0
         else:
-            z[m] = _stick_rhs(E, h, qn, n)
+            z[m] = h[n] - Es[n]
     lu_solve_in_place(LU, nf, piv, z)
     for a in range(r):
         e = ek[a]
@@ -268,8 +257,9 @@ def _stick_solve(E, h, p, inside, stick, sign, qn, s, S, g, speed, gd, dt, mu_d,
                 S[ns] = n
                 ns += 1
         if ns > 0:
+            Es = E @ qn  # the slip nodes' part of E q (qn is 0 on the stick nodes here)
             if nf > 0 and _stick_subset(S, ns, pos, nf, nf - ns):
-                ok = _bordered_solve(E, h, qn, stick, ns, LU, piv, Sf, nf, z, ek)
+                ok = _bordered_solve(h, Es, qn, stick, ns, LU, piv, Sf, nf, z, ek)
             else:
                 ok = False
             if not ok:  # factor the stick block afresh (a node joined the stick set, or the first pass)
@@ -278,7 +268,7 @@ def _stick_solve(E, h, p, inside, stick, sign, qn, s, S, g, speed, gd, dt, mu_d,
                     Sf[r] = S[r]
                 _factor_stick(E, S, ns, LU, piv, pos)
                 for r in range(ns):
-                    z[r] = _stick_rhs(E, h, qn, S[r])
+                    z[r] = h[S[r]] - Es[S[r]]
                 lu_solve_in_place(LU, ns, piv, z)
                 for r in range(ns):
                     qn[S[r]] = z[r]
@@ -367,53 +357,73 @@ def _shape_mean(shape, i, n):
 
 @njit(cache=True)
 def _work_terms(n, xi, delta, a_prev, ai, p0m, dt, mu_d, qn, q, p, p_prev, s, s_exit, inside, inside_prev, fm):
-    """The parts of the step work on the particle now at node n (see _step_work).
+    """The parts of the step work on the particle now at node n (see _step_work_all), from the arrays
+    (_work_terms_of with the particle's values).
 
     Returns (active, sbar, Y, sig, eta0, eta1, span, Fd, lo, d_old, d_new, was): the work is
     |sbar Y| when active, Y = sig mu_d ip + (d_old + d_new) / 2 max(lo, 0) with ip = fm p0m dt Fd / span
     the pressure's time integral, Fd = F(eta0) - F(eta1) (_ellipse_area), lo the loaded time."""
-    nn = xi.size
-    was = n < nn - 1 and inside_prev[n + 1]
-    if not (inside[n] or was):
-        return False, 0.0, 0.0, 0.0, 0.0, 0.0, 1.0, 0.0, 0.0, 0.0, 0.0, was
+    was = n < xi.size - 1 and inside_prev[n + 1]
     q_old = q[n + 1] if was else 0.0
-    if inside[n]:
-        sbar = s[n]
-        ref = qn[n] if qn[n] != 0.0 else q_old
+    p_old = p_prev[n + 1] if was else 0.0
+    return _work_terms_of(xi[n], was, inside[n], q_old, p_old, qn[n], p[n], s[n], s_exit[n], delta, a_prev, ai, p0m, dt,
+                          mu_d, fm)
+
+
+@njit(cache=True)
+def _work_terms_of(x, was, ins, q_old, p_old, qn_n, p_n, s_n, s_exit_n, delta, a_prev, ai, p0m, dt, mu_d, fm):
+    """_work_terms from one particle's values, scalars only (a compiled call with arrays counts their
+    references, which cost more than the work itself when made for every node of every step): x its node
+    [m]; was, ins whether it was loaded one step before (then at the next node) and is now; q_old, p_old its
+    traction and pressure then [Pa] (0 if not loaded); qn_n, p_n, s_n now [Pa, Pa, m/s]; s_exit_n its mean
+    slip velocity if it left the loaded region in the step [m/s]. Returns as _work_terms."""
+    if not (ins or was):
+        return False, 0.0, 0.0, 0.0, 0.0, 0.0, 1.0, 0.0, 0.0, 0.0, 0.0, was
+    if ins:
+        sbar = s_n
+        ref = qn_n if qn_n != 0.0 else q_old
     else:
-        sbar = s_exit[n]
+        sbar = s_exit_n
         ref = q_old
     if sbar == 0.0 or ref == 0.0:  # stuck over the step (zero mean slip) or unloaded
         return False, 0.0, 0.0, 0.0, 0.0, 0.0, 1.0, 0.0, 0.0, 0.0, 0.0, was
-    eta0 = (xi[n] + delta) / a_prev
-    eta1 = xi[n] / ai
+    eta0 = (x + delta) / a_prev
+    eta1 = x / ai
     span = eta0 - eta1
     Fd = _ellipse_area(eta0) - _ellipse_area(eta1)
     ip = fm * p0m * dt * Fd / span
     lo = dt * (min(eta0, 1.0) - max(eta1, -1.0)) / span
     loaded = lo if lo > 0.0 else 0.0
     sig = 1.0 if ref > 0 else -1.0
-    d_new = qn[n] - sig * mu_d * p[n] if inside[n] else 0.0
-    d_old = q_old - sig * mu_d * p_prev[n + 1] if was else 0.0
+    d_new = qn_n - sig * mu_d * p_n if ins else 0.0
+    d_old = q_old - sig * mu_d * p_old if was else 0.0
     Y = sig * mu_d * ip + 0.5 * (d_old + d_new) * loaded
     return True, sbar, Y, sig, eta0, eta1, span, Fd, lo, d_old, d_new, was
 
 
 @njit(cache=True)
-def _step_work(n, xi, delta, a_prev, ai, p0m, dt, mu_d, qn, q, p, p_prev, s, s_exit, inside, inside_prev, fm):
-    """Frictional work per unit area in one step on the particle now at node n (at xi_{n+1} one step
-    before), J/m^2: |s_bar int q dt| with s_bar its mean slip velocity over the time it was loaded.
+def _step_work_all(dw, i, shape, xi, delta, a_prev, ai, p0m, dt, mu_d, qn, q, p, p_prev, s, s_exit, inside, inside_prev):
+    """Frictional work per unit area in step i on the particle now at each node n (at xi_{n+1} one step
+    before), J/m^2, into dw (in place): |s_bar int q dt| with s_bar its mean slip velocity over the time it
+    was loaded.
 
     The traction is written q = sigma mu_d p + d, with sigma its direction. The pressure part is
     integrated exactly along the path for the Hertz ellipse, with eta = xi / a(t) linear in time
     between the two steps (clipped at the patch edges, where the particle enters or leaves), so the
     square-root edges of p carry no grid-position error; the deviation d (0 in slip) by the
     trapezoidal rule over the loaded time. s_exit : the mean slip velocity of a particle that left the
-    patch during the step, over its loaded time. fm : the mean of the pressure's shape factor (non-Hertzian
-    pressure = Hertz ellipse x shape, rail.contact.normal) at the particle's two positions; 1 for Hertz."""
-    active, sbar, Y, _, _, _, _, _, _, _, _, _ = _work_terms(n, xi, delta, a_prev, ai, p0m, dt, mu_d, qn, q, p, p_prev, s,
-                                                            s_exit, inside, inside_prev, fm)
-    return abs(sbar * Y) if active else 0.0
+    patch during the step, over its loaded time. shape : (steps, nodes) the pressure's shape factor
+    (non-Hertzian pressure = Hertz ellipse x shape, rail.contact.normal; 1 for Hertz), taken as its mean
+    at the particle's two positions (_shape_mean)."""
+    nn = xi.size
+    ip = i - 1 if i > 0 else 0
+    for n in range(nn):
+        was = n < nn - 1 and inside_prev[n + 1]
+        fm = 0.5 * (shape[ip, n + 1] + shape[i, n]) if n < nn - 1 else shape[i, n]  # _shape_mean
+        active, sbar, Y, _, _, _, _, _, _, _, _, _ = _work_terms_of(
+            xi[n], was, inside[n], q[n + 1] if was else 0.0, p_prev[n + 1] if was else 0.0, qn[n], p[n], s[n], s_exit[n],
+            delta, a_prev, ai, p0m, dt, mu_d, fm)
+        dw[n] = abs(sbar * Y) if active else 0.0
 
 
 @njit(cache=True)
