@@ -2,6 +2,8 @@
 
 from __future__ import annotations
 
+import numpy as np
+
 from ._lazyjit import njit
 
 __all__ = ["solve_in_place", "lu_in_place", "lu_solve_in_place"]
@@ -29,34 +31,10 @@ def solve_in_place(A, B):
     None
         X [unit of B / unit of A] is left in B.
     """
-    n, m = A.shape[0], B.shape[1]
-    for k in range(n):
-        piv, big = k, abs(A[k, k])
-        for r in range(k + 1, n):
-            v = abs(A[r, k])
-            if v > big:
-                piv, big = r, v
-        if piv != k:
-            for c in range(n):
-                A[k, c], A[piv, c] = A[piv, c], A[k, c]
-            for c in range(m):
-                B[k, c], B[piv, c] = B[piv, c], B[k, c]
-        inv = 1.0 / A[k, k]
-        for r in range(k + 1, n):
-            f = A[r, k] * inv
-            if f != 0.0:
-                A[r, k] = f
-                for c in range(k + 1, n):
-                    A[r, c] -= f * A[k, c]
-                for c in range(m):
-                    B[r, c] -= f * B[k, c]
-    for k in range(n - 1, -1, -1):
-        inv = 1.0 / A[k, k]
-        for c in range(m):
-            acc = B[k, c]
-            for j in range(k + 1, n):
-                acc -= A[k, j] * B[j, c]
-            B[k, c] = acc * inv
+    n = A.shape[0]
+    piv = np.empty(n, dtype=np.int64)
+    lu_in_place(A, n, piv)
+    lu_solve_in_place(A, n, piv, B)
 
 
 @njit(cache=True, error_model="numpy")
@@ -67,7 +45,7 @@ def lu_in_place(A, n, piv):
 
     Parameters
     ----------
-    A : (>= n, >= n) float ndarray
+    A : (>= n, >= n) float or complex ndarray
         The matrix [any unit]; its leading block is overwritten by its LU factors.
     n : int
         The order of the block [-].
@@ -99,37 +77,43 @@ def lu_in_place(A, n, piv):
 
 
 @njit(cache=True, error_model="numpy")
-def lu_solve_in_place(A, n, piv, b):
-    """Solve (leading n x n block of the original A) x = b[:n] with the factors of lu_in_place,
-    overwriting b[:n] with x. A zero pivot leaves inf or nan in x.
+def lu_solve_in_place(A, n, piv, B):
+    """Solve (leading n x n block of the original A) X = B[:n] with the factors of lu_in_place,
+    overwriting B[:n] with X (the row exchanges first, then L and U: the same operations in the same
+    order as eliminating B along with A). A zero pivot leaves inf or nan in X.
 
     Parameters
     ----------
-    A : (>= n, >= n) float ndarray
+    A : (>= n, >= n) float or complex ndarray
         The LU factors of lu_in_place [any unit].
     n : int
         The order [-].
     piv : (>= n,) int64 ndarray
         The row exchanges of lu_in_place [-].
-    b : (>= n,) float ndarray
-        The right-hand side [any unit]; overwritten by the solution.
+    B : (>= n, m) ndarray of A's dtype
+        The right-hand sides [any unit]; overwritten by the solution.
 
     Returns
     -------
     None
-        x [unit of b / unit of A] is left in b.
+        X [unit of B / unit of A] is left in B.
     """
+    m = B.shape[1]
     for k in range(n):
         p = piv[k]
         if p != k:
-            b[k], b[p] = b[p], b[k]
+            for c in range(m):
+                B[k, c], B[p, c] = B[p, c], B[k, c]
     for r in range(1, n):
-        acc = b[r]
-        for c in range(r):
-            acc -= A[r, c] * b[c]
-        b[r] = acc
+        for c in range(m):
+            acc = B[r, c]
+            for j in range(r):
+                acc -= A[r, j] * B[j, c]
+            B[r, c] = acc
     for k in range(n - 1, -1, -1):
-        acc = b[k]
-        for j in range(k + 1, n):
-            acc -= A[k, j] * b[j]
-        b[k] = acc * (1.0 / A[k, k])  # as solve_in_place, so that a fresh factor solves to the same bits
+        inv = 1.0 / A[k, k]
+        for c in range(m):
+            acc = B[k, c]
+            for j in range(k + 1, n):
+                acc -= A[k, j] * B[j, c]
+            B[k, c] = acc * inv

@@ -229,9 +229,29 @@ def test_the_steps_small_solve_agrees_with_lapack_and_pivots():
     assert not np.all(np.isfinite(b))
 
 
+def _eliminate_along(A, B):
+    """Gaussian elimination with partial pivoting applied to B along with A, then back substitution
+    (the order of operations of rail._linalg before it was split into factors and solves)."""
+    n = A.shape[0]
+    for k in range(n):
+        piv = max(range(k, n), key=lambda r: (abs(A[r, k]), -r))
+        A[[k, piv]], B[[k, piv]] = A[[piv, k]], B[[piv, k]]
+        inv = 1.0 / A[k, k]
+        for r in range(k + 1, n):
+            f = A[r, k] * inv
+            for c in range(k + 1, n):
+                A[r, c] = A[r, c] - f * A[k, c]
+            B[r, 0] = B[r, 0] - f * B[k, 0]
+    for k in range(n - 1, -1, -1):
+        acc = B[k, 0]
+        for j in range(k + 1, n):
+            acc = acc - A[k, j] * B[j, 0]
+        B[k, 0] = acc * (1.0 / A[k, k])
+
+
 def test_the_factors_solve_to_the_same_bits_and_the_bordered_solve_equals_a_fresh_one():
-    """rail._linalg.lu_in_place / lu_solve_in_place give solve_in_place's bits (so a stick set solved
-    afresh is unchanged); the stick solve's bordered pass (rail.contact.steps._bordered_solve: the
+    """rail._linalg.lu_in_place / lu_solve_in_place (what solve_in_place calls) give the bits of the
+    elimination of the right-hand side along with the matrix (so a stick set solved afresh is unchanged); the stick solve's bordered pass (rail.contact.steps._bordered_solve: the
     stick set less up to two released nodes, from the factors of the larger set) equals a fresh solve
     of the smaller set to the rounding of its conditioning, and a changed set it cannot serve (a node
     added) is refused by _stick_subset."""
@@ -247,12 +267,15 @@ def test_the_factors_solve_to_the_same_bits_and_the_bordered_solve_equals_a_fres
         S = np.sort(rng.choice(nn, ns, replace=False)).astype(np.int64)
         A, b = E[np.ix_(S, S)].copy(), h[S].copy()
         A1, b1 = A.copy(), b.copy()[:, None]
-        solve_in_place(A1, b1)
-        LU, piv, b2 = np.zeros((nn, nn)), np.zeros(nn, dtype=np.int64), np.zeros(nn)
-        LU[:ns, :ns], b2[:ns] = A, b
+        _eliminate_along(A1, b1)  # the right-hand side eliminated along with the matrix, in Python floats
+        A3, b3 = A.copy(), b.copy()[:, None]
+        solve_in_place(A3, b3)
+        assert np.array_equal(b3, b1)
+        LU, piv, b2 = np.zeros((nn, nn)), np.zeros(nn, dtype=np.int64), np.zeros((nn, 1))
+        LU[:ns, :ns], b2[:ns, 0] = A, b
         lu_in_place(LU, ns, piv)
         lu_solve_in_place(LU, ns, piv, b2)
-        assert np.array_equal(b2[:ns], b1[:, 0])
+        assert np.array_equal(b2[:ns], b1)
     Sf = np.arange(5, 35, dtype=np.int64)
     nf = Sf.size
     for released in ((), (12,), (5, 34), (20, 21)):
@@ -265,7 +288,7 @@ def test_the_factors_solve_to_the_same_bits_and_the_bordered_solve_equals_a_fres
         S = np.flatnonzero(stick).astype(np.int64)
         assert steps._stick_subset(S, S.size, pos, nf, nf - S.size)
         q = qn.copy()
-        ok = steps._bordered_solve(h, E @ qn, q, stick, S.size, LU, piv, Sf, nf, np.zeros(nn), np.zeros((2, nn)))
+        ok = steps._bordered_solve(h, E @ qn, q, stick, S.size, LU, piv, Sf, nf, np.zeros((nn, 1)), np.zeros((2, nn, 1)))
         assert ok
         want = np.linalg.solve(E[np.ix_(S, S)], h[S] - E[np.ix_(S, np.flatnonzero(~stick))] @ qn[~stick])
         tol = 1e-13 * np.linalg.cond(E[np.ix_(S, S)]) * np.abs(want).max()

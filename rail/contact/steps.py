@@ -178,38 +178,38 @@ def _bordered_solve(h, Es, qn, stick, ns, LU, piv, Sf, nf, z, ek):
         if not stick[n]:
             R[j] = m
             j += 1
-            z[m] = 0.0
+            z[m, 0] = 0.0
         else:
-            z[m] = h[n] - Es[n]
+            z[m, 0] = h[n] - Es[n]
     lu_solve_in_place(LU, nf, piv, z)
     for a in range(r):
         e = ek[a]
         for m in range(nf):
-            e[m] = 0.0
-        e[R[a]] = 1.0
+            e[m, 0] = 0.0
+        e[R[a], 0] = 1.0
         lu_solve_in_place(LU, nf, piv, e)
     # tau from G tau = z_R, G = (e_b[R_a]); r <= 2, by Cramer's rule
     t0, t1 = 0.0, 0.0
     if r == 1:
-        if ek[0, R[0]] == 0.0:
+        if ek[0, R[0], 0] == 0.0:
             return False
-        t0 = z[R[0]] / ek[0, R[0]]
+        t0 = z[R[0], 0] / ek[0, R[0], 0]
     elif r == 2:
-        g00, g01, g10, g11 = ek[0, R[0]], ek[1, R[0]], ek[0, R[1]], ek[1, R[1]]
+        g00, g01, g10, g11 = ek[0, R[0], 0], ek[1, R[0], 0], ek[0, R[1], 0], ek[1, R[1], 0]
         det = g00 * g11 - g01 * g10
         if det == 0.0:
             return False
-        t0 = (z[R[0]] * g11 - g01 * z[R[1]]) / det
-        t1 = (g00 * z[R[1]] - g10 * z[R[0]]) / det
+        t0 = (z[R[0], 0] * g11 - g01 * z[R[1], 0]) / det
+        t1 = (g00 * z[R[1], 0] - g10 * z[R[0], 0]) / det
     if not (math.isfinite(t0) and math.isfinite(t1)):
         return False
     for m in range(nf):
         if stick[Sf[m]]:
-            x = z[m]
+            x = z[m, 0]
             if r >= 1:
-                x -= t0 * ek[0, m]
+                x -= t0 * ek[0, m, 0]
             if r == 2:
-                x -= t1 * ek[1, m]
+                x -= t1 * ek[1, m, 0]
             qn[Sf[m]] = x
     return True
 
@@ -243,8 +243,8 @@ def _stick_solve(E, h, p, inside, stick, sign, qn, s, S, g, speed, gd, dt, mu_d,
     piv = np.empty(nn, dtype=np.int64)
     Sf = np.empty(nn, dtype=np.int64)
     pos = np.full(nn, -1, dtype=np.int64)  # a node's place in Sf (-1: not in it)
-    z = np.empty(nn)
-    ek = np.empty((_BORDER_MAX, nn))
+    z = np.empty((nn, 1))
+    ek = np.empty((_BORDER_MAX, nn, 1))
     nf = 0
     while it < max_iter:
         ns = 0
@@ -268,10 +268,10 @@ def _stick_solve(E, h, p, inside, stick, sign, qn, s, S, g, speed, gd, dt, mu_d,
                     Sf[r] = S[r]
                 _factor_stick(E, S, ns, LU, piv, pos)
                 for r in range(ns):
-                    z[r] = h[S[r]] - Es[S[r]]
+                    z[r, 0] = h[S[r]] - Es[S[r]]
                 lu_solve_in_place(LU, ns, piv, z)
                 for r in range(ns):
-                    qn[S[r]] = z[r]
+                    qn[S[r]] = z[r, 0]
         Eq = E @ qn
         for n in range(nn):
             s[n] = g * speed + dub / dt + (Eq[n] - h[n] - gd) / dt
@@ -356,27 +356,17 @@ def _shape_mean(shape, i, n):
 
 
 @njit(cache=True)
-def _work_terms(n, xi, delta, a_prev, ai, p0m, dt, mu_d, qn, q, p, p_prev, s, s_exit, inside, inside_prev, fm):
-    """The parts of the step work on the particle now at node n (see _step_work_all), from the arrays
-    (_work_terms_of with the particle's values).
+def _work_terms_of(x, was, ins, q_old, p_old, qn_n, p_n, s_n, s_exit_n, delta, a_prev, ai, p0m, dt, mu_d, fm):
+    """The parts of the step work on one particle (see _step_work_all), from its values, scalars only (a
+    compiled call with arrays counts their references, which cost more than the work itself when made for
+    every node of every step): x its node [m]; was, ins whether it was loaded one step before (then at the
+    next node) and is now; q_old, p_old its traction and pressure then [Pa] (0 if not loaded); qn_n, p_n,
+    s_n now [Pa, Pa, m/s]; s_exit_n its mean slip velocity if it left the loaded region in the step [m/s];
+    fm the mean of the pressure's shape factor at its two positions (_shape_mean).
 
     Returns (active, sbar, Y, sig, eta0, eta1, span, Fd, lo, d_old, d_new, was): the work is
     |sbar Y| when active, Y = sig mu_d ip + (d_old + d_new) / 2 max(lo, 0) with ip = fm p0m dt Fd / span
     the pressure's time integral, Fd = F(eta0) - F(eta1) (_ellipse_area), lo the loaded time."""
-    was = n < xi.size - 1 and inside_prev[n + 1]
-    q_old = q[n + 1] if was else 0.0
-    p_old = p_prev[n + 1] if was else 0.0
-    return _work_terms_of(xi[n], was, inside[n], q_old, p_old, qn[n], p[n], s[n], s_exit[n], delta, a_prev, ai, p0m, dt,
-                          mu_d, fm)
-
-
-@njit(cache=True)
-def _work_terms_of(x, was, ins, q_old, p_old, qn_n, p_n, s_n, s_exit_n, delta, a_prev, ai, p0m, dt, mu_d, fm):
-    """_work_terms from one particle's values, scalars only (a compiled call with arrays counts their
-    references, which cost more than the work itself when made for every node of every step): x its node
-    [m]; was, ins whether it was loaded one step before (then at the next node) and is now; q_old, p_old its
-    traction and pressure then [Pa] (0 if not loaded); qn_n, p_n, s_n now [Pa, Pa, m/s]; s_exit_n its mean
-    slip velocity if it left the loaded region in the step [m/s]. Returns as _work_terms."""
     if not (ins or was):
         return False, 0.0, 0.0, 0.0, 0.0, 0.0, 1.0, 0.0, 0.0, 0.0, 0.0, was
     if ins:
@@ -416,13 +406,11 @@ def _step_work_all(dw, i, shape, xi, delta, a_prev, ai, p0m, dt, mu_d, qn, q, p,
     (non-Hertzian pressure = Hertz ellipse x shape, rail.contact.normal; 1 for Hertz), taken as its mean
     at the particle's two positions (_shape_mean)."""
     nn = xi.size
-    ip = i - 1 if i > 0 else 0
     for n in range(nn):
         was = n < nn - 1 and inside_prev[n + 1]
-        fm = 0.5 * (shape[ip, n + 1] + shape[i, n]) if n < nn - 1 else shape[i, n]  # _shape_mean
         active, sbar, Y, _, _, _, _, _, _, _, _, _ = _work_terms_of(
             xi[n], was, inside[n], q[n + 1] if was else 0.0, p_prev[n + 1] if was else 0.0, qn[n], p[n], s[n], s_exit[n],
-            delta, a_prev, ai, p0m, dt, mu_d, fm)
+            delta, a_prev, ai, p0m, dt, mu_d, _shape_mean(shape, i, n))
         dw[n] = abs(sbar * Y) if active else 0.0
 
 

@@ -28,7 +28,7 @@ from .hertz import ContactError, ContactMaterial, compliance, report_rigid_compl
 from .march import step_times
 from .._linalg import solve_in_place
 from .steps import (_advance, _all_finite, _enter_particles, _entry_fraction, _exit_fraction, _exit_slip, _pressure,
-                    _restore_rows, _shape_mean, _shift_particles, _stick_solve, _work_terms)
+                    _restore_rows, _shape_mean, _shift_particles, _stick_solve, _work_terms_of)
 
 __all__ = ["work_tangent"]
 
@@ -205,42 +205,47 @@ def _d_exit_slip(xi, a_prev, ai, da_prev, dai, dt, u_old, du_old, du_new, u_trai
 
 
 @njit(cache=True)
-def _d_step_work(n, i, xi, delta, a_prev, ai, da_prev, dai, p0m, dp0_prev, dp0, dt, mu_d, qn, dqn, q, dq, p, dp, p_prev,
+def _d_step_work(i, xi, delta, a_prev, ai, da_prev, dai, p0m, dp0_prev, dp0, dt, mu_d, qn, dqn, q, dq, p, dp, p_prev,
                  dp_prev, s, ds, s_exit, ds_exit, inside, inside_prev, shape, dshape, has_dshape, work, dwork, ddt):
-    """The step work on the particle now at node n (rail.contact.steps._work_terms) added to work[i + n],
-    and its derivative to dwork[i + n] (in place; Y, the traction's time integral, is proportional to
-    the step's time: ddt adds Y ddt / dt)."""
+    """The step work on the particle now at each node n (rail.contact.steps._work_terms_of, as the march's
+    _step_work_all) added to work[i + n], and its derivative to dwork[i + n] (in place; Y, the traction's
+    time integral, is proportional to the step's time: ddt adds Y ddt / dt). One call per step, the
+    particles' values passed to _work_terms_of as scalars (a compiled call per node with arrays counts
+    their references)."""
     nn = xi.size
     nc = dwork.shape[1]
-    fm = _shape_mean(shape, i, n)
-    active, sbar, Y, sig, eta0, eta1, span, Fd, lo, d_old, d_new, was = _work_terms(
-        n, xi, delta, a_prev, ai, p0m, dt, mu_d, qn, q, p, p_prev, s, s_exit, inside, inside_prev, fm)
-    if not active:
-        return
     ip = i - 1 if i > 0 else 0
-    loaded = lo if lo > 0.0 else 0.0
-    X = sbar * Y
-    work[i + n] += abs(X)
-    sx = 1.0 if X > 0 else (-1.0 if X < 0 else 0.0)
-    for c in range(nc):
-        de0 = -(xi[n] + delta) / a_prev ** 2 * da_prev[c]
-        de1 = -xi[n] / ai ** 2 * dai[c]
-        dspan = de0 - de1
-        dfm = 0.0
-        if has_dshape:
-            dfm = 0.5 * (dshape[ip, n + 1, c] + dshape[i, n, c]) if n < nn - 1 else dshape[i, n, c]
-        dp0m = 0.5 * (dp0_prev[c] + dp0[c])
-        dipw = (dfm * p0m + fm * dp0m) * dt * Fd / span + fm * p0m * dt * (
-            (_dF(eta0) * de0 - _dF(eta1) * de1) / span - Fd * dspan / span ** 2)
-        if lo > 0.0:
-            dlo = dt * ((de0 if eta0 < 1.0 else 0.0) - (de1 if eta1 > -1.0 else 0.0)) / span - lo * dspan / span
-        else:
-            dlo = 0.0
-        dd_new = dqn[n, c] - sig * mu_d * dp[n, c] if inside[n] else 0.0
-        dd_old = dq[n + 1, c] - sig * mu_d * dp_prev[n + 1, c] if was else 0.0
-        dY = sig * mu_d * dipw + 0.5 * (dd_old + dd_new) * loaded + 0.5 * (d_old + d_new) * dlo + Y / dt * ddt[c]
-        dsbar = ds[n, c] if inside[n] else ds_exit[n, c]
-        dwork[i + n, c] += sx * (dsbar * Y + sbar * dY)
+    for n in range(nn):
+        was = n < nn - 1 and inside_prev[n + 1]
+        fm = _shape_mean(shape, i, n)
+        active, sbar, Y, sig, eta0, eta1, span, Fd, lo, d_old, d_new, was = _work_terms_of(
+            xi[n], was, inside[n], q[n + 1] if was else 0.0, p_prev[n + 1] if was else 0.0, qn[n], p[n], s[n], s_exit[n],
+            delta, a_prev, ai, p0m, dt, mu_d, fm)
+        if not active:
+            continue
+        loaded = lo if lo > 0.0 else 0.0
+        X = sbar * Y
+        work[i + n] += abs(X)
+        sx = 1.0 if X > 0 else (-1.0 if X < 0 else 0.0)
+        for c in range(nc):
+            de0 = -(xi[n] + delta) / a_prev ** 2 * da_prev[c]
+            de1 = -xi[n] / ai ** 2 * dai[c]
+            dspan = de0 - de1
+            dfm = 0.0
+            if has_dshape:
+                dfm = 0.5 * (dshape[ip, n + 1, c] + dshape[i, n, c]) if n < nn - 1 else dshape[i, n, c]
+            dp0m = 0.5 * (dp0_prev[c] + dp0[c])
+            dipw = (dfm * p0m + fm * dp0m) * dt * Fd / span + fm * p0m * dt * (
+                (_dF(eta0) * de0 - _dF(eta1) * de1) / span - Fd * dspan / span ** 2)
+            if lo > 0.0:
+                dlo = dt * ((de0 if eta0 < 1.0 else 0.0) - (de1 if eta1 > -1.0 else 0.0)) / span - lo * dspan / span
+            else:
+                dlo = 0.0
+            dd_new = dqn[n, c] - sig * mu_d * dp[n, c] if inside[n] else 0.0
+            dd_old = dq[n + 1, c] - sig * mu_d * dp_prev[n + 1, c] if was else 0.0
+            dY = sig * mu_d * dipw + 0.5 * (dd_old + dd_new) * loaded + 0.5 * (d_old + d_new) * dlo + Y / dt * ddt[c]
+            dsbar = ds[n, c] if inside[n] else ds_exit[n, c]
+            dwork[i + n, c] += sx * (dsbar * Y + sbar * dY)
 
 
 @njit(cache=True)
@@ -357,9 +362,8 @@ def _march_tangent(P, a, shape, dP, da, dshape, has_dshape, xi, Mom, mu, ws, ws2
         _d_exit_slip(xi, a_prev, ai, da_prev, dai, dt, u_old, du_old, du_new, u_trail_old, u_trail_new, du_trail_old,
                      du_trail_new, how, ds_exit, s_exit, g * speed, ddt)
         p0m = 0.5 * (p0_prev + p0)
-        for n in range(nn):
-            _d_step_work(n, i, xi, delta, a_prev, ai, da_prev, dai, p0m, dp0_prev, dp0, dt, mu_d, qn, dqn, q, dq, p, dp, p_prev,
-                         dp_prev, s, ds, s_exit, ds_exit, inside, inside_prev, shape, dshape, has_dshape, work, dwork, ddt)
+        _d_step_work(i, xi, delta, a_prev, ai, da_prev, dai, p0m, dp0_prev, dp0, dt, mu_d, qn, dqn, q, dq, p, dp, p_prev,
+                     dp_prev, s, ds, s_exit, ds_exit, inside, inside_prev, shape, dshape, has_dshape, work, dwork, ddt)
         # the state and its derivative
         _advance(q, qn, p_prev, p, inside_prev, inside, stick_prev, sign_prev, stick, sign)
         dq[:] = dqn
