@@ -14,7 +14,7 @@ freshness is judged by the code, not by the file's time: numba marks a compiled 
 modification time and size of its own file only, so a change in a module it calls (the march calling
 the steps of rail.contact.steps, a constant such as THETA_EDGE that the compiled code holds) left the
 old machine code in use. Here every rail function's mark is a hash of its file and every rail file that
-file imports, directly or not (rail.provenance.rail_imports, as the workflow's rerun hash): a change in
+file imports, directly or not (rail.provenance.file_hash, as the workflow's rerun hash): a change in
 any of them recompiles it, an untouched file keeps its cache, and the same sources in a fresh clone
 hash the same (``_SourceStamp``; tests/test_lazyjit.py).
 """
@@ -22,7 +22,6 @@ hash the same (``_SourceStamp``; tests/test_lazyjit.py).
 from __future__ import annotations
 
 import functools
-import hashlib
 import sys
 from pathlib import Path
 
@@ -142,17 +141,13 @@ def source_stamp(py_file: str) -> str:
     str
         64 hex digits [-].
     """
-    from .provenance import rail_imports
+    from .provenance import file_hash
 
     f = Path(py_file).resolve()
     root = f.parent
     while (root.parent / "__init__.py").is_file():
         root = root.parent
-    h = hashlib.sha256()
-    for g in sorted(set(rail_imports(f, root)) | {f}):
-        h.update(str(g.relative_to(root)).encode())
-        h.update(g.read_bytes())
-    return h.hexdigest()
+    return file_hash(f, root)
 
 
 def _is_rail_file(py_file) -> bool:

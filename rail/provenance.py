@@ -18,7 +18,7 @@ from pathlib import Path
 
 import yaml
 
-__all__ = ["rail_imports", "code_hash", "module_hash"]
+__all__ = ["rail_imports", "code_hash", "module_hash", "file_hash"]
 
 PACKAGE = "rail"
 ROOT = Path(__file__).resolve().parent  # the rail package folder
@@ -185,8 +185,29 @@ def module_hash(dotted: str, root: Path = ROOT) -> str:
     f = _module_file(dotted, root)
     if f is None:
         raise ValueError(f"no module {dotted} under {root}")
+    return file_hash(f, root)[:12]
+
+
+def file_hash(path, root: Path = ROOT) -> str:
+    """Hash of a rail source file and every rail file it imports, directly or not (module_hash of a file;
+    the mark of numba's cache of its compiled functions, rail._lazyjit).
+
+    Parameters
+    ----------
+    path : str or Path
+        A source file under root.
+    root : Path
+        The rail package folder.
+
+    Returns
+    -------
+    str
+        sha256 (64 hex digits) of the files, by their path inside the package and their text.
+    """
+    root = Path(root).resolve()
+    f = Path(path).resolve()
     h = hashlib.sha256()
     for g in sorted(set(rail_imports(f, root)) | {f}):
         h.update(str(g.relative_to(root)).encode())
         h.update(g.read_bytes())
-    return h.hexdigest()[:12]
+    return h.hexdigest()
