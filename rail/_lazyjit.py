@@ -64,7 +64,9 @@ class LazyJit:
 
 def compile_module(module: str) -> None:
     """Make every recorded function of ``module`` a numba dispatcher and rebind the module's globals
-    (its own functions and the recorded functions it imported from other modules).
+    (its own functions and the recorded functions it imported from other modules). A module may define
+    ``_before_compile(namespace)``, called first, to bind globals its compiled code needs and that
+    would import numba with the module (rail._linalg: LAPACK's getrf through numba's helper library).
 
     Parameters
     ----------
@@ -79,9 +81,11 @@ def compile_module(module: str) -> None:
     from numba import njit as numba_njit
 
     _install_stamp()
+    namespace = sys.modules[module].__dict__
+    if callable(namespace.get("_before_compile")):  # globals the compiled code needs that import numba (rail._linalg)
+        namespace["_before_compile"](namespace)
     for lazy in _PENDING.pop(module, []):
         lazy._dispatcher = numba_njit(**lazy.options)(lazy.py_func)
-    namespace = sys.modules[module].__dict__
     for name, value in list(namespace.items()):
         if isinstance(value, LazyJit):
             if value._dispatcher is None:

@@ -251,7 +251,9 @@ def _eliminate_along(A, B):
 
 def test_the_factors_solve_to_the_same_bits_and_the_bordered_solve_equals_a_fresh_one():
     """rail._linalg.lu_in_place / lu_solve_in_place (what solve_in_place calls) give the bits of the
-    elimination of the right-hand side along with the matrix (so a stick set solved afresh is unchanged); the stick solve's bordered pass (rail.contact.steps._bordered_solve: the
+    elimination of the right-hand side along with the matrix; LAPACK's factors on a row-major block
+    (getrf_rows / getrs_rows, the stick solve's) solve to the rounding of the conditioning, several
+    right-hand sides at once, with a row exchange, and a singular block gives a non-finite answer; the stick solve's bordered pass (rail.contact.steps._bordered_solve: the
     stick set less up to two released nodes, from the factors of the larger set) equals a fresh solve
     of the smaller set to the rounding of its conditioning, and a changed set it cannot serve (a node
     added) is refused by _stick_subset."""
@@ -276,6 +278,27 @@ def test_the_factors_solve_to_the_same_bits_and_the_bordered_solve_equals_a_fres
         lu_in_place(LU, ns, piv)
         lu_solve_in_place(LU, ns, piv, b2)
         assert np.array_equal(b2[:ns], b1)
+    from rail._linalg import getrf_rows, getrs_rows
+
+    for ns in (1, 2, 7, 41):
+        S = np.sort(rng.choice(nn, ns, replace=False)).astype(np.int64)
+        A = E[np.ix_(S, S)]
+        B = rng.normal(size=(ns, 3))
+        LU, piv, X = np.zeros((nn, nn)), np.zeros(nn, dtype=np.int32), np.zeros((nn, 3))
+        LU[:ns, :ns], X[:ns] = A, B
+        assert getrf_rows(LU, ns, piv) == 0
+        getrs_rows(LU, ns, piv, X)
+        want = np.linalg.solve(A, B)
+        assert np.abs(X[:ns] - want).max() < 1e-13 * np.linalg.cond(A) * np.abs(want).max(), ns
+    A = np.array([[0.0, 2.0, 1.0], [1.0, 1.0, 0.0], [3.0, 0.0, 1.0]])  # needs the exchange
+    LU, piv, X = A.copy(), np.zeros(3, dtype=np.int32), np.array([[1.0], [2.0], [3.0]])
+    getrf_rows(LU, 3, piv)
+    getrs_rows(LU, 3, piv, X)
+    assert np.allclose(A @ X, [[1.0], [2.0], [3.0]], rtol=0, atol=1e-14)
+    LU, piv, X = np.array([[1.0, 2.0], [2.0, 4.0]]), np.zeros(2, dtype=np.int32), np.ones((2, 1))
+    assert getrf_rows(LU, 2, piv) > 0
+    getrs_rows(LU, 2, piv, X)
+    assert not np.all(np.isfinite(X))
     Sf = np.arange(5, 35, dtype=np.int64)
     nf = Sf.size
     for released in ((), (12,), (5, 34), (20, 21)):
@@ -283,7 +306,7 @@ def test_the_factors_solve_to_the_same_bits_and_the_bordered_solve_equals_a_fres
         stick[Sf] = True
         stick[list(released)] = False
         qn = np.where(stick, 0.0, 0.3 * rng.normal(size=nn))  # the slip nodes' tractions
-        LU, piv, pos = np.zeros((nn, nn)), np.zeros(nn, dtype=np.int64), np.zeros(nn, dtype=np.int64)
+        LU, piv, pos = np.zeros((nn, nn)), np.zeros(nn, dtype=np.int32), np.zeros(nn, dtype=np.int64)
         steps._factor_stick(E, Sf, nf, LU, piv, pos)
         S = np.flatnonzero(stick).astype(np.int64)
         assert steps._stick_subset(S, S.size, pos, nf, nf - S.size)

@@ -29,7 +29,7 @@ import math
 import numpy as np
 
 from .._lazyjit import njit
-from .._linalg import lu_in_place, lu_solve_in_place
+from .._linalg import getrf_rows, getrs_rows
 from .numerics import THETA_EDGE
 
 __all__: list[str] = []
@@ -147,7 +147,7 @@ def _factor_stick(E, S, ns, LU, piv, pos):
         pos[S[r]] = r
         for c in range(ns):
             LU[r, c] = E[S[r], S[c]]
-    lu_in_place(LU, ns, piv)
+    getrf_rows(LU, ns, piv)
 
 
 @njit(cache=True)
@@ -181,13 +181,13 @@ def _bordered_solve(h, Es, qn, stick, ns, LU, piv, Sf, nf, z, ek):
             z[m, 0] = 0.0
         else:
             z[m, 0] = h[n] - Es[n]
-    lu_solve_in_place(LU, nf, piv, z)
+    getrs_rows(LU, nf, piv, z)
     for a in range(r):
         e = ek[a]
         for m in range(nf):
             e[m, 0] = 0.0
         e[R[a], 0] = 1.0
-        lu_solve_in_place(LU, nf, piv, e)
+        getrs_rows(LU, nf, piv, e)
     # tau from G tau = z_R, G = (e_b[R_a]); r <= 2, by Cramer's rule
     t0, t1 = 0.0, 0.0
     if r == 1:
@@ -240,7 +240,7 @@ def _stick_solve(E, h, p, inside, stick, sign, qn, s, S, g, speed, gd, dt, mu_d,
             mus[n] = mu_d + (mu_s - mu_d) * math.exp(-abs(s[n]) / decay)
     # the factors of the stick block of the set Sf[:nf] last factored (nf = 0: none), kept through the passes
     LU = np.empty((nn, nn))
-    piv = np.empty(nn, dtype=np.int64)
+    piv = np.empty(nn, dtype=np.int32)
     Sf = np.empty(nn, dtype=np.int64)
     pos = np.full(nn, -1, dtype=np.int64)  # a node's place in Sf (-1: not in it)
     z = np.empty((nn, 1))
@@ -269,7 +269,7 @@ def _stick_solve(E, h, p, inside, stick, sign, qn, s, S, g, speed, gd, dt, mu_d,
                 _factor_stick(E, S, ns, LU, piv, pos)
                 for r in range(ns):
                     z[r, 0] = h[S[r]] - Es[S[r]]
-                lu_solve_in_place(LU, ns, piv, z)
+                getrs_rows(LU, ns, piv, z)
                 for r in range(ns):
                     qn[S[r]] = z[r, 0]
         Eq = E @ qn
