@@ -56,6 +56,15 @@ def _imported_names(path: Path, root: Path) -> set[str]:
     return set(_parse_imports(str(path), str(root), st.st_mtime_ns, st.st_size))
 
 
+def _statements(node):
+    """Every statement under node, at any depth (imports are statements: the expressions, most of a
+    module's nodes, are not walked)."""
+    for child in ast.iter_child_nodes(node):
+        if isinstance(child, (ast.stmt, ast.excepthandler, ast.match_case)):
+            yield child
+            yield from _statements(child)
+
+
 @functools.lru_cache(maxsize=None)
 def _parse_imports(path_text: str, root_text: str, _mtime_ns: int, _size: int) -> frozenset[str]:
     path, root = Path(path_text), Path(root_text)
@@ -63,7 +72,7 @@ def _parse_imports(path_text: str, root_text: str, _mtime_ns: int, _size: int) -
     is_pkg = path.name == "__init__.py"
     here = _dotted_of(path, root) if path.is_relative_to(root) else None
     out = set()
-    for node in ast.walk(tree):
+    for node in _statements(tree):
         if isinstance(node, ast.Import):
             out |= {a.name for a in node.names if a.name == PACKAGE or a.name.startswith(PACKAGE + ".")}
         elif isinstance(node, ast.ImportFrom):
