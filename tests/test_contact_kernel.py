@@ -311,7 +311,8 @@ def test_the_factors_solve_to_the_same_bits_and_the_bordered_solve_equals_a_fres
         S = np.flatnonzero(stick).astype(np.int64)
         assert steps._stick_subset(S, S.size, pos, nf, nf - S.size)
         q = qn.copy()
-        ok = steps._bordered_solve(h, E @ qn, q, stick, S.size, LU, piv, Sf, nf, np.zeros((nn, 1)), np.zeros((2, nn, 1)))
+        ok = steps._bordered_solve(h, E @ qn, q, stick, S.size, LU, piv, Sf, nf, np.zeros((nn, 1)),
+                                   np.zeros((2, nn, 1)))
         assert ok
         want = np.linalg.solve(E[np.ix_(S, S)], h[S] - E[np.ix_(S, np.flatnonzero(~stick))] @ qn[~stick])
         tol = 1e-13 * np.linalg.cond(E[np.ix_(S, S)]) * np.abs(want).max()

@@ -164,10 +164,10 @@ def _stick_subset(S, ns, pos, nf, released):
 @njit(cache=True)
 def _bordered_solve(h, Es, qn, stick, ns, LU, piv, Sf, nf, z, ek):
     """The stick solve on the stick nodes (stick[n]; ns of them), the factored set Sf[:nf] less r = nf - ns
-    released nodes R, from the factors of E[Sf, Sf] (in place on qn). With A = E[Sf, Sf], z = A^-1 c (c: the
-    stick equations' right-hand sides h - Es, Es the slip nodes' part of E q; 0 in the rows of R) and e_k = A^-1 u_k for k in R, x = z - sum tau_k
-    e_k with x_R = 0 (an r x r system, r <= _BORDER_MAX = 2, by Cramer's rule) satisfies the rows of S:
-    A x = c - sum tau_k u_k. Two triangular solves per released node instead of a new factorisation (the
+    released nodes R, from the factors of E[Sf, Sf] (in place on qn). With A = E[Sf, Sf], z = A^-1 c (c:
+    the stick equations' right-hand sides h - Es, Es the slip nodes' part of E q; 0 in the rows of R) and
+    e_k = A^-1 u_k for k in R, x = z - sum tau_k e_k with x_R = 0 (an r x r system, r <= _BORDER_MAX = 2,
+    by Cramer's rule) satisfies the rows of S: A x = c - sum tau_k u_k. Two triangular solves per released node instead of a new factorisation (the
     active set usually releases one stick node per step). Returns False (qn unchanged) if the r x r system
     is singular or not finite."""
     r = nf - ns
@@ -212,7 +212,6 @@ def _bordered_solve(h, Es, qn, stick, ns, LU, piv, Sf, nf, z, ek):
                 x -= t1 * ek[1, m, 0]
             qn[Sf[m]] = x
     return True
-
 
 
 @njit(cache=True)
