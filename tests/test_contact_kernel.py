@@ -231,7 +231,7 @@ def test_the_steps_small_solve_agrees_with_lapack_and_pivots():
 
 def _eliminate_along(A, B):
     """Gaussian elimination with partial pivoting applied to B along with A, then back substitution
-    (the order of operations of rail._linalg before it was split into factors and solves)."""
+    (the order of operations of rail._linalg.solve_in_place), in Python floats."""
     n = A.shape[0]
     for k in range(n):
         piv = max(range(k, n), key=lambda r: (abs(A[r, k]), -r))
@@ -249,15 +249,15 @@ def _eliminate_along(A, B):
         B[k, 0] = acc * (1.0 / A[k, k])
 
 
-def test_the_factors_solve_to_the_same_bits_and_the_bordered_solve_equals_a_fresh_one():
-    """rail._linalg.lu_in_place / lu_solve_in_place (what solve_in_place calls) give the bits of the
-    elimination of the right-hand side along with the matrix; LAPACK's factors on a row-major block
-    (getrf_rows / getrs_rows, the stick solve's) solve to the rounding of the conditioning, several
-    right-hand sides at once, with a row exchange, and a singular block gives a non-finite answer; the stick solve's bordered pass (rail.contact.steps._bordered_solve: the
-    stick set less up to two released nodes, from the factors of the larger set) equals a fresh solve
-    of the smaller set to the rounding of its conditioning, and a changed set it cannot serve (a node
-    added) is refused by _stick_subset."""
-    from rail._linalg import lu_in_place, lu_solve_in_place, solve_in_place
+def test_the_solves_agree_and_the_bordered_solve_equals_a_fresh_one():
+    """rail._linalg.solve_in_place gives the bits of the elimination written out (the right-hand side
+    eliminated along with the matrix); LAPACK's factors on a row-major block (getrf_rows / getrs_rows,
+    the stick solve's) solve to the rounding of the conditioning, several right-hand sides at once,
+    with a row exchange, and a singular block gives a non-finite answer; the stick solve's bordered pass
+    (rail.contact.steps._bordered_solve: the stick set less up to two released nodes, from the factors
+    of the larger set) equals a fresh solve of the smaller set to the rounding of its conditioning, and
+    a changed set it cannot serve (a node added) is refused by _stick_subset."""
+    from rail._linalg import solve_in_place
     from rail.contact import steps
 
     rng = np.random.default_rng(11)
@@ -273,11 +273,6 @@ def test_the_factors_solve_to_the_same_bits_and_the_bordered_solve_equals_a_fres
         A3, b3 = A.copy(), b.copy()[:, None]
         solve_in_place(A3, b3)
         assert np.array_equal(b3, b1)
-        LU, piv, b2 = np.zeros((nn, nn)), np.zeros(nn, dtype=np.int64), np.zeros((nn, 1))
-        LU[:ns, :ns], b2[:ns, 0] = A, b
-        lu_in_place(LU, ns, piv)
-        lu_solve_in_place(LU, ns, piv, b2)
-        assert np.array_equal(b2[:ns], b1)
     from rail._linalg import getrf_rows, getrs_rows
 
     for ns in (1, 2, 7, 41):
