@@ -22,7 +22,7 @@ from pathlib import Path
 import xarray as xr
 
 from .. import chain
-from ..growth_spectrum import fleet_rate_spectrum, spectrum_lines
+from ..growth_spectrum import fleet_rate_spectrum, settings_lines
 from ..scenario import Scenario
 from ..setup import build, config, inputs, io
 from ..studies import fleet as fleet_study
@@ -295,7 +295,8 @@ def spectrum(study: Study, *, speeds, shortest: float | None = None, longest: fl
     for v in speeds:  # as run, growth and the workflow's targets check a speed (rail.setup.inputs.check_speed)
         inputs.check_speed(cfg, v, f"{study.name}: spectrum")
     scn = build.spectrum_scenario(cfg, study.name)
-    spectrum_lines(scn.L, scn.roughness.bays, scn.harmonics, float(s["shortest"]), float(s["longest"]), int(s["per_octave"]))
+    s = {**s, "speeds": list(speeds)}  # a band of figures.rate_spectrum is resolved at the speeds asked for
+    settings_lines(scn.L, scn.roughness.bays, scn.harmonics, s)
     spectra = {v: rate_spectrum.spectrum_with_settings(scn, chain.receptance_table(scn, v), s) for v in speeds}
     ds = rate_spectrum.spectrum_dataset_of(spectra, scn)
     return io.finalize(ds, cfg, title="Growth-rate spectrum", source="rail.app.api.spectrum", scenario=study.name)
@@ -332,7 +333,7 @@ def fleet_spectrum(study: Study, *, shortest: float | None = None, longest: floa
     s, cfg = _spectrum_settings(study, "fleet_spectrum", shortest=shortest, longest=longest, per_octave=per_octave, bays=bays,
                                 grid_phases=grid_phases)
     scn = build.spectrum_scenario(cfg, study.name)
-    lines = spectrum_lines(scn.L, scn.roughness.bays, scn.harmonics, float(s["shortest"]), float(s["longest"]), int(s["per_octave"]))
+    lines = settings_lines(scn.L, scn.roughness.bays, scn.harmonics, s)
     fl = build.fleet(cfg)
     classes = fl.classes(scn, float(cfg["wheels"]["static_load"]))
     for c in classes:

@@ -18,7 +18,7 @@ R_j is the feedback part only.
 
 Modules: probes (the nonlinear probes, a locked line's 2 x 2 operator, the class operator and the
 result RateSpectrum), linear (the tangent of the contact march over one bay, and the pieces the
-cell's tangent shares), cell (a track cell of bays whose supports differ), lines (spectrum_lines),
+cell's tangent shares), cell (a track cell of bays whose supports differ), lines (spectrum_lines; band_lines and settings_lines for a band resolved in frequency),
 spectrum (rate_spectrum) and fleet (the traffic-weighted spectrum). Every public name is importable
 from rail.growth_spectrum.
 """
@@ -26,10 +26,10 @@ from rail.growth_spectrum.
 from .cell import cell_linear_operators, cell_rate_spectrum
 from .fleet import FleetRateSpectrum, combine_spectra, fleet_rate_spectrum, fleet_spectrum_of
 from .linear import linear_rates
-from .lines import spectrum_lines
+from .lines import band_lines, settings_lines, spectrum_lines
 from .probes import GridMismatch, RateSpectrum, batches, class_operator, linear_unsupported, locked_operator, wear_rates
 from .spectrum import locked_kinds, rate_spectrum
 
 __all__ = ["wear_rates", "linear_unsupported", "RateSpectrum", "spectrum_lines", "rate_spectrum", "locked_operator", "class_operator",
            "FleetRateSpectrum", "fleet_rate_spectrum", "combine_spectra", "fleet_spectrum_of", "GridMismatch", "batches", "linear_rates",
-           "cell_linear_operators", "cell_rate_spectrum", "locked_kinds"]
+           "cell_linear_operators", "cell_rate_spectrum", "locked_kinds", "band_lines", "settings_lines"]

@@ -4,7 +4,7 @@ from __future__ import annotations
 
 import numpy as np
 
-__all__ = ["spectrum_lines"]
+__all__ = ["spectrum_lines", "band_lines", "settings_lines"]
 
 
 def _whole_number(name: str, value) -> int:
@@ -94,3 +94,102 @@ def spectrum_lines(L: float, bays: int, harmonics: int, shortest: float, longest
         key = min(j % bays, -j % bays)
         count[key] = count.get(key, 0) + 1
     return np.array(chosen)
+
+
+def band_lines(L: float, bays: int, harmonics: int, speeds, low: float, high: float, spacing: float):
+    """The lines j of an N-bay period that space a frequency band at most ``spacing`` apart at every speed.
+
+    At speed V the line j excites f_j = V j / (N L), so neighbouring lines lie V / (N L) apart; a band
+    [low, high] of frequencies is the wavelengths [V / high, V / low], which move with the speed. For
+    each speed the lines inside the band are taken every s-th, s = floor(spacing N L / V) >= 1 (the
+    first at or below ``low`` and the last at or above ``high``, so that the band's edges are covered);
+    the union over the speeds is returned, so that one set of lines (a spectrum's lines are shared by
+    its speeds) resolves the band at every speed.
+
+    Parameters
+    ----------
+    L : float
+        Sleeper spacing [m].
+    bays : int
+        Roughness period N [bays].
+    harmonics : int
+        K of the receptance tables [-]: lines up to N K.
+    speeds : sequence of float
+        Train speeds [m/s], finite and > 0.
+    low, high : float
+        The band's edges [Hz], 0 < low < high.
+    spacing : float
+        The largest spacing of neighbouring lines inside the band [Hz], > 0.
+
+    Returns
+    -------
+    ndarray of int
+        Distinct lines, increasing.
+
+    Raises
+    ------
+    ValueError
+        If an argument is out of range, if the period is too short (V / (N L) > spacing at some speed:
+        the error names the bays needed) or the band reaches beyond the shortest wavelength L / K.
+    """
+    bays, harmonics = (_whole_number(name, value) for name, value in (("bays", bays), ("harmonics", harmonics)))
+    if not (np.isfinite(L) and L > 0):
+        raise ValueError(f"L = {L!r} m is not allowed: the sleeper spacing must be finite and > 0.")
+    for name, value in (("band low", low), ("band high", high), ("band spacing", spacing)):
+        if isinstance(value, (bool, np.bool_)) or not (np.isfinite(value) and value > 0):
+            raise ValueError(f"{name} = {value!r} Hz is not allowed: it must be a finite number > 0.")
+    if not low < high:
+        raise ValueError(f"band low = {low!r} Hz, high = {high!r} Hz are not allowed: low must be below high.")
+    V = np.atleast_1d(np.asarray(speeds, dtype=float))
+    if V.size == 0 or not np.all(np.isfinite(V) & (V > 0)):
+        raise ValueError(f"speeds = {speeds!r} are not allowed: give finite speeds > 0 m/s.")
+    period = bays * L
+    out = set()
+    for v in V:
+        df = v / period  # the lines' spacing at this speed [Hz]
+        if df > spacing * (1 + 1e-12):
+            raise ValueError(f"a roughness period of {bays} bays spaces the lines {df:.3g} Hz apart at {v:g} m/s, coarser than "
+                             f"the band's {spacing:g} Hz: use at least {int(np.ceil(v / (spacing * L)))} bays.")
+        step = max(1, int(np.floor(spacing / df * (1 + 1e-12))))
+        j_lo, j_hi = int(np.floor(low / df * (1 + 1e-12))), int(np.ceil(high / df * (1 - 1e-12)))
+        j_lo = max(j_lo, 1)
+        if j_hi > bays * harmonics:
+            raise ValueError(f"the band up to {high:g} Hz at {v:g} m/s reaches wavelength {v / high * 1e3:.3g} mm, below "
+                             f"L / K = {L / harmonics * 1e3:.3g} mm (raise numerics.track.harmonics).")
+        js = list(range(j_lo, j_hi + 1, step))
+        if js[-1] != j_hi:
+            js.append(j_hi)
+        out.update(js)
+    return np.array(sorted(out), dtype=int)
+
+
+def settings_lines(L: float, bays: int, harmonics: int, settings: dict, speeds=None):
+    """The lines of a spectrum's settings (figures.rate_spectrum, or a fleet's growth.fleet.spectrum):
+    spectrum_lines over [shortest, longest] at per_octave, and where the settings hold a ``band``
+    ({low, high, spacing} in Hz) the band_lines at the settings' speeds (or ``speeds``) added.
+
+    Parameters
+    ----------
+    L : float
+        Sleeper spacing [m].
+    bays : int
+        Roughness period N [bays].
+    harmonics : int
+        K of the receptance tables [-].
+    settings : dict
+        shortest [m], longest [m], per_octave [-]; optional band {low [Hz], high [Hz], spacing [Hz]} and speeds [m/s].
+    speeds : sequence of float, optional
+        The speeds the band must be resolved at [m/s] (default: settings['speeds']).
+
+    Returns
+    -------
+    ndarray of int
+        Distinct lines, increasing.
+    """
+    lines = spectrum_lines(L, bays, harmonics, float(settings["shortest"]), float(settings["longest"]), int(settings["per_octave"]))
+    band = settings.get("band")
+    if not band:
+        return lines
+    V = settings.get("speeds") if speeds is None else speeds
+    extra = band_lines(L, bays, harmonics, V, float(band["low"]), float(band["high"]), float(band["spacing"]))
+    return np.union1d(lines, extra).astype(int)

@@ -12,7 +12,7 @@ import copy
 from pathlib import Path
 
 from ..decay import read_measured_decay_rate
-from ..growth_spectrum import spectrum_lines
+from ..growth_spectrum import settings_lines
 from ..roughness import read_limit_spectrum, read_third_octave_spectrum
 from ..scenario import Scenario
 from .build import fleet_classes, physics_problems
@@ -199,7 +199,7 @@ def check_inputs(cfg: dict, scn: Scenario, name: str, source: str, root=".") -> 
     s = _get(cfg, ("figures", "rate_spectrum"))
     if s:
         try:  # the spectrum's period must resolve its longest wavelength, its shortest lie above L / K
-            spectrum_lines(scn.L, int(s["bays"]), scn.harmonics, float(s["shortest"]), float(s["longest"]), int(s["per_octave"]))
+            settings_lines(scn.L, int(s["bays"]), scn.harmonics, s)
         except ValueError as e:
             raise ConfigError(f"{where}: figures.rate_spectrum: {e}") from None
     file, key = measured_decay_file(cfg, name, root)

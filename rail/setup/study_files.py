@@ -156,11 +156,10 @@ def class_estimate(fleet_class, settings: dict) -> ClassEstimate:
     -------
     ClassEstimate
     """
-    from ..growth_spectrum import spectrum_lines
+    from ..growth_spectrum import settings_lines
 
     scn = fleet_class.scenario
-    lines = len(spectrum_lines(scn.L, int(settings["bays"]), scn.harmonics, float(settings["shortest"]), float(settings["longest"]),
-                               int(settings["per_octave"])))
+    lines = len(settings_lines(scn.L, int(settings["bays"]), scn.harmonics, settings))
     axles = len(scn.wheels.positions)
     nodes = scn.contact_numerics.nodes
     return ClassEstimate(lines, axles, CLASS_MEMORY_MB[0] + CLASS_MEMORY_MB[1] * lines * axles,

@@ -6,7 +6,7 @@ import numpy as np
 import xarray as xr
 
 from ..contact import ReportNormal, hertz_half_length, normal_contact
-from ..growth_spectrum import RateSpectrum, rate_spectrum, spectrum_lines
+from ..growth_spectrum import RateSpectrum, rate_spectrum, settings_lines
 from ..setup.io import data_var
 from .datasets import sweep_coords
 from .validity import WEAR_PATH_TEXT, creepage_model_text, validity_text
@@ -22,11 +22,11 @@ REPORT_VALID_PATCH_LENGTHS = ReportNormal.valid_patch_lengths
 def spectrum_with_settings(scn, tables, settings: dict, progress=None) -> RateSpectrum:
     """The growth-rate spectrum of a spectrum scenario (rail.setup.build.spectrum_scenario) at the
     tables' speed, on the lines and with the probe and grids of ``settings`` (the keys of
-    figures.rate_spectrum: shortest, longest, per_octave, eps, grid_phases); ``progress`` as for
+    figures.rate_spectrum: shortest, longest, per_octave, eps, grid_phases; and a band {low, high,
+    spacing} in Hz resolved at the settings' speeds, rail.growth_spectrum.settings_lines); ``progress`` as for
     rail.growth_spectrum.rate_spectrum."""
     s = settings
-    lines = spectrum_lines(scn.L, scn.roughness.bays, scn.harmonics, float(s["shortest"]), float(s["longest"]),
-                           int(s["per_octave"]))
+    lines = settings_lines(scn.L, scn.roughness.bays, scn.harmonics, s)
     return rate_spectrum(scn, tables, lines, eps=float(s["eps"]), grid_phases=int(s["grid_phases"]), progress=progress)
 
 

@@ -1,0 +1,54 @@
+"""Lines that resolve a frequency band at every speed (rail.growth_spectrum.band_lines, issue 54): the
+lines near pinned-pinned at most 15 Hz apart over 900-1,400 Hz at 20-80 m/s, checked by computing each
+speed's line frequencies, and the errors for a period too short or a band beyond L / K."""
+
+import numpy as np
+import pytest
+
+from rail.growth_spectrum import band_lines, settings_lines, spectrum_lines
+
+L, K = 0.6, 64
+
+
+@pytest.mark.parametrize("bays", [9, 12, 24])
+def test_the_band_is_resolved_at_every_speed(bays):
+    speeds = [20.0, 30.0, 39.0, 40.0, 50.0, 60.0, 64.1, 80.0]
+    lines = band_lines(L, bays, K, speeds, 900.0, 1400.0, 15.0)
+    assert np.all(np.diff(lines) > 0)
+    for V in speeds:
+        f = V * lines / (bays * L)
+        inside = f[(f >= 900.0) & (f <= 1400.0)]
+        # neighbours inside the band, and the band's edges covered by a line at or beyond them
+        assert np.max(np.diff(np.r_[f[f <= 900.0 + 1e-9].max(), inside, f[f >= 1400.0 - 1e-9].min()])) <= 15.0 + 1e-9, V
+        # at least five lines within 1.00-1.15 f_pp (f_pp about 1,067 Hz on the default track)
+        assert np.sum((f >= 1067.0) & (f <= 1.15 * 1067.0)) >= 5
+
+
+def test_a_period_too_short_for_the_spacing_names_the_bays_needed():
+    # 80 m/s on 8 bays: V / (N L) = 16.7 Hz > 15 Hz; 9 bays give 14.8 Hz
+    with pytest.raises(ValueError, match="at least 9 bays"):
+        band_lines(L, 8, K, [80.0], 900.0, 1400.0, 15.0)
+    band_lines(L, 9, K, [80.0], 900.0, 1400.0, 15.0)
+
+
+def test_a_band_beyond_the_shortest_wavelength_is_refused():
+    # 1,400 Hz at 20 m/s is 14.3 mm; with K = 16 the tables reach L / K = 37.5 mm only
+    with pytest.raises(ValueError, match="numerics.track.harmonics"):
+        band_lines(L, 24, 16, [20.0], 900.0, 1400.0, 15.0)
+
+
+@pytest.mark.parametrize("bad", [dict(low=0.0), dict(high=800.0), dict(spacing=float("nan")), dict(low=float("inf"))])
+def test_bad_band_values_are_refused_naming_them(bad):
+    args = dict(low=900.0, high=1400.0, spacing=15.0) | bad
+    with pytest.raises(ValueError, match="band"):
+        band_lines(L, 24, K, [40.0], **args)
+
+
+def test_settings_lines_add_the_band_to_the_log_spaced_lines():
+    s = {"shortest": 0.02, "longest": 0.6, "per_octave": 30, "speeds": [40.0, 60.0]}
+    plain = settings_lines(L, 48, K, s)
+    assert np.array_equal(plain, spectrum_lines(L, 48, K, 0.02, 0.6, 30))
+    banded = settings_lines(L, 48, K, s | {"band": {"low": 900.0, "high": 1400.0, "spacing": 15.0}})
+    assert set(plain) <= set(banded)
+    assert np.array_equal(np.sort(banded), banded)
+    assert set(band_lines(L, 48, K, [40.0, 60.0], 900.0, 1400.0, 15.0)) <= set(banded)
