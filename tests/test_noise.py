@@ -521,3 +521,51 @@ def test_bad_track_traffic_and_roughness_are_refused_with_clear_messages():
         C.wavelength_to_frequency(np.zeros(35), 30.0, "log")
     with pytest.raises(ValueError, match="rail roughness class = 'N'"):
         C.rail_roughness_class("N")
+
+
+# --- the API -----------------------------------------------------------------------------------------------
+
+def _growth_run(amplitudes, V=30.0, J=64, j=12):
+    """A growth dataset of one cosine at line j (0.6 m / 12 = 50 mm) growing through the saves."""
+    import xarray as xr
+    n = np.arange(len(amplitudes)) * 1e5
+    Z = np.zeros((len(n), 2 * J + 1), complex)
+    Z[:, J + j] = Z[:, J - j] = np.asarray(amplitudes) / 2
+    return xr.Dataset({"Z_real": (("passage", "h"), Z.real), "Z_imag": (("passage", "h"), Z.imag)},
+                      coords={"passage": n}, attrs={"bays": 1, "speed_m_per_s": V})
+
+
+def test_api_noise_follows_the_growing_band_and_labels_every_band():
+    from rail.app import api
+    study = api.load("default")
+    ds = api.noise(study, _growth_run([1e-6, 3e-6, 9e-6]))
+    k = list(T.WAVELENGTH_LABELS_MM).index(50.0)
+    # Parseval: a cosine of amplitude a has rms a / sqrt(2): 20 lg(9 um / sqrt(2) / 1 um) = 16.08 dB
+    assert ds["rail_roughness"].values[2, k] == pytest.approx(20 * math.log10(9 / math.sqrt(2)), abs=1e-9)
+    assert ds["rail_roughness_source"].values[k] == "model"
+    assert ds["rail_roughness_source"].values[0] == "CNOSSOS-EU Table G-1b class M"  # 2 m: longer than the 0.6 m period
+    k315 = list(T.WAVELENGTH_LABELS_MM).index(315.0)  # resolved (the line 0.6 m / 2) but smooth: silence, not filled
+    assert ds["rail_roughness"].values[2, k315] == -np.inf and ds["rail_roughness_source"].values[k315] == "model"
+    # the study's wheel (radius 0.575 m, 100 kN) and pad (350 MN/m: medium), the traffic's 20,000 axles a day
+    assert ds.attrs["pad_class"] == "medium" and ds.attrs["contact_filter_column_kN_mm"] == "(100.0, 920.0)"
+    assert ds.attrs["vehicles_per_hour"] == pytest.approx(20000 / 24 / 4)
+    veh = R.Vehicle("v", axles=4, brake="disc", wheel_diameter=1.15, wheel_load=1e5)
+    by_hand = R.rolling_noise(ds["rail_roughness"].values[2], R.Track("monoblock", "medium"),
+                              R.TrafficClass(veh, 20000 / 24 / 4, 30.0))
+    assert ds["line_sound_power_A"].values[2] == pytest.approx(by_hand.line_power_A, abs=1e-9)
+    change = ds["line_sound_power_A_change"].values
+    assert change[0] == 0 and 0 < change[1] < change[2]  # the noise rises as the band grows
+    for name in ds.data_vars:
+        assert ds[name].attrs["units"] is not None and ds[name].attrs["long_name"]
+
+
+def test_api_noise_refuses_a_fleet_run_and_a_speed_out_of_range():
+    from rail.app import api
+    from rail.setup.config import ConfigError
+    study = api.load("default")
+    g = _growth_run([1e-6])
+    g.attrs["fleet_speeds"] = "30, 40"
+    with pytest.raises(ConfigError, match="one-train growth run"):
+        api.noise(study, g)
+    with pytest.raises(ValueError, match=r"growth speed = 5.0 m/s is not allowed"):
+        api.noise(study, _growth_run([1e-6], V=5.0))

@@ -164,7 +164,8 @@ def wavelength_to_frequency(level, speed, rule: str = "energy"):
     Parameters
     ----------
     level : array-like, shape (..., 35)
-        Levels [dB] per wavelength band, 2000 mm .. 0.8 mm on the last axis.
+        Levels [dB] per wavelength band, 2000 mm .. 0.8 mm on the last axis; -inf (no roughness)
+        is allowed, NaN (no level) is not where the speed reads it.
     speed : float
         Train speed [m/s], within SPEED_MIN .. SPEED_MAX.
     rule : str
@@ -197,8 +198,9 @@ def wavelength_to_frequency(level, speed, rule: str = "energy"):
         raise ValueError(f"at {float(speed):g} m/s the bands 50 Hz .. 10 kHz read the wavelength bands "
                          f"{', '.join(f'{e:g}' for e in empty)} mm, which have no level: fill them "
                          "(rail_roughness_on_bands, fill=...).")
-    if rule == "level":
-        return (1 - w) * lo + w * hi
+    if rule == "level":  # at w = 0 the band read alone (a silent neighbour, -inf, does not enter)
+        with np.errstate(invalid="ignore"):
+            return np.where(w == 0, lo, (1 - w) * lo + w * hi)
     with np.errstate(divide="ignore"):
         return 10 * np.log10((1 - w) * 10 ** (lo / 10) + w * 10 ** (hi / 10))
 
