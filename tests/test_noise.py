@@ -314,6 +314,18 @@ def test_a_band_the_speed_reads_without_a_level_is_named_not_taken_as_zero():
         C.wavelength_to_frequency(levels, 80.0)  # 50 Hz reads 1.6 m
 
 
+def test_a_silent_band_adds_nothing_by_the_energy_rule_and_is_read_alone_at_a_band_centre():
+    # a resolved but smooth band is -inf: at a grid speed each band is read alone by both rules; half-way
+    # between a silent band and one of 10 dB the energy rule gives 10 + 10 lg 0.5, the level rule silence
+    levels = np.full(35, 10.0)
+    levels[20] = -np.inf
+    for rule in C.RULES:
+        got = C.wavelength_to_frequency(levels, 10 ** 1.6, rule)
+        assert not np.isnan(got).any() and np.isneginf(got).sum() == 1
+    half = C.wavelength_to_frequency(levels, 10 ** 1.65, "energy")
+    assert np.isclose(half, 10 + 10 * math.log10(0.5)).sum() == 2 and np.isfinite(half).all()
+    assert np.isneginf(C.wavelength_to_frequency(levels, 10 ** 1.65, "level")).sum() == 2
+
 # --- the total effective roughness and the sound power -------------------------------------------------
 
 def test_total_effective_roughness_by_hand_flat_and_one_band_10_db_up():
