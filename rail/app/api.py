@@ -24,10 +24,14 @@ import xarray as xr
 
 from .. import chain
 from ..growth_spectrum import fleet_rate_spectrum, spectrum_lines
+from ..noise import cnossos as cn
+from ..noise import rolling as rn
+from ..noise.tables import SOURCES
 from ..scenario import Scenario
 from ..setup import build, config, inputs, io
 from ..studies import fleet as fleet_study
 from ..studies import exports, rate_spectrum, runs
+from ..studies.bands import band_mean_square
 
 __all__ = ["Study", "load", "growth", "bands", "spectrum", "fleet_spectrum", "noise", "ROOT"]
 
@@ -396,16 +400,12 @@ def noise(study: Study, growth: xr.Dataset, *, vehicles_per_hour: float | None =
         rail.noise for a bad argument, a speed outside 7.94 .. 100 m/s or a pad stiffness outside
         the classes (naming it).
     """
-    from ..noise import cnossos as cn
-    from ..noise import rolling as rn
-    from ..noise.tables import SOURCES
-    from ..studies.bands import band_mean_square
-    from ..setup.io import data_var
-
     if not isinstance(growth, xr.Dataset) or not {"Z_real", "Z_imag", "passage"} <= set(growth.variables):
-        raise config.ConfigError("growth is not a growth result: give the dataset api.growth returns (or a growth file, opened).")
+        raise config.ConfigError("growth is not a growth result: give the dataset api.growth returns "
+                                 "(or a growth file, opened).")
     if "fleet_speeds" in growth.attrs or "speed_m_per_s" not in growth.attrs:
-        raise config.ConfigError("noise takes a one-train growth run (one speed); a fleet's noise is not implemented yet.")
+        raise config.ConfigError("noise takes a one-train growth run (one speed); a fleet's noise is not "
+                                 "implemented yet.")
     cfg = study.config
     speed = cn.check_speed(float(growth.attrs["speed_m_per_s"]), "growth speed")
     if vehicles_per_hour is None:
@@ -417,7 +417,8 @@ def noise(study: Study, growth: xr.Dataset, *, vehicles_per_hour: float | None =
     if pad is None and sleeper in ("monoblock", "biblock"):
         pad, pad_rule = cn.pad_class(cfg["track"]["pad"]["stiffness"]), "from track.pad.stiffness"
     track = rn.Track(sleeper, pad)
-    vehicle = rn.Vehicle(f"{study.name} vehicle", axles=axles, brake=brake, wheel_diameter=2 * float(cfg["wheels"]["radius"]),
+    vehicle = rn.Vehicle(f"{study.name} vehicle", axles=axles, brake=brake,
+                         wheel_diameter=2 * float(cfg["wheels"]["radius"]),
                          wheel_load=float(cfg["wheels"]["static_load"]))
     traffic = rn.TrafficClass(vehicle, vehicles_per_hour, speed)
 
@@ -440,40 +441,45 @@ def noise(study: Study, growth: xr.Dataset, *, vehicles_per_hour: float | None =
         rail[:, take], source = fill_dB[take], np.where(take, fill_source, source)
     results = [rn.rolling_noise(r, track, traffic, rule=rule) for r in rail]
     f = results[0].frequency
-    stack = lambda name: np.array([getattr(x, name)[0] for x in results])  # noqa: E731 (the one class)
+
+    def stack(name):  # one variable of the one class at every save
+        return np.array([getattr(x, name)[0] for x in results])
+
     line_A = np.array([x.line_power_A for x in results])
     n = growth["passage"].values
     ds = xr.Dataset(
         {
-            "rail_roughness": data_var(("passage", "wavelength"), rail, "dB re 1 um",
+            "rail_roughness": io.data_var(("passage", "wavelength"), rail, "dB re 1 um",
                                        "rail roughness level per CNOSSOS-EU wavelength band (NaN: no level)"),
-            "rail_roughness_source": data_var("wavelength", source.astype(str), "",
+            "rail_roughness_source": io.data_var("wavelength", source.astype(str), "",
                                               "where the band's rail roughness comes from ('model': the growth run)"),
-            "total_effective_roughness": data_var(("passage", "frequency"), stack("roughness_total"), "dB re 1 um",
+            "total_effective_roughness": io.data_var(("passage", "frequency"), stack("roughness_total"), "dB re 1 um",
                                                   "total effective roughness L_R,TOT (2.3.7) per frequency band"),
-            "sound_power_track": data_var(("passage", "frequency"), stack("power_track"), "dB re 1 pW",
+            "sound_power_track": io.data_var(("passage", "frequency"), stack("power_track"), "dB re 1 pW",
                                           "rolling-noise sound power of the track per vehicle L_W,0,TR (2.3.8)"),
-            "sound_power_vehicle": data_var(("passage", "frequency"), stack("power_vehicle"), "dB re 1 pW",
+            "sound_power_vehicle": io.data_var(("passage", "frequency"), stack("power_vehicle"), "dB re 1 pW",
                                             "rolling-noise sound power of the vehicle per vehicle L_W,0,VEH (2.3.9)"),
-            "sound_power": data_var(("passage", "frequency"), stack("power"), "dB re 1 pW",
+            "sound_power": io.data_var(("passage", "frequency"), stack("power"), "dB re 1 pW",
                                     "rolling-noise sound power per vehicle, track + vehicle, broadside"),
-            "line_sound_power": data_var(("passage", "frequency"), stack("line_power"), "dB re 1 pW/m",
+            "line_sound_power": io.data_var(("passage", "frequency"), stack("line_power"), "dB re 1 pW/m",
                                          "directional sound power per metre of line L'_W,eq,line (2.3.2), broadside"),
-            "sound_power_A": data_var("passage", np.array([x.power_A[0] for x in results]), "dB(A) re 1 pW",
+            "sound_power_A": io.data_var("passage", np.array([x.power_A[0] for x in results]), "dB(A) re 1 pW",
                                       "A-weighted rolling-noise sound power per vehicle"),
-            "line_sound_power_A": data_var("passage", line_A, "dB(A) re 1 pW/m",
+            "line_sound_power_A": io.data_var("passage", line_A, "dB(A) re 1 pW/m",
                                            "A-weighted sound power per metre of line of the traffic"),
-            "line_sound_power_A_change": data_var("passage", line_A - line_A[0], "dB",
+            "line_sound_power_A_change": io.data_var("passage", line_A - line_A[0], "dB",
                                                   "change of the A-weighted line sound power since the first save"),
         },
         coords={
-            "passage": data_var("passage", n, "1", "axle passages (wheel passages on the rail)"),
-            "frequency": data_var("frequency", f, "Hz", "nominal one-third-octave centre frequency"),
-            "wavelength": data_var("wavelength", bands.nominal, "m", "CNOSSOS-EU nominal centre wavelength (Table G-1b)"),
-            "centre_wavelength": data_var("wavelength", bands.centre, "m", "exact centre wavelength 10^(-n/10) m"),
+            "passage": io.data_var("passage", n, "1", "axle passages (wheel passages on the rail)"),
+            "frequency": io.data_var("frequency", f, "Hz", "nominal one-third-octave centre frequency"),
+            "wavelength": io.data_var("wavelength", bands.nominal, "m",
+                                      "CNOSSOS-EU nominal centre wavelength (Table G-1b)"),
+            "centre_wavelength": io.data_var("wavelength", bands.centre, "m", "exact centre wavelength 10^(-n/10) m"),
         },
         attrs={
-            "method": "CNOSSOS-EU railway rolling noise, Directive 2002/49/EC Annex II 2.3 (2015/996, corrigendum 2018, "
+            "method": "CNOSSOS-EU railway rolling noise, Directive 2002/49/EC Annex II 2.3 (2015/996, corrigendum "
+                      "2018, "
                       "Delegated Directive (EU) 2021/1226); rail.noise, docs/noise.md",
             "speed_m_per_s": speed, "vehicles_per_hour": float(vehicles_per_hour), "axles_per_vehicle": int(axles),
             "brake": brake, "sleeper": sleeper, "pad_class": str(pad), "pad_class_rule": pad_rule,
