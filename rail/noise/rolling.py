@@ -47,8 +47,7 @@ class Vehicle:
 
     name           : label
     axles          : N_a, axles per vehicle [-], > 0
-    brake          : "cast_iron", "composite", "disc" (Table G-1a) or a 35-band wheel roughness
-                     spectrum [dB re 1 um] (a tuple)
+    brake          : "cast_iron", "composite", "disc" (Table G-1a), or a tuple: 35-band wheel roughness [dB re 1 um]
     wheel_diameter : [m], > 0: chooses L_H,VEH (Table G-3b, nearest diameter) and A_3
     wheel_load     : static wheel load [N], > 0: chooses A_3 (Table G-2, nearest P D)
     freight        : whether the superstructure transfer of Table G-3c is added (freight wagons)
