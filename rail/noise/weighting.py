@@ -19,14 +19,14 @@ from .tables import A_WEIGHTING, FREQUENCY_LABELS_HZ
 __all__ = ["IEC_61672_A1000_DB", "IEC_61672_POLES_HZ", "a_weighting", "a_weighting_analytic", "energy_sum",
            "overall_level"]
 
-# IEC 61672-1:2013 Annex E: pole frequencies f_1, f_2, f_3, f_4 [Hz] of the A-weighting (E.4) and
+# IEC 61672-1:2013 Annex E: pole frequencies f_1, f_2, f_3, f_4 [Hz] of the A-weighting and
 # the normalisation constant A_1000 [dB] that makes it 0 dB at 1 kHz
 IEC_61672_POLES_HZ = (20.598997, 107.65265, 737.86223, 12194.217)
 IEC_61672_A1000_DB = -2.000
 
 
 def a_weighting_analytic(frequency):
-    """A-weighting from its poles, IEC 61672-1:2013 eq. (E.6):
+    """A-weighting from its poles, IEC 61672-1:2013 Annex E:
     A(f) = 20 lg[f_4^2 f^4 / ((f^2 + f_1^2) sqrt(f^2 + f_2^2) sqrt(f^2 + f_3^2) (f^2 + f_4^2))] - A_1000.
 
     Parameters
