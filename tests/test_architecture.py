@@ -19,7 +19,7 @@ ROOT = Path(__file__).resolve().parents[1]
 RAIL = ROOT / "rail"
 SCRIPTS = sorted((ROOT / "workflow/scripts").glob("*.py"))
 LAYERS = {"physics": 0, "setup": 1, "studies": 2, "plotting": 3, "app": 4}
-PHYSICS_PACKAGES = {"contact", "growth_spectrum"}  # packages of the physics layer (rail/contact/: the contact models; rail/growth_spectrum/)
+PHYSICS_PACKAGES = {"contact", "growth_spectrum", "noise"}  # packages of the physics layer (rail/contact/: the contact models; rail/growth_spectrum/; rail/noise/: CNOSSOS-EU rolling noise)
 
 
 def _layer(path: Path) -> str:
@@ -229,6 +229,7 @@ PHYSICS_ORDER = [
     ({"fleet"}, "a fleet of vehicle classes, each a scenario"),
     ({"traffic", "uncertainty"}, "growth under a mix of traffic; a seeded ensemble of uncertain inputs"),
     ({"kernels"}, "compiles the contact kernels ahead of a run"),
+    ({"noise"}, "rolling noise by CNOSSOS-EU from the roughness (Directive 2002/49/EC Annex II 2.3), on the bands alone"),
 ]
 
 
