@@ -41,7 +41,7 @@ from .contact import ContactError
 from .interaction import ContactLossError, Roughness
 
 __all__ = ["GrowthSettings", "GrowthHistory", "GrowthStepError", "CheckpointWriteError", "grid_phase", "levels_dB", "run_growth", "step_error",
-           "DB_PER_NEPER", "BandGrowth", "band_growth"]
+           "DB_PER_NEPER", "BandGrowth", "band_growth", "BAND_GROWTH_SAVES"]
 
 DB_PER_NEPER = 20 * np.log10(np.e)  # dB of amplitude per unit of ln(amplitude)
 
@@ -221,6 +221,11 @@ def _line_fit(x, y):
     return coef, float(np.sqrt(cov[1, 1])), float(np.sqrt(np.mean(res**2)))
 
 
+# the saved passage counts a band's growth laws need (band_growth: a line and an exponential, two
+# parameters each, fitted with a residual): the start and at least two saves
+BAND_GROWTH_SAVES = 3
+
+
 def band_growth(passages, ms) -> BandGrowth:
     """Fit the growth of every band or line: a straight line and an exponential in its rms amplitude,
     the better one its law, and the level growth rate at the last save from that law
@@ -238,8 +243,8 @@ def band_growth(passages, ms) -> BandGrowth:
     BandGrowth
     """
     n = np.asarray(passages, dtype=float) / 1e5
-    if n.size < 3:
-        raise ValueError(f"band growth needs at least 3 saved passage counts, got {n.size}.")
+    if n.size < BAND_GROWTH_SAVES:
+        raise ValueError(f"band growth needs at least {BAND_GROWTH_SAVES} saved passage counts, got {n.size}.")
     amp = np.sqrt(np.asarray(ms, dtype=float))
     B = amp.shape[1]
     out = {k: np.full(B, np.nan) for k in ("lr", "le", "er", "ee", "lm", "em", "dr", "de")}

@@ -16,10 +16,14 @@ removing the straight line through its first and last point (so that the ends me
 the usual choice before a periodic transform; it removes the mean slope and nothing else),
 resampled by linear interpolation onto 8 J uniform points, and transformed; the coefficients have
 the segments' mean power and the first segment's phases. With roughness.record = period the
-period N L is taken from the record (record_bays) instead. A profile shorter than P is made
-periodic over its own length and repeated to fill P, with a warning: then only the wavenumbers of
-its own period are present. The longest one-third-octave band the analysed length resolves is
-stated (longest_resolved_band, resolved_bands).
+period N L is taken from the record (record_bays) instead. N samples at spacing d cover N d: a
+record whose last sample lies one spacing (or less) short of a whole period is that period,
+sampled periodically (its end value is its first; no seam). A profile shorter than P is made
+periodic over its own period T, with a warning: a whole fraction T = P / m is repeated m times
+(its lines are the lines m k of P), any other length has each of its own lines placed on the
+nearest line of P (wavelengths moved by at most half a line, the largest move stated), so that no
+line appears that the record does not have. The longest one-third-octave band the analysed length
+resolves is stated (longest_resolved_band, resolved_bands).
 
 One-third-octave wavelength spectrum (CSV ``wavelength_<unit>,level_<unit>``, centre wavelengths and rms
 levels in dB re 1 um, as EN 15610 states a roughness spectrum): every band's mean square
@@ -142,6 +146,11 @@ class ProfileRecord:
     def length(self) -> float:
         """Record length x[-1] - x[0] [m]."""
         return float(self.x[-1])
+
+    @property
+    def spacing(self) -> float:
+        """Median sample spacing [m]."""
+        return float(np.median(np.diff(self.x)))
 
     def describe(self) -> str:
         """One line saying what was read: the file, the units, the rows and the record's range."""
@@ -338,23 +347,29 @@ def record_segments(length: float, period: float) -> tuple[int, float]:
     return n, max(0.0, float(length - n * period))
 
 
-def record_bays(length: float, L: float) -> int:
+def record_bays(length: float, L: float, spacing: float = 0.0) -> int:
     """The roughness period in bays a record supports (roughness.record = 'period'): the whole bays
-    it holds, at least 1.
+    it holds, at least 1; a record whose last sample lies within one sample spacing short of a
+    further whole bay holds that bay too (N samples at spacing d cover N d: process_profile).
 
     Parameters
     ----------
     length : float
-        Record length [m].
+        Record length, its last position [m].
     L : float
         Sleeper spacing [m], > 0.
+    spacing : float
+        Sample spacing d [m] (the median), >= 0; 0 counts the bays up to the last sample only.
 
     Returns
     -------
     int
-        N = max(1, floor(length / L)) [-].
+        N = max(1, floor(length / L)), plus one where (N + 1) L <= length + d [-].
     """
-    return max(1, int(np.floor(length / L * (1 + 1e-9))))
+    N = int(np.floor(length / L * (1 + 1e-9)))
+    if spacing > 0 and length < (N + 1) * L * (1 - 1e-9) and (N + 1) * L <= length + spacing * (1 + 1e-6):
+        N += 1
+    return max(1, N)
 
 
 def longest_resolved_band(length: float, cycles: float = RECORD_CYCLES) -> float:
@@ -414,15 +429,22 @@ class ProfileProcessing:
     ----------
     Z : coefficients Z_j [m], j = -J..J
     period : P = N L [m]
-    record : record length [m]
+    record : record length, the last position [m]
     mode : 'average' or 'period' (roughness.record)
-    segments : whole periods of the record averaged [-] (1 for a record of one period or
-        shorter, then repeated)
+    segments : whole periods of the record averaged [-] (1 for a record shorter than P)
     remainder : record length after the last whole period, not used [m]
     spikes_removed : samples replaced by remove_spikes [-], or None when spike removal is off
-    analysed : length of one analysed segment, min(record, P) [m]
+    analysed : length of one analysed segment: P, or a short record's own period T [m]
     longest_band : longest_resolved_band(analysed) [m]
     record_longest_band : longest_resolved_band(record) [m]
+    spacing : median sample spacing d [m]
+    sampled_period : True where the last analysed piece ends less than one spacing after the last
+        sample (N samples at spacing d cover N d): its samples are taken as one period [-]
+    repeats : a short record whose own period T is P / m: m (the record repeated m times); 0 for a
+        short record that is no whole fraction of P, and for a record of at least one period [-]
+    wavelength_shift : a short record that is no whole fraction of P: the largest relative move
+        abs(lambda_placed / lambda_own - 1) of a line the record resolves (placed on the nearest line
+        of P); 0 otherwise [-]
     """
 
     Z: np.ndarray
@@ -435,6 +457,25 @@ class ProfileProcessing:
     analysed: float
     longest_band: float
     record_longest_band: float
+    spacing: float = float("nan")
+    sampled_period: bool = False
+    repeats: int = 0
+    wavelength_shift: float = 0.0
+
+
+def _periodic_piece(x, z, start: float, length: float, n: int):
+    """A piece [start, start + length] of a record made periodic and transformed: F_k, k = 0..n-1,
+    of n uniform samples (linear interpolation), the straight line through the piece's end values
+    removed. Where the piece ends after the last sample (by at most one spacing: sampled_period of
+    process_profile), its end value is its first: the samples are one period of themselves."""
+    t = np.linspace(0.0, 1.0, n + 1)
+    xs, zs = x, z
+    end = start + length
+    if end > x[-1]:  # N samples at spacing d cover N d: the sample after the last is the piece's first
+        xs, zs = np.append(x, end), np.append(z, np.interp(start, x, z))
+    zi = np.interp(start + length * t, xs, zs)
+    zi = zi - (zi[0] + (zi[-1] - zi[0]) * t)  # ends meet without a step
+    return np.fft.fft(zi[:n]) / n
 
 
 def process_profile(x, z, period: float, J: int, *, mode: str = "average", spikes: bool = False,
@@ -447,8 +488,22 @@ def process_profile(x, z, period: float, J: int, *, mode: str = "average", spike
     onto 8 J points and transformed, F_s,j. The coefficients have the mean power of the segments and
     the phases of the first: Z_j = sqrt(mean_s abs(F_s,j)^2) exp(i arg F_1,j), so that every band
     level is the record's mean (the one-third-octave spectrum EN 15610 averages over a record) and a
-    record of one period gives its own coefficients. A record shorter than P is made periodic over
-    its own length and repeated, with a warning.
+    record of one period gives its own coefficients.
+
+    Sampled periods: N samples at spacing d cover N d. A record whose last sample lies less than one
+    spacing (or exactly one) short of the end of a whole period S P, or of a whole fraction P / m, is
+    a record of that length sampled periodically: the sample after its last would be its first, so
+    its end value is its first value and no line is removed (a 2,400-sample record at 1 mm is one
+    period of 2.4 m, not a record 1 mm short of it).
+
+    A record shorter than P is made periodic over its own period T (the line through its end points
+    removed; T = P / m where the record is a sampled fraction, else its length) and transformed, F_k.
+    Where T = P / m its lines k are the lines j = m k of the period (the record repeated m times:
+    nothing else is present). Otherwise each line k is placed on the nearest line of the period,
+    j = floor(k P / T + 1/2), with its amplitude and phase: no line appears that the record does not
+    have, and each wavelength moves by at most half a line of the period (lambda^2 / (2 P)); the
+    largest move of a line the record resolves is stated (a warning either way: the record covers
+    less than the period).
 
     Parameters
     ----------
@@ -484,34 +539,62 @@ def process_profile(x, z, period: float, J: int, *, mode: str = "average", spike
         removed = int(flags.sum())
     n = 8 * J
     length = float(x[-1])
+    d = float(np.median(np.diff(x)))
+
+    def sampled(end: float) -> bool:
+        """The record's last sample lies within one spacing short of ``end`` (exactly one included)."""
+        return length < end * (1 - 1e-9) and end <= length + d * (1 + 1e-6)
+
     segments, remainder = record_segments(length, period)
+    last_sampled = sampled((segments + 1) * period)
+    if last_sampled:
+        segments, remainder = segments + 1, 0.0
     j = np.arange(-J, J + 1)
+    repeats, shift = 0, 0.0
     if segments == 0:
-        reps = int(np.ceil(period / length))
-        warnings.warn(f"{source}: the profile is {length:.4g} m long, shorter than the roughness period N L = {period:.4g} m; "
-                      f"it is made periodic over its own length and repeated {reps} times (only the wavenumbers of its own "
-                      f"length are present).", RoughnessInputWarning, stacklevel=2)
-        zi = np.interp(np.linspace(0.0, length, n + 1), x, z)
-        zi = zi - (zi[0] + (zi[-1] - zi[0]) * np.linspace(0.0, 1.0, n + 1))  # ends meet without a step
-        s = np.linspace(0.0, period, n, endpoint=False)
-        zp = np.interp(s % length, np.linspace(0.0, length, n + 1), zi)
-        Z = (np.fft.fft(zp) / n)[j % n]
-        segments, remainder, analysed = 1, 0.0, length
+        m = int(np.floor(period / length))  # the whole fraction P / m nearest above the record, if sampled
+        if abs(period / m - length) <= 1e-9 * length:
+            own, repeats = period / m, m  # the record is P / m, closed: its ends are the period's
+        elif sampled(period / m):
+            own, repeats, last_sampled = period / m, m, True
+        else:
+            own = length
+        F = _periodic_piece(x, z, 0.0, own, n)
+        k = np.arange(1, n // 2)
+        jk = np.floor(k * period / own + 0.5).astype(int)  # the nearest line of the period, distinct for P > T
+        keep = jk <= J
+        Z = np.zeros(2 * J + 1, dtype=complex)
+        Z[J + jk[keep]] = F[k[keep]]
+        Z[J - jk[keep]] = np.conj(F[k[keep]])
+        if not repeats:
+            resolved = own / k[keep] <= longest_resolved_band(own) * (1 + NOMINAL_TOLERANCE)
+            ratio = (k[keep] * period / own) / jk[keep]  # lambda_placed / lambda_own
+            shift = float(np.max(np.abs(ratio[resolved] - 1))) if resolved.any() else float(np.max(np.abs(ratio - 1)))
+        if repeats:
+            how = (f"it is made periodic over its own length{' (its samples cover ' + f'{own:.4g} m)' if last_sampled else ''} "
+                   f"and repeated {repeats} times: its wavenumbers 2 pi k / {own:.4g} m are the lines j = {repeats} k of the period, "
+                   "no other line is present")
+        else:
+            how = (f"it is no whole fraction of N L, so it is not repeated: it is made periodic over its own length (the line "
+                   f"through its ends removed) and each of its lines 2 pi k / {own:.4g} m is placed on the nearest line 2 pi j / "
+                   f"(N L) with its amplitude and phase, no other line is present; the lines it resolves move by at most "
+                   f"{100 * shift:.2g} % in wavelength (half a line of the period: lambda^2 / (2 N L))")
+        warnings.warn(f"{source}: the profile is {own:.4g} m long, shorter than the roughness period N L = {period:.4g} m; "
+                      f"{how}.", RoughnessInputWarning, stacklevel=2)
+        segments, remainder, analysed = 1, 0.0, own
     else:
-        t = np.linspace(0.0, 1.0, n + 1)
         power = np.zeros(2 * J + 1)
-        for k in range(segments):
-            zi = np.interp(period * (k + t), x, z)
-            zi = zi - (zi[0] + (zi[-1] - zi[0]) * t)  # ends meet without a step
-            F = (np.fft.fft(zi[:n]) / n)[j % n]
+        for s in range(segments):
+            F = _periodic_piece(x, z, s * period, period, n)[j % n]
             power += np.abs(F) ** 2
-            if k == 0:
+            if s == 0:
                 phase = np.exp(1j * np.angle(F))
         Z = np.sqrt(power / segments) * phase
         analysed = period
     Z[J] = 0.0
     return ProfileProcessing(Z, float(period), length, mode, segments, remainder, removed, analysed,
-                             longest_resolved_band(analysed), longest_resolved_band(length))
+                             longest_resolved_band(analysed), longest_resolved_band(length), d, bool(last_sampled), repeats,
+                             shift)
 
 
 def profile_statement(record: ProfileRecord, p: ProfileProcessing, spike_threshold: float = SPIKE_THRESHOLD) -> dict:
@@ -537,10 +620,17 @@ def profile_statement(record: ProfileRecord, p: ProfileProcessing, spike_thresho
     """
     how = ("the period N L taken from the record (roughness.record = period)" if p.mode == "period"
            else "the whole record averaged (roughness.record = average)")
-    if p.record < p.period * (1 - 1e-9):
-        use = f"record {p.record:.4g} m shorter than N L = {p.period:.4g} m: made periodic over its length and repeated"
+    covers = (f" (its last sample {1e3 * p.spacing:.3g} mm, one sample spacing, short of the end: its samples cover "
+              f"{p.analysed if p.analysed < p.period else p.segments * p.period:.4g} m, taken as periodic)" if p.sampled_period else "")
+    if p.analysed < p.period * (1 - 1e-9) and p.repeats:
+        use = (f"record {p.analysed:.4g} m{covers} shorter than N L = {p.period:.4g} m, a whole fraction of it: made periodic "
+               f"over its length and repeated {p.repeats} times (its lines are the lines j = {p.repeats} k of the period)")
+    elif p.analysed < p.period * (1 - 1e-9):
+        use = (f"record {p.analysed:.4g} m shorter than N L = {p.period:.4g} m and no whole fraction of it: made periodic over "
+               f"its length (the line through its ends removed), each of its lines placed on the nearest line of the period "
+               f"(the lines it resolves moved by at most {100 * p.wavelength_shift:.2g} % in wavelength), not repeated")
     else:
-        use = (f"{how}: {p.segments} segment(s) of N L = {p.period:.4g} m, power averaged, phases of the first; "
+        use = (f"{how}: {p.segments} segment(s) of N L = {p.period:.4g} m{covers}, power averaged, phases of the first; "
                f"{p.remainder:.4g} m at the end of the {p.record:.4g} m record not used")
     spikes = ("spike removal off" if p.spikes_removed is None
               else f"spike removal on (curvature beyond {spike_threshold:g} robust standard deviations): {p.spikes_removed} samples replaced")

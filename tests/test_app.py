@@ -219,3 +219,79 @@ def test_command_line_failures_are_one_line(tmp_path, capsys, argv, message):
     assert cli.main([a.format(tab=tab) for a in argv]) == 2
     err = capsys.readouterr().err.strip()
     assert "\n" not in err and re.search(message, err), err
+
+
+# Issue 57, item 2: the command line never discards a computed growth. `run --bands` with 10,000
+# passages computed the growth and then exited 2 ("band growth needs at least 3 saved passage
+# counts, got 2") writing nothing; a run stopped by multiple contact with --bands exited 2 and wrote
+# nothing (without --bands: exit 3 and the partial file).
+def test_run_with_bands_refuses_a_run_too_short_for_the_band_view_before_computing(tmp_path, nothing_computed, capsys):
+    out = tmp_path / "x.nc"
+    assert cli.main(["run", "default", "--speed", "40", "--passages", "10000", "--out", str(out), "--bands"]) == cli.EXIT_INPUT
+    err = capsys.readouterr().err.strip()
+    assert "\n" not in err and err.startswith("railgrowth: --bands is not possible with --passages 10000 and growth.save_every "
+                                              "= 10000 of scenario default: it fits each band's growth to at least 3 saved "
+                                              "passage counts"), err
+    assert "this run would save 2 (at 0 and 10,000 passages); give --passages of at least 20000" in err
+    assert list(tmp_path.iterdir()) == []
+
+
+def test_run_with_bands_stopped_by_multiple_contact_writes_the_partial_file_and_exits_3(tmp_path, capsys):
+    # the report's contact at 30 um, 10 mm: multiple contact at 0 passages (tests/test_normal_chain.py)
+    mine = tmp_path / "rough.yaml"
+    mine.write_text("contact:\n  normal: report\nnumerics:\n  contact:\n    nodes: 41\nroughness:\n  kind: harmonic\n"
+                    "  amplitude: 3.0e-5\n  wavelength: 0.01\n")
+    out = tmp_path / "rough.nc"
+    assert cli.main(["run", str(mine), "--speed", "40", "--passages", "20000", "--out", str(out), "--bands"]) == cli.EXIT_PARTIAL
+    said = capsys.readouterr().out
+    assert f"wrote {out} (partial: growth stopped at 0 passages: multiple contact" in said
+    assert (f"band view not written: the run stopped with 1 saved passage count(s), and the band view fits each band's growth "
+            f"to at least 3; the growth file {out} holds every state kept.") in said
+    with xr.open_dataset(out) as ds:
+        assert list(ds["passage"].values) == [0] and "multiple contact" in ds.attrs["stopped"]
+    assert not (tmp_path / "rough_bands.nc").exists()
+
+
+@pytest.fixture(scope="module")
+def default_growth(default_study):
+    """api.growth of the default scenario at 40 m/s over 20,000 passages (3 saves; about 3 s)."""
+    import io
+
+    return api.growth(default_study, speed=40.0, passages=20000, progress=io.StringIO())
+
+
+def test_run_with_bands_of_a_run_stopped_after_three_saves_writes_the_growth_and_its_band_view_and_exits_3(tmp_path, monkeypatch,
+                                                                                                            capsys, default_growth):
+    stopped = default_growth.copy()
+    stopped.attrs["stopped"] = "growth stopped at 20000 passages: contact lost (a stand-in); every state saved up to here is kept."
+    monkeypatch.setattr(api, "growth", lambda *a, **k: stopped)
+    out = tmp_path / "x.nc"
+    assert cli.main(["run", "default", "--speed", "40", "--passages", "20000", "--out", str(out), "--bands"]) == cli.EXIT_PARTIAL
+    said = capsys.readouterr().out
+    assert said.index(f"wrote {out} (partial: ") < said.index(f"wrote {tmp_path / 'x_bands.nc'}")  # the growth first
+    assert out.exists() and (tmp_path / "x_bands.csv").exists()
+
+
+# Issue 57, item 3: `railgrowth bands <scenario with sleeper spacing 0.65> results/growth/default/V40.nc`
+# relabelled every wavelength and frequency (0.6 m / 66.7 Hz became 0.65 m / 61.5 Hz) with the same
+# levels; `bands` compares the file's scenario and configuration with the study's
+def test_bands_refuses_a_growth_file_of_another_configuration_naming_what_differs(tmp_path, capsys, default_growth):
+    from rail.setup.io import write_netcdf
+
+    growth = tmp_path / "V40.nc"
+    write_netcdf(default_growth, growth)
+    wide = api.load("default", changes={"track": {"sleeper": {"spacing": 0.65}}})
+    with pytest.raises(ConfigError, match=r"was computed for another scenario or configuration than default: .* What differs "
+                                          r"\(the result's / default's\): track\.sleeper\.spacing: 0\.6 / 0\.65\. Give"):
+        api.bands(wide, default_growth)
+    mine = tmp_path / "wide.yaml"  # a scenario file: its contact defaults differ from config.yaml's too
+    mine.write_text("track:\n  sleeper:\n    spacing: 0.65\n")
+    assert cli.main(["bands", str(mine), str(growth), "--out", str(tmp_path / "wide_bands.nc")]) == cli.EXIT_INPUT
+    err = capsys.readouterr().err.strip()
+    assert "\n" not in err and err.startswith(f"railgrowth: {growth}: was computed for another scenario or configuration than wide"), err
+    assert "scenario: 'default' / 'wide'" in err and "track.sleeper.spacing: 0.6 / 0.65" in err, err
+    assert not list(tmp_path.glob("wide_bands*"))
+    # its own scenario views it, over the period the file was grown for
+    assert cli.main(["bands", "default", str(growth), "--out", str(tmp_path / "own.nc")]) == 0
+    with xr.open_dataset(tmp_path / "own.nc") as b:
+        assert b.attrs["period_m"] == pytest.approx(0.6, rel=1e-12)

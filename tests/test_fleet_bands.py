@@ -76,13 +76,42 @@ def _fleet_like_growth(K=36):
                              "fleet_vehicles": "loco: share 0.4, ...; coach: share 0.6, ..."})
 
 
+def _grown_by(growth, study):
+    """The growth dataset with the provenance a growth run writes (rail.setup.io.finalize): the
+    scenario's name and its resolved configuration, which the band view checks (issue 57)."""
+    import yaml
+
+    growth.attrs.update(scenario=study.name, config=yaml.safe_dump(study.config, sort_keys=True))
+    return growth
+
+
+def test_a_fleet_growth_file_is_refused_by_another_scenarios_band_view_naming_the_fleet(tmp_path, capsys):
+    # issue 57, item 3: `railgrowth bands default <a fleet's growth file>` exited 0 with the default
+    # train's axle load (27.9 MGT a year) instead of the fleet's, and relabelled the file as default's
+    scen = tmp_path / "tiny_fleet.yaml"
+    scen.write_text(TINY)
+    gpath = tmp_path / "growth.nc"
+    _grown_by(_fleet_like_growth(), api.load(scen)).to_netcdf(gpath)
+    out = tmp_path / "default_view.nc"
+    assert cli.main(["bands", "default", str(gpath), "--out", str(out)]) == cli.EXIT_INPUT
+    err = capsys.readouterr().err.strip()
+    assert "\n" not in err and err.startswith(f"railgrowth: {gpath}: was computed for another scenario or configuration than default"), err
+    assert "scenario: 'tiny_fleet' / 'default'" in err and "fleet: given / not given" in err, err
+    assert "Give the scenario it was grown from (its attribute scenario: 'tiny_fleet')" in err
+    assert list(tmp_path.glob("default_view*")) == []
+    from rail.setup.config import ConfigError
+
+    with pytest.raises(ConfigError, match=r"fleet: given / not given"):
+        api.bands(api.load("default"), xr.open_dataset(gpath).load())
+
+
 def test_a_fleet_growth_is_banded_alike_by_the_api_the_command_line_and_the_workflow_script(root, tmp_path, capsys):
     # fast: one growth dataset, the three doors; they must give the same files, and the fleet's
     # traffic (not a one-train traffic) sets the years and MGT
     scen = tmp_path / "tiny_fleet.yaml"
     scen.write_text(TINY)
     study = api.load(scen)
-    growth = _fleet_like_growth()
+    growth = _grown_by(_fleet_like_growth(), study)
     gpath = tmp_path / "growth.nc"
     growth.to_netcdf(gpath)
 

@@ -1,6 +1,8 @@
 """Initial roughness at any wavelength: a measured profile and a one-third-octave spectrum over a
 period of N bays (rail.roughness), with errors that name the file and the line."""
 
+import re
+
 import numpy as np
 import pytest
 
@@ -496,3 +498,84 @@ def test_a_spectrum_start_is_analysed_back_to_its_input_levels(root, bays):
             assert level[b] == pytest.approx(lev, abs=1e-9), (lam, level[b], lev)
             checked += 1
     assert checked >= 10
+
+
+# Issue 57, item 3: a record of N samples at spacing d covers N d. A 2,400-sample record at 1 mm is
+# one whole period of 2.4 m (it was called 1 mm short, repeated and cut with a 1 mm seam that put
+# lines at 2.4 and 1.2 m); a 300-sample record of a 50 mm sine put 8.3 % of its energy on the lines
+# 48.98 and 51.06 mm of the period (repeated 9 times and cut), while the warning said only its own
+# wavenumbers were present.
+def _line_powers(Z, J):
+    """2 |Z_j|^2, j = 1..J: the mean square on each line [m^2]."""
+    return 2 * np.abs(Z[J + 1:]) ** 2
+
+
+def test_a_record_of_one_sampled_period_is_that_period_without_a_seam(recwarn):
+    P, J = 4 * L, 4 * 32
+    x = np.arange(2400) * 1e-3  # 0 .. 2.399 m: 2,400 samples at 1 mm cover 2.4 m
+    z = 6e-6 * np.sin(2 * np.pi * x / 0.05) + 2e-6 * np.cos(2 * np.pi * x / 2.4)  # 48 and 1 cycles in 2.4 m
+    p = R.process_profile(x, z, P, J, source="one_period.csv")
+    power = _line_powers(p.Z, J)
+    assert power[48 - 1] == pytest.approx(6e-6 ** 2 / 2, rel=1e-6)  # 50 mm = 2.4 m / 48: the sine, whole
+    assert power[1 - 1] == pytest.approx(2e-6 ** 2 / 2, rel=1e-6)  # the 2.4 m wave, no seam added to it
+    others = np.delete(power, [0, 47])
+    # the seam put 1.6e-3 of the sine's power on 2.4 m and 4e-4 on 1.2 m; the linear resampling of 1 mm
+    # data onto 1,024 points leaves images of about 2e-9 (measured): 1e-7 lies between
+    assert others.max() < 1e-7 * power[47], 1e3 * P / (np.argmax(others) + 2)  # the 1.2 m line (j = 2) among them
+    assert not [w for w in recwarn if issubclass(w.category, R.RoughnessInputWarning)]  # nothing is short
+    assert p.segments == 1 and p.sampled_period and p.analysed == P and p.remainder == 0.0
+    said = R.profile_statement(R.ProfileRecord(x, z, "one_period.csv", ("m", "m")), p)
+    assert "1 segment(s) of N L = 2.4 m (its last sample 1 mm, one sample spacing, short of the end: its samples cover 2.4 m" in \
+        said["roughness_processing"]
+    # two sampled periods are two segments, and the period taken from the record holds all 4 bays
+    x2 = np.arange(4800) * 1e-3
+    two = R.process_profile(x2, 6e-6 * np.sin(2 * np.pi * x2 / 0.05), P, J)
+    assert two.segments == 2 and two.remainder == 0.0
+    assert R.record_bays(2.399, L, 1e-3) == 4 and R.record_bays(2.399, L) == 3  # without the spacing: the bays up to the last sample
+    assert R.record_bays(2.3985, L, 1e-3) == 3  # 1.5 mm short of the fourth bay: not a sampled period
+
+
+def test_a_short_record_that_is_a_whole_fraction_of_the_period_is_repeated_with_nothing_else():
+    P, J = 4 * L, 4 * 32
+    x = np.arange(300) * 1e-3  # 0 .. 0.299 m: 300 samples at 1 mm cover 0.3 m = 2.4 m / 8
+    z = 6e-6 * np.sin(2 * np.pi * x / 0.05)
+    with pytest.warns(R.RoughnessInputWarning) as said:
+        p = R.process_profile(x, z, P, J, source="short.csv")
+    power = _line_powers(p.Z, J)
+    assert power[47 - 1] < 1e-12 * power[47] and power[49 - 1] < 1e-12 * power[47]  # 51.06 and 48.98 mm: nothing
+    assert power[48 - 1] == pytest.approx(6e-6 ** 2 / 2, rel=1e-6)
+    assert np.all(power[np.arange(1, J + 1) % 8 != 0] == 0)  # only the record's own lines j = 8 k
+    assert p.repeats == 8 and p.analysed == pytest.approx(0.3, rel=1e-12)
+    assert ("the profile is 0.3 m long, shorter than the roughness period N L = 2.4 m; it is made periodic over its own length "
+            "(its samples cover 0.3 m) and repeated 8 times: its wavenumbers 2 pi k / 0.3 m are the lines j = 8 k of the period, "
+            "no other line is present") in str(said[0].message)
+
+
+def test_a_short_record_of_any_length_has_only_its_own_lines_placed_on_the_nearest_lines_of_the_period():
+    # 310 samples (0.309 m): 2.4 m / 0.309 m = 7.77 is no whole number. Each line k of the record's
+    # own transform (an independent numpy FFT of the record, made periodic over 0.309 m by the line
+    # through its ends, on its own 1 mm samples) is the line j = round(7.77 k) of the period, with
+    # its power; no other line is present; the move of a wavelength is at most half a line
+    P, J = 4 * L, 4 * 32
+    x = np.arange(310) * 1e-3
+    rng = np.random.default_rng(57)
+    z = 6e-6 * np.sin(2 * np.pi * x / 0.05) + 1e-6 * rng.standard_normal(x.size)
+    with pytest.warns(R.RoughnessInputWarning) as said:
+        p = R.process_profile(x, z, P, J, source="short.csv")
+    T = x[-1]
+    t = x / T
+    own = z - (z[0] + (z[-1] - z[0]) * t)  # made periodic over T: the last sample is the first
+    F = np.fft.rfft(own[:-1]) / (x.size - 1)  # lines k / T, k = 0 .. 154
+    k = np.arange(1, F.size)
+    j = np.floor(k * P / T + 0.5).astype(int)
+    keep = j <= J
+    power = _line_powers(p.Z, J)
+    placed = np.zeros(J)
+    placed[j[keep] - 1] = 2 * np.abs(F[k[keep]]) ** 2
+    assert set(np.nonzero(power)[0]) <= set(j[keep] - 1)
+    np.testing.assert_allclose(power[j[keep] - 1], placed[j[keep] - 1], rtol=0.02, atol=1e-3 * placed.max())  # linear resampling of 1 mm data
+    move = np.abs((k * P / T) / j - 1)
+    assert np.all(move <= (T / k) / (2 * P) * (1 + 1e-12))  # half a line of the period: lambda / (2 P) relative
+    assert p.wavelength_shift == pytest.approx(0.0085, abs=5e-5) and p.repeats == 0
+    assert re.search(r"no whole fraction of N L, so it is not repeated: .* placed on the nearest line 2 pi j / \(N L\) .* no other "
+                     r"line is present; the lines it resolves move by at most 0\.85 % in wavelength", str(said[0].message))

@@ -21,19 +21,22 @@ from pathlib import Path
 
 import numpy as np
 import xarray as xr
+import yaml
 
 from .. import chain
+from ..growth import BAND_GROWTH_SAVES
 from ..growth_spectrum import fleet_rate_spectrum, settings_lines
 from ..noise import cnossos as cn
 from ..noise import rolling as rn
 from ..noise.tables import SOURCES
 from ..scenario import Scenario
 from ..setup import build, config, inputs, io
+from ..setup.targets import physics_part
 from ..studies import fleet as fleet_study
 from ..studies import exports, rate_spectrum, runs
 from ..studies.bands import band_mean_square
 
-__all__ = ["Study", "load", "growth", "bands", "spectrum", "fleet_spectrum", "noise", "ROOT"]
+__all__ = ["Study", "load", "growth", "check_bands", "bands", "spectrum", "fleet_spectrum", "noise", "ROOT"]
 
 ROOT = Path(__file__).resolve().parents[2]  # the project folder holding config/
 
@@ -223,6 +226,128 @@ def _spectrum_settings(study: Study, door: str, **given) -> tuple[dict, dict]:
     return s, cfg
 
 
+def check_bands(study: Study, *, passages: int | None = None, option: str = "passages", view: str = "the band view") -> None:
+    """Refuse, before computing, a growth run of a study whose band view (bands) cannot be made, so that
+    no computed growth ends in a refusal: the band growth laws need BAND_GROWTH_SAVES = 3 saved
+    passage counts at least (rail.growth.band_growth: the start and two saves), and a run of n
+    passages saves n / growth.save_every + 1; the band view's files (limit spectrum, wheel roughness)
+    are read too.
+
+    Parameters
+    ----------
+    study : Study
+    passages : int, optional
+        Wheel passages of the run (default: the study's growth.passages), >= 1.
+    option, view : str
+        How the caller names the passages and the band view in the message (the command line:
+        "--passages", "--bands").
+
+    Raises
+    ------
+    rail.setup.config.ConfigError
+        Naming the passages, growth.save_every, the saves they give and what would give three.
+    """
+    g = study.scenario.growth
+    n = g.passages if passages is None else _count(option, passages)
+    try:
+        dataclasses.replace(g, passages=n)  # passages the run refuses (not a multiple of growth.save_every): named as it does
+    except ValueError as e:
+        raise config.ConfigError(f"{option} = {n}: {e}") from None
+    saves = n // g.save_every + 1
+    if saves < BAND_GROWTH_SAVES:
+        given = f"{option} {n}" if passages is not None else f"growth.passages = {n}"
+        at = " and ".join(f"{k * g.save_every:,}" for k in range(saves))
+        need = (BAND_GROWTH_SAVES - 1) * g.save_every
+        raise config.ConfigError(
+            f"{view} is not possible with {given} and growth.save_every = {g.save_every} of scenario {study.name}: it fits each band's "
+            f"growth to at least {BAND_GROWTH_SAVES} saved passage counts (the start and every growth.save_every passages), and "
+            f"this run would save {saves} (at {at} passages); give {option} of at least {need} ({BAND_GROWTH_SAVES - 1} x "
+            f"growth.save_every), or a growth.save_every of at most half the passages (a multiple of growth.passages_per_update "
+            f"= {g.passages_per_update} that divides them), or leave out {view}. Nothing was computed.")
+    inputs.band_inputs(study.config, study.scenario)  # the limit spectrum and the wheel roughness, read before computing
+
+
+def _leaves(tree, prefix=()):
+    """{key path: value} of a nested configuration's leaves (a list is one leaf)."""
+    if not isinstance(tree, dict):
+        return {prefix: tree}
+    out = {}
+    for k, v in tree.items():
+        out.update(_leaves(v, prefix + (str(k),)))
+    return out
+
+
+def _same_value(key: tuple, a, b) -> bool:
+    """Whether a recorded configuration value equals the study's: numbers by value (1 == 1.0), a file
+    path the same file whether written relative to the project or resolved (rail.setup.inputs.FILE_KEYS)."""
+    if key in inputs.FILE_KEYS and a and b and isinstance(a, str) and isinstance(b, str):
+        pa, pb = Path(os.path.normpath(a)), Path(os.path.normpath(b))
+        if pa.is_absolute() != pb.is_absolute():
+            rel, ab = (pa, pb) if not pa.is_absolute() else (pb, pa)
+            return ab.parts[-len(rel.parts):] == rel.parts
+        return pa == pb
+    return a == b
+
+
+def _shown(value) -> str:
+    text = "not given" if value is _ABSENT else yaml.safe_dump(value, default_flow_style=True, width=10**6).strip()
+    text = text.removesuffix("...").strip()
+    return text if len(text) <= 60 else text[:57] + "..."
+
+
+_ABSENT = object()
+
+
+def grown_for(study: Study, growth: xr.Dataset) -> list[str]:
+    """What differs between the scenario and configuration a growth result was computed for (its
+    attributes ``scenario`` and ``config``, rail.setup.io.finalize) and a study: the scenario's name
+    and every configuration value the run recorded, outside the view settings (figures), the site
+    measurements and the half-space quadrature (rail.setup.targets.physics_part: what no growth
+    reads), and whether either has a fleet. [] when the result is the study's.
+
+    Parameters
+    ----------
+    study : Study
+    growth : xr.Dataset
+        A growth result with the attributes ``scenario`` and ``config``.
+
+    Returns
+    -------
+    list of str
+        One "key: file's value / study's value" per difference, the scenario first.
+
+    Raises
+    ------
+    rail.setup.config.ConfigError
+        If the result carries no scenario or configuration to compare.
+    """
+    name, text = growth.attrs.get("scenario"), growth.attrs.get("config")
+    if name is None or text is None:
+        raise config.ConfigError(f"the growth result carries no {'scenario' if name is None else 'configuration'} (attribute "
+                                 f"{'scenario' if name is None else 'config'}): it cannot be checked to be a run of {study.name}; "
+                                 "give a growth file railgrowth run, rail.app.api.growth or the workflow wrote.")
+    try:
+        recorded = yaml.safe_load(text)
+    except yaml.YAMLError:
+        recorded = None
+    if not isinstance(recorded, dict):
+        raise config.ConfigError(f"the growth result's attribute config is not a configuration: it cannot be checked to be a run "
+                                 f"of {study.name}.")
+    out = [] if str(name) == study.name else [f"scenario: '{name}' / '{study.name}'"]
+    if ("fleet" in recorded) != ("fleet" in study.config):
+        out.append(f"fleet: {'given' if 'fleet' in recorded else 'not given'} / {'given' if 'fleet' in study.config else 'not given'}")
+    mine = _leaves(physics_part(study.config))
+    theirs = _leaves({k: v for k, v in recorded.items() if k not in ("figures", "measured")})
+    theirs = {k: v for k, v in theirs.items() if k[:2] != ("numerics", "halfspace")}
+    for key, value in theirs.items():
+        other = mine.get(key, _ABSENT)
+        if other is _ABSENT or not _same_value(key, value, other):
+            if key[0] == "fleet" and ("fleet" in recorded) != ("fleet" in study.config):
+                continue  # named once above
+            out.append(f"{'.'.join(key)}: {_shown(value)} / {_shown(other)}")
+    return out
+
+
 def bands(study: Study, growth: xr.Dataset) -> exports.BandOutputs:
     """One-third-octave bands of a growth run of the study (one train or its fleet), growth per band,
     the grinding interval with its band (passages, years, MGT) and the exports, as the workflow's
@@ -245,10 +370,26 @@ def bands(study: Study, growth: xr.Dataset) -> exports.BandOutputs:
     Raises
     ------
     rail.setup.config.ConfigError
-        If growth is not a growth dataset.
+        If growth is not a growth dataset; if it was computed for another scenario or configuration
+        than the study's (grown_for: the band view would relabel its wavelengths, frequencies and
+        traffic with the study's), naming what differs; if it holds fewer saved passage counts than
+        the band growth laws need (BAND_GROWTH_SAVES).
     """
     if not isinstance(growth, xr.Dataset) or not {"Z_real", "Z_imag", "passage"} <= set(growth.variables):
         raise config.ConfigError("growth is not a growth result: give the dataset api.growth returns (or a growth file, opened).")
+    differ = grown_for(study, growth)
+    if differ:
+        more = f"; and {len(differ) - 5} more" if len(differ) > 5 else ""
+        raise config.ConfigError(
+            f"the growth result was computed for another scenario or configuration than {study.name}: its band view would "
+            f"carry {study.name}'s sleeper spacing, speed labels and traffic. What differs (the result's / {study.name}'s): "
+            f"{'; '.join(differ[:5])}{more}. Give the scenario it was grown from (its attribute scenario: "
+            f"'{growth.attrs.get('scenario')}'), or grow {study.name} again.")
+    saves = int(growth.sizes["passage"])
+    if saves < BAND_GROWTH_SAVES:
+        stopped = f" (it stopped early: {growth.attrs['stopped']})" if growth.attrs.get("stopped") else ""
+        raise config.ConfigError(f"the growth result holds {saves} saved passage count(s){stopped}: the band view fits each "
+                                 f"band's growth to at least {BAND_GROWTH_SAVES} (rail.growth.band_growth).")
     b = exports.band_outputs(growth, study.scenario.L, study.config["figures"]["bands"], study.name,
                              **inputs.band_inputs(study.config, study.scenario))
     data = io.finalize(b.data, study.config, title=f"One-third-octave roughness bands, scenario {study.name}",

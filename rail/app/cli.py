@@ -8,10 +8,13 @@
 
 A problem with the input is one line per problem naming file, key, value and valid range, and exit
 status 2; nothing is computed before the input is valid (a missing or read-only folder of --out or
---checkpoint included). A growth run that stops early because the model's assumptions broke (contact
-lost, multiple contact, at any passage count, 0 included) writes what it computed and exits with 3. The
-file is written whole or not at all: an existing file at --out survives a failed write
-(rail.setup.io.write_netcdf), and a failed checkpoint leaves no temporary file.
+--checkpoint included; with --bands, passages too few for a band view: rail.app.api.check_bands). A
+growth run that stops early because the model's assumptions broke (contact lost, multiple contact, at
+any passage count, 0 included) writes what it computed and exits with 3, with --bands or without. The
+growth file is written before any view of it (--bands), so no view loses it; the file is written whole
+or not at all: an existing file at --out survives a failed write (rail.setup.io.write_netcdf), and a
+failed checkpoint leaves no temporary file. ``bands`` refuses a growth file grown for another scenario
+or configuration, naming what differs (rail.app.api.grown_for).
 
 Exit status by cause (docs/usage.md), every failure one line on stderr, never a traceback::
 
@@ -127,7 +130,6 @@ def main(argv=None) -> int:
         if args.command == "check":
             print(_what_runs(study))
             return 0
-        band_view = None
         if args.command == "bands":
             return _bands(api, study, args)
         if args.command == "run":
@@ -136,10 +138,10 @@ def main(argv=None) -> int:
                                   "without it).")
             if args.speed is not None and not (args.speed > 0 and args.speed < float("inf")):
                 raise ConfigError(f"--speed = {args.speed} m/s is not allowed: it must be a finite number > 0.")
+            if args.bands:  # a band view the settings cannot give is refused now, not after the growth is computed
+                api.check_bands(study, passages=args.passages, option="--passages", view="--bands")
             ds = api.growth(study, speed=args.speed, passages=args.passages, checkpoint=args.checkpoint)
             out = args.out or Path(f"{study.name}_fleet.nc" if args.speed is None else f"{study.name}_V{args.speed:g}.nc")
-            if args.bands:
-                band_view = api.bands(study, ds)
         else:
             ds = api.spectrum(study, speeds=args.speed)
             out = args.out or Path(f"{study.name}_spectrum.nc")
@@ -160,10 +162,8 @@ def main(argv=None) -> int:
         # after: a checkpoint that could not be written (rail.growth.CheckpointWriteError)
         print(f"railgrowth: {_os_line(e)}", file=sys.stderr)
         return EXIT_RESOURCE if loaded else EXIT_INPUT
-    try:
+    try:  # the growth first: no view of it can lose it
         write_netcdf(ds, out)
-        if band_view is not None:
-            _write_band_view(band_view, out.with_name(out.stem + "_bands.nc"))
     except OSError as e:  # a full disk, a file-size limit: the old file at --out, if any, is whole
         print(f"railgrowth: --out: {_os_line(e)}", file=sys.stderr)
         return EXIT_RESOURCE
@@ -171,11 +171,34 @@ def main(argv=None) -> int:
 
     if validity_text(ds.attrs):
         print(f"validity: {validity_text(ds.attrs)}")
-    if ds.attrs.get("stopped"):
-        print(f"wrote {out} (partial: {ds.attrs['stopped']})")
-        return EXIT_PARTIAL
-    print(f"wrote {out}")
-    return 0
+    stopped = bool(ds.attrs.get("stopped"))
+    print(f"wrote {out} (partial: {ds.attrs['stopped']})" if stopped else f"wrote {out}")
+    done = EXIT_PARTIAL if stopped else 0
+    if args.command == "run" and args.bands:
+        return _bands_after_run(api, study, ds, out, done)
+    return done
+
+
+def _bands_after_run(api, study, ds, out: Path, done: int) -> int:
+    """run --bands: the band view of the growth just written to ``out`` (the settings were checked
+    before computing: api.check_bands). A run stopped early with too few saves for a band view says so
+    and keeps its exit status 3; a band view that fails otherwise is one line, the growth file kept."""
+    from ..growth import BAND_GROWTH_SAVES
+
+    saves = int(ds.sizes["passage"])
+    if done == EXIT_PARTIAL and saves < BAND_GROWTH_SAVES:
+        print(f"band view not written: the run stopped with {saves} saved passage count(s), and the band view fits each band's "
+              f"growth to at least {BAND_GROWTH_SAVES}; the growth file {out} holds every state kept.")
+        return done
+    try:
+        _write_band_view(api.bands(study, ds), out.with_name(out.stem + "_bands.nc"))
+    except OSError as e:
+        print(f"railgrowth: --bands: {_os_line(e)} (the growth file {out} is written)", file=sys.stderr)
+        return EXIT_RESOURCE
+    except (ConfigError, ValueError) as e:
+        print(f"railgrowth: --bands: {' '.join(str(e).split())} (the growth file {out} is written)", file=sys.stderr)
+        return done or EXIT_INPUT
+    return done
 
 
 def _band_files(data_path: Path) -> dict:
@@ -204,7 +227,11 @@ def _bands(api, study, args) -> int:
         raise ConfigError(f"{args.growth}: no such growth file.")
     with xr.open_dataset(args.growth) as g:  # the user's file: read, never moved
         growth = g.load()
-    _write_band_view(api.bands(study, growth), args.out or args.growth.with_name(args.growth.stem + "_bands.nc"))
+    try:
+        view = api.bands(study, growth)  # refuses a file grown for another scenario or configuration, naming what differs
+    except ConfigError as e:
+        raise ConfigError(f"{args.growth}: {str(e).removeprefix('the growth result ')}") from None
+    _write_band_view(view, args.out or args.growth.with_name(args.growth.stem + "_bands.nc"))
     return 0
 
 

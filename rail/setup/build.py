@@ -215,7 +215,7 @@ def _record_bays(cfg: dict, source: str) -> int:
         rec = read_profile_record(r["file"])
     except (OSError, ValueError) as e:
         raise ConfigError(f"invalid configuration:\n  {source}: roughness: {e}") from None
-    N = record_bays(rec.length, _track(cfg).L)
+    N = record_bays(rec.length, _track(cfg).L, rec.spacing)  # N samples at spacing d cover N d
     if N > MAX_ROUGHNESS_BAYS:
         raise ConfigError(f"invalid configuration:\n  {source}: roughness.record = 'period' is not allowed with {r['file']}: the "
                           f"{rec.length:g} m record holds {N} bays, more than roughness.bays allows ({MAX_ROUGHNESS_BAYS}); use "
