@@ -19,7 +19,7 @@ import matplotlib.pyplot as plt  # noqa: E402
 import numpy as np  # noqa: E402
 import xarray as xr  # noqa: E402
 
-__all__ = ["frequency_speed_cells", "rate_map_figure"]
+__all__ = ["frequency_speed_cells", "rate_map_figure", "placeholder_figure"]
 
 
 def frequency_speed_cells(frequency, speed):
@@ -123,4 +123,22 @@ def rate_map_figure(ds: xr.Dataset, pinned_pinned_Hz: float | None = None, harmo
     cb.set_label("growth (dB per 100,000 axles)")
     head = "Growth rate over frequency and speed (dotted: sleeper-passing harmonics n V / L)"
     ax.set_title(head + (f"\n{title}" if title else ""), fontsize=9)
+    return fig
+
+
+def placeholder_figure(text: str):
+    """A figure that says in words why there is no map (for example a spectrum of one line).
+
+    Parameters
+    ----------
+    text : str
+        What to say.
+
+    Returns
+    -------
+    matplotlib.figure.Figure
+    """
+    fig, ax = plt.subplots(figsize=(5.0, 1.6), layout="constrained")
+    ax.axis("off")
+    ax.text(0.5, 0.5, text, ha="center", va="center", fontsize=10)
     return fig

@@ -156,6 +156,10 @@ def spectrum_dataset_of(spectra: dict[float, RateSpectrum], scn) -> xr.Dataset:
     creep = creepage_model_text(scn.material)
     if creep:
         ds.attrs["creepage_model"] = creep
+    if getattr(scn, "track", None) is not None:  # marked on the frequency x speed map (rail.plotting.rate_map)
+        from ..track import pinned_pinned_frequency
+
+        ds.attrs["pinned_pinned_Hz"] = float(pinned_pinned_frequency(scn.track))
     return ds
 
 

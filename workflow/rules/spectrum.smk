@@ -42,6 +42,8 @@ rule rate_spectrum_map:
                        subcategory="{scenario}"),
         csv=report("results/spectrum/{scenario}/rate_spectrum.csv", caption="../report/rate_spectrum.rst", category="Growth-rate spectrum",
                    subcategory="{scenario}"),
+        frequency_map=report("results/spectrum/{scenario}/rate_map.png", caption="../report/rate_spectrum.rst", category="Growth-rate spectrum",
+                             subcategory="{scenario}"),
     params:
         code=code("rate_spectrum_map.py"),
     resources:
