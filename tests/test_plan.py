@@ -57,7 +57,8 @@ def test_every_named_target_list_is_reproduced(P, target, method):
 # the tracks they add, each characterised under the first scenario with it (by name): the 1e9 N/m pad of dyn_rail_pinned_stiff and dynspeed_*_stiff
 ADDED_TRACKS = ("dyn_rail_pinned_stiff", "dyn_rail_shear_soft", "dyn_rail_shear_stiff")
 ADDED_SINCE = ("dyn_fixed", "dyn_rigid", "dyn_trailer", "dyn_trailer_independent", "dyn_driven", "dyn_rail", "dyn_rail_trailer",
-               "dyn_rail_driven", "dyn_rail_pinned", "dyn_rail_pinned_slow", "dyn_rail_pinned_stiff", "dyn_rail_shear_soft", "dyn_rail_shear_stiff") + tuple(
+               "dyn_rail_driven", "dyn_rail_pinned", "dyn_rail_pinned_slow",
+               "dyn_rail_pinned_stiff", "dyn_rail_shear_soft", "dyn_rail_shear_stiff") + tuple(
     f"dynspeed_{m}{t}" for m in ("fixed", "trailer", "driven", "rail", "falling", "together") for t in ("", "_stiff"))
 
 
@@ -80,7 +81,8 @@ def test_the_sweeps_points_in_grid_order(P):
     spectra = {k.split("/")[1] for k in JOBS if k.startswith("rate_spectrum_sweep/")}
     assert {t.split("/")[-1][:-3] for t in P.rate_spectrum_sweep_targets() if t.endswith(".nc")} == spectra
     for study in spectra:
-        assert [f"results/spectrum/{p.name}/V{speed_label(p.speed)}.nc" for p in P.sweeps[study].points] == JOBS[f"rate_spectrum_sweep/{study}"]["input"]
+        runs = [f"results/spectrum/{p.name}/V{speed_label(p.speed)}.nc" for p in P.sweeps[study].points]
+        assert runs == JOBS[f"rate_spectrum_sweep/{study}"]["input"]
 
 
 def test_the_traffic_study_fleet_classes_and_their_shared_spectra(P):
@@ -324,8 +326,6 @@ def test_a_fleets_default_class_spectra_fit_a_two_core_8_GB_machine(P):
     # issue 45, item 14: a fleet's class spectrum was sized by figures.rate_spectrum (a scenario file's
     # 222 lines of a 48-bay period on two grids: about 6.9 GB and 47 min CPU for a four-axle class);
     # fleet.spectrum's defaults give 31 lines of a 5-bay period on one grid
-    import re
-
     from rail.setup import build
     from rail.setup.config import load_yaml, project_schema, resolve_scenario_file
     from rail.setup.study_files import CLASS_MEMORY_MB, class_estimate
