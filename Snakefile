@@ -54,16 +54,16 @@ REPORTING = reporting_only(sys.argv)
 
 
 rule all:
+    default_target: not REPORTING
     input:
         PLAN.paper_figures(),
-    default_target: not REPORTING
 
 
 rule report_all:
     """The HTML report of whatever is built, and only that: the report figures that exist and every
     output of every study that exists (a user's study alone is enough). snakemake --report report.html
     (report_all is the default target of --report); nothing is computed."""
+    default_target: REPORTING
     input:
         built_paper_figures(),
         built_studies(),
-    default_target: REPORTING

@@ -30,7 +30,8 @@ def solve_in_place(A, B):
     For small systems solved many times: the tangent march's stick-block derivative (tens of nodes,
     several right-hand sides, rail.contact.tangent) and a track cell's attachments at each wavenumber
     node (rail.moving, complex). A plain loop in place costs less than numba's np.linalg.solve with its
-    copies and compiles faster. (The march's own stick solve factors by getrf_rows, below.) A zero pivot leaves inf or nan in X (the callers check finiteness).
+    copies and compiles faster. (The march's own stick solve factors by getrf_rows, below.) A zero pivot
+    leaves inf or nan in X (the callers check finiteness).
 
     Parameters
     ----------

@@ -30,7 +30,8 @@ from .scenario import Scenario, TrackNumerics
 from .track import Track
 
 __all__ = ["wheel_offsets", "receptance_table", "track_table", "table_speed", "initial_roughness", "solve_forces", "contact_filtered",
-           "wheel_material", "passage_wear", "train_wear", "grow", "fleet_tables", "fleet_wear", "fleet_wheels", "grow_fleet", "single_wheel", "ContactShift", "contact_shift",
+           "wheel_material", "passage_wear", "train_wear", "grow", "fleet_tables", "fleet_wear",
+           "fleet_wheels", "grow_fleet", "single_wheel", "ContactShift", "contact_shift",
            "SWEEP_ERROR_LIMIT"]
 
 SWEEP_ERROR_LIMIT = 2e-3  # largest |dc/dx| the wear model is taken to hold for (docs/contact.md, "The move of the contact centre")
@@ -120,7 +121,8 @@ def track_table(track: Track, numerics: TrackNumerics, speed: float, offsets, ba
     """
     if cell is not None:
         if cell.bays != bays:
-            raise ValueError(f"roughness.bays = {bays} is not allowed with track.cell.bays = {cell.bays}: the roughness must be periodic over the cell.")
+            raise ValueError(f"roughness.bays = {bays} is not allowed with track.cell.bays = {cell.bays}: "
+                             f"the roughness must be periodic over the cell.")
         return moving.cell_receptance_table(cell, speed, numerics.harmonics, offsets, numerics.rtol, progress=progress)
     if bays == 1:
         return moving.receptance_table(track, speed, numerics.harmonics, offsets, numerics.rtol, progress=progress)

@@ -29,7 +29,7 @@ import numpy as np
 
 from .bands import NOMINAL_THIRD_OCTAVE_CENTRES, ThirdOctaveBands, frequency_bands
 from .bands import frequency_bands as third_octave_bands  # the old name (rail.bands)
-from .track import Track, stationary_receptance
+from .track import stationary_receptance
 
 __all__ = [
     "LOG10_E_10",

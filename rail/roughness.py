@@ -376,8 +376,8 @@ def longest_resolved_band(length: float, cycles: float = RECORD_CYCLES) -> float
     """The longest one-third-octave wavelength band a record length resolves.
 
     A band is resolved when the length holds ``cycles`` wavelengths of its upper band edge, the
-    exact edge of the one band rule, 10^(1/20) lambda_c (rail.bands.exact_edges; EN 15610 asks for a record several times the longest wavelength analysed;
-    docs/roughness-input.md). Bands are those of the exact series lambda_c = 10^(-n/10) m (n any
+    exact edge of the one band rule, 10^(1/20) lambda_c (rail.bands.exact_edges; EN 15610 asks for a
+    record several times the longest wavelength analysed; docs/roughness-input.md). Bands are those of the exact series lambda_c = 10^(-n/10) m (n any
     integer; the nominal labels of rail.bands.NOMINAL_WAVELENGTHS_M are within 1 % of them).
 
     Parameters

@@ -252,7 +252,8 @@ def damping_problem(track: Track) -> str | None:
                 f"rail damping (undamped free waves put poles on the real wavenumber axis); it must be >= {MIN_RAIL_LOSS_FACTOR:g}.")
     if track.damping == "viscous" and not r.damping_time >= MIN_RAIL_DAMPING_TIME:
         return (f"track.rail.damping_time = {r.damping_time!r} s is not allowed with track.damping = 'viscous': the moving-load "
-                f"wavenumber integrals need rail damping; it must be >= {MIN_RAIL_DAMPING_TIME:.3g} s (loss factor {MIN_RAIL_LOSS_FACTOR:g} at 1 kHz).")
+                f"wavenumber integrals need rail damping; it must be >= {MIN_RAIL_DAMPING_TIME:.3g} s "
+                f"(loss factor {MIN_RAIL_LOSS_FACTOR:g} at 1 kHz).")
     return None
 
 

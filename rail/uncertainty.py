@@ -14,7 +14,10 @@ default configuration has them equal; a draw keeps them so).
 
 The draws are reproducible bit for bit: numpy's PCG64 generator seeded by SeedSequence(seed).spawn,
 one child stream per parameter in the order of the sorted key names, so a parameter's draws depend on
-the seed, its own position among the names and the number of members only.
+the seed, its own position among the names and the number of members only. Bit for bit holds on one
+machine: a lognormal draw goes through numpy's exp and log, which numpy dispatches by CPU feature
+(AVX-512 or AVX2 code), so on another CPU it may differ in the last digit (tests compare recorded
+draws to a relative tolerance, tests/test_plan.py).
 """
 
 from __future__ import annotations
@@ -79,7 +82,7 @@ def check_parameters(parameters: dict) -> dict:
 
 
 def sample(parameters: dict, members: int, seed: int) -> dict:
-    """Draw the ensemble: {key: (members,) values}, reproducible bit for bit (module docstring).
+    """Draw the ensemble: {key: (members,) values}, reproducible bit for bit on one machine (module docstring).
 
     Parameters
     ----------

@@ -30,7 +30,8 @@ from .contact.passage import SPIN_UP_TRANSITS, MarchInputs, march_inputs
 from .interaction import ForceResult, Roughness
 from .longitudinal import head_operator
 
-__all__ = ["WearLaw", "WearResult", "CreepageState", "march_with_creepage", "steady_material", "MarchInputs", "march_inputs", "bay_wear", "wear_spectrum", "apply_wear", "roughness_slope", "SPIN_UP_TRANSITS"]
+__all__ = ["WearLaw", "WearResult", "CreepageState", "march_with_creepage", "steady_material", "MarchInputs",
+           "march_inputs", "bay_wear", "wear_spectrum", "apply_wear", "roughness_slope", "SPIN_UP_TRANSITS"]
 
 
 
@@ -196,9 +197,9 @@ def bay_wear(forces: ForceResult, wheel_index: int, roughness: Roughness, materi
     if roughness.harmonics != forces.harmonics:
         raise ValueError(f"the roughness has {roughness.harmonics} harmonics and the forces {forces.harmonics}: the wear would "
                          f"be computed for the roughness's harmonics only; give both the receptance table's K.")
-    speed, L = forces.speed, forces.period  # L: the period N L of roughness and force
+    speed = forces.speed
     mi = march_inputs(forces, wheel_index, roughness, material, numerics, grid_phase, a_max)
-    P, a, shape, delta, Nx, M, spin = mi.P, mi.a, mi.shape, mi.delta, mi.Nx, mi.M, mi.spin
+    P, a, delta, Nx, M, spin = mi.P, mi.a, mi.delta, mi.Nx, mi.M, mi.spin
     min_shape, shift = mi.min_shape, mi.shift
     sol, info = march_with_creepage(mi, material, speed, numerics, harmonics=forces.harmonics, start=creepage_start)
     # particle j is at x = (j - M - spin) Delta; the bay's points x_k = k Delta are j = spin + M + k

@@ -314,7 +314,8 @@ def test_growth_step_and_roughness_frequency_are_checked_when_the_scenario_is_bu
     from rail.setup import build
 
     cfg = rconfig.validate_config(rconfig.deep_merge(defaults, {"growth": {"passages": 25000}}), schema, "s.yaml")
-    with pytest.raises(ValueError, match=r"growth\.save_every = 10000 must be a multiple of growth\.passages_per_update = 10000 and divide growth\.passages = 25000"):
+    with pytest.raises(ValueError, match=r"growth\.save_every = 10000 must be a multiple of growth\.passages_per_update = 10000 "
+                       r"and divide growth\.passages = 25000"):
         build.scenario(cfg, "s", "s.yaml")
     with pytest.raises(ValueError, match=r"roughness\.frequency = 0\.0 Hz is not allowed"):
         InitialRoughness("harmonic", 1e-5, 0.0, None, None)

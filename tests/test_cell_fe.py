@@ -43,7 +43,8 @@ def _model_harmonics(name, V):
     cell = make_cell(_model_track(), bays, spacing, pad, ballast)
     tab = moving.cell_receptance_table(cell, V, 24, rtol=1e-5)
     J = tab.harmonics
-    F = I.solve_forces(tab, I.Wheels(WHEEL, 0.46, LOAD, (0.0,)), I.ContactSpring(KH), I.Roughness(np.zeros(2 * J + 1, complex), bays), cell.mean_spacing)
+    F = I.solve_forces(tab, I.Wheels(WHEEL, 0.46, LOAD, (0.0,)), I.ContactSpring(KH),
+                       I.Roughness(np.zeros(2 * J + 1, complex), bays), cell.mean_spacing)
     return F.P[0, J : J + KC + 1], cell.period
 
 

@@ -17,7 +17,8 @@ M = C.ContactMaterial(2.1e11, 0.3, 0.008, R, 0.3, 0.3, -0.001)
 
 def sweep_values():
     """The closure values of the study (the same in its three sweep files)."""
-    values = [load_yaml(ROOT / f"config/scenarios/{n}.yaml")["sweep"]["contact.closure_scale"] for n in ("closure", "closure_soft_pad", "closure_class87")]
+    values = [load_yaml(ROOT / f"config/scenarios/{n}.yaml")["sweep"]["contact.closure_scale"]
+              for n in ("closure", "closure_soft_pad", "closure_class87")]
     assert values[0] == values[1] == values[2]
     return [float(s) for s in values[0]]
 

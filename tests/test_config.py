@@ -16,13 +16,16 @@ def test_default_config_is_valid_and_builds_parameters(defaults, schema):
 
 def test_unknown_key_names_key_value_and_allowed_keys(defaults, schema):
     cfg = rconfig.deep_merge(defaults, {"track": {"pad": {"stifness": 3.5e8}}})
-    with pytest.raises(rconfig.ConfigError, match=r"scen.yaml: unknown key track\.pad\.stifness = 350000000\.0; the keys allowed under track\.pad are: longitudinal_loss_factor, longitudinal_stiffness, longitudinal_viscous_damping, loss_factor, stiffness, viscous_damping"):
+    with pytest.raises(rconfig.ConfigError, match=r"scen.yaml: unknown key track\.pad\.stifness = 350000000\.0; "
+                       r"the keys allowed under track\.pad are: longitudinal_loss_factor, longitudinal_stiffness, "
+                       r"longitudinal_viscous_damping, loss_factor, stiffness, viscous_damping"):
         rconfig.validate_config(cfg, schema, source="scen.yaml")
 
 
 def test_negative_modulus_names_value_and_range(defaults, schema):
     cfg = rconfig.deep_merge(defaults, {"material": {"youngs_modulus": -2.1e11}})
-    with pytest.raises(rconfig.ConfigError, match=r"material\.youngs_modulus = -210000000000\.0 Pa is not allowed: it must be > 0 Pa \(valid range \(0, inf\) Pa\)"):
+    with pytest.raises(rconfig.ConfigError, match=r"material\.youngs_modulus = -210000000000\.0 Pa is not allowed: it must be > 0 Pa "
+                       r"\(valid range \(0, inf\) Pa\)"):
         rconfig.validate_config(cfg, schema)
 
 
@@ -43,7 +46,8 @@ def test_every_problem_is_listed_at_once(defaults, schema):
 
 def test_yaml_exponent_without_dot_gets_a_hint(defaults, schema):
     cfg = rconfig.deep_merge(defaults, {"track": {"pad": {"stiffness": "3.5e8"}}})
-    with pytest.raises(rconfig.ConfigError, match=r"track\.pad\.stiffness = '3\.5e8' has the wrong type: it must be of type number \(YAML reads 3\.5e8 as text"):
+    with pytest.raises(rconfig.ConfigError, match=r"track\.pad\.stiffness = '3\.5e8' has the wrong type: it must be of type number "
+                       r"\(YAML reads 3\.5e8 as text"):
         rconfig.validate_config(cfg, schema)
 
 

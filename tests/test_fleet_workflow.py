@@ -56,7 +56,8 @@ def test_a_fleet_study_computes_one_table_per_speed_shared_by_its_vehicles_and_n
     for v in ["37.333333333333336", "40", "42.666666666666664"]:  # the union of the fleet's vehicles' axle offsets
         assert re.search(rf"fleet receptance table: track [0-9a-f]{{10}}, V = {v} m/s, offsets 0\.0 -2\.6 2\.6 -3\.3 3\.3 m", out.stdout), v
     for v in ["40", "44"]:
-        assert re.search(rf"fleet receptance table: track [0-9a-f]{{10}}, V = {v} m/s, offsets 0\.0 -1\.8 1\.8 -3\.2 3\.2 -5\.0 5\.0 m", out.stdout), v
+        assert re.search(rf"fleet receptance table: track [0-9a-f]{{10}}, V = {v} m/s, offsets 0\.0 "
+                         rf"-1\.8 1\.8 -3\.2 3\.2 -5\.0 5\.0 m", out.stdout), v
     # adding the other fleet left mix's tables as they were (same files, same offsets)
     tables = re.compile(r"results/receptance/[0-9a-f]{10}/fleet_V[0-9.]+(?:_N[0-9]+)?\.nc")
     assert set(tables.findall(alone.stdout)) and set(tables.findall(alone.stdout)) <= set(tables.findall(out.stdout))

@@ -22,7 +22,6 @@ from rail import halfspace
 from rail import interaction as I
 from rail import moving
 from rail import track as T
-from rail import wear as W
 from rail.studies.conclusions import overall_level_dB, short_wavelength_ratio
 
 K = 48

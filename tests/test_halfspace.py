@@ -189,7 +189,8 @@ def test_rayleigh_share_of_radiated_power_matches_miller_pursey(steel):
 @pytest.mark.parametrize(
     "kwargs, match",
     [
-        ({"youngs_modulus": -2.1e11, "poisson_ratio": 0.3, "density": 7850.0}, r"youngs_modulus \[Pa\] = -210000000000.0 is not allowed: it must lie in \(0.0, inf\)"),
+        ({"youngs_modulus": -2.1e11, "poisson_ratio": 0.3, "density": 7850.0},
+         r"youngs_modulus \[Pa\] = -210000000000.0 is not allowed: it must lie in \(0.0, inf\)"),
         ({"youngs_modulus": 2.1e11, "poisson_ratio": 0.5, "density": 7850.0}, r"poisson_ratio \[-\] = 0.5 .*\(-1.0, 0.5\)"),
         ({"youngs_modulus": 2.1e11, "poisson_ratio": 0.3, "density": 0.0}, r"density \[kg/m\^3\] = 0.0"),
     ],

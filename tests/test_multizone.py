@@ -57,7 +57,10 @@ def test_passage_contact_is_patch_contact_where_one_zone_holds():
     delta, M, xi = _grid(41)
     x = np.arange(300) * delta
     P = P0 * (1 + 0.1 * np.sin(2 * np.pi * x / 0.05))
-    slope = lambda y: 1e-6 * 2 * np.pi / 0.012 * np.sin(2 * np.pi * y / 0.012)
+
+    def slope(y):
+        return 1e-6 * 2 * np.pi / 0.012 * np.sin(2 * np.pi * y / 0.012)
+
     pc, mz = N.patch_contact(P, x, slope, MAT, xi), N.passage_contact(P, x, slope, MAT, xi)
     assert np.array_equal(pc.a, mz.a) and np.array_equal(pc.shape, mz.shape) and np.array_equal(pc.shift, mz.shift)
     assert np.all(mz.zones == 1)

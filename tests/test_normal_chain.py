@@ -137,8 +137,6 @@ def test_a_patch_that_outgrows_its_estimate_gets_a_larger_grid_not_an_error(tabl
     # grid's 0.01375 m"), the grid is rebuilt to hold it. Here the estimate is made too small on
     # purpose (half the curvature at the 512 samples): the wear is still computed, with the patch of
     # the undisturbed computation
-    from rail import wear as W
-
     k = 41
     beta = 2 * np.pi * k / 0.6
     rough = I.Roughness.harmonic(0.95 / (MATERIAL.wheel_radius * beta**2), 0.6 / k, 0.6, K)  # trough: 0.95 / R_w

@@ -173,7 +173,8 @@ def test_bad_sweep_value_names_the_file_and_the_point(root, workdir):
     out = snakemake(root, "-n", "sweeps", cwd=workdir)
     assert out.returncode != 0
     assert re.search(
-        r"config/scenarios/grid\.yaml \(sweep point track\.pad\.stiffness = -100000000\.0\): track\.pad\.stiffness = -100000000\.0 N/m is not allowed",
+        r"config/scenarios/grid\.yaml \(sweep point track\.pad\.stiffness = -100000000\.0\): "
+        r"track\.pad\.stiffness = -100000000\.0 N/m is not allowed",
         out.stderr + out.stdout,
     ), out.stderr
 

@@ -98,7 +98,24 @@ class LongitudinalModes:
 
 
 def modal_receptance(omega, omega_r, zeta_r, c_r):
-    """sum_r c_r / (omega_r^2 - omega^2 + 2 i zeta_r omega_r omega) [m/N] at omega [rad/s]."""
+    """sum_r c_r / (omega_r^2 - omega^2 + 2 i zeta_r omega_r omega) [m/N] at omega [rad/s].
+
+    Parameters
+    ----------
+    omega : array-like
+        Angular frequencies [rad/s].
+    omega_r : array-like, (R,)
+        Natural angular frequencies of the modes [rad/s], >= 0 (0: a free rotation).
+    zeta_r : array-like, (R,)
+        Modal damping ratios [-].
+    c_r : array-like, (R,)
+        Modal participations [1/kg] (displacement at the contact per unit force, per mode).
+
+    Returns
+    -------
+    ndarray, complex, shape of omega
+        The receptance H(omega) [m/N].
+    """
     w = np.asarray(omega, dtype=float)[..., None]
     om, ze, c = (np.asarray(v, dtype=float) for v in (omega_r, zeta_r, c_r))
     return np.sum(c / (om**2 - w**2 + 2j * ze * om * w), axis=-1)
@@ -132,7 +149,20 @@ def _advance_modes(x, v, om, ze, c, force, dt):
 
 
 def carter_creep_slope(P: float, material) -> float:
-    """dQ/dgamma [N] of Carter's steady traction at load P [N] and the material's creepage (0 when saturated)."""
+    """dQ/dgamma [N] of Carter's steady traction at load P [N] and the material's creepage (0 when saturated).
+
+    Parameters
+    ----------
+    P : float
+        Normal load [N], > 0.
+    material : rail.contact.ContactMaterial
+        Its compliance, dynamic friction coefficient [-], wheel radius [m], half-width [m] and creepage [-].
+
+    Returns
+    -------
+    float
+        The slope dQ/dgamma [N] of the traction against the creepage; <= 0, and 0 in full slip.
+    """
     from .hertz import compliance, hertz_half_length
     m = material
     k, mu = compliance(m), m.friction_dynamic
@@ -148,9 +178,21 @@ def periodic_response(force, dt, modes: LongitudinalModes):
     (omega_r = 0) takes the force less its time mean (a periodic spin needs a zero mean force; the
     mean is the torque balance's, rail.wear), its velocity with zero time mean.
 
+    Parameters
+    ----------
+    force : array-like, (steps,)
+        The longitudinal force held over each step [N].
+    dt : array-like, (steps,)
+        The steps' durations [s], > 0; their sum is the period.
+    modes : LongitudinalModes
+        The modal receptance at the contact.
+
     Returns
     -------
-    ubar : (steps,) [m], up to a constant; mean_force : the time mean of the force [N]
+    ubar : ndarray, (steps,)
+        The displacement [m] at the end of each step, up to a constant.
+    mean_force : float
+        The time mean of the force [N].
     """
     F = np.asarray(force, dtype=float)
     dt = np.asarray(dt, dtype=float)
@@ -201,7 +243,28 @@ def precondition(residual, T: float, modes: LongitudinalModes | None, slope_over
     rail's time-invariant part, rail.longitudinal.HeadOperator.diagonal), if given. ``lag`` [s] > 0 lets the
     contact's response lag as a first-order relaxation, i omega dQ/dgamma / V / (1 + i omega lag) (a / V: the
     traction builds up over a rolling distance of about the half-length; a stiff contact spring at high
-    frequency instead of a creep damper growing without bound); 0 (default): quasi-steady."""
+    frequency instead of a creep damper growing without bound); 0 (default): quasi-steady.
+
+    Parameters
+    ----------
+    residual : array-like, (n,)
+        The residual of u_bar over the period's steps [m].
+    T : float
+        The period [s], > 0.
+    modes : LongitudinalModes or None
+        The wheelset's modal receptance (None: none).
+    slope_over_speed : float
+        Carter's creep slope over the speed, dQ/dgamma / V [N s/m] (carter_creep_slope).
+    extra : array-like, (n//2 + 1,), optional
+        A receptance [m/N] added at the rfft harmonics k = 0..n//2.
+    lag : float
+        The contact's relaxation time [s], >= 0 (0: quasi-steady).
+
+    Returns
+    -------
+    ndarray, (n,)
+        The Newton step of u_bar [m]; its time mean (k = 0) is the residual's.
+    """
     r = np.fft.rfft(np.asarray(residual, dtype=float))
     w = 2 * np.pi * np.arange(r.size) / T
     H = np.zeros(r.size, dtype=complex)

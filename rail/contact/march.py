@@ -379,7 +379,8 @@ def solve_tangential(P, a, m: ContactMaterial, speed: float, delta: float, M: in
     q, s, Q, work, power, stick_count, total_iter, status, ub = _march(
         P, a, shape, xi, Mom, mu, ws, k, delta, M, float(speed), dts, gds, float(m.creepage), float(m.friction_dynamic),
         float(m.friction_static), float(m.half_width), cl, float(closure_scale),
-        report_coef, q_init, int(max_iter if m.friction_decay == 0 else max(max_iter, 2000)), CHECKERBOARD_LIMIT, dus, om, ze, cp, q_ref, float(m.friction_decay),
+        report_coef, q_init, int(max_iter if m.friction_decay == 0 else max(max_iter, 2000)),
+        CHECKERBOARD_LIMIT, dus, om, ze, cp, q_ref, float(m.friction_decay),
         _settle_steps(a, delta, q0), np.zeros(om.size), np.zeros(om.size), table)  # the modes start at rest
     code, i = int(status[0]), int(status[1])
     if code == 1:

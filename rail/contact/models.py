@@ -137,7 +137,22 @@ def _interp_wrapped(x, xp, fp, slopes, period, out):
 def curvature_on_grid(roughness, n: int, period: float):
     """kappa = -z'' (eq 20) [1/m] at x_k = k P / n over the roughness period P [m], by one inverse
     FFT (the coefficients folded into n bins: exact at these points, the same values as the direct sum
-    to rounding)."""
+    to rounding).
+
+    Parameters
+    ----------
+    roughness : rail.interaction.Roughness
+        The roughness coefficients Z_j [m], j = -J..J, periodic over P.
+    n : int
+        Number of grid points over the period [-], >= 1.
+    period : float
+        The roughness period P [m], > 0.
+
+    Returns
+    -------
+    ndarray, (n,)
+        The curvature kappa [1/m] at x_k = k P / n.
+    """
     J = roughness.harmonics
     j = np.arange(-J, J + 1)
     beta = 2 * np.pi / period

@@ -120,6 +120,31 @@ def cell_rate_spectrum(scn: Scenario, table: MovingReceptance, lines, eps: float
     sidebands j + m, every m) is not in the diagonal rate; growth runs (rail.chain.grow) carry it.
     ``progress(text)``, if given, is told as the work proceeds (after every line for 'probe', after
     every probe's inputs for 'linear').
+
+    Parameters
+    ----------
+    scn : Scenario
+        On a track cell of N = roughness.bays bays; the lines j are those of the wavenumbers 2 pi j / (N L).
+    table : MovingReceptance
+        The cell's one table over the cell's harmonics (rail.moving.cell_receptance_table).
+    lines : sequence of int
+        The lines j [-], 1 <= j <= N K.
+    eps : float
+        Amplitude of the probing cosine and sine [m], small enough for the linear range.
+    grid_phases : int
+        Number of contact grid phases averaged over [-], >= 1.
+    method : str
+        'linear' (the tangent march) or 'probe' (the nonlinear march), as above.
+    progress : callable, optional
+        Told a line of text as the work proceeds.
+    max_columns : int, optional
+        Most probe columns per tangent march [-] (default: column_chunk's).
+
+    Returns
+    -------
+    RateSpectrum
+        Every line locked: rate and rate_other the 2 x 2 operator's eigenvalues [1 per train passage],
+        source the smooth rail's wear at the line [m per train passage], wavelength N L / j [m].
     """
     N = scn.roughness.bays
     lines = np.asarray(lines, dtype=int)

@@ -21,7 +21,22 @@ __all__ = ["tangent_batches", "probe_roughness", "check_held_grid", "input_names
 
 def tangent_batches(free, locked_probes, N: int):
     """Batches of probes for linear_rates: the free lines by batches (one per pair of classes), and
-    the locked lines' cosine and sine probes, at most one of class 0 and one of class N/2 per batch."""
+    the locked lines' cosine and sine probes, at most one of class 0 and one of class N/2 per batch.
+
+    Parameters
+    ----------
+    free : sequence of int
+        The free lines j [-].
+    locked_probes : sequence of (int, str)
+        The locked lines' probes (j [-], 'cos' or 'sin').
+    N : int
+        Bays of the roughness period [-]; line j is of the Bloch class j mod N.
+
+    Returns
+    -------
+    list of list of (int, str)
+        The batches of probes (j [-], kind), a free line as (j, 'free').
+    """
     out = [[(j, "free") for j in b] for b in batches(free, N)]
     for r in (0, N // 2):
         probes = [pr for pr in locked_probes if pr[0] % N == r]
@@ -34,7 +49,24 @@ def tangent_batches(free, locked_probes, N: int):
 
 def probe_roughness(Z0, j: int, kind: str, eps: float):
     """Z0 with a probe of amplitude eps [m] added at line j: a cosine (kind 'free' or 'cos') or a sine
-    ('sin'); Z_j = (a - i b) / 2 for a cos + b sin."""
+    ('sin'); Z_j = (a - i b) / 2 for a cos + b sin.
+
+    Parameters
+    ----------
+    Z0 : array-like, complex, (2 J + 1,)
+        The roughness coefficients Z_j, j = -J..J [m].
+    j : int
+        The line [-], 1 <= j <= J.
+    kind : str
+        'free' or 'cos' (a cosine), 'sin' (a sine).
+    eps : float
+        The probe's amplitude [m].
+
+    Returns
+    -------
+    ndarray, complex, (2 J + 1,)
+        The probed coefficients [m] (a copy; Z0 is unchanged).
+    """
     J = len(Z0) // 2
     c = -1j if kind == "sin" else 1.0
     Z = np.array(Z0, dtype=complex)
@@ -45,7 +77,22 @@ def probe_roughness(Z0, j: int, kind: str, eps: float):
 
 def check_held_grid(mi, ref, bays: int):
     """GridMismatch unless the probe's march inputs mi lie on the reference's grid (ref: the smooth rail's
-    inputs over one period; mi over ``bays`` of those periods) with its patch inside the grid."""
+    inputs over one period; mi over ``bays`` of those periods) with its patch inside the grid.
+
+    Parameters
+    ----------
+    mi : rail.wear.MarchInputs
+        The probe's march inputs (grid spacing delta [m], half-length a [m], M and Nx [-]).
+    ref : rail.wear.MarchInputs
+        The smooth rail's, over one period.
+    bays : int
+        Periods of ref in mi's [-].
+
+    Returns
+    -------
+    None
+        Raises GridMismatch (naming both grids' M and Nx [-]) when the grids differ.
+    """
     same = (mi.M == ref.M and mi.Nx == bays * ref.Nx and abs(mi.delta - ref.delta) <= 1e-12 * ref.delta
             and float(np.max(mi.a)) < (mi.M - 0.5) * mi.delta)
     if not same:
@@ -55,12 +102,38 @@ def check_held_grid(mi, ref, bays: int):
 
 def input_names(ref):
     """The march inputs a probe changes: force and half-length, the pressure shape with the normal
-    contact 'nonhertzian', the step times on the patch's true path."""
+    contact 'nonhertzian', the step times on the patch's true path.
+
+    Parameters
+    ----------
+    ref : rail.wear.MarchInputs
+        The reference inputs (its shape [-] and step times dt [s] None where the model has none).
+
+    Returns
+    -------
+    tuple of str
+        The names of the inputs: 'P' [N], 'a' [m], then 'shape' [-] and 'dt' [s] where ref has them.
+    """
     return ("P", "a") + (("shape",) if ref.shape is not None else ()) + (("dt",) if ref.dt is not None else ())
 
 
 def column_chunk(ref, ncol: int, max_columns=None) -> int:
-    """Columns per tangent march: all, or with a pressure shape about 200 MB of its derivative."""
+    """Columns per tangent march: all, or with a pressure shape about 200 MB of its derivative.
+
+    Parameters
+    ----------
+    ref : rail.wear.MarchInputs
+        The reference inputs (steps and nodes 2 M + 1 [-] size the shape's derivative).
+    ncol : int
+        Number of columns [-], >= 1.
+    max_columns : int, optional
+        Most columns per march [-].
+
+    Returns
+    -------
+    int
+        Columns per march [-], in [1, ncol].
+    """
     chunk = ncol if ref.shape is None else max(1, int(2e8 // (8 * ref.P.size * (2 * ref.M + 1))))
     return max(1, min(chunk, max_columns or chunk, ncol))
 
@@ -99,7 +172,27 @@ def line_coefficient(gws: dict, c, jj: int, periods: int, imag=None):
     """Wear coefficient W_jj per unit probe (eq 53) from derivatives of the depth gws = {n: (n, ncol)}
     at the points x_k = k P / n of one period P (each wheel's grid size summed apart), over a roughness
     period of ``periods`` such periods (Bloch form: the derivative is e^{i 2 pi r x / (N L)} times a
-    P-periodic function, so one period's points give the line); column c, plus i times column imag."""
+    P-periodic function, so one period's points give the line); column c, plus i times column imag.
+
+    Parameters
+    ----------
+    gws : dict
+        {n: (n, ncol) ndarray}: the derivatives of the wear depth [m per unit probe amplitude, m/m] at
+        the n points of one period, summed over the wheels on grids of n points.
+    c : int
+        The column [-] (the real part's with imag given).
+    jj : int
+        The line [-] whose coefficient is taken.
+    periods : int
+        Periods P in the roughness period [-] (N for the bays of a uniform track, 1 for a cell).
+    imag : int, optional
+        The column [-] of the imaginary part.
+
+    Returns
+    -------
+    complex
+        The wear coefficient per unit probe amplitude [-] (m of wear per m of probe, per train passage).
+    """
     total = 0.0
     for n, gw in gws.items():
         k = np.arange(n)
@@ -110,7 +203,18 @@ def line_coefficient(gws: dict, c, jj: int, periods: int, imag=None):
 
 def cos_sin_column(D):
     """The column (cosine, sine parts) of the 2 x 2 operator from the wear coefficient D per unit
-    amplitude of a probe: D = (c - i d) / 2."""
+    amplitude of a probe: D = (c - i d) / 2.
+
+    Parameters
+    ----------
+    D : complex
+        The wear coefficient per unit probe amplitude [-] (line_coefficient).
+
+    Returns
+    -------
+    (float, float)
+        The cosine and sine parts (c, d) of the wear per unit probe amplitude [-].
+    """
     return 2 * D.real, -2 * D.imag
 
 
@@ -127,7 +231,36 @@ def linear_rates(scn, tabs, free, locked, eps, phase, max_columns=None, progress
     probes of method 'probe' but without the march), split into the classes by a DFT over the bays.
     With several wheels, the wear of the wheels before a wheel is taken at the smooth rail's (its
     derivative, of relative size the wear per passage, ~1e-6, is left out). ``progress(i, n)``, if
-    given, is called after each of the n batches of probes."""
+    given, is called after each of the n batches of probes.
+
+    Parameters
+    ----------
+    scn : Scenario
+        With roughness.bays = N; the lines j are those of the wavenumbers 2 pi j / (N L).
+    tabs : tuple of MovingReceptance
+        The receptance tables at the speed [m/N] (rail.chain.receptance_table).
+    free : sequence of int
+        The free lines j [-].
+    locked : sequence of (int, str)
+        The locked lines' probes (j [-], 'cos' or 'sin').
+    eps : float
+        The probes' amplitude [m] (the inputs' differences are taken with it).
+    phase : float
+        Contact grid phase [-], in [0, 1) (rail.wear.bay_wear).
+    max_columns : int, optional
+        Most probe columns per tangent march [-] (column_chunk).
+    progress : callable, optional
+        progress(i, n) after each batch i [-] of the n.
+
+    Returns
+    -------
+    R : dict
+        {j: complex} the rate R_j at each free line [1 per train passage].
+    side : dict
+        {j: float} the largest sideband wear (j +- N) over the wear at j [-].
+    M : dict
+        {j: (2, 2) ndarray} the (cosine, sine) wear operator at each locked line [1 per train passage].
+    """
     N = scn.roughness.bays
     K = scn.harmonics
     J = N * K

@@ -22,7 +22,20 @@ class GridMismatch(RuntimeError):
 
 
 def batches(lines, N: int):
-    """Split lines into batches with at most one line per pair of classes {r, N - r}."""
+    """Split lines into batches with at most one line per pair of classes {r, N - r}.
+
+    Parameters
+    ----------
+    lines : sequence of int
+        The lines j [-] (repeats dropped).
+    N : int
+        Bays of the roughness period [-]; line j is of the class j mod N.
+
+    Returns
+    -------
+    list of list of int
+        The batches of lines [-], in the lines' order.
+    """
     pending = list(dict.fromkeys(int(j) for j in lines))
     out = []
     while pending:
@@ -77,7 +90,34 @@ def wear_rates(scn: Scenario, table, lines, eps: float = 1e-8, reference=None, g
 
 def probe_rates(scn, table, lines, eps, Z0, W0, grid_phase, sidebands=False):
     """R_j at the lines about the reference Z0, whose wear W0 on the same grid is given; with
-    sidebands, also the largest abs(wear at j +- N) / abs(wear at j) (the same class, probed by j alone)."""
+    sidebands, also the largest abs(wear at j +- N) / abs(wear at j) (the same class, probed by j alone).
+
+    Parameters
+    ----------
+    scn : Scenario
+        With roughness.bays = N.
+    table : MovingReceptance or tuple of MovingReceptance
+        The receptance table(s) at the speed [m/N].
+    lines : sequence of int
+        The lines j [-], 1 <= j <= N K.
+    eps : float
+        Amplitude of the probing cosine [m].
+    Z0 : ndarray, complex, (2 N K + 1,)
+        The reference roughness coefficients [m].
+    W0 : ndarray, complex, (2 N K + 1,)
+        The reference's wear coefficients per train passage [m] on the same grid.
+    grid_phase : float
+        Contact grid phase [-], in [0, 1).
+    sidebands : bool
+        Also return the sideband ratios.
+
+    Returns
+    -------
+    R : ndarray, complex, (len(lines),)
+        R_j [1 per train passage]: Delta W_j / (eps / 2).
+    side : ndarray, (len(lines),)
+        With sidebands only: the largest sideband wear over the wear at j [-].
+    """
     J = len(Z0) // 2
     N = scn.roughness.bays
     rates, side = {}, {}
@@ -191,7 +231,30 @@ def locked_operator(scn: Scenario, table, j: int, eps: float = 1e-9, grid_phase:
 
 
 def locked_matrix(scn, table, j, eps, grid_phase, Z0, W0):
-    """M of locked_operator, with the smooth rail's wear W0 on the same grid given."""
+    """M of locked_operator, with the smooth rail's wear W0 on the same grid given.
+
+    Parameters
+    ----------
+    scn : Scenario
+    table : MovingReceptance or tuple of MovingReceptance
+        The receptance table(s) at the speed [m/N].
+    j : int
+        The line [-].
+    eps : float
+        Amplitude of the probing cosine and sine [m].
+    grid_phase : float
+        Contact grid phase [-], in [0, 1).
+    Z0 : ndarray, complex
+        The smooth rail's roughness coefficients [m] (smooth_roughness).
+    W0 : ndarray, complex
+        Its wear coefficients per train passage [m] on the same grid.
+
+    Returns
+    -------
+    ndarray, (2, 2)
+        M [1 per train passage]; column 0: the wear (cosine, sine parts) of a unit cosine, column 1 of
+        a unit sine.
+    """
     J = len(Z0) // 2
     cols = []
     for c in (1.0, -1j):  # cosine, sine: Z_j = (a - i b) / 2
@@ -205,12 +268,34 @@ def locked_matrix(scn, table, j, eps, grid_phase, Z0, W0):
 
 
 def smooth_roughness(scn: Scenario):
-    """The smooth rail's roughness coefficients Z_j = 0, j = -N K..N K, over the scenario's period [m]."""
+    """The smooth rail's roughness coefficients Z_j = 0, j = -N K..N K, over the scenario's period [m].
+
+    Parameters
+    ----------
+    scn : Scenario
+        Its roughness.bays N and harmonics K per bay [-].
+
+    Returns
+    -------
+    ndarray, complex, (2 N K + 1,)
+        Zeros [m].
+    """
     return np.zeros(2 * scn.roughness.bays * scn.harmonics + 1, dtype=complex)
 
 
 def sorted_eigenvalues(M):
-    """Eigenvalues of M, the faster-growing (smaller real part) first."""
+    """Eigenvalues of M, the faster-growing (smaller real part) first.
+
+    Parameters
+    ----------
+    M : array-like, (2, 2)
+        A wear operator [1 per train passage] (locked_matrix).
+
+    Returns
+    -------
+    ndarray, complex, (2,)
+        Its eigenvalues [1 per train passage], by increasing real part.
+    """
     ev = np.linalg.eigvals(M).astype(complex)
     return ev[np.argsort(ev.real)]
 

@@ -19,7 +19,9 @@ import xarray as xr  # noqa: E402
 from . import text  # noqa: E402
 from .axes import frequency_axis, mark_supports, per_mgt_axis, wavelength_axis  # noqa: E402
 
-__all__ = ["fig02", "fig03", "fig04", "fig05", "fig06", "fig08", "fig09", "fig10", "fig11", "fig_wear", "fig_wear_spectrum", "fig22", "growth_profiles", "growth_spectra", "growth_final_profiles", "growth_3d", "sweep_map"]
+__all__ = ["fig02", "fig03", "fig04", "fig05", "fig06", "fig08", "fig09",
+           "fig10", "fig11", "fig_wear", "fig_wear_spectrum", "fig22", "growth_profiles", "growth_spectra",
+           "growth_final_profiles", "growth_3d", "sweep_map"]
 
 _SIZE = (6.0, 4.0)
 
@@ -174,7 +176,8 @@ def fig_wear(ds: xr.Dataset):
     ax.plot(x, wear, "-", color="k", label="wear after one passage")
     span = float(wear.max() - wear.min()) / 2
     mid = float(wear.mean())
-    for name, style, label in (("roughness", ":", "initial roughness (not to scale)"), ("dynamic_normal_force", "--", "dynamic normal force (not to scale)")):
+    for name, style, label in (("roughness", ":", "initial roughness (not to scale)"),
+                               ("dynamic_normal_force", "--", "dynamic normal force (not to scale)")):
         v = ds[name]
         ax.plot(x, mid + span * v / float(np.abs(v).max()), style, color="0.4", label=label)
     ax.set_xlabel("position in the sleeper bay (m)")

@@ -29,7 +29,8 @@ def _title(ds, what):
 
 def _mark(ax, f, label, y=0.03):
     ax.axvline(f, color="0.5", lw=0.8, ls=":")
-    ax.annotate(f"{label}\n{f:.0f} Hz", (f, y), xycoords=("data", "axes fraction"), ha="right", va="bottom" if y < 0.5 else "top", fontsize=7, rotation=90)
+    ax.annotate(f"{label}\n{f:.0f} Hz", (f, y), xycoords=("data", "axes fraction"),
+                ha="right", va="bottom" if y < 0.5 else "top", fontsize=7, rotation=90)
 
 
 def track_receptance(ds: xr.Dataset):
@@ -100,7 +101,8 @@ def track_decay_rate(ds: xr.Dataset, measured: xr.Dataset | None = None):
         ax.plot(measured["measured_band_centre"], measured["measured_decay_rate"], "x", color="tab:blue", ms=7, mew=1.5, label="measured")
     ax.set_xscale("log")
     ax.set_yscale("log")
-    ticks = [f for f in (100, 125, 160, 200, 250, 315, 400, 500, 630, 800, 1000, 1250, 1600, 2000, 2500, 3150, 4000, 5000) if fc.min() <= f <= fc.max()]
+    ticks = [f for f in (100, 125, 160, 200, 250, 315, 400, 500, 630, 800, 1000,
+                         1250, 1600, 2000, 2500, 3150, 4000, 5000) if fc.min() <= f <= fc.max()]
     ax.xaxis.set_major_locator(FixedLocator(ticks))
     ax.xaxis.set_major_formatter(FixedFormatter([f"{t:g}" for t in ticks]))
     ax.xaxis.set_minor_locator(NullLocator())

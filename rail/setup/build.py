@@ -32,7 +32,9 @@ from .config import ConfigError, configured_speeds, setting
 
 MAX_ROUGHNESS_BAYS = 64  # the schema's bound on roughness.bays (config/schema: roughness.bays.maximum)
 
-__all__ = ["HalfSpaceFigureSettings", "PASSAGE_KEYS", "OPTIONAL_KEYS", "elastic", "fleet", "fleet_classes", "track_cell", "passage_scenario", "scenario", "spectrum_scenario", "track", "physics_problems", "halfspace_numerics", "halfspace_figures"]
+__all__ = ["HalfSpaceFigureSettings", "PASSAGE_KEYS", "OPTIONAL_KEYS", "elastic", "fleet",
+           "fleet_classes", "track_cell", "passage_scenario", "scenario", "spectrum_scenario", "track",
+           "physics_problems", "halfspace_numerics", "halfspace_figures"]
 
 
 @dataclass(frozen=True, slots=True)
@@ -98,7 +100,8 @@ def track_cell(cfg: dict) -> TrackCell | None:
         return None
     r = c.get("random")
     rnd = None if r is None else RandomSupports(int(r["seed"]), str(setting(cfg, "track.cell.random.distribution")),
-                                               *(float(setting(cfg, f"track.cell.random.{k}")) for k in ("spacing", "pad", "ballast", "sleeper_mass")))
+                                               *(float(setting(cfg, f"track.cell.random.{k}"))
+                                                 for k in ("spacing", "pad", "ballast", "sleeper_mass")))
     damper = None if c.get("damper") is None else {
         **c["damper"], **{k: setting(cfg, f"track.cell.damper.{k}") for k in ("loss_factor", "viscous_damping", "position")}}
     try:

@@ -17,7 +17,8 @@ import numpy as np
 import yaml
 from jsonschema import Draft202012Validator
 
-__all__ = ["ConfigError", "load_yaml", "deep_merge", "validate_config", "resolve", "FLEET_SPECTRUM_KEYS", "fleet_spectrum", "expand_sweep", "check_scenario_names",
+__all__ = ["ConfigError", "load_yaml", "deep_merge", "validate_config", "resolve",
+           "FLEET_SPECTRUM_KEYS", "fleet_spectrum", "expand_sweep", "check_scenario_names",
            "scenario_files", "RESERVED_SCENARIO_NAMES", "SCENARIO_SUFFIXES"]
 
 

@@ -32,7 +32,8 @@ DEFAULT_SOURCE = "configuration (config/config.yaml and --config/--configfile)"
 # What each report figure reads of the configuration (its rule's params.cfg). A figure drawn from
 # another job's result carries that job's keys too, so that it records all it was computed from.
 HALFSPACE_KEYS = ("material", "contact.hertz_stiffness", "numerics.halfspace", "figures.halfspace")
-FORCE_KEYS = tuple(k for k in PASSAGE_KEYS if k not in ("wear", "wheelset", "rail_flexibility"))  # the forces of one passage (rail.chain.solve_forces)
+FORCE_KEYS = tuple(k for k in PASSAGE_KEYS if k not in ("wear", "wheelset", "rail_flexibility"))
+  # the forces of one passage (rail.chain.solve_forces)
 WEAR_CASE_KEYS = PASSAGE_KEYS + ("figures.wear.speed", "figures.wear.amplitude")
 GROWTH_FIGURE_KEYS = ("figures.growth", "figures.wear.spectrum_max_wavenumber")
 

@@ -41,8 +41,6 @@ extrapolated with its own growth law, reaches the limit spectrum.
 
 from __future__ import annotations
 
-from dataclasses import dataclass
-
 import numpy as np
 
 from ..growth import DB_PER_NEPER, BandGrowth, band_growth
@@ -52,8 +50,9 @@ from ..bands import NOMINAL_WAVELENGTHS_M, ThirdOctaveBands, in_band, nominal_ba
 from ..bands import wavelength_bands as third_octave_bands
 from .validity import VALIDITY_ATTRS, validity_text
 
-__all__ = ["NOMINAL_WAVELENGTHS_M", "ThirdOctaveBands", "third_octave_bands", "band_mean_square", "band_levels", "RATE_FLOOR_DB", "limit_tolerance", "ranked_bands",
-           "BandGrowth", "band_growth", "grinding_interval", "empty_band_reasons", "bands_dataset", "grinding_interval_text", "band_csv_text", "write_band_csv", "sweep_band_map", "readable_count"]
+__all__ = ["NOMINAL_WAVELENGTHS_M", "ThirdOctaveBands", "third_octave_bands", "band_mean_square", "band_levels", "RATE_FLOOR_DB",
+           "limit_tolerance", "ranked_bands", "BandGrowth", "band_growth", "grinding_interval", "empty_band_reasons", "bands_dataset",
+           "grinding_interval_text", "band_csv_text", "write_band_csv", "sweep_band_map", "readable_count"]
 
 # The level below which a band's growth rate is not ranked [dB re 1 um] (module docstring; docs/studies.md)
 RATE_FLOOR_DB = -30.0

@@ -31,7 +31,8 @@ def _track_attrs(track: Track, name: str) -> dict:
     return {"track_name": name, "sleeper_spacing_m": track.L, "damping_model": track.damping, "convention": _CONVENTION}
 
 
-def track_receptance(track: Track, name: str = "default", f_min: float = 10.0, f_max: float = 5000.0, points: int = 1000, rtol: float = 1e-7) -> xr.Dataset:
+def track_receptance(track: Track, name: str = "default", f_min: float = 10.0, f_max: float = 5000.0,
+                     points: int = 1000, rtol: float = 1e-7) -> xr.Dataset:
     """Vertical point receptance above a sleeper (x = 0) and at mid-span (x = L/2), m/N.
 
     Frequencies: ``points`` log-spaced from f_min to f_max (Hz) plus the characteristic
@@ -48,7 +49,8 @@ def track_receptance(track: Track, name: str = "default", f_min: float = 10.0, f
     return xr.Dataset(
         {
             "receptance_sleeper_real": data_var("frequency", sl.real, "m/N", "real part of the vertical point receptance above a sleeper, x = 0"),
-            "receptance_sleeper_imag": data_var("frequency", sl.imag, "m/N", "imaginary part of the vertical point receptance above a sleeper, x = 0"),
+            "receptance_sleeper_imag": data_var("frequency", sl.imag, "m/N",
+                                                "imaginary part of the vertical point receptance above a sleeper, x = 0"),
             "receptance_midspan_real": data_var("frequency", mid.real, "m/N", "real part of the vertical point receptance at mid-span, x = L/2"),
             "receptance_midspan_imag": data_var("frequency", mid.imag, "m/N", "imaginary part of the vertical point receptance at mid-span, x = L/2"),
         },
@@ -99,11 +101,17 @@ def moving_receptance(
     bay = np.array([np.mean(T.stationary_receptance(x0, x0, 2 * np.pi * fj, track)) for fj in f])
     return xr.Dataset(
         {
-            "moving_receptance_real": data_var(("speed", "frequency"), a0.real, "m/N", "real part of the moving-load receptance a_0(Omega) at the contact point"),
-            "moving_receptance_imag": data_var(("speed", "frequency"), a0.imag, "m/N", "imaginary part of the moving-load receptance a_0(Omega) at the contact point"),
+            "moving_receptance_real": data_var(("speed", "frequency"), a0.real, "m/N",
+                                               "real part of the moving-load receptance a_0(Omega) at the contact point"),
+            "moving_receptance_imag": data_var(("speed", "frequency"), a0.imag, "m/N",
+                                               "imaginary part of the moving-load receptance a_0(Omega) at the contact point"),
             "moving_receptance_error": data_var(("speed", "frequency"), err, "m/N", "estimated absolute error of a_0 from the wavenumber quadrature"),
-            "stationary_receptance_real": data_var("frequency", bay.real, "m/N", "real part of the stationary point receptance alpha(x0, x0) averaged over the load position x0 in a bay"),
-            "stationary_receptance_imag": data_var("frequency", bay.imag, "m/N", "imaginary part of the stationary point receptance alpha(x0, x0) averaged over the load position x0 in a bay"),
+            "stationary_receptance_real": data_var("frequency", bay.real, "m/N",
+                                                   "real part of the stationary point receptance alpha(x0, x0) "
+                                                   "averaged over the load position x0 in a bay"),
+            "stationary_receptance_imag": data_var("frequency", bay.imag, "m/N",
+                                                   "imaginary part of the stationary point receptance alpha(x0, x0) "
+                                                   "averaged over the load position x0 in a bay"),
             "sleeper_passing_frequency": data_var("speed", speeds / track.L, "Hz", "sleeper-passing frequency V / L"),
         },
         coords={
@@ -140,9 +148,14 @@ def track_decay_rate(track: Track, name: str = "default", **kwargs) -> xr.Datase
             "bay_sampled": "far positions sampling the whole bay",
             "custom": "positions given",
         }[scheme]
-        data[f"decay_rate{suffix}"] = data_var((exc, band), r.decay_rate[k], "dB/m", f"vertical track decay rate, EN 15461 {formula}; {what}", position_scheme=scheme)
-        data[f"position_weight{suffix}"] = data_var(pos, r.weights[k], "m", f"dx_n of the EN 15461 sum (trapezoidal rule); 0 where unused; {what}", position_scheme=scheme)
-        data[f"attenuation_at_last_position{suffix}"] = data_var((exc, band), r.attenuation[k], "dB", f"fall of the band-averaged |A|^2 from the excitation point to the last position; {what}", position_scheme=scheme)
+        data[f"decay_rate{suffix}"] = data_var((exc, band), r.decay_rate[k], "dB/m",
+                                               f"vertical track decay rate, EN 15461 {formula}; {what}", position_scheme=scheme)
+        data[f"position_weight{suffix}"] = data_var(pos, r.weights[k], "m",
+                                                    f"dx_n of the EN 15461 sum (trapezoidal rule); 0 where unused; {what}", position_scheme=scheme)
+        data[f"attenuation_at_last_position{suffix}"] = data_var((exc, band), r.attenuation[k], "dB",
+                                                                 f"fall of the band-averaged |A|^2 from the excitation point to the last "
+                                                                 f"position; {what}",
+                                                                 position_scheme=scheme)
     data.update(
         {
             "transfer_level": data_var((exc, band, pos), r.level, "dB", "band-averaged |A(x_n)|^2 relative to |A(x_0)|^2"),
@@ -178,6 +191,8 @@ def measured_decay_rate(measured: decay.MeasuredDecayRate) -> xr.Dataset:
     """A measured decay rate (``rail.decay.read_measured_decay_rate``) as a dataset on its own
     band coordinate, ready to merge beside the computed one."""
     return xr.Dataset(
-        {"measured_decay_rate": data_var("measured_band_centre", measured.decay_rate, "dB/m", "measured vertical track decay rate", source_file=measured.source)},
-        coords={"measured_band_centre": data_var("measured_band_centre", measured.band_centre, "Hz", "band centre frequency of the measured decay rate")},
+        {"measured_decay_rate": data_var("measured_band_centre", measured.decay_rate, "dB/m", "measured vertical track decay rate",
+                                         source_file=measured.source)},
+        coords={"measured_band_centre": data_var("measured_band_centre", measured.band_centre, "Hz",
+                                                 "band centre frequency of the measured decay rate")},
     )

@@ -90,7 +90,8 @@ def evaluate(*, levels_first, levels_final, argmax_harmonic, wear_amplitude, wea
     out[2] = (bool(amp_ratio >= 5), "wear at the roughness wavelength / mean: " + ", ".join(f"{wear_amplitude[x]:.3f} at {x:.0f} Hz" for x in f))
     nearest = min(f, key=lambda x: abs(x - pinned_pinned_Hz))
     largest = max(f, key=lambda x: wear_amplitude[x])
-    out["2b"] = (bool(largest == nearest), f"largest wear at {largest:.0f} Hz; pinned-pinned {pinned_pinned_Hz:.0f} Hz (nearest case {nearest:.0f} Hz)")
+    out["2b"] = (bool(largest == nearest),
+                 f"largest wear at {largest:.0f} Hz; pinned-pinned {pinned_pinned_Hz:.0f} Hz (nearest case {nearest:.0f} Hz)")
     out["2c"] = (bool(wear_rate[nearest] > 0), "in-phase rate per passage: " + ", ".join(f"{wear_rate[x]:.2e} at {x:.0f} Hz" for x in f))
     out[3] = (bool(ratio_slow > 3 and ratio_fast < 0.6 * ratio_slow), f"after-sleeper / mid-span: {ratio_slow:.2f} (slow), {ratio_fast:.2f} (fast)")
     out[4] = (bool(overall_soft < overall_default), f"{overall_soft:.2f} against {overall_default:.2f} dB")

@@ -174,8 +174,11 @@ def convergence_dataset(points: dict, study: dict, defaults: dict) -> xr.Dataset
     return xr.Dataset(
         {
             "cpu_time": data_var("point", times, "s", "CPU time of the computation (one core)"),
-            "error": data_var("point", errors, "1", f"error against the reference: force / fluctuation; wear and roughness: largest |Z_k / Z_k,ref - 1| over the harmonics within {WITHIN_DB:g} dB of the largest"),
-            "error_dB": data_var("point", np.array([r[5] for r in rows]), "dB", f"largest roughness level error within {WITHIN_DB:g} dB of the highest level (growth points)"),
+            "error": data_var("point", errors, "1",
+                              f"error against the reference: force / fluctuation; wear and roughness: "
+                              f"largest |Z_k / Z_k,ref - 1| over the harmonics within {WITHIN_DB:g} dB of the largest"),
+            "error_dB": data_var("point", np.array([r[5] for r in rows]), "dB",
+                                 f"largest roughness level error within {WITHIN_DB:g} dB of the highest level (growth points)"),
             "is_default": data_var("point", np.array([int(r[6]) for r in rows]), "1", "1 for the default value of the setting"),
             "on_pareto_front": data_var("point", front.astype(int), "1", "1 when no value of the same setting is both faster and more accurate"),
             "reference_value": data_var("point", np.array([r[7] for r in rows]), "1", "value of the setting in the reference"),
@@ -204,7 +207,8 @@ def convergence_rows(ds: xr.Dataset) -> list[list[str]]:
             i = d[0]
             err = f"{ds['error'].values[i]:.2g}" + (f" ({ds['error_dB'].values[i]:.2f} dB)" if np.isfinite(ds["error_dB"].values[i]) else "")
             rows.append([str(name), str(ds["quantity"].values[i]), f"{ds['value'].values[i]:g}", err, f"{ds['cpu_time'].values[i]:.1f}",
-                         f"{ds['reference_value'].values[i]:g} ({ds['reference_cpu_time'].values[i]:.1f})", "yes" if ds["on_pareto_front"].values[i] else "no", allv])
+                         f"{ds['reference_value'].values[i]:g} ({ds['reference_cpu_time'].values[i]:.1f})",
+                         "yes" if ds["on_pareto_front"].values[i] else "no", allv])
         else:
             rows.append([str(name), "", "(not in the study)", "", "", "", "", allv])
     return rows

@@ -20,7 +20,9 @@ from ..setup.build import HalfSpaceFigureSettings
 from ..setup.io import data_var
 from .validity import WEAR_PATH_TEXT
 
-__all__ = ["fig02", "fig03", "fig04", "radiation", "fig05", "fig06", "receptance_table", "read_receptance_table", "fig08", "fig22", "wear_case", "fig09", "fig10_11", "fig_wear", "fig_wear_spectrum", "growth", "growth_figure", "sweep"]
+__all__ = ["fig02", "fig03", "fig04", "radiation", "fig05", "fig06",
+           "receptance_table", "read_receptance_table", "fig08", "fig22", "wear_case", "fig09", "fig10_11",
+           "fig_wear", "fig_wear_spectrum", "growth", "growth_figure", "sweep"]
 
 
 
@@ -73,8 +75,10 @@ def fig04(material: ElasticMaterial, fig: HalfSpaceFigureSettings, numerics: Hal
     return xr.Dataset(
         {
             "displacement_real": data_var("radius", w.real, "m", "real part of the vertical displacement, eq (16), unit load"),
-            "displacement_imag": data_var("radius", w.imag, "m", "imaginary part of the vertical displacement, eq (16) with the Rayleigh residue, unit load"),
-            "displacement_boussinesq": data_var("radius", halfspace.boussinesq(fig.radii, material), "m", "static displacement, Boussinesq eq (17), unit load"),
+            "displacement_imag": data_var("radius", w.imag, "m",
+                                          "imaginary part of the vertical displacement, eq (16) with the Rayleigh residue, unit load"),
+            "displacement_boussinesq": data_var("radius", halfspace.boussinesq(fig.radii, material), "m",
+                                                "static displacement, Boussinesq eq (17), unit load"),
         },
         coords={"radius": data_var("radius", fig.radii, "m", "distance r from the loading point")},
         attrs={"frequency_Hz": fig.frequency, "load_N": 1.0},
@@ -116,7 +120,8 @@ def receptance_table(tab, track) -> xr.Dataset:
     dims = ("offset", "response_harmonic", "force_harmonic")
     ds = xr.Dataset(
         {
-            "receptance_real": data_var(dims, tab.A.real, "m/N", "real part of a_{p-k}(k Omega_0, d): response harmonic p at offset d per unit force harmonic k"),
+            "receptance_real": data_var(dims, tab.A.real, "m/N",
+                                        "real part of a_{p-k}(k Omega_0, d): response harmonic p at offset d per unit force harmonic k"),
             "receptance_imag": data_var(dims, tab.A.imag, "m/N", "imaginary part of a_{p-k}(k Omega_0, d)"),
             "quadrature_error": data_var(dims, tab.error, "m/N", "estimated absolute error of the wavenumber quadrature"),
         },
@@ -130,7 +135,8 @@ def receptance_table(tab, track) -> xr.Dataset:
             "sleeper_passing_frequency_Hz": tab.speed / track.L,
             "damping_model": track.damping,
             "quadrature_nodes": tab.nodes,
-            "convention": "harmonic p of the rail displacement at offset d equals sum_k A[d, p, k] P_k for force harmonics P_k; time factor exp(+i p Omega_0 t); displacement and force positive downwards",
+            "convention": "harmonic p of the rail displacement at offset d equals sum_k A[d, p, k] P_k for force harmonics P_k; "
+            "time factor exp(+i p Omega_0 t); displacement and force positive downwards",
         },
     )
     if tab.supports is not None:  # a track periodic over a cell of N bays (rail.moving.cell_receptance_table)
@@ -138,7 +144,8 @@ def receptance_table(tab, track) -> xr.Dataset:
             "cell_bays": int(tab.bays),
             "cell_attachment_positions_m": np.asarray(tab.supports, dtype=float),
             "cell_frequency_Hz": tab.speed / (track.L * tab.bays),
-            "convention": ds.attrs["convention"].replace("Omega_0", "Omega_P") + "; Omega_P = 2 pi V / P, the frequency of the track's cell of N bays (P = N L)",
+            "convention": ds.attrs["convention"].replace("Omega_0", "Omega_P")
+            + "; Omega_P = 2 pi V / P, the frequency of the track's cell of N bays (P = N L)",
         })
         for c in ("response_harmonic", "force_harmonic"):
             ds[c].attrs["long_name"] = ds[c].attrs["long_name"].replace("of the sleeper-passing frequency", "of the cell frequency V / (N L)")
@@ -161,13 +168,15 @@ def bloch_tables(tabs, track) -> xr.Dataset:
     dims = ("fraction", "offset", "response_harmonic", "force_harmonic")
     return xr.Dataset(
         {
-            "receptance_real": data_var(dims, A.real, "m/N", "real part of a_{p-k}((k + nu) Omega_0, d): response at (p + nu) Omega_0 per unit force at (k + nu) Omega_0"),
+            "receptance_real": data_var(dims, A.real, "m/N",
+                                        "real part of a_{p-k}((k + nu) Omega_0, d): response at (p + nu) Omega_0 per unit force at (k + nu) Omega_0"),
             "receptance_imag": data_var(dims, A.imag, "m/N", "imaginary part of a_{p-k}((k + nu) Omega_0, d)"),
             "quadrature_error": data_var(dims, err, "m/N", "estimated absolute error of the wavenumber quadrature"),
             "quadrature_nodes": data_var("fraction", np.array([t.nodes for t in tabs]), "1", "wavenumber quadrature nodes"),
         },
         coords={**{k: v for k, v in one.coords.items()},
-                "fraction": data_var("fraction", np.array([t.fraction for t in tabs]), "1", "Bloch fraction nu = r / N of the base frequency nu Omega_0")},
+                "fraction": data_var("fraction", np.array([t.fraction for t in tabs]), "1",
+                                     "Bloch fraction nu = r / N of the base frequency nu Omega_0")},
         attrs={**one.attrs, "bays": int(round(1 / tabs[1].fraction)) if len(tabs) > 1 else 1},
     )
 
@@ -208,12 +217,14 @@ def fig08(result, track, roughness, settings: dict, points: int = 601) -> xr.Dat
     """Fig. 8: normal contact force of one wheel over a bay with harmonic roughness, and that roughness."""
     x = np.linspace(0.0, track.L, points)
     data = _force_history_vars([(result, "normal contact force")], track, x, ["force"])
-    data["dynamic_force"] = data_var("position", data["force"][1] - result.P[0, result.harmonics].real, "N", "normal dynamic contact force (force minus static load)")
+    data["dynamic_force"] = data_var("position", data["force"][1] - result.P[0, result.harmonics].real,
+                                     "N", "normal dynamic contact force (force minus static load)")
     data["roughness"] = data_var("position", roughness.profile(x, track.L), "m", "rail-head roughness (upwards positive)")
     return xr.Dataset(
         data,
         coords={"position": data_var("position", x, "m", "wheel position in the sleeper bay (0 = above a sleeper)")},
-        attrs={"speed_m_per_s": settings["speed"], "roughness_frequency_Hz": settings["frequency"], "roughness_amplitude_m": settings["amplitude"], "damping_model": track.damping},
+        attrs={"speed_m_per_s": settings["speed"], "roughness_frequency_Hz": settings["frequency"],
+               "roughness_amplitude_m": settings["amplitude"], "damping_model": track.damping},
     )
 
 
@@ -285,7 +296,8 @@ def fig10_11(case: xr.Dataset, variable: str, instants_s=(0.0, 0.25e-3, 0.5e-3, 
     for t in instants_s:
         i = int(np.argmin(np.abs(x - V * t)))
         out[f"t{1e3 * t:.2f}ms".replace(".", "_")] = data_var(
-            "patch", case[variable].values[i], case[variable].attrs["units"], f"{case[variable].attrs['long_name']} at t = {1e3 * t:.2f} ms (x = {x[i]:.4f} m)"
+            "patch", case[variable].values[i], case[variable].attrs["units"],
+            f"{case[variable].attrs['long_name']} at t = {1e3 * t:.2f} ms (x = {x[i]:.4f} m)"
         )
     return xr.Dataset(out, coords={"patch": case["patch"]}, attrs=_attrs(case))
 
@@ -335,28 +347,35 @@ def growth(history, track, speed: float, n_wheels: int, points: int = 601, bays:
         amp_rate = dB_rate = np.full(K, np.nan)
     return xr.Dataset(
         {
-            "level": data_var(("passage", "harmonic"), levels, "dB re 1 um", "rms roughness level of each harmonic of the bay (NaN where the harmonic is exactly 0)"),
+            "level": data_var(("passage", "harmonic"), levels, "dB re 1 um",
+                              "rms roughness level of each harmonic of the bay (NaN where the harmonic is exactly 0)"),
             "profile": data_var(("passage", "position"), profiles, "m", "rail-head roughness profile over the bay (upwards positive)"),
             "Z_real": data_var(("passage", "harmonic_all"), Z.real, "m", "real part of the roughness coefficients Z_k, k = -K..K"),
             "Z_imag": data_var(("passage", "harmonic_all"), Z.imag, "m", "imaginary part of the roughness coefficients Z_k"),
             "exponential_rate": data_var("harmonic", exp_rate, "1", "e-folding rate of the rms amplitude per wheel passage over the second half "
-                                     "of the run (d ln A / dn; from a smooth rail the growth is linear in the amplitude, see amplitude_growth_um_per_1e5_axles)"),
+                                     "of the run (d ln A / dn; from a smooth rail the growth is linear in the amplitude, "
+                                     "see amplitude_growth_um_per_1e5_axles)"),
             "amplitude_growth_um_per_1e5_axles": data_var("harmonic", amp_rate, "um per 100000 axle passages",
                                                       "growth rate of the rms amplitude (straight-line fit over every save, as for a band)"),
             "growth_dB_per_1e5_axles": data_var("harmonic", dB_rate, "dB per 100000 axle passages",
                                             "level growth rate at the last save from the law (straight line or exponential in amplitude) "
                                             "that fits the line, as for a band (rail.growth.band_growth)"),
-            "step_error": data_var("update", history.step_error, "1", "estimated local error of each update relative to the roughness (rail.growth.step_error)"),
+            "step_error": data_var("update", history.step_error, "1",
+                                   "estimated local error of each update relative to the roughness (rail.growth.step_error)"),
             "full_slip": data_var("update", history.full_slip, "1", "largest fraction of the bay with no stick zone in the contact, per update"),
             **({} if force is None else {"force": data_var(("passage", "wheel", "position"), np.array([force(z, x) for z in Z]), "N",
                                                         "contact force of each wheel with the wheel at the position (eq 21)")}),
         },
         coords={
             "passage": data_var("passage", n, "1", "axle passages: wheel passages on the rail (a train of n wheels counts n)"),
-            "harmonic": data_var("harmonic", k, "1", "harmonic k of the sleeper bay" if bays == 1 else f"index j of the wavenumber 2 pi j / ({bays} L)"),
-            "wavenumber": data_var("harmonic", k / bays * track.beta0, "rad/m", "wavenumber k beta0" if bays == 1 else f"wavenumber j beta0 / {bays}"),
+            "harmonic": data_var("harmonic", k, "1",
+                                 "harmonic k of the sleeper bay" if bays == 1 else f"index j of the wavenumber 2 pi j / ({bays} L)"),
+            "wavenumber": data_var("harmonic", k / bays * track.beta0, "rad/m",
+                                   "wavenumber k beta0" if bays == 1 else f"wavenumber j beta0 / {bays}"),
             "harmonic_all": data_var("harmonic_all", np.arange(-K, K + 1), "1", "harmonic index k of Z_k"),
-            "position": data_var("position", x, "m", "position in the sleeper bay, 0 above a sleeper" if bays == 1 else f"position over the {bays}-bay period, 0 above a sleeper"),
+            "position": data_var("position", x, "m",
+                                 "position in the sleeper bay, 0 above a sleeper" if bays == 1
+                                 else f"position over the {bays}-bay period, 0 above a sleeper"),
         },
         attrs={"speed_m_per_s": speed, "wheels": n_wheels, "damping_model": track.damping, "pad_stiffness_N_per_m": track.pad.stiffness,
                **({} if bays == 1 else {"bays": bays})},
@@ -411,17 +430,20 @@ def growth_figure(runs: dict, kind: str, k_max_rad_per_m: float = 525.0) -> xr.D
     first = next(iter(runs.values()))
     if kind == "profiles":
         ds = first
-        out = {f"profile_{int(n)}": data_var("position", ds["profile"].values[i], "m", f"roughness profile after {int(n)} passages") for i, n in enumerate(ds["passage"].values)}
+        out = {f"profile_{int(n)}": data_var("position", ds["profile"].values[i], "m", f"roughness profile after {int(n)} passages")
+               for i, n in enumerate(ds["passage"].values)}
         return xr.Dataset(out, coords={"position": ds["position"]}, attrs=dict(ds.attrs))
     if kind == "final_profiles":
         out = {
-            _slug("profile", label): data_var("position", ds["profile"].values[-1], "m", f"roughness profile after {int(ds['passage'].values[-1])} passages, {label}", label=label)
+            _slug("profile", label): data_var("position", ds["profile"].values[-1], "m",
+                                              f"roughness profile after {int(ds['passage'].values[-1])} passages, {label}", label=label)
             for label, ds in runs.items()
         }
         return xr.Dataset(out, coords={"position": first["position"]})
     sel = first["wavenumber"].values <= k_max_rad_per_m
     out = {
-        _slug("level", label): data_var("harmonic", ds["level"].values[-1][sel], "dB re 1 um", f"roughness level after {int(ds['passage'].values[-1])} passages, {label}", label=label)
+        _slug("level", label): data_var("harmonic", ds["level"].values[-1][sel], "dB re 1 um",
+                                        f"roughness level after {int(ds['passage'].values[-1])} passages, {label}", label=label)
         for label, ds in runs.items()
     }
     return xr.Dataset(
@@ -470,7 +492,8 @@ def sweep(runs, keys, values, indices, units) -> xr.Dataset:
     overall = 10 * np.log10(np.sum(10 ** (level / 10), axis=-1))
     fastest = np.nanargmax(rate, axis=-1)
     wavelength = 2 * np.pi / first["wavenumber"].values[fastest]
-    coords["harmonic"] = data_var("harmonic", first["harmonic"].values, "1", first["harmonic"].attrs.get("long_name", "harmonic k of the sleeper bay"))
+    coords["harmonic"] = data_var("harmonic", first["harmonic"].values, "1",
+                                  first["harmonic"].attrs.get("long_name", "harmonic k of the sleeper bay"))
     coords["wavenumber"] = data_var("harmonic", first["wavenumber"].values, "rad/m", first["wavenumber"].attrs.get("long_name", "wavenumber k beta0"))
     return xr.Dataset(
         {

@@ -20,7 +20,8 @@ from .bands import RATE_FLOOR_DB, band_mean_square, empty_band_reasons
 from .validity import validity_text
 
 __all__ = ["ROLLING_NOISE_WAVELENGTHS_M", "rolling_noise_bands", "rolling_noise_levels", "combined_roughness",
-           "wheel_levels_on_bands", "spectrum_on_bands", "rolling_noise_csv_text", "BandOutputs", "band_outputs", "narrow_band_csv_text", "spectrum_csv_text", "spectrum_rates"]
+           "wheel_levels_on_bands", "spectrum_on_bands", "rolling_noise_csv_text", "BandOutputs", "band_outputs",
+           "narrow_band_csv_text", "spectrum_csv_text", "spectrum_rates"]
 
 # Nominal centre wavelengths [m] of the one-third-octave bands CNOSSOS-EU tabulates rail and wheel
 # roughness in (Directive (EU) 2015/996, Annex II sec. 2.3 and Appendix G, Table G-1: 2000 mm down

@@ -13,7 +13,7 @@ from .. import chain, interaction
 from .validity import creepage_model_text
 from ..fleet import Fleet
 from ..bands import in_band, wavelength_bands
-from ..growth_spectrum import FleetRateSpectrum
+from ..growth_spectrum import FleetRateSpectrum, RateSpectrum
 from ..traffic import Traffic
 from . import datasets
 from ..setup.io import data_var
@@ -76,7 +76,6 @@ def spectrum_from_arrays(arrays) -> "RateSpectrum":
     -------
     rail.growth_spectrum.RateSpectrum
     """
-    from ..growth_spectrum import RateSpectrum
 
     kw = {}
     for f in dataclasses.fields(RateSpectrum):

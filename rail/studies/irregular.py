@@ -161,8 +161,10 @@ def case_dataset(cell: TrackCell, uniform: Track, speed: float, growth: xr.Datas
 
     return xr.Dataset(
         {
-            "receptance_above_support_dB": data_var(("frequency", "support"), db(above), "dB re 1 m/N", "point receptance magnitude above each support"),
-            "receptance_mid_bay_dB": data_var(("frequency", "support"), db(mid), "dB re 1 m/N", "point receptance magnitude mid-way to the next support"),
+            "receptance_above_support_dB": data_var(("frequency", "support"), db(above), "dB re 1 m/N",
+                                                    "point receptance magnitude above each support"),
+            "receptance_mid_bay_dB": data_var(("frequency", "support"), db(mid), "dB re 1 m/N",
+                                              "point receptance magnitude mid-way to the next support"),
             "uniform_receptance_above_support_dB": data_var("frequency", db(ua), "dB re 1 m/N", "uniform track: point receptance above a support"),
             "uniform_receptance_mid_bay_dB": data_var("frequency", db(um), "dB re 1 m/N", "uniform track: point receptance at mid-span"),
             "force": data_var("position", force, "N", "contact force of the wheel over the smooth rail along the cell"),
@@ -193,7 +195,8 @@ def case_dataset(cell: TrackCell, uniform: Track, speed: float, growth: xr.Datas
             "wavelength": data_var("wavelength", lam, "m", "roughness wavelength of the line"),
             "wavelength_uniform": data_var("wavelength_uniform", lam_u, "m", "roughness wavelength of the line (uniform track)"),
             "spectrum_wavelength": data_var("spectrum_wavelength", sp["wavelength"].values, "m", "growth-rate spectrum wavelength"),
-            "spectrum_wavelength_uniform": data_var("spectrum_wavelength_uniform", su["wavelength"].values, "m", "growth-rate spectrum wavelength (uniform track)"),
+            "spectrum_wavelength_uniform": data_var("spectrum_wavelength_uniform", su["wavelength"].values, "m",
+                                                    "growth-rate spectrum wavelength (uniform track)"),
         },
         attrs={"speed_m_per_s": float(speed), "cell_bays": cell.bays, "cell_period_m": cell.period,
                "rail_dampers": len(cell.dampers),

@@ -11,7 +11,8 @@ from ..setup.io import data_var
 from .datasets import sweep_coords
 from .validity import WEAR_PATH_TEXT, creepage_model_text, validity_text
 
-__all__ = ["spectrum_with_settings", "rate_spectrum_dataset", "spectrum_dataset_of", "REPORT_VALID_PATCH_LENGTHS", "sweep_rate_spectrum", "growing_bands", "summary_markdown", "PASSAGES_PER_DB"]
+__all__ = ["spectrum_with_settings", "rate_spectrum_dataset", "spectrum_dataset_of",
+           "REPORT_VALID_PATCH_LENGTHS", "sweep_rate_spectrum", "growing_bands", "summary_markdown", "PASSAGES_PER_DB"]
 
 PASSAGES_PER_DB = 100000  # the dB growth is stated per this many train passages
 # The report's normal contact (point spring, Hertz patch with the local curvature) is taken as valid

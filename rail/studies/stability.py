@@ -154,7 +154,8 @@ def stability_dataset(records: list[dict], expect: dict, critical_speed: float) 
     def col(key):
         return np.array([str(r[key]) for r in records])
 
-    checks = np.array(["; ".join(f"{c['name']} {c['value']:.3g} (limit {c['limit']:.3g}) {'pass' if c['passed'] else 'FAIL'}" for c in r["checks"]) for r in records])
+    checks = np.array(["; ".join(f"{c['name']} {c['value']:.3g} (limit {c['limit']:.3g}) {'pass' if c['passed'] else 'FAIL'}"
+                                 for c in r["checks"]) for r in records])
     expected = np.array(["ok" if expect[n] == "ok" else f"error: {expect[n]['error']}" for n in names])
     matches = np.array([int(outcome_matches(r, expect[r["case"]])) for r in records])
     return xr.Dataset(
@@ -167,7 +168,8 @@ def stability_dataset(records: list[dict], expect: dict, critical_speed: float) 
             "checks": data_var("case", checks, "1", "checks of a completed case: value, limit, outcome"),
             "expected": data_var("case", expected, "1", "expected outcome (config/stability.yaml)"),
             "as_expected": data_var("case", matches, "1", "1 when the outcome is the expected one"),
-            "full_slip": data_var("case", np.array([float(r["full_slip"]) for r in records]), "1", "fraction of the bay without a stick zone (one passage)"),
+            "full_slip": data_var("case", np.array([float(r["full_slip"]) for r in records]), "1",
+                                  "fraction of the bay without a stick zone (one passage)"),
             "cpu_time": data_var("case", np.array([float(r["cpu_s"]) for r in records]), "s", "CPU time of the case"),
         },
         coords={"case": data_var("case", np.array(names), "1", "stability case")},

@@ -16,7 +16,8 @@ WEAR_PATH_TEXT = {"patch": "patch: the wear where the contact patch is, its cent
 def validity_text(attrs) -> str:
     """One line stating the validity of a result from its attributes (a growth, band or spectrum
     dataset's): where the wear is deposited, the contact-centre flag if raised, the normal contact's
-    wavelength limit (docs/contact.md), and the dynamic creepage where modelled (docs/dynamic-creepage.md). Every export's header and the run summary carry it.
+    wavelength limit (docs/contact.md), and the dynamic creepage where modelled (docs/dynamic-creepage.md).
+    Every export's header and the run summary carry it.
 
     Parameters
     ----------

@@ -367,9 +367,9 @@ def _static_single(x_obs, x0, params, J):
     l_ = le
     # element stiffness (Przemieniecki / interdependent interpolation), dofs (w1, t1, w2, t2)
     K = np.empty((le.size, 4, 4))
-    K[:, 0, 0] = 12; K[:, 0, 1] = 6 * l_; K[:, 0, 2] = -12; K[:, 0, 3] = 6 * l_
-    K[:, 1, 1] = (4 + phi) * l_**2; K[:, 1, 2] = -6 * l_; K[:, 1, 3] = (2 - phi) * l_**2
-    K[:, 2, 2] = 12; K[:, 2, 3] = -6 * l_
+    K[:, 0, 0] = 12; K[:, 0, 1] = 6 * l_; K[:, 0, 2] = -12; K[:, 0, 3] = 6 * l_  # noqa: E702 (laid out as the matrix's rows)
+    K[:, 1, 1] = (4 + phi) * l_**2; K[:, 1, 2] = -6 * l_; K[:, 1, 3] = (2 - phi) * l_**2  # noqa: E702 (laid out as the matrix's rows)
+    K[:, 2, 2] = 12; K[:, 2, 3] = -6 * l_  # noqa: E702 (laid out as the matrix's rows)
     K[:, 3, 3] = (4 + phi) * l_**2
     for i in range(4):
         for j in range(i):

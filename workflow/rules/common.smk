@@ -175,7 +175,8 @@ def convergence_table(wildcards):
 
 def rate_spectrum_speeds(wildcards):
     """The per-speed spectra of a scenario (figures.rate_spectrum.speeds)."""
-    return [f"results/spectrum/{wildcards.scenario}/V{speed_label(v)}.nc" for v in SCENARIOS[wildcards.scenario]["figures"]["rate_spectrum"]["speeds"]]
+    return [f"results/spectrum/{wildcards.scenario}/V{speed_label(v)}.nc"
+            for v in SCENARIOS[wildcards.scenario]["figures"]["rate_spectrum"]["speeds"]]
 
 
 # Sweeps (workflow/rules/sweeps.smk, spectrum.smk).

@@ -226,7 +226,8 @@ rule fleet_bands:
                           subcategory="{scenario}"),
         rolling_noise_csv=report("results/fleet/{scenario}/rolling_noise_roughness.csv", caption="../report/fleet_bands.rst",
                                  category="Traffic (fleet)", subcategory="{scenario}"),
-        figure=report("results/fleet/{scenario}/bands.png", caption="../report/fleet_bands.rst", category="Traffic (fleet)", subcategory="{scenario}"),
+        figure=report("results/fleet/{scenario}/bands.png", caption="../report/fleet_bands.rst",
+                      category="Traffic (fleet)", subcategory="{scenario}"),
     priority: PRIORITY_KERNELS  # a cheap view: not queued behind long jobs (issue 45, item 14)
     params:
         code=code("growth_bands.py"),

@@ -57,7 +57,8 @@ rule growth_narrowband:
     input:
         "results/growth/{scenario}/V{speed}.nc",
     output:
-        report("results/growth/{scenario}/V{speed}_narrowband.png", caption="../report/growth_narrowband.rst", category="Roughness at any wavelength"),
+        report("results/growth/{scenario}/V{speed}_narrowband.png", caption="../report/growth_narrowband.rst",
+               category="Roughness at any wavelength"),
     params:
         code=code("growth_figure.py"),
     resources:
@@ -79,7 +80,8 @@ rule scenario_overview:
     input:
         unpack(scenario_overview_inputs),
     output:
-        report("results/growth/{scenario}/V{speed}_overview.png", caption="../report/scenario_overview.rst", category="Scenarios", subcategory="{scenario}"),
+        report("results/growth/{scenario}/V{speed}_overview.png", caption="../report/scenario_overview.rst",
+               category="Scenarios", subcategory="{scenario}"),
     priority: PRIORITY_KERNELS  # a cheap view: not queued behind long jobs (issue 45, item 14)
     params:
         code=code("growth_figure.py"),
@@ -116,11 +118,13 @@ rule growth_bands:
         data="results/growth/{scenario}/V{speed}_bands.nc",
         csv=report("results/growth/{scenario}/V{speed}_bands.csv", caption="../report/growth_bands.rst", category="Roughness bands (EN 15610 form)",
                    subcategory="{scenario}"),
-        narrow_csv=report("results/growth/{scenario}/V{speed}_narrowband.csv", caption="../report/growth_bands.rst", category="Roughness bands (EN 15610 form)",
+        narrow_csv=report("results/growth/{scenario}/V{speed}_narrowband.csv", caption="../report/growth_bands.rst",
+                          category="Roughness bands (EN 15610 form)",
                           subcategory="{scenario}"),
         rolling_noise_csv=report("results/growth/{scenario}/V{speed}_rolling_noise_roughness.csv", caption="../report/growth_bands.rst",
                                  category="Roughness bands (EN 15610 form)", subcategory="{scenario}"),
-        figure=report("results/growth/{scenario}/V{speed}_bands.png", caption="../report/growth_bands.rst", category="Roughness bands (EN 15610 form)",
+        figure=report("results/growth/{scenario}/V{speed}_bands.png", caption="../report/growth_bands.rst",
+                      category="Roughness bands (EN 15610 form)",
                       subcategory="{scenario}"),
     priority: PRIORITY_KERNELS  # a cheap view: not queued behind long jobs (issue 45, item 14)
     params:

@@ -20,7 +20,8 @@ rule irregular_case:
         case="irregular_[a-z_]+",
     params:
         code=code("irregular_case.py"),
-        cfg=lambda w: {"case": config_part(("track",), SCENARIOS[w.case]), "uniform": config_part(("track", "numerics.track"), SCENARIOS["irregular_uniform"])},
+        cfg=lambda w: {"case": config_part(("track",), SCENARIOS[w.case]),
+                       "uniform": config_part(("track", "numerics.track"), SCENARIOS["irregular_uniform"])},
         speed=float(IRREGULAR_SPEED),
     log:
         "logs/irregular/{case}.log",

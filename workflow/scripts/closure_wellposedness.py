@@ -19,7 +19,9 @@ def main(config, values, nodes, out_path, log):
             g[i, j] = contact.perturbation_growth(m, P, V, n, closure="default", closure_scale=s, L=L)
             print(f"s = {s:g}, {n} nodes: growth per transit {g[i, j]:.3f}", file=log, flush=True)
     ds = xr.Dataset(
-        {"growth_per_transit": (("closure_scale", "nodes"), g, {"units": "1", "long_name": "growth factor per patch transit of a perturbation of steady rolling (< 1: well-posed)"})},
+        {"growth_per_transit": (("closure_scale", "nodes"), g, {"units": "1",
+                                                                "long_name": "growth factor per patch transit of a perturbation of "
+                                                                             "steady rolling (< 1: well-posed)"})},
         coords={
             "closure_scale": ("closure_scale", np.asarray(values, dtype=float), {"units": "1", "long_name": "closure scale s"}),
             "nodes": ("nodes", np.asarray(nodes), {"units": "1", "long_name": "contact grid nodes across the patch"}),

@@ -16,7 +16,8 @@ def main(config, study, paths, out):
     ds = convergence.convergence_dataset(points, study, convergence.default_settings(build.scenario(config)))
     io.write_netcdf(io.finalize(ds, config, title="Convergence study", source="rail.studies.convergence"), out["data"])
     plots.convergence_figure(ds).savefig(out["figure"], dpi=150)
-    conclusions.write_tables(convergence.convergence_rows(ds), out["table"], out["html"], "Convergence study: error of the defaults against a 4-times refined reference")
+    conclusions.write_tables(convergence.convergence_rows(ds), out["table"], out["html"],
+                             "Convergence study: error of the defaults against a 4-times refined reference")
 
 
 if __name__ == "__main__":

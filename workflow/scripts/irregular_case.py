@@ -16,7 +16,8 @@ def main(case_config, uniform_config, speed, paths, out_data, out_figure, log):
         ds = irregular.case_dataset(cell, uniform, speed, g.load(), gu.load(), s.load(), su.load())
     print(f"cell of {cell.bays} bays, {len(cell.dampers)} rail dampers; pinned-pinned band {ds.attrs['pp_band_m'] * 1e3:g} mm: "
           f"{ds.attrs['pp_level_dB']:.1f} dB (uniform {ds.attrs['uniform_pp_level_dB']:.1f} dB)", file=log, flush=True)
-    io.write_netcdf(io.finalize(ds, {"case": case_config, "uniform": uniform_config}, title=f"Irregular track beside the uniform track at {speed:g} m/s",
+    io.write_netcdf(io.finalize(ds, {"case": case_config, "uniform": uniform_config},
+                                title=f"Irregular track beside the uniform track at {speed:g} m/s",
                                 source="rail.studies.irregular.case_dataset"), out_data)
     fig = case_figure(ds, f"{paths['name']}: a track cell of {cell.bays} bays beside the uniform track, {speed:g} m/s")
     fig.savefig(out_figure, dpi=110)

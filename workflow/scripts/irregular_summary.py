@@ -30,12 +30,14 @@ def main(cfgs, case_cfgs, spreads, uniform_cfg, speed, cases, uniform_path, rand
         {
             "pp_level_dB": io.data_var("case", np.array([r[3]["pp_level_dB"] for r in rows]), "dB re 1 um",
                                 "level of the one-third-octave band holding the pinned-pinned wavelength after the run"),
-            "loudest_level_dB": io.data_var("case", np.array([r[3]["loudest_level_dB"] for r in rows]), "dB re 1 um", "level of the loudest band (20 mm - 1 m)"),
+            "loudest_level_dB": io.data_var("case", np.array([r[3]["loudest_level_dB"] for r in rows]), "dB re 1 um",
+                                            "level of the loudest band (20 mm - 1 m)"),
             "loudest_band_m": io.data_var("case", np.array([r[3]["loudest_band_m"] for r in rows]), "m", "nominal centre of the loudest band"),
         },
         coords={"case": io.data_var("case", np.array([r[0] for r in rows]), "1", "scenario"),
                 "kind": io.data_var("case", np.array([r[1] for r in rows]), "1", "uniform, named case or random track"),
-                "spacing_spread": io.data_var("case", np.array([r[2] for r in rows]), "1", "spread of the sleeper spacing of a random track (uniform draw, +-)")},
+                "spacing_spread": io.data_var("case", np.array([r[2] for r in rows]), "1",
+                                              "spread of the sleeper spacing of a random track (uniform draw, +-)")},
         attrs={"speed_m_per_s": speed, "pp_band_m": rows[0][3]["pp_band_m"], "passages": rows[0][3]["passages"],
                "pinned_pinned_wavelength_m": rows[0][3]["pinned_pinned_wavelength_m"]},
     )
@@ -44,7 +46,8 @@ def main(cfgs, case_cfgs, spreads, uniform_cfg, speed, cases, uniform_path, rand
     summary_figure(ds).savefig(out["figure"], dpi=110)
     lines = [f"# Irregular track at {speed:g} m/s: the pinned-pinned band ({1e3 * ds.attrs['pp_band_m']:g} mm, "
              f"V / f_pp = {1e3 * ds.attrs['pinned_pinned_wavelength_m']:.1f} mm) after {ds.attrs['passages']} passages", "",
-             "| case | kind | spacing spread | pinned-pinned band (dB re 1 µm) | change from uniform (dB) | loudest band (mm) | its level (dB re 1 µm) |",
+             "| case | kind | spacing spread | pinned-pinned band (dB re 1 µm) | "
+             "change from uniform (dB) | loudest band (mm) | its level (dB re 1 µm) |",
              "|---|---|---|---|---|---|---|"]
     u = float(ds["pp_level_dB"].values[0])
     for i in range(n):

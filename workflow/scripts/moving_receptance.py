@@ -11,7 +11,8 @@ from rail.plotting import track as plots
 def main(config, name, speeds, data_path, figure_path):
     scn = build.scenario(config, name)
     ds = characterisation.moving_receptance(scn.track, speeds, name, points=400, rtol=scn.track_numerics.rtol)
-    ds = io.finalize(ds, config, title=f"Moving-load receptance at the contact point, track '{name}'", source="rail.studies.characterisation.moving_receptance")
+    ds = io.finalize(ds, config, title=f"Moving-load receptance at the contact point, track '{name}'",
+                     source="rail.studies.characterisation.moving_receptance")
     io.write_netcdf(ds, data_path)
     plots.moving_receptance(ds).savefig(figure_path, dpi=150)
 

@@ -20,4 +20,5 @@ def main(config, study, keys, values, indices, units, run_paths, data_path, figu
 
 if __name__ == "__main__":
     sys.stderr = open(snakemake.log[0], "w")  # noqa: F821
-    main(snakemake.params.cfg, snakemake.wildcards.study, snakemake.params.swept, snakemake.params.grid, snakemake.params.indices, snakemake.params.units, list(snakemake.input), snakemake.output.data, snakemake.output.figure)  # noqa: F821
+    main(snakemake.params.cfg, snakemake.wildcards.study, snakemake.params.swept, snakemake.params.grid, snakemake.params.indices,  # noqa: F821
+         snakemake.params.units, list(snakemake.input), snakemake.output.data, snakemake.output.figure)  # noqa: F821
