@@ -19,7 +19,8 @@ ROOT = Path(__file__).resolve().parents[1]
 RAIL = ROOT / "rail"
 SCRIPTS = sorted((ROOT / "workflow/scripts").glob("*.py"))
 LAYERS = {"physics": 0, "setup": 1, "studies": 2, "plotting": 3, "app": 4}
-PHYSICS_PACKAGES = {"contact", "growth_spectrum", "noise"}  # packages of the physics layer (rail/contact/: the contact models; rail/growth_spectrum/; rail/noise/: CNOSSOS-EU rolling noise)
+# packages of the physics layer (rail/contact/: the contact models; rail/growth_spectrum/; rail/noise/: CNOSSOS-EU rolling noise)
+PHYSICS_PACKAGES = {"contact", "growth_spectrum", "noise"}
 
 
 def _layer(path: Path) -> str:

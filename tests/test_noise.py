@@ -301,7 +301,9 @@ def test_the_energy_rule_conserves_the_mean_square_and_the_level_rule_does_not()
     k0, w = int(np.floor(q[0])), q[0] - np.floor(q[0])
     e = 10 ** (levels / 10)
     expected = (1 - w) * e[k0] + e[k0 + 1:k0 + 24].sum() + w * e[k0 + 24]
-    got = lambda rule: np.sum(10 ** (C.wavelength_to_frequency(levels, v, rule) / 10))
+    def got(rule):
+        return np.sum(10 ** (C.wavelength_to_frequency(levels, v, rule) / 10))
+
     assert got("energy") == pytest.approx(expected, rel=1e-12)
     assert abs(got("level") / expected - 1) > 1e-3
 
