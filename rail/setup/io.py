@@ -62,15 +62,16 @@ def package_versions() -> dict[str, str]:
     return out
 
 
-_LEVEL = re.compile(r"^dB(?: re (?P<ref>.+))?$")
+_LEVEL = re.compile(r"^dB(?P<weighting>\(A\))?(?: re (?P<ref>.+))?$")
 _PER_PASSAGES = re.compile(r"^(?P<unit>\S+) per (?P<n>[0-9]+) (?:(?P<kind>axle|train) )?passages$")
 
 
 def cf_units(units: str) -> tuple[str, dict]:
     """A unit string that udunits parses (CF conventions), and the attributes that say the rest.
 
-    * levels in decibels ("dB", "dB re 1 um"): units "1" (a level is a number), with level_unit
-      "dB" and level_reference the reference ("1 um", meaning 1 µm rms);
+    * levels in decibels ("dB", "dB re 1 um", "dB(A) re 1 pW"): units "1" (a level is a number), with
+      level_unit "dB", level_reference the reference ("1 um", meaning 1 µm rms) and, for dB(A),
+      frequency_weighting "A";
     * "dB/m" (a decay rate): "1/m" with level_unit "dB";
     * rates per N passages ("um per 100000 passages", "dB per 100000 axle passages", "dB per 100000
       train passages"): the unit scaled to one passage ("1e-05 um": the value times 1e-05 um is the
@@ -80,6 +81,8 @@ def cf_units(units: str) -> tuple[str, dict]:
     m = _LEVEL.match(units)
     if m:
         extra = {"level_unit": "dB", "units_text": units}
+        if m.group("weighting"):  # an A-weighted level (IEC 61672-1), dB(A)
+            extra["frequency_weighting"] = "A"
         if m.group("ref"):
             extra["level_reference"] = m.group("ref") + " rms" if "um" in m.group("ref") else m.group("ref")
         return "1", extra
