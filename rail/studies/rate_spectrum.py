@@ -125,7 +125,7 @@ def rate_spectrum_dataset(spectra: dict[float, RateSpectrum], L: float, wheels: 
                **(traffic.attributes() if traffic is not None else {}),
                **({"contact_length_m": float(contact_length)} if contact_length else {}),
                **({"normal_contact": str(normal)} if normal is not None else {}),
-               **({"wear_path": WEAR_PATH_TEXT[wear_path]} if wear_path else {}),
+               **({"wear_path": wear_path, "wear_path_description": WEAR_PATH_TEXT[wear_path]} if wear_path else {}),
                **({"report_model_valid_above_m": REPORT_VALID_PATCH_LENGTHS * float(contact_length),
                    "validity": f"the report's normal contact (point spring, local-curvature Hertz patch) holds for wavelengths above "
                                f"about {REPORT_VALID_PATCH_LENGTHS} patch lengths ({1e3 * REPORT_VALID_PATCH_LENGTHS * contact_length:.0f} mm); "

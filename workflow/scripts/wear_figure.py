@@ -7,6 +7,7 @@ import matplotlib.pyplot as plt
 from rail.plotting import report
 from rail.setup import io
 from rail.studies import datasets
+from rail.studies.validity import model_attributes
 
 
 def figure(nn, config, case, case_path):
@@ -22,6 +23,7 @@ def figure(nn, config, case, case_path):
     else:
         ds = datasets.fig_wear_spectrum(case, float(config["figures"]["wear"]["spectrum_max_wavenumber"]))
         draw = report.fig_wear_spectrum
+    ds = ds.assign_attrs(model_attributes(config["contact"]["wear_path"], config["contact"]["normal"]))
     return io.finalize(ds, config, title=f"Figure {n}", source=f"rail.studies.datasets (from {case_path})"), draw
 
 
