@@ -5,6 +5,7 @@ built by the writers the workflow uses (rail.studies.datasets.growth, rate_spect
 each test takes well under a second of drawing."""
 
 import ast
+import dataclasses
 import importlib.util
 import re
 from pathlib import Path
@@ -559,3 +560,35 @@ def test_integer_like_attributes_are_written_as_integers(tmp_path):
 
     classes = fl.classes(build.scenario(load_yaml(ROOT / "config/config.yaml")))  # weights 0.3 / 3 and 0.7 / 3
     assert chain.fleet_wheels(classes) == 4.0  # the growth file's wheels
+
+
+def test_a_narrow_spectrum_near_pinned_pinned_has_tick_labels_markers_and_names_its_track_and_mechanisms(tmp_path):
+    # issue 57, item 8: the rate_spectrum.png of a few lines near pinned-pinned (33-38 mm, between the
+    # round ticks 30 and 50) had no wavelength tick labels and no markers and named neither the track nor
+    # the mechanisms
+    from rail.growth_spectrum import RateSpectrum
+    from rail.setup import build
+    from rail.setup.config import load_yaml
+    from rail.studies.rate_spectrum import rate_spectrum_dataset, spectrum_dataset_of
+
+    scn = build.spectrum_scenario(load_yaml(ROOT / "config/config.yaml"))
+    N = 48
+    lines = np.arange(760, 870, 20)  # 37.9 .. 33.5 mm of a 48-bay period
+    rate = (np.linspace(-1, 1, lines.size) * 1e-7).astype(complex)
+    sp = RateSpectrum(N * 0.6 / lines, lines, np.zeros(lines.size, dtype=int), rate, rate, np.zeros(lines.size), np.zeros(lines.size),
+                      np.zeros(lines.size), 1e-4, 1e-9, N, 1)
+    ds = spectrum_dataset_of({39.0: sp}, dataclasses.replace(scn, roughness=dataclasses.replace(scn.roughness, bays=N)))
+    assert (ds.attrs["pad_stiffness_N_per_m"], ds.attrs["wear_path"], ds.attrs["normal_contact"]) == (3.5e8, "wheel", "report")
+    fig = study_plots.rate_spectrum_figure(ds)
+    fig.canvas.draw()
+    ax = fig.axes[0]
+    labels = [t.get_text() for t in ax.get_xticklabels() if t.get_text()]
+    assert len(labels) >= 2 and all(33.0 <= float(x) <= 38.5 for x in labels), labels
+    line = next(ln for ln in ax.get_lines() if np.size(ln.get_xdata()) == lines.size)
+    assert line.get_marker() == "o"
+    assert "track: pad 3.5×10⁸ N/m, sleeper spacing 0.6 m" in ax.get_title()
+    notes = " ".join(" ".join(_texts(fig)).split())  # the note is wrapped over lines
+    for said in ("normal contact report", "wear path wheel", "wheelset none: fixed creepage", "rail flexibility none",
+                 "friction step, the report's (mu_s = 0.3, mu_d = 0.3)"):
+        assert said in notes, said
+    fig.savefig(tmp_path / "rate_spectrum.png", dpi=150)
