@@ -5,7 +5,7 @@ import sys
 import matplotlib.pyplot as plt
 
 from rail.plotting import report
-from rail.setup import io
+from rail.setup import build, io
 from rail.studies import datasets
 from rail.studies.validity import model_attributes
 
@@ -23,7 +23,8 @@ def figure(nn, config, case, case_path):
     else:
         ds = datasets.fig_wear_spectrum(case, float(config["figures"]["wear"]["spectrum_max_wavenumber"]))
         draw = report.fig_wear_spectrum
-    ds = ds.assign_attrs(model_attributes(config["contact"]["wear_path"], config["contact"]["normal"]))
+    nums = build.passage_scenario(config).contact_numerics  # the wear case's contact (its configuration)
+    ds = ds.assign_attrs(model_attributes(nums.path, nums.normal))
     return io.finalize(ds, config, title=f"Figure {n}", source=f"rail.studies.datasets (from {case_path})"), draw
 
 
