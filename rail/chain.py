@@ -368,7 +368,9 @@ def fleet_wheels(classes) -> float:
     -------
     float
     """
-    return float(sum(c.weight * len(c.scenario.wheels.positions) for c in classes))
+    # the weighted mean sum w_c n_c / sum w_c: the weights sum to 1 only to rounding (rail.fleet.SUM_TOLERANCE),
+    # and a fleet whose vehicles all have n wheels has n wheels per passage exactly, not 3.9999999999999996
+    return float(sum(c.weight * len(c.scenario.wheels.positions) for c in classes) / sum(c.weight for c in classes))
 
 
 def fleet_wear(classes, tables: dict, Z, grid_phase: float = 0.0, warm: dict | None = None):

@@ -282,13 +282,14 @@ class Fleet:
 
     @property
     def axles_per_train(self) -> float:
-        """Mean axles per fleet passage, sum_v share_v n_v [-] (wheel passages on one rail)."""
-        return float(sum(v.share * v.axles for v in self.vehicles))
+        """Mean axles per fleet passage, sum_v share_v n_v / sum_v share_v [-] (wheel passages on one rail;
+        the shares sum to 1 only to SUM_TOLERANCE, and vehicles of n axles each give n exactly)."""
+        return float(sum(v.share * v.axles for v in self.vehicles) / sum(v.share for v in self.vehicles))
 
     @property
     def mean_axle_load(self) -> float:
         """Mean load of the axles that pass [t]: sum_v share_v n_v Q_v / sum_v share_v n_v, Q_v = 2 P_v / g."""
-        return float(sum(v.share * v.axles * v.axle_load for v in self.vehicles) / self.axles_per_train)
+        return float(sum(v.share * v.axles * v.axle_load for v in self.vehicles) / sum(v.share * v.axles for v in self.vehicles))
 
     @property
     def trains_per_day(self) -> float:

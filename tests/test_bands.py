@@ -272,3 +272,103 @@ def test_a_band_at_its_limit_to_the_stated_precision_is_not_exceeded():
     ds2 = B.bands_dataset(_growth(4, 64, n, {j50: a2}), L, tob, 1, (tob.nominal, lim))
     assert ds2.attrs["limit_exceeded_at_start"] == 1 and ds2.attrs["grinding_interval_passages"] == 0
     assert "limit already exceeded by the initial roughness (the 50 mm band)" in ds2.attrs["grinding_interval_text"]
+
+
+# -- issue 57, item 8: the grinding interval's extrapolation, decaying bands, bands grown from nothing ------
+
+def _fifty_mm(n, level0=10.0, dB_per_1e5=0.3):
+    """A 50 mm line whose band level starts at level0 dB re 1 um and grows exponentially at dB_per_1e5."""
+    return np.sqrt(2) * 1e-6 * 10 ** (level0 / 20) * np.exp(dB_per_1e5 / B.DB_PER_NEPER * n / 1e5)
+
+
+def test_the_grinding_interval_states_how_far_it_extrapolates_the_run_and_flags_a_far_one():
+    # the fleet's "29.7 years, 1,180 MGT, set by the 250 mm band" extrapolated a 100,000-axle run about
+    # 870 times, and neither the band CSV nor the figure said so
+    n = np.arange(0, 100001, 10000)
+    j50 = int(round(4 * L / 0.05))
+    tob = B.third_octave_bands()
+    b50 = int(np.nonzero(tob.nominal == 0.05)[0][0])
+    g = _growth(4, 64, n, {j50: _fifty_mm(n)})
+    # from 10 dB at 0.3 dB per 1e5 axles to the limit, exceeded 0.5 dB above it (its stated precision): 5 and 101.7 runs
+    for limit_dB, factor in ((11.0, (11.5 - 10.0) / 0.3), (40.0, (40.5 - 10.0) / 0.3)):
+        lim = np.full(len(tob.nominal), np.nan)
+        lim[b50] = limit_dB
+        ds = B.bands_dataset(g, L, tob, 1, (tob.nominal, lim))
+        a = ds.attrs
+        assert a["computed_passages"] == 100000
+        assert a["grinding_interval_extrapolation_factor"] == pytest.approx(factor, rel=1e-9)
+        assert a["extrapolation_flag_factor"] == B.EXTRAPOLATION_FLAG_FACTOR == 10
+        flagged = factor > 10
+        assert a["grinding_interval_extrapolated"] == int(flagged)
+        text = a["grinding_interval_text"]
+        head = [x for x in B.band_csv_text(ds).splitlines() if x.startswith("#")]
+        if flagged:
+            assert f"EXTRAPOLATED x{B.readable_count(factor, 2)} beyond the computed 100,000 axle passages (flagged: more than x10)" in text
+            assert any("grinding_interval_extrapolation_factor=101.7 " in h and "FLAGGED" in h for h in head)
+        else:
+            assert text.endswith("set by the 50 mm band; extrapolated x5.0 beyond the computed 100,000 axle passages")
+            assert any("grinding_interval_extrapolation_factor=5 " in h and "FLAGGED" not in h for h in head)
+        assert any(text in h for h in head)
+    # reached within the run: no extrapolation
+    lim[b50] = 10.1
+    ds = B.bands_dataset(g, L, tob, 1, (tob.nominal, lim))
+    assert ds.attrs["grinding_interval_extrapolation_factor"] < 1
+    assert ds.attrs["grinding_interval_text"].endswith("reached within the computed 100,000 axle passages")
+
+
+def test_a_decaying_band_sets_no_grinding_interval():
+    # an interval from extrapolating a decay is no grinding interval: a band decaying exponentially, and one
+    # that rose and now falls (its straight line still rises over the run) reach no limit
+    n = np.arange(0, 100001, 10000)
+    tob = B.third_octave_bands()
+    j50, j80 = int(round(4 * L / 0.05)), int(round(4 * L / 0.08))
+    hump = np.sqrt(2) * 1e-6 * 10 ** 0.5 * (1 + 0.2 * np.sin(np.pi * n / 1.2e5))  # up to 60,000 axles, then down
+    g = _growth(4, 64, n, {j50: _fifty_mm(n, dB_per_1e5=-0.5), j80: hump})
+    b50, b80 = (int(np.nonzero(tob.nominal == v)[0][0]) for v in (0.05, 0.08))
+    ds = B.bands_dataset(g, L, tob, 1, (tob.nominal, np.full(len(tob.nominal), 11.0)))
+    assert ds["ranked"].values[b50] == ds["ranked"].values[b80] == 1
+    assert ds["amplitude_growth_um_per_1e5_axles"].values[b80] > 0  # the trap: its straight line rises
+    assert not np.isfinite(ds.attrs["grinding_interval_passages"])
+    assert ds.attrs["grinding_interval_text"].startswith("not reached: no ranked band grows toward the limit (2 ranked bands with a limit decay")
+    for b in (b50, b80):
+        assert str(ds["limit_note"].values[b]).startswith("not reached: the band decays")
+        assert np.isinf(ds["limit_passages"].values[b])
+
+
+def test_a_band_grown_from_nothing_above_the_floor_is_not_ranked_nor_exported_as_a_feedback_rate():
+    # a 630 mm band grown from nothing to -23 dB (above the -30 dB floor) was ranked at +8.69 dB per
+    # 100,000 axles, set the scale of the band view's middle panel and was exported as a model value:
+    # from a smooth rail the growth is linear, its dB rate 20 log10(e) / n at any size
+    import matplotlib
+
+    matplotlib.use("Agg")
+    import matplotlib.pyplot as plt
+
+    from rail.plotting import report
+
+    n = np.arange(0, 100001, 10000)
+    j63, j50 = int(round(4 * L / 0.63)), int(round(4 * L / 0.05))
+    a63 = np.sqrt(2) * 1e-6 * 10 ** (-23 / 20) * n / 1e5  # 0 -> -23 dB, linear
+    g = _growth(4, 64, n, {j63: a63, j50: _fifty_mm(n)})
+    tob = B.third_octave_bands()
+    b63, b50 = (int(np.nonzero(tob.nominal == v)[0][0]) for v in (0.63, 0.05))
+    ds = B.bands_dataset(g, L, tob, 1, (tob.nominal, np.full(len(tob.nominal), 11.0)))
+    assert float(ds["level"].values[-1, b63]) == pytest.approx(-23.0, abs=1e-9) and -23.0 > B.RATE_FLOOR_DB
+    assert ds["growth_dB_per_1e5_axles"].values[b63] == pytest.approx(B.DB_PER_NEPER, rel=1e-9)  # 8.69: the number that says nothing
+    assert ds["ranked"].values[b63] == 0 and ds["ranked"].values[b50] == 1
+    assert str(ds["rate_note"].values[b63]).startswith("grown from nothing: no roughness in the band at the first save")
+    # its straight line in amplitude is a model value: it reaches the limit (11 dB, exceeded above 11.5) by that line
+    a_last, a_lim = 10 ** (-23 / 20), 10 ** (11.5 / 20)  # um; the line rises a_last per 1e5 axles
+    assert ds["limit_passages"].values[b63] == pytest.approx(1e5 * (1 + (a_lim - a_last) / a_last), rel=1e-9)
+    assert ds.attrs["grinding_interval_band_m"] == 0.05  # sooner: 10 dB + 0.3 dB per 1e5 to 11.5 dB
+    csv = B.band_csv_text(ds)
+    cols = next(x for x in csv.splitlines() if x.startswith("nominal_wavelength_m")).split(",")
+    row = next(x for x in csv.splitlines() if x.startswith("0.63,")).split(",")
+    assert row[cols.index("growth_dB_per_1e5_axles")] == "" and row[cols.index("ranked")] == "0"
+    # its amplitude rate stays (4 digits)
+    assert float(row[cols.index("amplitude_growth_um_per_1e5_axles")]) == pytest.approx(10 ** (-23 / 20), rel=1e-4)
+    # the middle panel's scale is set by the ranked 50 mm band (+0.3 dB), not by the 630 mm band's 8.69
+    fig = report.band_spectra(ds)
+    top = fig.axes[1].get_ylim()[1]
+    assert 0.3 < top < 1.0
+    plt.close(fig)

@@ -453,3 +453,37 @@ def test_fleet_spectrum_per_axle_figure_and_the_traffic_study_summary_from_class
     fig.savefig(tmp_path / "t.png")
     assert all(a.get_xlim()[0] > a.get_xlim()[1] for a in fig.axes if a.get_xlabel() == "wavelength (mm)")
     assert isinstance(st, xr.Dataset) and (tmp_path / "t.png").stat().st_size > 5000
+
+
+def test_a_fleets_class_keys_hash_only_what_a_class_spectrum_reads(schema, defaults):
+    # issue 57, item 8: changing only growth.passages of a fleet reran all 8 class spectra (the key hashed
+    # the whole scenario); the growth settings, the initial roughness and the traffic are not read by a
+    # class spectrum (taken about the smooth rail), the track and the contact are
+
+    from rail.setup.study_files import class_key
+
+    def keys(change):
+        cfg = config.resolve(defaults, schema, {**change, "fleet": {**FLEET, **change.get("fleet", {})}}, source="fleet.yaml")
+        return [class_key(c, cfg["figures"]["rate_spectrum"]) for c in build.fleet_classes(cfg, build.spectrum_scenario(cfg, "mix"))]
+
+    first = keys({})
+    assert len(set(first)) == len(first) == 6
+    unread = [{"growth": {"passages": 300000, "save_every": 50000}}, {"traffic": {"axles_per_day": 55000.0}},
+              {"roughness": {"kind": "harmonic", "amplitude": 3e-6, "frequency": 800.0}}]
+    for change in unread:
+        assert keys(change) == first, change
+    read = [{"track": {"pad": {"stiffness": 1.0e9}}}, {"contact": {"friction_dynamic": 0.25}},
+            {"fleet": {"spectrum": {"bays": 4}}}]
+    for change in read:
+        assert set(keys(change)).isdisjoint(first), change
+
+
+def test_every_scenario_field_is_hashed_by_the_class_key_or_named_as_unread():
+    # a field added to Scenario must be decided on: read by a class spectrum (hashed) or not
+    import dataclasses as dc
+
+    from rail.scenario import Scenario
+    from rail.setup.study_files import CLASS_SPECTRUM_READS
+
+    # every field of a Scenario is either hashed or named here as unread: a new field must be decided on
+    assert set(CLASS_SPECTRUM_READS) | {"name", "growth", "roughness", "axles_per_day"} == {f.name for f in dc.fields(Scenario)}

@@ -425,5 +425,25 @@ def test_spectrum_progress_counts_every_probe_batch_and_changes_no_rate(setup):
     counts = [tuple(int(x) for x in re.match(r"(\d+) of (\d+) probe batches \(grid phase \d of 2, 3 lines\)$", t).groups())
               for t in told if "probe batches" in t]
     total = counts[-1][1]
-    assert [d for d, _ in counts] == list(range(1, total + 1)) and {n for _, n in counts} == {total} and total % 2 == 0
+    # from 0 (told before the first batch, issue 57) to the end
+    assert [d for d, _ in counts] == list(range(0, total + 1)) and {n for _, n in counts} == {total} and total % 2 == 0
     assert sum(t.startswith("linearity check:") for t in told) == 1
+
+
+@pytest.mark.parametrize("method", ["linear", "probe"])
+def test_spectrum_progress_is_told_before_the_first_march_and_through_the_long_parts(setup, method):
+    # issue 57, item 8: a one-train spectrum's log stayed empty for 648 s: the first line came only after
+    # the first probe batch (a spectrum of a few lines has one or two), nothing during the tangent marches,
+    # and nothing at all by the probes of the nonlinear march (method 'probe', taken with the wheelset's
+    # or the rail's flexibility or falling friction)
+    scn, tabs = setup
+    told = []
+    GS.rate_spectrum(scn, tabs, [5, 8], grid_phases=2, check_lines=1, method=method, progress=told.append)  # a free and a locked line
+    unit = "probe batches" if method == "linear" else "probe steps"
+    assert re.match(rf"0 of \d+ {unit} \(grid phase 1 of 2, 2 lines", told[0]), told[0]  # at once, before any work
+    counts = [tuple(int(x) for x in re.match(rf"(\d+) of (\d+) {unit}", t).groups()) for t in told if unit in t]
+    total = counts[-1][1]
+    assert [d for d, _ in counts] == list(range(0, total + 1)) and total % 2 == 0
+    if method == "linear":  # the tangent marches, one per wheel and grid phase, from 0 to the end
+        marches = [tuple(int(x) for x in re.match(r"(\d+) of (\d+) tangent marches", t).groups()) for t in told if "tangent marches" in t]
+        assert [d for d, _ in marches] == list(range(0, marches[-1][1] + 1)) and marches[-1][1] == 2 * len(scn.wheels.positions)

@@ -5,6 +5,7 @@ built by the writers the workflow uses (rail.studies.datasets.growth, rate_spect
 each test takes well under a second of drawing."""
 
 import ast
+import dataclasses
 import importlib.util
 import re
 from pathlib import Path
@@ -473,3 +474,121 @@ def test_the_overview_script_reads_the_cell_from_the_runs_configuration():
     assert [m[1] for m in script.supports(run.assign_attrs(config=yaml.safe_dump(voided)))][1] == "ballast ×0.001"
     assert script.supports(run.assign_attrs(config=yaml.safe_dump(resolve(defaults, project_schema())))) is None  # uniform: the figure's own
     assert script.supports(run) is None
+
+
+# -- the model choices every figure's data states (issue 57, item 8) -----------------------------
+
+def _script(name):
+    spec = importlib.util.spec_from_file_location(name, ROOT / f"workflow/scripts/{name}.py")
+    script = importlib.util.module_from_spec(spec)
+    spec.loader.exec_module(script)
+    return script
+
+
+def test_every_report_growth_figures_data_states_its_wear_path_and_normal_contact_as_values(tmp_path):
+    # results/data/fig23.nc did not state its wear path although the README says every figure does
+    import xarray as xr
+
+    from rail.setup.config import load_yaml
+    from rail.studies.validity import model_attributes
+
+    config = load_yaml(ROOT / "config/config.yaml")
+    patch, wheel = tmp_path / "patch.nc", tmp_path / "wheel.nc"
+    growth_run(K=24).assign_attrs(model_attributes("patch", "nonhertzian")).to_netcdf(patch)
+    growth_run(K=24).assign_attrs(model_attributes("wheel", "report")).to_netcdf(wheel)
+    runs = {"20": {"one run": str(patch)}, "23": {"V40": str(patch), "V60": str(patch)}, "24": {"patch": str(patch), "wheel": str(wheel)}}
+    data = [tmp_path / f"fig{nn}.nc" for nn in runs]
+    _script("growth_figure").report_figures(runs, config, data, [tmp_path / f"fig{nn}.png" for nn in runs])
+    with xr.open_dataset(data[0]) as ds20, xr.open_dataset(data[1]) as ds23, xr.open_dataset(data[2]) as ds24:
+        for ds in (ds20, ds23):  # runs of one wear path: stated as values
+            assert (ds.attrs["wear_path"], ds.attrs["normal_contact"]) == ("patch", "nonhertzian")
+            assert ds.attrs["wear_path_description"].startswith("patch: the wear where the contact patch is")
+        assert ds24.attrs["wear_path"].startswith("mixed")  # two runs of two paths: each variable says its own
+        assert {(v.attrs["wear_path"], v.attrs["normal_contact"]) for v in ds24.data_vars.values()} == {("patch", "nonhertzian"),
+                                                                                                       ("wheel", "report")}
+
+
+def test_a_figures_data_without_its_model_choices_is_refused_and_the_radiation_figures_say_none(tmp_path, steel):
+    import xarray as xr
+
+    from rail import halfspace
+    from rail.setup import build, io
+    from rail.setup.config import load_yaml
+
+    config = load_yaml(ROOT / "config/config.yaml")
+    bare = xr.Dataset({"x": ("i", [1.0], {"units": "1", "long_name": "x"})})
+    with pytest.raises(ValueError, match=r"dataset 'Figure 7' does not state its wear_path and normal_contact"):
+        io.finalize(bare, config, title="Figure 7", source="test")
+    io.finalize(bare, config, title="Roughness growth", source="test")  # a result that is not a figure's data: no demand
+    s = build.halfspace_figures(config)
+    small = build.HalfSpaceFigureSettings(s.frequency, s.radius, s.radii[:3], s.frequencies[:3], s.hertz_stiffness)
+    rad = tmp_path / "radiation.nc"
+    datasets.radiation(steel, small, halfspace.HalfSpaceNumerics(epsrel=1e-6)).to_netcdf(rad)
+    data = [tmp_path / "fig05.nc", tmp_path / "fig06.nc"]
+    _script("radiation_figure").main(["05", "06"], config, rad, data, [tmp_path / "fig05.png", tmp_path / "fig06.png"])
+    for path in data:
+        with xr.open_dataset(path) as ds:
+            assert (ds.attrs["wear_path"], ds.attrs["normal_contact"]) == ("none", "none")
+
+
+def test_integer_like_attributes_are_written_as_integers(tmp_path):
+    # a fleet's growth file said wheels = 3.9999999999999996
+    import xarray as xr
+
+    from rail import fleet as F
+    from rail.setup import io
+    from rail.setup.config import load_yaml
+    from rail.studies.validity import model_attributes
+
+    ds = xr.Dataset({"x": ("i", [1.0], {"units": "1", "long_name": "x"})}, attrs={
+        "wheels": 3.9999999999999996, "speed_m_per_s": 40.0, "axles_per_train": 3.4, "eps_m": 1e-9, "bays": 4,
+        "grinding_interval_passages": float("inf"), "stopped": "no", **model_attributes("none", "none")})
+    path = tmp_path / "x.nc"
+    io.write_netcdf(io.finalize(ds, load_yaml(ROOT / "config/config.yaml"), title="t", source="test"), path)
+    with xr.open_dataset(path) as back:
+        a = back.attrs
+        assert a["wheels"] == 4 and np.issubdtype(type(a["wheels"]), np.integer)
+        assert a["speed_m_per_s"] == 40 and np.issubdtype(type(a["speed_m_per_s"]), np.integer)
+        assert a["axles_per_train"] == 3.4 and a["eps_m"] == 1e-9 and np.isinf(a["grinding_interval_passages"])
+    # at the source: three equal speed classes of a four-axle vehicle, weights 1/3 that sum to 1 only to rounding
+    loco = F.Vehicle("loco", (0.0, 2.5, 10.0, 12.5), 1e5, 1350.0, (0.0,) * 4, 0.3)
+    coach = F.Vehicle("coach", (0.0, 2.5, 12.0, 14.5), 6e4, 900.0, (0.0,) * 4, 0.7)
+    fl = F.Fleet((loco, coach), F.SpeedClasses((36.0, 40.0, 44.0), (1 / 3, 1 / 3, 1 / 3)), 20000.0)
+    assert fl.axles_per_train == 4.0
+    from rail import chain
+    from rail.setup import build
+
+    classes = fl.classes(build.scenario(load_yaml(ROOT / "config/config.yaml")))  # weights 0.3 / 3 and 0.7 / 3
+    assert chain.fleet_wheels(classes) == 4.0  # the growth file's wheels
+
+
+def test_a_narrow_spectrum_near_pinned_pinned_has_tick_labels_markers_and_names_its_track_and_mechanisms(tmp_path):
+    # issue 57, item 8: the rate_spectrum.png of a few lines near pinned-pinned (33-38 mm, between the
+    # round ticks 30 and 50) had no wavelength tick labels and no markers and named neither the track nor
+    # the mechanisms
+    from rail.growth_spectrum import RateSpectrum
+    from rail.setup import build
+    from rail.setup.config import load_yaml
+    from rail.studies.rate_spectrum import spectrum_dataset_of
+
+    scn = build.spectrum_scenario(load_yaml(ROOT / "config/config.yaml"))
+    N = 48
+    lines = np.arange(760, 870, 20)  # 37.9 .. 33.5 mm of a 48-bay period
+    rate = (np.linspace(-1, 1, lines.size) * 1e-7).astype(complex)
+    sp = RateSpectrum(N * 0.6 / lines, lines, np.zeros(lines.size, dtype=int), rate, rate, np.zeros(lines.size), np.zeros(lines.size),
+                      np.zeros(lines.size), 1e-4, 1e-9, N, 1)
+    ds = spectrum_dataset_of({39.0: sp}, dataclasses.replace(scn, roughness=dataclasses.replace(scn.roughness, bays=N)))
+    assert (ds.attrs["pad_stiffness_N_per_m"], ds.attrs["wear_path"], ds.attrs["normal_contact"]) == (3.5e8, "wheel", "report")
+    fig = study_plots.rate_spectrum_figure(ds)
+    fig.canvas.draw()
+    ax = fig.axes[0]
+    labels = [t.get_text() for t in ax.get_xticklabels() if t.get_text()]
+    assert len(labels) >= 2 and all(33.0 <= float(x) <= 38.5 for x in labels), labels
+    line = next(ln for ln in ax.get_lines() if np.size(ln.get_xdata()) == lines.size)
+    assert line.get_marker() == "o"
+    assert "track: pad 3.5×10⁸ N/m, sleeper spacing 0.6 m" in ax.get_title()
+    notes = " ".join(" ".join(_texts(fig)).split())  # the note is wrapped over lines
+    for said in ("normal contact report", "wear path wheel", "wheelset none: fixed creepage", "rail flexibility none",
+                 "friction step, the report's (mu_s = 0.3, mu_d = 0.3)"):
+        assert said in notes, said
+    fig.savefig(tmp_path / "rate_spectrum.png", dpi=150)

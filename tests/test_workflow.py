@@ -627,3 +627,25 @@ def test_no_terminal_no_bar(root, tmp_path):
                          text=True, start_new_session=True, env={"PYTHONPATH": str(root), "PATH": ""}, timeout=60)
     assert out.returncode == 0, out.stderr
     assert "40000/40000" not in out.stderr + out.stdout and len(log.read_text().splitlines()) == 4
+
+
+def test_short_drawing_and_summing_jobs_are_not_queued_behind_long_ones(root):
+    # issue 57, item 8: a 9 s plotting job waited 33 minutes behind long jobs under -j2. Every local
+    # rule (a figure, a table, a summary of finished jobs) and the two short summaries that are not local
+    # have the kernels' priority, above every table and growth run (their priorities stay below it)
+    import re
+
+    from rail.setup.targets import PRIORITY_KERNELS, PRIORITY_TABLES
+
+    rules = {}
+    for f in sorted((root / "workflow/rules").glob("*.smk")):
+        for block in re.split(r"(?m)^(?=rule \w+:)", f.read_text()):
+            if m := re.match(r"rule (\w+):", block):
+                rules[m.group(1)] = block
+    short = {name for name, b in rules.items() if re.search(r"(?m)^    localrule: True", b)} | {"fleet_rate_spectrum", "irregular_summary"}
+    assert {"growth_figures", "wear_figures", "rate_spectrum_map", "fig08", "sweep_bands"} <= short
+    for name in sorted(short):
+        assert re.search(r"(?m)^    priority: PRIORITY_KERNELS\b", rules[name]), name
+    for name in ("growth", "fleet_growth", "rate_spectrum_speed", "fleet_class_spectrum", "receptance", "receptance_bloch"):
+        assert not re.search(r"(?m)^    priority: PRIORITY_KERNELS\b", rules[name]), name
+    assert PRIORITY_TABLES < PRIORITY_KERNELS  # the tables' (and below them the growth runs') priorities stay below

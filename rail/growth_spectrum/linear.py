@@ -231,7 +231,9 @@ def linear_rates(scn, tabs, free, locked, eps, phase, max_columns=None, progress
     probes of method 'probe' but without the march), split into the classes by a DFT over the bays.
     With several wheels, the wear of the wheels before a wheel is taken at the smooth rail's (its
     derivative, of relative size the wear per passage, ~1e-6, is left out). ``progress(i, n)``, if
-    given, is called after each of the n batches of probes.
+    given, is called before the first (i = 0) and after each of the n batches of probes, and
+    ``progress(i, n, "tangent marches")`` before the first and after each wheel's tangent march (the
+    longest part of a spectrum of few lines: issue 57, item 8, a log empty for 648 s).
 
     Parameters
     ----------
@@ -250,7 +252,7 @@ def linear_rates(scn, tabs, free, locked, eps, phase, max_columns=None, progress
     max_columns : int, optional
         Most probe columns per tangent march [-] (column_chunk).
     progress : callable, optional
-        progress(i, n) after each batch i [-] of the n.
+        progress(i, n) [-] as above.
 
     Returns
     -------
@@ -264,6 +266,9 @@ def linear_rates(scn, tabs, free, locked, eps, phase, max_columns=None, progress
     N = scn.roughness.bays
     K = scn.harmonics
     J = N * K
+    probes = tangent_batches(free, locked, N)
+    if progress is not None:
+        progress(0, len(probes))  # the log says at once what is being done
     nums = scn.contact_numerics  # the contact parameters of each wheel: chain.wheel_material (its own creepage)
     s1 = dataclasses.replace(scn, roughness=dataclasses.replace(scn.roughness, bays=1))
     Z01 = np.zeros(2 * K + 1, dtype=complex)
@@ -282,7 +287,6 @@ def linear_rates(scn, tabs, free, locked, eps, phase, max_columns=None, progress
         Z = np.zeros(2 * J + 1, dtype=complex)
         Z[J + N * np.arange(-K, K + 1)] = Z1
         return Z
-    probes = tangent_batches(free, locked, N)
     cols = []  # (probe, wheel) -> columns
     names = input_names(ref[0])
     dirs = [{name: [] for name in names} for _ in order]
@@ -330,7 +334,11 @@ def linear_rates(scn, tabs, free, locked, eps, phase, max_columns=None, progress
     # grids may hold a different number of points per bay (4131 and 4132 for two axles of one
     # locomotive at 40 m/s); wheels on grids of one size are summed there, each size transformed apart
     gws = {}
+    if progress is not None:
+        progress(0, len(order), "tangent marches")
     for w_i, l in enumerate(order):
+        if progress is not None and w_i:
+            progress(w_i, len(order), "tangent marches")
         mi1 = ref[w_i]
         gw = gws.setdefault(mi1.Nx, np.zeros((mi1.Nx, ncol)))
         chunk = column_chunk(mi1, ncol, max_columns)
@@ -339,6 +347,8 @@ def linear_rates(scn, tabs, free, locked, eps, phase, max_columns=None, progress
             d = {name: np.moveaxis(np.array(dirs[w_i][name][sl]), 0, -1) for name in names}
             gw[:, sl] += wear_tangent(scn, l, mi1, tabs[0].speed, d)[1]
 
+    if progress is not None:
+        progress(len(order), len(order), "tangent marches")
     R, side, Ms = {}, {}, {}
     c = 0
     while c < ncol:

@@ -88,7 +88,7 @@ def wear_rates(scn: Scenario, table, lines, eps: float = 1e-8, reference=None, g
     return probe_rates(scn, table, lines, eps, Z0, W0, grid_phase)
 
 
-def probe_rates(scn, table, lines, eps, Z0, W0, grid_phase, sidebands=False):
+def probe_rates(scn, table, lines, eps, Z0, W0, grid_phase, sidebands=False, progress=None):
     """R_j at the lines about the reference Z0, whose wear W0 on the same grid is given; with
     sidebands, also the largest abs(wear at j +- N) / abs(wear at j) (the same class, probed by j alone).
 
@@ -110,6 +110,8 @@ def probe_rates(scn, table, lines, eps, Z0, W0, grid_phase, sidebands=False):
         Contact grid phase [-], in [0, 1).
     sidebands : bool
         Also return the sideband ratios.
+    progress : callable, optional
+        progress(), if given, is called after each batch's march.
 
     Returns
     -------
@@ -131,6 +133,8 @@ def probe_rates(scn, table, lines, eps, Z0, W0, grid_phase, sidebands=False):
             rates[j] = (W[J + j] - W0[J + j]) / (eps / 2)
             near = [J + j + m for m in (-N, N) if abs(j + m) <= J]
             side[j] = max(abs(W[i] - W0[i]) for i in near) / max(abs(W[J + j] - W0[J + j]), 1e-300) if near else 0.0
+        if progress is not None:
+            progress()
     R = np.array([rates[j] for j in lines])
     return (R, np.array([side[j] for j in lines])) if sidebands else R
 

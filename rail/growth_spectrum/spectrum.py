@@ -12,7 +12,7 @@ from ..moving import MovingReceptance
 from ..scenario import Scenario
 from .cell import cell_rate_spectrum
 from .linear import linear_rates
-from .probes import GridMismatch, RateSpectrum, linear_unsupported, locked_matrix, probe_rates, smooth_roughness, sorted_eigenvalues
+from .probes import GridMismatch, RateSpectrum, batches, linear_unsupported, locked_matrix, probe_rates, smooth_roughness, sorted_eigenvalues
 
 __all__ = ["rate_spectrum", "locked_kinds"]
 
@@ -96,7 +96,7 @@ def rate_spectrum(scn: Scenario, table, lines, eps: float = 1e-9, grid_phases: i
             except GridMismatch as err:  # the probes of the nonlinear march for this grid phase
                 fallbacks.append(f"grid phase {phase:g}: {err}")
         if found is None:
-            found = _probe_phase(scn, tabs, lines, locked, eps, phase, check)
+            found = _probe_phase(scn, tabs, lines, locked, eps, phase, check, _probe_progress(progress, p, grid_phases, lines.size))
         R[p], side_p, Ms[p], source_p, changes_p = found
         sideband[free] = np.maximum(sideband[free], side_p)
         source += source_p / grid_phases
@@ -165,7 +165,13 @@ def _phase_progress(progress, p: int, grid_phases: int, n_lines: int):
     if progress is None:
         return None
 
-    def step(i, n):
+    def step(i, n, what="probe batches"):
+        if i == 0 and p > 0:  # the previous phase's end: told already
+            return
+        if what != "probe batches":  # the tangent marches, one per wheel, after the batches
+            progress(f"{p * n + i} of {grid_phases * n} {what} (grid phase {p + 1} of {grid_phases}: over one bay, every probe at once, "
+                     "one march per wheel)")
+            return
         progress(f"{p * n + i} of {grid_phases * n} probe batches (grid phase {p + 1} of {grid_phases}, {n_lines} lines)")
         if i == n:
             progress(f"grid phase {p + 1} of {grid_phases}: the tangent of the contact march over one bay, every probe at once")
@@ -221,11 +227,37 @@ def _linear_phase(scn: Scenario, tabs, lines, locked, eps: float, phase: float, 
     return R, side, Ms, source, changes
 
 
-def _probe_phase(scn: Scenario, tabs, lines, locked, eps: float, phase: float, check_lines):
+def _probe_progress(progress, p: int, grid_phases: int, n_lines: int):
+    """_probe_phase's progress(i, n) for grid phase p as rate_spectrum's lines of text (None if silent)."""
+    if progress is None:
+        return None
+
+    def step(i, n):
+        if i == 0 and p > 0:  # the previous phase's end: told already
+            return
+        progress(f"{p * n + i} of {grid_phases * n} probe steps (grid phase {p + 1} of {grid_phases}, {n_lines} lines; a step: "
+                 "the smooth rail's march, a batch of free lines' or a locked line's cosine and sine)")
+    return step
+
+
+def _probe_phase(scn: Scenario, tabs, lines, locked, eps: float, phase: float, check_lines, step=None):
     """One grid phase of rate_spectrum by the probes of the nonlinear march (method 'probe'): as
-    _linear_phase returns them."""
+    _linear_phase returns them. ``step(i, n)``, if given, is told before the first and after each of
+    the n steps (the smooth rail's marches, a batch of free lines, a locked line's cosine and sine; the
+    linearity check's apart)."""
     N = scn.roughness.bays
     free, held = np.flatnonzero(locked == 0), np.flatnonzero(locked)
+    kinds = sorted(set(locked[held].tolist()))
+    total = (1 + len(batches(lines[free], N)) if free.size else 0) + len(kinds) + held.size
+    done = [0]
+
+    def tick(k=1):
+        done[0] += k
+        if step is not None:
+            step(min(done[0], total), total)
+
+    if step is not None:
+        step(0, total)
     R, side = np.zeros(free.size, dtype=complex), np.zeros(free.size)
     Ms = np.zeros((held.size, 2, 2))
     source = np.zeros(lines.size)
@@ -233,7 +265,8 @@ def _probe_phase(scn: Scenario, tabs, lines, locked, eps: float, phase: float, c
     if free.size:
         Z0 = smooth_roughness(scn)
         W0, _ = chain.train_wear(scn, tabs, Z0, phase)
-        R, side = probe_rates(scn, tabs, lines[free], eps, Z0, W0, phase, sidebands=True)
+        tick()
+        R, side = probe_rates(scn, tabs, lines[free], eps, Z0, W0, phase, sidebands=True, progress=tick)
         if check_lines is not None:
             pick = np.unique(np.linspace(0, free.size - 1, min(check_lines, free.size)).round().astype(int))
             R2 = probe_rates(scn, tabs, lines[free[pick]], 2 * eps, Z0, W0, phase)
@@ -243,11 +276,13 @@ def _probe_phase(scn: Scenario, tabs, lines, locked, eps: float, phase: float, c
         s_n, t_n = _period(scn, tabs, kind)
         Z0n = smooth_roughness(s_n)
         periods[kind] = (s_n, t_n, Z0n, chain.train_wear(s_n, t_n, Z0n, phase)[0])
+        tick()
     for n, idx in enumerate(held):
         kind = int(locked[idx])
         s_n, t_n, Z0n, W0n = periods[kind]
         jn = int(lines[idx] * kind // N)  # the line in the 1- or 2-bay period
         Ms[n] = locked_matrix(s_n, t_n, jn, eps, phase, Z0n, W0n)
+        tick()
         if kind == 1:
             source[idx] = 2 * abs(W0n[len(W0n) // 2 + jn])
         if check_lines is not None and n == 0:

@@ -48,9 +48,25 @@ def wavelength_axis(ax, lam_mm, pad: float = 1.05, ticks=_TICKS_MM) -> None:
     lo, hi = float(np.min(lam_mm)) / pad, float(np.max(lam_mm)) * pad
     ax.set_xscale("log")
     ax.set_xlim(hi, lo)
-    ax.set_xticks([t for t in ticks if lo <= t <= hi])
+    ax.set_xticks(_ticks_within(lo, hi, ticks))
     ax.xaxis.set_major_formatter(matplotlib.ticker.FormatStrFormatter("%g"))
     ax.xaxis.set_minor_formatter(matplotlib.ticker.NullFormatter())
+
+
+def _ticks_within(lo: float, hi: float, ticks) -> list:
+    """At least two round ticks in [lo, hi] (mm): the candidates ``ticks`` inside it; where fewer than two
+    are (a few lines near pinned-pinned span 33-38 mm, between the round 30 and 50: issue 57, item 8), the
+    values 1, 1.2, 1.5, ..., 8 of every decade inside it, thinned to at most six; where still fewer, the
+    span's ends to two significant figures."""
+    inside = [t for t in ticks if lo <= t <= hi]
+    if len(inside) >= 2:
+        return inside
+    decades = range(int(np.floor(np.log10(lo))), int(np.ceil(np.log10(hi))) + 1)
+    for mantissas in ((1, 1.2, 1.5, 2, 2.5, 3, 3.5, 4, 4.5, 5, 6, 7, 8, 9), np.arange(10, 100) / 10, np.arange(100, 1000) / 100):
+        inside = [float(f"{m * 10.0 ** e:.12g}") for e in decades for m in mantissas if lo <= m * 10.0 ** e <= hi]
+        if len(inside) >= 2:
+            return inside[:: int(np.ceil(len(inside) / 6))]
+    return [lo, hi]
 
 
 def frequency_axis(ax, speed: float, what: str = "V"):
@@ -64,6 +80,10 @@ def frequency_axis(ax, speed: float, what: str = "V"):
 
     sec = ax.secondary_xaxis("top", functions=(f_of_lam, f_of_lam))  # the map is its own inverse
     sec.set_xlabel(f"frequency at {what} = {V:g} m/s (Hz)", fontsize=8)
+    f_lo, f_hi = sorted(float(f_of_lam(x)) for x in ax.get_xlim())
+    decades = [10.0 ** e for e in range(-3, 8) if f_lo <= 10.0 ** e <= f_hi]
+    if len(decades) < 2 and f_lo > 0 and np.isfinite(f_hi):  # a narrow span: round ticks inside it (issue 57, item 8)
+        sec.set_xticks(_ticks_within(f_lo, f_hi, [m * 10.0 ** e for e in range(0, 6) for m in (1, 2, 5)]))
     sec.xaxis.set_major_formatter(matplotlib.ticker.FormatStrFormatter("%g"))
     sec.xaxis.set_minor_formatter(matplotlib.ticker.NullFormatter())
     sec.tick_params(labelsize=7)

@@ -7,6 +7,8 @@ captions.
 
 from __future__ import annotations
 
+import textwrap
+
 import matplotlib
 
 matplotlib.use("Agg")
@@ -377,22 +379,28 @@ def band_spectra(ds: xr.Dataset):
     a1.set_title("band levels", fontsize=9)
     nb = int(ds.attrs['bays'])
     title = f"{_speed_text(ds)}, roughness period {nb} bay{'s' if nb > 1 else ''}"
-    if ds.attrs.get("grinding_interval_text"):
-        title += "\n" + ds.attrs["grinding_interval_text"]
+    if ds.attrs.get("grinding_interval_text"):  # with how far it is extrapolated (rail.studies.bands.extrapolation_text)
+        title += "\n" + "\n".join(textwrap.wrap(ds.attrs["grinding_interval_text"], 120))
     fig.suptitle(title, fontsize=9)
     law = ds["growth_law"].values
     # the rates of the ranked bands only: a band below the floor grows from nothing (rail.studies.bands)
     rank = res & (ds["ranked"].values.astype(bool) if "ranked" in ds else True)
     floor = ds.attrs.get("rate_floor_dB_re_1um")
-    below = ([(f"{int((res & ~rank).sum())} bands below {floor:g} dB re 1 µm have no rate drawn (growth from nothing: not ranked)", "0.2")]
+    below = ([(f"{int((res & ~rank).sum())} bands below {floor:g} dB re 1 µm at the last save, or grown from below it, have no dB rate "
+               "drawn (growth from nothing, not a feedback rate: not ranked)", "0.2")]
              if floor is not None and (res & ~rank).any() else [])
+    if ds.attrs.get("grinding_interval_extrapolated"):  # the interval carries the fitted law far beyond the run (rail.studies.bands)
+        below.append((f"grinding interval extrapolated x{text.count(float(ds.attrs['grinding_interval_extrapolation_factor']), 2)} "
+                      f"beyond the computed {text.count(float(ds.attrs['computed_passages']))} axle passages", "firebrick"))
     _band_rate_panel(a2, lam, ds["growth_dB_per_1e5_axles"].values, ds["growth_dB_per_1e5_axles_error"].values, rank, law,
                      "level growth\n(dB per 100,000 axle passages)", "level growth rate at the last save")
     load = ds.attrs.get("axle_load_t", ds.attrs.get("mean_axle_load_t"))  # a fleet states its traffic-weighted mean
     if load is not None:
         per_mgt_axis(a2, float(load))
+    # a band grown from nothing has no dB rate that means something, but its amplitude rate does (rail.studies.bands)
+    grown = np.char.startswith(ds["rate_note"].values.astype(str), "grown from nothing") if "rate_note" in ds else False
     _band_rate_panel(a3, lam, ds["amplitude_growth_um_per_1e5_axles"].values, ds["amplitude_growth_um_per_1e5_axles_error"].values,
-                     rank, law, "amplitude growth\n(µm rms per 100,000 axle passages)", "amplitude growth rate (ranks linear growth)")
+                     res & (rank | grown), law, "amplitude growth\n(µm rms per 100,000 axle passages)", "amplitude growth rate (ranks linear growth)")
     for a in (a1, a2, a3):
         frequency_axis(a, ds.attrs["speed_m_per_s"], _speed_name(ds))
     handles, labels = a1.get_legend_handles_labels()

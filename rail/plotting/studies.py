@@ -142,8 +142,8 @@ def rate_spectrum_figure(ds: xr.Dataset):
         fig, (ax, bx) = plt.subplots(2, 1, figsize=(7.5, 7.5), layout="constrained", sharex=True)
     lam = ds["wavelength"].values * 1e3
     g = ds["growth_dB_per_1e5_axles"]
-    for v in ds["speed"].values:
-        ax.plot(lam, g.sel(speed=v).values, lw=1.2, color="k" if one else None, label=f"{v:g} m/s")
+    for v in ds["speed"].values:  # a marker on every line: a spectrum of a few lines is read at its points
+        ax.plot(lam, g.sel(speed=v).values, lw=1.2, color="k" if one else None, marker="o", ms=3.5, label=f"{v:g} m/s")
     ax.axhline(0, color="0.3", lw=0.7)
     comb = ds["locked"].values == 1
     for x in lam[comb]:
@@ -154,14 +154,14 @@ def rate_spectrum_figure(ds: xr.Dataset):
         ax.legend(fontsize=8, ncol=2, loc="best", framealpha=0.9)
     wheels = int(ds.attrs['wheels'])
     ax.set_title(f"linearised growth-rate spectrum{f' at {float(ds.speed.values[0]):g} m/s' if one else ''}, "
-                 f"{wheels} wheel{'' if wheels == 1 else 's'}", fontsize=9)
-    method = [(f"probe amplitude {ds.attrs['eps_m'] * 1e9:g} nm; grey lines: the one-bay comb L/k", "0.2")]
+                 f"{wheels} wheel{'' if wheels == 1 else 's'}\n{_track_text(ds.attrs)}", fontsize=9)
+    method = [(f"probe amplitude {ds.attrs['eps_m'] * 1e9:g} nm; grey lines: the one-bay comb L/k", "0.2"), (_mechanisms_text(ds.attrs), "0.2")]
     lam_edges = _wavelength_edges(lam)
     if one:
         ax.set_xlabel("wavelength (mm)")
         _wavelength_axis(ax, lam_edges)
         _rate_axes(ax, ds, float(ds.speed.values[0]))
-        _mark_contact(ds, (ax,), lam_edges)
+        method += _mark_contact(ds, (ax,), lam_edges)
         text.validity_note(fig, ds.attrs, method)
         return fig
     norm, ticks = _growth_norm(g.values)
@@ -174,20 +174,43 @@ def rate_spectrum_figure(ds: xr.Dataset):
     for a in (ax, bx):
         _wavelength_axis(a, lam_edges)
     _rate_axes(ax, ds)
-    _mark_contact(ds, (ax, bx), lam_edges)
+    method += _mark_contact(ds, (ax, bx), lam_edges)
     text.validity_note(fig, ds.attrs, method)
     return fig
 
 
+def _track_text(attrs) -> str:
+    """The track of a spectrum for its title: "track: pad 3.5×10⁸ N/m, sleeper spacing 0.6 m"."""
+    pad = attrs.get("pad_stiffness_N_per_m")
+    parts = ([f"pad {text.number(float(pad))} N/m"] if pad is not None else []) + (
+        [f"sleeper spacing {float(attrs['sleeper_spacing_m']):g} m"] if "sleeper_spacing_m" in attrs else [])
+    return "track: " + (", ".join(parts) if parts else "not stated")
+
+
+def _mechanisms_text(attrs) -> str:
+    """The model's mechanisms as the result file states them, for a figure's note: normal contact, wear
+    path, wheelset, rail flexibility, friction law ('not stated' where a file predates them)."""
+    import textwrap
+
+    def value(key):
+        return str(attrs.get(key, "not stated"))
+
+    line = (f"model: normal contact {value('normal_contact')}; wear path {value('wear_path')}; wheelset {value('wheelset_model')}; "
+            f"rail flexibility {value('rail_flexibility_model')}; friction {value('friction_law')}")
+    return "\n".join(textwrap.wrap(line, 110))
+
+
 def _mark_contact(ds: xr.Dataset, axes, lam_edges):
     """The static contact length 2a (dashed) and, for the report's normal contact, the wavelengths
-    below its range of validity (hatched), on spectrum panels with a wavelength axis in mm."""
+    below its range of validity (hatched), on spectrum panels with a wavelength axis in mm. Returns the
+    notes for the figure's footer (the hatch explained where no label fits on the axes)."""
+    notes = []
     if "contact_length_m" not in ds.attrs:
-        return
+        return notes
     two_a = 1e3 * float(ds.attrs["contact_length_m"])
-    lo = float(lam_edges.min())
+    lo, hi = float(lam_edges.min()), float(lam_edges.max())
     for i, a in enumerate(axes):
-        if two_a >= lo:
+        if lo <= two_a <= hi:  # a label outside the axes would collapse the layout (a few lines far from 2a)
             a.axvline(two_a, color="k", ls="--", lw=0.9)
             if i == 0:
                 a.text(two_a, 0.02, f" contact length 2a = {two_a:.1f} mm", transform=a.get_xaxis_transform(), fontsize=7,
@@ -195,10 +218,14 @@ def _mark_contact(ds: xr.Dataset, axes, lam_edges):
         if "report_model_valid_above_m" in ds.attrs:
             limit = 1e3 * float(ds.attrs["report_model_valid_above_m"])
             if limit > lo:
-                a.axvspan(lo, limit, facecolor="none", edgecolor="0.6", hatch="//", lw=0, zorder=0)
-                if i == 0:
+                a.axvspan(lo, min(limit, hi), facecolor="none", edgecolor="0.6", hatch="//", lw=0, zorder=0)
+                if i == 0 and limit <= hi:
                     a.text(limit, 0.98, "report's normal contact outside its validity (< 10 x 2a) ", transform=a.get_xaxis_transform(),
                            fontsize=7, ha="right", va="top", color="0.3")
+                elif i == 0:  # every line lies below the limit: said in the notes (a label would cover a line)
+                    notes.append((f"hatched: the report's normal contact outside its validity at every line (valid above 10 x 2a = "
+                                  f"{limit:.0f} mm)", "0.3"))
+    return notes
 
 
 def rate_spectrum_sweep_figure(ds: xr.Dataset):

@@ -19,7 +19,8 @@ import yaml
 
 from .. import __version__
 
-__all__ = ["data_var", "package_versions", "cf_units", "code_version", "finalize", "write_netcdf", "open_intermediate", "UnreadableIntermediateError"]
+__all__ = ["FIGURE_MODEL_ATTRS", "integer_like", "data_var", "package_versions", "cf_units", "code_version", "finalize", "write_netcdf",
+           "open_intermediate", "UnreadableIntermediateError"]
 
 def data_var(dims, data, units: str, long_name: str, **extra) -> tuple:
     """One variable or coordinate of a result dataset, with its units and long name attached.
@@ -46,6 +47,35 @@ def data_var(dims, data, units: str, long_name: str, **extra) -> tuple:
         ``(dims, ndarray, attrs)`` with ``attrs = {"units": units, "long_name": long_name, **extra}``.
     """
     return (dims, np.asarray(data), {"units": units, "long_name": long_name, **extra})
+
+
+# what every figure's data states as values (rail.studies.validity.model_attributes; finalize insists)
+FIGURE_MODEL_ATTRS = ("wear_path", "normal_contact")
+# a float attribute within this fraction of an integer is written as that integer (a fleet's mean wheels
+# per passage summed from its weights, 3.9999999999999996, is 4): a few units of the last place of a double
+INTEGER_LIKE_TOLERANCE = 1e-12
+
+
+def integer_like(value):
+    """``value`` as an int where it is a float within INTEGER_LIKE_TOLERANCE (relative) of an integer,
+    else unchanged (a bool, an int, a string, NaN and inf included).
+
+    Parameters
+    ----------
+    value : any
+        An attribute's value.
+
+    Returns
+    -------
+    int or the value
+    """
+    if isinstance(value, (bool, np.bool_)) or not isinstance(value, (float, np.floating)):
+        return value
+    x = float(value)
+    if not np.isfinite(x) or abs(x) >= 2.0 ** 53:
+        return value
+    n = round(x)
+    return int(n) if abs(x - n) <= INTEGER_LIKE_TOLERANCE * max(1.0, abs(x)) else value
 
 
 _PACKAGES = ("numpy", "scipy", "numba", "xarray", "netCDF4", "pandas", "matplotlib", "snakemake")
@@ -126,6 +156,10 @@ def finalize(ds: xr.Dataset, config: dict, *, title: str, source: str, scenario:
     ]
     if missing:
         raise ValueError(f"dataset '{title}' lacks attributes: {', '.join(missing)}")
+    unstated = [k for k in FIGURE_MODEL_ATTRS if title.startswith("Figure ") and k not in ds.attrs]
+    if unstated:  # every figure's data states its model choices as values (README; rail.studies.validity.model_attributes)
+        raise ValueError(f"dataset '{title}' does not state its {' and '.join(unstated)} (rail.studies.validity.model_attributes; "
+                         "'none' where the figure uses none)")
     ds = ds.copy()
     for dim in ds.dims:  # a coordinate on every dimension (CF): an index where the data has none
         if dim not in ds.coords:
@@ -136,6 +170,7 @@ def finalize(ds: xr.Dataset, config: dict, *, title: str, source: str, scenario:
     for name in ds.coords:  # the position along the rail is the X axis (CF axis attribute)
         if name in ("position", "x") and ds[name].attrs["units"] == "m":
             ds[name].attrs["axis"] = "X"
+    ds.attrs.update({k: integer_like(v) for k, v in ds.attrs.items()})  # 4, not 3.9999999999999996
     ds.attrs.update(
         title=title,
         source=source,

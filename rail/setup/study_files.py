@@ -8,7 +8,7 @@ import dataclasses
 
 import numpy as np
 
-__all__ = ["TRAFFIC_KEYS", "traffic_cases", "class_key", "ClassEstimate", "class_estimate", "check_convergence_study"]
+__all__ = ["TRAFFIC_KEYS", "traffic_cases", "CLASS_SPECTRUM_READS", "class_key", "ClassEstimate", "class_estimate", "check_convergence_study"]
 
 
 # The traffic study (config/traffic_study.yaml, README "Traffic"): cases of one fleet at a spread of
@@ -89,13 +89,23 @@ def traffic_cases(study: dict) -> dict:
     return out
 
 
+# The Scenario fields a class spectrum reads (rail.growth_spectrum.rate_spectrum through rail.chain), besides
+# its roughness period scn.roughness.bays: class_key hashes these and nothing else
+CLASS_SPECTRUM_READS = ("track", "track_numerics", "wheels", "spring", "material", "elastic", "wear_law", "contact_numerics",
+                        "speeds", "cell")
+
+
 def class_key(fleet_class, settings: dict) -> str:
     """A name for one class's spectrum that says what it holds and is the same in every fleet holding
     the class: ``<vehicle>_V<speed>_<hash>``, the vehicle's name (characters other than letters,
-    digits, ``.`` and ``-`` written as ``-``), the speed to four significant figures, and a hash of its
-    scenario (vehicle, speed, track, contact, ...; not the scenario's name) and the spectrum's settings,
-    which keeps two classes of the same vehicle and speed on other tracks or settings apart. The name
-    is a label only: the plan maps it to its class, nothing parses it back.
+    digits, ``.`` and ``-`` written as ``-``), the speed to four significant figures, and a hash of
+    what the class spectrum reads (CLASS_SPECTRUM_READS: the class's track, wheels, contact spring and
+    material, half-space, wear law, contact numerics, the spectrum's period and speed; the track cell)
+    and of the spectrum's settings, which keeps two classes of the same vehicle and speed on other
+    tracks or settings apart. The scenario's name, its growth settings (growth.passages, ...), its
+    initial roughness (a spectrum is taken about the smooth rail: only its period N counts) and its
+    traffic are not read by a class spectrum and are not hashed, so that changing them reruns no class
+    (issue 57, item 8). The name is a label only: the plan maps it to its class, nothing parses it back.
 
     Parameters
     ----------
@@ -112,8 +122,10 @@ def class_key(fleet_class, settings: dict) -> str:
     import json
     import re
 
-    scn = dataclasses.replace(fleet_class.scenario, name="")
-    text = repr(scn) + json.dumps({k: settings[k] for k in sorted(settings) if k != "speeds"}, sort_keys=True, default=str)
+    scn = fleet_class.scenario
+    read = {field: getattr(scn, field) for field in CLASS_SPECTRUM_READS}
+    read["bays"] = scn.roughness.bays  # the spectrum's period (its roughness is the smooth rail's)
+    text = repr(read) + json.dumps({k: settings[k] for k in sorted(settings) if k != "speeds"}, sort_keys=True, default=str)
     vehicle = re.sub(r"[^A-Za-z0-9.-]+", "-", str(fleet_class.vehicle)).strip("-") or "vehicle"
     return f"{vehicle}_V{fleet_class.speed:.4g}_{hashlib.sha256(text.encode()).hexdigest()[:16]}"
 

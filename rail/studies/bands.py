@@ -23,7 +23,20 @@ Rates that mean something (issue 45): a band whose level at the last save is bel
 RATE_FLOOR_DB = -30 dB re 1 um (0.03 um rms; docs/studies.md says why) keeps its numbers but is
 marked ``ranked = 0`` with its reason (``rate_note``): its dB rate is the growth of a roughness from
 nothing (a band at -60 dB growing linearly shows several dB per 100,000 axles whatever its size) and
-is ranked neither by the grinding interval nor in the figures.
+is ranked neither by the grinding interval nor in the figures. The same holds for a band that *started*
+below the floor (its level at the first save, or no roughness there) and has grown above it by the last
+save (issue 57, item 8): grown from nothing, it grows linearly from the supports' source (the new
+roughness barely changes the force, docs/studies.md), so its dB rate is the same for every such band
+and says nothing; its amplitude rate does. Its dB rate is kept in the dataset, marked, and left empty in
+the band CSV; where its law is the straight line, that line in amplitude counts toward the grinding
+interval.
+
+The grinding interval says how far it is extrapolated (issue 57, item 8): the factor of the interval
+over the computed (last saved) passages, in the attributes, the CSV header and the figure title, flagged
+beyond EXTRAPOLATION_FLAG_FACTOR. A band that decays (its law's rate not above zero, or its amplitude
+falling over the last saved interval: no feedback growth, no source) or whose growth is not
+distinguished from zero (its law's rate below twice its standard error) sets no interval: "not
+reached", with the reason per band (limit_note).
 
 A limit is exceeded when a band's level is strictly above it to the limit's stated precision: by
 more than half a unit of its last stated decimal (limit_tolerance: 17.1 is exceeded above 17.15 dB;
@@ -51,11 +64,16 @@ from ..bands import wavelength_bands as third_octave_bands
 from .validity import VALIDITY_ATTRS, validity_text
 
 __all__ = ["NOMINAL_WAVELENGTHS_M", "ThirdOctaveBands", "third_octave_bands", "band_mean_square", "band_levels", "RATE_FLOOR_DB",
-           "limit_tolerance", "ranked_bands", "BandGrowth", "band_growth", "grinding_interval", "empty_band_reasons", "bands_dataset",
-           "grinding_interval_text", "band_csv_text", "write_band_csv", "sweep_band_map", "readable_count"]
+           "limit_tolerance", "ranked_bands", "BandGrowth", "band_growth", "EXTRAPOLATION_FLAG_FACTOR", "grinding_interval",
+           "empty_band_reasons", "bands_dataset", "grinding_interval_text", "extrapolation_text", "band_csv_text", "write_band_csv",
+           "sweep_band_map", "readable_count"]
 
 # The level below which a band's growth rate is not ranked [dB re 1 um] (module docstring; docs/studies.md)
 RATE_FLOOR_DB = -30.0
+# A grinding interval more than this many times the computed passages is flagged as an extrapolation [-]
+EXTRAPOLATION_FLAG_FACTOR = 10.0
+# A band's growth counts toward the interval only when its law's rate exceeds this many standard errors [-]
+GROWTH_SIGNIFICANCE = 2.0
 
 # NOMINAL_WAVELENGTHS_M: EN 15610 nominal centre wavelengths (m) of the exact series 10^(-n/10) m,
 # n = 0..25 (rail.bands; rail.roughness reads the limit spectrum and checks it against them)
@@ -167,8 +185,10 @@ def limit_tolerance(limit_dB) -> np.ndarray:
     return np.array(out)
 
 
-def ranked_bands(ms_last, floor_dB: float = RATE_FLOOR_DB):
-    """Which bands' growth rates are ranked, and why not where they are not.
+def ranked_bands(ms_last, floor_dB: float = RATE_FLOOR_DB, ms_first=None):
+    """Which bands' growth rates are ranked, and why not where they are not: a band below the floor at
+    the last save, or one that started below it (grown from nothing: its dB rate is the linear growth
+    from the supports' source, module docstring), is not ranked.
 
     Parameters
     ----------
@@ -176,6 +196,8 @@ def ranked_bands(ms_last, floor_dB: float = RATE_FLOOR_DB):
         Band mean squares at the last save [m^2] (NaN where the band is not resolved).
     floor_dB : float
         The floor [dB re 1 µm] (RATE_FLOOR_DB).
+    ms_first : ndarray, shape (bands,), optional
+        Band mean squares at the first save [m^2]; default: not checked.
 
     Returns
     -------
@@ -198,6 +220,16 @@ def ranked_bands(ms_last, floor_dB: float = RATE_FLOOR_DB):
             note.append(f"below the floor: {level:.1f} dB re 1 um at the last save < {floor_dB:g} dB re 1 um; its dB rate is "
                         "growth from nothing, not ranked")
             continue
+        if ms_first is not None:
+            m0 = float(ms_first[b])
+            start = 10 * np.log10(m0 / 1e-12) if m0 > 0 else -np.inf
+            if not start >= floor_dB:
+                began = "no roughness in the band" if not m0 > 0 else f"{start:.1f} dB re 1 um"
+                note.append(f"grown from nothing: {began} at the first save (below the floor {floor_dB:g} dB re 1 um) to "
+                            f"{level:.1f} dB re 1 um at the last; its dB rate is linear growth from the supports' source, not a "
+                            "feedback rate: not ranked (its amplitude rate counts: a straight line in amplitude, it counts toward the "
+                            "grinding interval)")
+                continue
         ranked[b] = True
         note.append("")
     return ranked, np.array(note, dtype=str)
@@ -227,7 +259,9 @@ def grinding_interval(passages, ms, growth: BandGrowth, limit_dB, per_day: float
     -------
     dict
         'passages' (inf if no band exceeds its limit with growth), 'days', 'band' (index or -1),
-        'already' (True if a ranked band is above its limit at the start).
+        'already' (True if a ranked band is above its limit at the start), 'each' (passages per band
+        until it exceeds its limit, inf where not reached) and 'note' (per band, why not reached: the
+        band decays, its growth is not distinguished from zero, ...; '' where reached).
     """
     n = np.asarray(passages, dtype=float)
     ms = np.asarray(ms, dtype=float)
@@ -236,10 +270,14 @@ def grinding_interval(passages, ms, growth: BandGrowth, limit_dB, per_day: float
     amp_lim = 1e-6 * 10 ** ((limit_dB + limit_tolerance(limit_dB)) / 20)  # exceeded: above it, to its precision
     ranked = np.ones(len(amp_lim), dtype=bool) if ranked is None else np.asarray(ranked, dtype=bool)
     best, band = np.inf, -1
+    each = np.full(len(amp_lim), np.inf)
+    notes = []
     with np.errstate(invalid="ignore"):
         already = bool(np.any(ranked & (np.sqrt(ms[0]) > amp_lim)))
     for b in range(len(amp_lim)):
         if not (ranked[b] and np.isfinite(amp_lim[b]) and np.isfinite(amp_last[b])):
+            notes.append("no limit in the band" if ranked[b] and not np.isfinite(amp_lim[b]) else
+                         "not ranked" if not ranked[b] else "no level at the last save")
             continue
         if amp_last[b] > amp_lim[b]:
             # reached within the run: between the saves around the crossing, ln(amplitude) linear
@@ -250,15 +288,30 @@ def grinding_interval(passages, ms, growth: BandGrowth, limit_dB, per_day: float
             else:
                 y0, y1 = np.log(max(amp[k - 1], 1e-300)), np.log(amp[k])
                 t = n[k - 1] + (n[k] - n[k - 1]) * (np.log(amp_lim[b]) - y0) / (y1 - y0)
-        elif growth.law[b] == "exponential" and growth.exp_rate[b] > 0:
-            t = n[-1] + np.log(amp_lim[b] / amp_last[b]) / growth.exp_rate[b] * 1e5
-        elif growth.law[b] == "linear" and growth.linear_rate[b] > 0:
-            t = n[-1] + (amp_lim[b] - amp_last[b]) / growth.linear_rate[b] * 1e5
         else:
-            continue
+            exponential = growth.law[b] == "exponential"
+            rate = growth.exp_rate[b] if exponential else growth.linear_rate[b]
+            error = growth.exp_error[b] if exponential else growth.linear_error[b]
+            amp = np.sqrt(ms[:, b])
+            if not rate > 0 or (amp.size > 1 and amp[-1] < amp[-2]):
+                # no feedback growth and no source: extrapolating a decay gives no interval
+                notes.append("not reached: the band decays (" + (f"its {growth.law[b]} rate is not above zero" if not rate > 0 else
+                             "its amplitude falls over the last saved interval") + ")")
+                continue
+            if np.isfinite(error) and rate < GROWTH_SIGNIFICANCE * error:
+                notes.append(f"not reached: its {growth.law[b]} growth is not distinguished from zero (rate below "
+                             f"{GROWTH_SIGNIFICANCE:g} standard errors)")
+                continue
+            if exponential:
+                t = n[-1] + np.log(amp_lim[b] / amp_last[b]) / rate * 1e5
+            else:
+                t = n[-1] + (amp_lim[b] - amp_last[b]) / rate * 1e5
+        each[b] = float(t)
+        notes.append("")
         if t < best:
             best, band = float(t), b
-    return {"passages": best, "days": best / per_day if per_day else np.nan, "band": band, "already": already}
+    return {"passages": best, "days": best / per_day if per_day else np.nan, "band": band, "already": already, "each": each,
+            "note": np.array(notes, dtype=str)}
 
 
 def empty_band_reasons(bands: ThirdOctaveBands, period: float, shortest: float, resolved, ms, min_lines: int = 1) -> np.ndarray:
@@ -356,8 +409,11 @@ def bands_dataset(growth, L: float, bands: ThirdOctaveBands, min_lines: int, lim
             hit = np.nonzero(bands.nominal == NOMINAL_WAVELENGTHS_M[k])[0] if k >= 0 else []
             if len(hit):
                 lim[hit[0]] = lv
-    ranked, rate_note = ranked_bands(ms[-1], floor_dB)
-    gi = grinding_interval(n, ms, g, lim, per_day, ranked)
+    ranked, rate_note = ranked_bands(ms[-1], floor_dB, ms_first=ms[0])
+    # a band grown from nothing above the floor has no dB rate that means something, but its straight line in
+    # amplitude (growth from the supports' source) does: it counts toward the grinding interval by that line
+    grown = np.char.startswith(rate_note, "grown from nothing") & (g.law == "linear")
+    gi = grinding_interval(n, ms, g, lim, per_day, ranked | grown)
     band = int(gi["band"])
     V = float(growth.attrs.get("speed_m_per_s", np.nan))
     dims = ("passage", "band")
@@ -382,13 +438,29 @@ def bands_dataset(growth, L: float, bands: ThirdOctaveBands, min_lines: int, lim
         "grinding_interval_years": float(traffic.years(gi["passages"])) if traffic is not None else float("nan"),
         "grinding_interval_MGT": float(traffic.mgt(gi["passages"])) if traffic is not None else float("nan"),
         "grinding_interval_band_m": float(bands.nominal[band]) if band >= 0 else float("nan"),
-        "grinding_interval_definition": ("axle (wheel) passages until the first ranked band's level, extrapolated with its own "
+        "computed_passages": float(n[-1]),
+        # how far the interval lies beyond the computed passages: interval / last saved count (<= 1: within the run)
+        "grinding_interval_extrapolation_factor": float(gi["passages"] / n[-1]) if np.isfinite(gi["passages"]) and n[-1] > 0 else float("nan"),
+        "extrapolation_flag_factor": float(EXTRAPOLATION_FLAG_FACTOR),
+        "extrapolation_definition": ("grinding_interval_extrapolation_factor = grinding_interval_passages / computed_passages (the last "
+                                     "saved count): how far the interval extrapolates the fitted growth law beyond the computed run; "
+                                     "flagged (grinding_interval_extrapolated = 1) above extrapolation_flag_factor"),
+        "grinding_interval_definition": ("axle (wheel) passages until the first ranked band's level (or that of a band grown from "
+                                         "nothing, by its straight line in amplitude), extrapolated with its own "
                                          "growth law (linear or exponential in amplitude), exceeds the limit (is above it by more "
                                          "than half a unit of the limit's last stated decimal); interpolated in ln amplitude "
                                          "between the saves when exceeded within the run; 0 and limit_exceeded_at_start = 1 when "
-                                         "the initial roughness already exceeds the limit; inf when no band exceeds it"),
+                                         "the initial roughness already exceeds the limit; inf when no band exceeds it; a band that "
+                                         "decays (its law's rate not above zero, or its amplitude falling over the last saved "
+                                         "interval) or whose rate is below twice its standard error sets none (limit_note)"),
         "limit_exceeded_at_start": int(gi["already"]),
     }
+    gi_attrs["grinding_interval_extrapolated"] = int(bool(gi_attrs["grinding_interval_extrapolation_factor"] > EXTRAPOLATION_FLAG_FACTOR))
+    decays = int(np.char.startswith(gi["note"], "not reached: the band decays").sum())
+    flat = int(np.char.startswith(gi["note"], "not reached: its").sum())
+    decay_text = f"{decays} ranked band{'s' if decays != 1 else ''} with a limit decay{'' if decays != 1 else 's'}" if decays else ""
+    gi_attrs["bands_not_reached"] = ", ".join(t for t in (decay_text,
+                                                          f"{flat} grow{'' if flat != 1 else 's'} indistinguishably from zero" if flat else "") if t)
     gi_attrs["grinding_interval_text"] = grinding_interval_text(gi_attrs, n[0], bool(np.isfinite(lim).any()))
     return xr.Dataset(
         {
@@ -396,7 +468,7 @@ def bands_dataset(growth, L: float, bands: ThirdOctaveBands, min_lines: int, lim
                           "one-third-octave band level of the roughness (rms); NaN where the band has no level (empty_reason)"),
             "resolved": data_var("band", resolved.astype(int), "1", "1 where the roughness period resolves the band (at least min_lines lines)"),
             "ranked": data_var("band", ranked.astype(int), "1", f"1 where the band's growth rate is ranked (grinding interval, "
-                               f"figures): its level at the last save is at least the floor {floor_dB:g} dB re 1 um"),
+                               f"figures): its level at the first and at the last save is at least the floor {floor_dB:g} dB re 1 um"),
             "rate_note": data_var("band", rate_note, "", "why the band's growth rate is not ranked ('' where it is)"),
             "empty_reason": data_var("band", reasons, "", "why the band has no level at some or all saves ('' where it has one at every save)"),
             **rates,
@@ -411,6 +483,10 @@ def bands_dataset(growth, L: float, bands: ThirdOctaveBands, min_lines: int, lim
             "linear_misfit": data_var("band", g.linear_misfit, "1", "rms residual of the straight-line fit over the band's mean amplitude"),
             "exponential_misfit": data_var("band", g.exp_misfit, "1", "rms residual of the exponential fit over the band's mean amplitude"),
             "limit": data_var("band", lim, "dB re 1 um", "limit spectrum (NaN: no limit in the band)"),
+            "limit_passages": data_var("band", gi["each"], "1", "axle passages until the band exceeds its limit (as the grinding "
+                                       "interval, band by band); inf where not reached (limit_note)"),
+            "limit_note": data_var("band", gi["note"], "", "why the band does not reach its limit ('' where it does): no limit, "
+                                   "not ranked, the band decays, or its growth is not distinguished from zero"),
         },
         coords={
             "passage": data_var("passage", n, "1", "axle passages (wheel passages on the rail; a train of n axles counts n)"),
@@ -436,8 +512,9 @@ def bands_dataset(growth, L: float, bands: ThirdOctaveBands, min_lines: int, lim
             "speed_m_per_s": V,
             "processing": "lines of the periodic profile summed per band (no window); rail/studies/bands.py",
             "rate_floor_dB_re_1um": float(floor_dB),
-            "rate_floor_definition": ("a band whose level at the last save is below the floor is not ranked: its dB rate is the "
-                                      "growth of a roughness from nothing (docs/studies.md)"),
+            "rate_floor_definition": ("a band whose level at the last save is below the floor, or whose level at the first save is "
+                                      "(grown from nothing), is not ranked: its dB rate is the growth of a roughness from nothing, "
+                                      "not a feedback rate (docs/studies.md)"),
         },
     )
 
@@ -459,16 +536,49 @@ def grinding_interval_text(attrs: dict, first: float, has_limit: bool) -> str:
     str
     """
     gi, band = attrs["grinding_interval_passages"], attrs["grinding_interval_band_m"]
+    decaying = attrs.get("bands_not_reached", "")
     if not has_limit:
         return "no limit spectrum given"
     if attrs["limit_exceeded_at_start"] and gi <= first:
         return f"limit already exceeded by the initial roughness (the {1e3 * band:g} mm band)"
     if not np.isfinite(gi):
-        return "no ranked band exceeds the limit with its growth"
+        return "not reached: no ranked band grows toward the limit" + (f" ({decaying})" if decaying else "")
     years, mgt, days = attrs["grinding_interval_years"], attrs["grinding_interval_MGT"], attrs["grinding_interval_days"]
     when = (f" ({years:.3g} years, {mgt:.3g} MGT)" if np.isfinite(years) and np.isfinite(mgt)
             else f" ({days:,.0f} days)" if np.isfinite(days) else "")
-    return f"limit exceeded after {readable_count(gi)} axle passages{when}, set by the {1e3 * band:g} mm band"
+    text = f"limit exceeded after {readable_count(gi)} axle passages{when}, set by the {1e3 * band:g} mm band"
+    return text + "; " + extrapolation_text(attrs)
+
+
+def extrapolation_text(attrs: dict) -> str:
+    """How far a finite grinding interval lies beyond the computed passages, in words: "reached within the
+    computed 100,000 axle passages", "extrapolated x3.2 beyond the computed 100,000 axle passages", or,
+    above the flag factor, "EXTRAPOLATED x870 beyond the computed 100,000 axle passages (flagged: more
+    than x10)".
+
+    Parameters
+    ----------
+    attrs : dict
+        The attributes of bands_dataset (computed_passages, grinding_interval_extrapolation_factor,
+        extrapolation_flag_factor).
+
+    Returns
+    -------
+    str
+        '' where the attributes do not state the factor.
+    """
+    if "grinding_interval_extrapolation_factor" not in attrs:
+        return ""
+    factor, done = float(attrs["grinding_interval_extrapolation_factor"]), float(attrs["computed_passages"])
+    flag = float(attrs.get("extrapolation_flag_factor", EXTRAPOLATION_FLAG_FACTOR))
+    if not np.isfinite(factor):
+        return ""
+    computed = f"the computed {readable_count(done)} axle passages"
+    if factor <= 1:
+        return f"reached within {computed}"
+    if factor > flag:
+        return f"EXTRAPOLATED x{readable_count(factor, 2)} beyond {computed} (flagged: more than x{flag:g})"
+    return f"extrapolated x{readable_count(factor, 2)} beyond {computed}"
 
 
 def band_csv_text(ds) -> str:
@@ -500,8 +610,15 @@ def band_csv_text(ds) -> str:
                                                              if "axle_load_t" in a else ""),
             "# empty cell: the band has no level there (reason in the column empty_reason)",
             f"# ranked: 1 where the band's growth rate counts (grinding interval, figures); 0 where its level at the last save is below "
-            f"the floor {a.get('rate_floor_dB_re_1um', RATE_FLOOR_DB):g} dB re 1 um: its dB rate is growth from nothing (reason in rate_note)"]
+            f"the floor {a.get('rate_floor_dB_re_1um', RATE_FLOOR_DB):g} dB re 1 um, or started below it (grown from nothing): its dB rate is "
+            "growth from nothing, not a feedback rate, and its dB rate cells are empty (reason in rate_note)"]
     head.append("# grinding interval: " + a["grinding_interval_text"])
+    if "grinding_interval_extrapolation_factor" in a:
+        factor = a["grinding_interval_extrapolation_factor"]
+        head.append(f"# extrapolation: grinding_interval_extrapolation_factor={factor:.4g}" if np.isfinite(factor) else
+                    "# extrapolation: grinding_interval_extrapolation_factor= (no finite interval)")
+        head[-1] += (f" (interval / the computed {readable_count(a['computed_passages'])} axle passages; flagged above "
+                     f"x{a['extrapolation_flag_factor']:g}{': FLAGGED' if a.get('grinding_interval_extrapolated') else ''})")
     head.append("# validity: " + (validity_text(a) or "not stated"))
     head.append("# " + "; ".join(f"{k}={a[k]:.6g}" if np.isfinite(a[k]) else f"{k}=" for k in
                                  ("grinding_interval_passages", "grinding_interval_years", "grinding_interval_MGT", "grinding_interval_band_m"))
@@ -521,7 +638,10 @@ def band_csv_text(ds) -> str:
         cells = [f"{ds['nominal_wavelength'].values[b]:g}", f"{ds['centre_wavelength'].values[b]:.8g}",
                  cell(float(ds["frequency"].values[b]), ".5g"), str(int(ds["resolved"].values[b]))]
         cells += [cell(v, ".3f") for v in ds["level"].values[:, b]]
-        cells += [cell(float(ds[c].values[b])) for c in rate_cols]
+        # a band grown from nothing or below the floor: its dB rate is no feedback rate, left empty (rate_note); its
+        # amplitude rate stays
+        no_dB = "ranked" in ds and not int(ds["ranked"].values[b])
+        cells += ["" if no_dB and c.startswith("growth_dB") else cell(float(ds[c].values[b])) for c in rate_cols]
         note = str(ds["rate_note"].values[b]) if "rate_note" in ds else ""
         cells += [str(ds["growth_law"].values[b]), str(int(ds["ranked"].values[b])) if "ranked" in ds else "1",
                   '"' + note.replace('"', "'") + '"' if note else "", cell(float(ds["limit"].values[b]), "g"),

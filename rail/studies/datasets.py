@@ -404,9 +404,9 @@ def with_contact_shift(ds: xr.Dataset, shifts, limit: float, modelled: bool = Fa
         for name in ("contact_shift", "contact_shift_ratio", "contact_shift_sweep"):
             ds[name].attrs["long_name"] = ds[name].attrs["long_name"].replace("the neglected move", "the move") + (
                 " (in the model: the wear on the patch's true path)")
-        ds.attrs["wear_path"] = WEAR_PATH_TEXT["patch"]
+        ds.attrs.update(wear_path="patch", wear_path_description=WEAR_PATH_TEXT["patch"])
         return ds
-    ds.attrs["wear_path"] = WEAR_PATH_TEXT["wheel"]
+    ds.attrs.update(wear_path="wheel", wear_path_description=WEAR_PATH_TEXT["wheel"])
     ds.attrs["contact_shift_sweep_limit"] = float(limit)
     over = np.flatnonzero(sweep > limit)
     if over.size:
@@ -424,26 +424,47 @@ def _slug(prefix: str, label: str) -> str:
     return prefix + "_" + re.sub(r"[^0-9A-Za-z.+-]+", "_", label.replace("/", " per ")).strip("_")
 
 
+# the model choices of a run that its figure's data states (rail.studies.validity.model_attributes)
+_MODEL_ATTRS = ("wear_path", "wear_path_description", "normal_contact")
+
+
+def _run_models(ds) -> dict:
+    """The model attributes of one growth run ('not stated' where an older file lacks one)."""
+    return {k: str(ds.attrs.get(k, "not stated")) for k in _MODEL_ATTRS}
+
+
+def _figure_models(runs: dict) -> dict:
+    """The model attributes of a figure drawn from several runs: each run's where they all agree, else
+    'mixed' (each variable then states its own run's)."""
+    each = [_run_models(ds) for ds in runs.values()]
+    return {k: each[0][k] if all(e[k] == each[0][k] for e in each) else "mixed: see the attribute of each variable"
+            for k in _MODEL_ATTRS}
+
+
 def growth_figure(runs: dict, kind: str, k_max_rad_per_m: float = 525.0) -> xr.Dataset:
     """Data of Figs 20-27 from growth datasets: kind 'profiles' (every save of one run),
-    'spectra' (final levels of each run) or 'final_profiles' (final profile of each run)."""
+    'spectra' (final levels of each run) or 'final_profiles' (final profile of each run). Every
+    dataset states its wear path and normal contact as values (the runs' wear_path, normal_contact,
+    and on each variable its own run's where several runs are drawn)."""
     first = next(iter(runs.values()))
     if kind == "profiles":
         ds = first
         out = {f"profile_{int(n)}": data_var("position", ds["profile"].values[i], "m", f"roughness profile after {int(n)} passages")
                for i, n in enumerate(ds["passage"].values)}
-        return xr.Dataset(out, coords={"position": ds["position"]}, attrs=dict(ds.attrs))
+        return xr.Dataset(out, coords={"position": ds["position"]}, attrs={**dict(ds.attrs), **_figure_models(runs)})
     if kind == "final_profiles":
         out = {
             _slug("profile", label): data_var("position", ds["profile"].values[-1], "m",
-                                              f"roughness profile after {int(ds['passage'].values[-1])} passages, {label}", label=label)
+                                              f"roughness profile after {int(ds['passage'].values[-1])} passages, {label}",
+                                              label=label, **_run_models(ds))
             for label, ds in runs.items()
         }
-        return xr.Dataset(out, coords={"position": first["position"]})
+        return xr.Dataset(out, coords={"position": first["position"]}, attrs=_figure_models(runs))
     sel = first["wavenumber"].values <= k_max_rad_per_m
     out = {
         _slug("level", label): data_var("harmonic", ds["level"].values[-1][sel], "dB re 1 um",
-                                        f"roughness level after {int(ds['passage'].values[-1])} passages, {label}", label=label)
+                                        f"roughness level after {int(ds['passage'].values[-1])} passages, {label}",
+                                        label=label, **_run_models(ds))
         for label, ds in runs.items()
     }
     return xr.Dataset(
@@ -452,6 +473,7 @@ def growth_figure(runs: dict, kind: str, k_max_rad_per_m: float = 525.0) -> xr.D
             "harmonic": data_var("harmonic", first["harmonic"].values[sel], "1", "harmonic k of the sleeper bay"),
             "wavenumber": data_var("harmonic", first["wavenumber"].values[sel], "rad/m", "wavenumber k beta0"),
         },
+        attrs=_figure_models(runs),
     )
 
 

@@ -11,7 +11,7 @@ from ..setup.io import data_var
 from .datasets import sweep_coords
 from .validity import WEAR_PATH_TEXT, creepage_model_text, validity_text
 
-__all__ = ["spectrum_with_settings", "rate_spectrum_dataset", "spectrum_dataset_of",
+__all__ = ["spectrum_with_settings", "rate_spectrum_dataset", "spectrum_dataset_of", "model_mechanisms",
            "REPORT_VALID_PATCH_LENGTHS", "sweep_rate_spectrum", "growing_bands", "summary_markdown", "PASSAGES_PER_DB"]
 
 PASSAGES_PER_DB = 100000  # the dB growth is stated per this many train passages
@@ -126,7 +126,7 @@ def rate_spectrum_dataset(spectra: dict[float, RateSpectrum], L: float, wheels: 
                **(traffic.attributes() if traffic is not None else {}),
                **({"contact_length_m": float(contact_length)} if contact_length else {}),
                **({"normal_contact": str(normal)} if normal is not None else {}),
-               **({"wear_path": WEAR_PATH_TEXT[wear_path]} if wear_path else {}),
+               **({"wear_path": wear_path, "wear_path_description": WEAR_PATH_TEXT[wear_path]} if wear_path else {}),
                **({"report_model_valid_above_m": REPORT_VALID_PATCH_LENGTHS * float(contact_length),
                    "validity": f"the report's normal contact (point spring, local-curvature Hertz patch) holds for wavelengths above "
                                f"about {REPORT_VALID_PATCH_LENGTHS} patch lengths ({1e3 * REPORT_VALID_PATCH_LENGTHS * contact_length:.0f} mm); "
@@ -161,7 +161,36 @@ def spectrum_dataset_of(spectra: dict[float, RateSpectrum], scn) -> xr.Dataset:
         from ..track import pinned_pinned_frequency
 
         ds.attrs["pinned_pinned_Hz"] = float(pinned_pinned_frequency(scn.track))
+    ds.attrs.update(model_mechanisms(scn))
     return ds
+
+
+def model_mechanisms(scn) -> dict:
+    """The track and the model's mechanisms of a spectrum, as values for its attributes and its figure
+    (issue 57, item 8: a figure names the track and the mechanisms): the pad stiffness [N/m], and the
+    wheelset, the rail's flexibility and the friction law in words ('none' or the report's where left out).
+
+    Parameters
+    ----------
+    scn : rail.scenario.Scenario
+
+    Returns
+    -------
+    dict
+        pad_stiffness_N_per_m, wheelset_model, rail_flexibility_model, friction_law.
+    """
+    m = scn.material
+    if m.friction_decay > 0:
+        friction = (f"falling with slip (mu_s = {m.friction_static:g}, mu_d = {m.friction_dynamic:g}, s_0 = {m.friction_decay:g} m/s)"
+                    if m.friction_static > m.friction_dynamic else
+                    f"constant mu = {m.friction_dynamic:g} (friction_decay {m.friction_decay:g} m/s has no effect with mu_s = mu_d)")
+    else:
+        friction = f"step, the report's (mu_s = {m.friction_static:g}, mu_d = {m.friction_dynamic:g})"
+    return {"pad_stiffness_N_per_m": float(scn.track.pad.stiffness),
+            "wheelset_model": m.longitudinal.label if m.longitudinal is not None and m.longitudinal.label else
+            ("wheelset modes" if m.longitudinal is not None else "none: fixed creepage (the report's)"),
+            "rail_flexibility_model": m.rail_flexibility.label if m.rail_flexibility is not None else "none (the report's)",
+            "friction_law": friction}
 
 
 

@@ -5,12 +5,38 @@ from __future__ import annotations
 
 import numpy as np
 
-__all__ = ["VALIDITY_ATTRS", "WEAR_PATH_TEXT", "validity_text", "creepage_model_text"]
+__all__ = ["VALIDITY_ATTRS", "WEAR_PATH_TEXT", "NOT_USED", "model_attributes", "validity_text", "creepage_model_text"]
 
-VALIDITY_ATTRS = ("wear_path", "contact_shift_warning", "normal_contact", "validity", "creepage_model")
-# the attribute wear_path of every result, by contact.wear_path
+VALIDITY_ATTRS = ("wear_path", "wear_path_description", "contact_shift_warning", "normal_contact", "validity", "creepage_model")
+# the attribute wear_path_description of every result, by its wear_path (contact.wear_path)
 WEAR_PATH_TEXT = {"patch": "patch: the wear where the contact patch is, its centre c(x_w) from the wheel (docs/contact.md)",
-                  "wheel": "wheel: the wear under the wheel centre (the report's); the move of the contact centre is neglected"}
+                  "wheel": "wheel: the wear under the wheel centre (the report's); the move of the contact centre is neglected",
+                  "none": "none: no wear is computed for this result"}
+NOT_USED = "none"  # the value of wear_path or normal_contact where a result uses no wear or no wheel/rail contact model
+
+
+def model_attributes(wear_path: str, normal) -> dict:
+    """The model choices of a result as values (issue 57, item 8): ``wear_path`` ('patch', 'wheel', or
+    'none' where no wear is computed) beside its description ``wear_path_description``, and
+    ``normal_contact`` (the model's config value, 'report' or 'nonhertzian', or 'none' where no
+    wheel/rail contact is modelled).
+
+    Parameters
+    ----------
+    wear_path : str
+        contact.wear_path, or NOT_USED.
+    normal : str or rail.contact.NormalContact
+        contact.normal (its name), or NOT_USED.
+
+    Returns
+    -------
+    dict
+        The three attributes.
+    """
+    path = str(wear_path)
+    if path not in WEAR_PATH_TEXT:
+        raise ValueError(f"wear_path = {path!r} is not allowed: it must be one of {list(WEAR_PATH_TEXT)}.")
+    return {"wear_path": path, "wear_path_description": WEAR_PATH_TEXT[path], "normal_contact": str(normal)}
 
 
 def validity_text(attrs) -> str:

@@ -48,6 +48,7 @@ rule closure_wellposedness:
 
 rule closure_aggregate:
     """The closure study's dataset, spectra figures and conclusions table."""
+    priority: PRIORITY_KERNELS  # a short drawing or summing job: not queued behind long jobs (issue 57)
     localrule: True
     input:
         PLAN.closure_inputs()[0] if PLAN.closure_values() else [],

@@ -104,6 +104,7 @@ rule fleet_class_spectrum:
 rule fleet_rate_spectrum:
     """Growth-rate spectrum under a scenario's fleet: the traffic-weighted rate per wavelength, each
     class's contribution kept (rail.growth_spectrum.fleet_spectrum_of), per fleet passage and per year."""
+    priority: PRIORITY_KERNELS  # a short drawing or summing job: not queued behind long jobs (issue 57)
     input:
         fleet_class_spectra,
     output:
@@ -126,6 +127,7 @@ rule fleet_rate_spectrum:
 rule traffic_study_summary:
     """The traffic study's cases side by side: growth-rate spectrum per case, one-third-octave band rates,
     what the pinned-pinned and the fastest-growing bands do across the spreads and drives."""
+    priority: PRIORITY_KERNELS  # a short drawing or summing job: not queued behind long jobs (issue 57)
     localrule: True
     input:
         PLAN.traffic_study_inputs(),
@@ -183,6 +185,7 @@ rule uncertainty_member:
 
 rule uncertainty_ensemble:
     """The ensemble's band spectrum: per one-third-octave band, the median over the members and the stated interval."""
+    priority: PRIORITY_KERNELS  # a short drawing or summing job: not queued behind long jobs (issue 57)
     localrule: True
     input:
         PLAN.uncertainty_members(),

@@ -3,6 +3,7 @@
 
 rule fig08:
     """Fig. 8: one wheel at 40 m/s over a 10 um roughness at 1000 Hz."""
+    priority: PRIORITY_KERNELS  # a short drawing or summing job: not queued behind long jobs (issue 57)
     localrule: True
     input:
         table=table_file("default", config["figures"]["fig08"]["speed"]),
@@ -25,6 +26,7 @@ rule fig08:
 
 rule fig22:
     """Fig. 22: one wheel over a smooth rail at 20 and 40 m/s (parametric excitation)."""
+    priority: PRIORITY_KERNELS  # a short drawing or summing job: not queued behind long jobs (issue 57)
     localrule: True
     input:
         tables=[table_file("default", v) for v in config["figures"]["fig22"]["speeds"]],

@@ -53,6 +53,7 @@ rule growth_3d:
 rule growth_narrowband:
     """Growth over a roughness period of N bays: narrow-band spectrum beside the one-bay comb, and
     the profiles over the N bays."""
+    priority: PRIORITY_KERNELS  # a short drawing or summing job: not queued behind long jobs (issue 57)
     localrule: True
     input:
         "results/growth/{scenario}/V{speed}.nc",
@@ -158,6 +159,7 @@ rule any_wavelength:
 rule growth_figures:
     """Figs 20, 21, 23-27 from the growth runs, in one job (a job's start-up, 3 s CPU, is several
     times the drawing of one figure)."""
+    priority: PRIORITY_KERNELS  # a short drawing or summing job: not queued behind long jobs (issue 57)
     localrule: True
     input:
         # evaluated only when the figures are planned: the scenarios they name may be absent otherwise

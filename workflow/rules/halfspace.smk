@@ -45,6 +45,7 @@ rule halfspace_radiation:
 
 rule radiation_figures:
     """Figs 5-6: radiated power and contact-spring loss factor against frequency (one job for both)."""
+    priority: PRIORITY_KERNELS  # a short drawing or summing job: not queued behind long jobs (issue 57)
     localrule: True
     input:
         "results/halfspace/radiation.nc",

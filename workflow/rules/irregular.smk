@@ -37,6 +37,7 @@ rule irregular_case:
 rule irregular_summary:
     """The pinned-pinned band and the loudest band after the run: uniform track, named cases and the
     random-track ensemble (median and range over seeds per spread)."""
+    priority: PRIORITY_KERNELS  # a short drawing or summing job: not queued behind long jobs (issue 57)
     input:
         cases=expand(f"results/growth/{{case}}/V{IRREGULAR_SPEED}.nc", case=IRREGULAR_CASES),
         uniform=f"results/growth/irregular_uniform/V{IRREGULAR_SPEED}.nc",

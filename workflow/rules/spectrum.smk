@@ -31,6 +31,7 @@ rule rate_spectrum_speed:
 
 rule rate_spectrum_map:
     """The spectra of a scenario over its speeds: dataset and speed x wavelength map (one speed: the line alone)."""
+    priority: PRIORITY_KERNELS  # a short drawing or summing job: not queued behind long jobs (issue 57)
     localrule: True
     input:
         rate_spectrum_speeds,
@@ -65,6 +66,7 @@ rule rate_spectrum:
 
 rule rate_spectrum_sweep:
     """The spectra of a sweep study's points (each at its speed) on the study's grid."""
+    priority: PRIORITY_KERNELS  # a short drawing or summing job: not queued behind long jobs (issue 57)
     localrule: True
     input:
         rate_spectrum_sweep_points,
@@ -117,6 +119,7 @@ rule speed_study:
     """The dynamic-creepage study over speed in one dataset, figure and table: per mechanism, track and speed
     the fastest line and its frequency, the line nearest the pinned-pinned frequency, and whether the
     growing band keeps its frequency or its wavelength (rail.studies.speed_study)."""
+    priority: PRIORITY_KERNELS  # a short drawing or summing job: not queued behind long jobs (issue 57)
     localrule: True
     input:
         spectra=[f for files in PLAN.speed_study_spectra().values() for f in files],

@@ -27,6 +27,7 @@ rule stability_case:
 
 rule stability_table:
     """Outcome table of the stability suite (netCDF, markdown and HTML for the report)."""
+    priority: PRIORITY_KERNELS  # a short drawing or summing job: not queued behind long jobs (issue 57)
     localrule: True
     input:
         expand("results/stability/cases/{case}.json", case=list(PLAN.stability["cases"])),
@@ -82,6 +83,7 @@ rule convergence_point:
 
 rule convergence_aggregate:
     """Error against CPU time for every setting: dataset, log-log figure and summary table."""
+    priority: PRIORITY_KERNELS  # a short drawing or summing job: not queued behind long jobs (issue 57)
     localrule: True
     input:
         PLAN.convergence_points(),

@@ -3,6 +3,7 @@
 
 rule sweep_aggregate:
     """One dataset with a dimension per swept key, and a map of the fastest growth over the grid."""
+    priority: PRIORITY_KERNELS  # a short drawing or summing job: not queued behind long jobs (issue 57)
     localrule: True
     input:
         sweep_runs,
@@ -29,6 +30,7 @@ rule sweep_aggregate:
 
 rule sweep_bands:
     """Growth rate per one-third-octave band over the grid of a sweep study (map over band and key)."""
+    priority: PRIORITY_KERNELS  # a short drawing or summing job: not queued behind long jobs (issue 57)
     localrule: True
     input:
         sweep_runs,

@@ -59,6 +59,7 @@ ruleorder: wear_cases > wear_case
 rule wear_figures:
     """Figs 9-19 from the wear cases, in one job (a job's start-up, 3 s CPU, is six times the drawing
     of one figure). Each figure's dataset records the configuration it reads (wear_figure_config)."""
+    priority: PRIORITY_KERNELS  # a short drawing or summing job: not queued behind long jobs (issue 57)
     localrule: True
     input:
         PLAN.wear_figure_cases(),

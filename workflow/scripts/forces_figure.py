@@ -6,6 +6,7 @@ from rail import chain, interaction
 from rail.plotting import report
 from rail.setup import build, io
 from rail.studies import datasets
+from rail.studies.validity import NOT_USED, model_attributes
 
 
 def _table(path):
@@ -28,6 +29,7 @@ def main(rule, config, table_paths, data_path, figure_path):
             tab = _table(path)
             results[tab.speed] = chain.solve_forces(scn, tab, interaction.Roughness.smooth(tab.harmonics))
         ds = datasets.fig22(results, track)
+    ds = ds.assign_attrs(model_attributes(NOT_USED, scn.contact_numerics.normal))  # forces only: no wear
     ds = io.finalize(ds, config, title=f"Figure {int(rule[3:])}", source=f"rail.interaction.solve_forces, rail.studies.datasets.{rule}")
     io.write_netcdf(ds, data_path)
     getattr(report, rule)(ds).savefig(figure_path, dpi=150)

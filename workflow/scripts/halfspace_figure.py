@@ -7,6 +7,7 @@ import matplotlib.pyplot as plt
 from rail.plotting import report
 from rail.setup import build, io
 from rail.studies import datasets
+from rail.studies.validity import NOT_USED, model_attributes
 
 
 def main(figures, config, data_paths, figure_paths):
@@ -19,7 +20,8 @@ def main(figures, config, data_paths, figure_paths):
         "04": lambda: datasets.fig04(material, fig_settings, numerics),
     }
     for nn, data_path, figure_path in zip(figures, data_paths, figure_paths, strict=True):
-        ds = io.finalize(builders[nn](), config, title=f"Figure {int(nn)}", source=f"rail.studies.datasets.fig{nn}")
+        ds = builders[nn]().assign_attrs(model_attributes(NOT_USED, NOT_USED))  # the half-space alone: no wear, no wheel/rail contact
+        ds = io.finalize(ds, config, title=f"Figure {int(nn)}", source=f"rail.studies.datasets.fig{nn}")
         io.write_netcdf(ds, data_path)
         fig = getattr(report, f"fig{nn}")(ds)
         fig.savefig(figure_path, dpi=150)

@@ -5,8 +5,9 @@ import sys
 import matplotlib.pyplot as plt
 
 from rail.plotting import report
-from rail.setup import io
+from rail.setup import build, io
 from rail.studies import datasets
+from rail.studies.validity import model_attributes
 
 
 def figure(nn, config, case, case_path):
@@ -22,6 +23,8 @@ def figure(nn, config, case, case_path):
     else:
         ds = datasets.fig_wear_spectrum(case, float(config["figures"]["wear"]["spectrum_max_wavenumber"]))
         draw = report.fig_wear_spectrum
+    nums = build.passage_scenario(config).contact_numerics  # the wear case's contact (its configuration)
+    ds = ds.assign_attrs(model_attributes(nums.path, nums.normal))
     return io.finalize(ds, config, title=f"Figure {n}", source=f"rail.studies.datasets (from {case_path})"), draw
 
 
