@@ -53,8 +53,11 @@ def test_every_named_target_list_is_reproduced(P, target, method):
 
 # scenario files added after the lists were frozen (issue 43's dynamic-creepage study): one-train scenario
 # files at the default speeds, whose study targets are those of nonhertzian.yaml under their own name
-# the tracks they add, each characterised under the first scenario with it (by name): the 1e9 N/m pad of dyn_rail_pinned_stiff and dynspeed_*_stiff
-ADDED_TRACKS = ("dyn_rail_pinned_stiff", "dyn_rail_shear_soft", "dyn_rail_shear_stiff")
+# the tracks they add, each characterised under the first scenario with it (by name): the 1e9 N/m pad of
+# dyn_rail_pinned_stiff and dynspeed_*_stiff. dyn_rail_shear_soft and dyn_rail_shear_stiff change only the pads'
+# longitudinal stiffness, which no vertical track result reads (rail.setup.targets.RAIL_HEAD_KEYS): their track is
+# the default's (issue 57, item 5)
+ADDED_TRACKS = ("dyn_rail_pinned_stiff",)
 ADDED_SINCE = ("dyn_fixed", "dyn_rigid", "dyn_trailer", "dyn_trailer_independent", "dyn_driven", "dyn_rail", "dyn_rail_trailer",
                "dyn_rail_driven", "dyn_rail_pinned", "dyn_rail_pinned_slow", "dyn_rail_pinned_stiff", "dyn_rail_shear_soft", "dyn_rail_shear_stiff") + tuple(
     f"dynspeed_{m}{t}" for m in ("fixed", "trailer", "driven", "rail", "falling", "together") for t in ("", "_stiff"))
@@ -124,10 +127,23 @@ def test_fleet_class_jobs_and_logs_are_named_by_vehicle_and_speed_and_stay_uniqu
     assert any(len(v) > 1 for v in by_class.values())
 
 
+# Tables renamed since the lists were frozen: {recorded key: the scenario it served}. irregular_random's points write
+# track.cell.random.distribution at its default (uniform), irregular_dampers track.cell.damper.position (0.5): a table
+# is named by its track as the physics reads it, without the defaults, as the same file without the keys would be
+# (issue 57, item 5; tests/test_rerun.py)
+RENAMED_TABLES = {"3c57af5515": "irregular_dampers", "f67d844a76": "irregular_random-p0",
+                  "37338b3a3e": "irregular_random-p1", "56e6046792": "irregular_random-p2",
+                  "5a3f52de93": "irregular_random-p3", "878c798fa9": "irregular_random-p4",
+                  "f336956d2d": "irregular_random-p5"}
+
+
 def test_every_receptance_table_and_its_offsets(P):
     tables = JOBS["tables"]
     for path, offsets in tables.items():
         key, file = path.split("/")[2:]
+        if key in RENAMED_TABLES:
+            key = P.scenario_table[RENAMED_TABLES[key]]
+            assert key not in {p.split("/")[2] for p in tables}, key
         if file.startswith("fleet_V"):
             t, V = P.fleet_table_of(key, file[len("fleet_V"):-3].split("_N")[0], None)
         else:

@@ -43,13 +43,14 @@ from .tables import table_key
 from .targets import (CHARACTERISATION, CLOSURE_STUDIES, DEFAULT_SOURCE, FORCE_FIGURES, FORCE_KEYS, GROWTH_FIGURE_KEYS, GROWTH_FIGURES,
                       HALFSPACE_FIGURES, HALFSPACE_KEYS, IRREGULAR_NAMES, IRREGULAR_SPEED, PRIORITY_KERNELS, PRIORITY_TABLES,
                       REPORT_SUFFIXES, WEAR_CASE_KEYS, WEAR_FIGURES, Sweep, SweepPoint, Table, closure_label, config_part,
-                      fleet_speed_label, physics_part, speed_label, track_part, wear_frequency_label)
+                      RAIL_HEAD_KEYS, case_base, fleet_speed_label, physics_part, read_part, speed_label, track_part,
+                      wear_frequency_label)
 
 __all__ = ["Plan", "Sweep", "SweepPoint", "Table", "plan", "speed_label", "fleet_speed_label", "config_part", "physics_part",
            "HALFSPACE_KEYS", "FORCE_KEYS", "WEAR_CASE_KEYS", "GROWTH_FIGURE_KEYS", "HALFSPACE_FIGURES", "FORCE_FIGURES",
            "WEAR_FIGURES", "GROWTH_FIGURES", "CLOSURE_STUDIES", "IRREGULAR_SPEED", "CHARACTERISATION", "REPORT_SUFFIXES",
            "PRIORITY_KERNELS", "PRIORITY_TABLES", "DEFAULT_SOURCE", "known_value", "wear_frequency_label",
-           "closure_label", "track_part"]
+           "closure_label", "track_part", "read_part", "case_base", "RAIL_HEAD_KEYS"]
 
 def _offsets(scenarios) -> list[float]:
     """Offsets d between every ordered pair of wheels of the scenarios (0 first) [m]."""
@@ -60,9 +61,11 @@ def _offsets(scenarios) -> list[float]:
 class Plan:
     """Everything the workflow runs, decided at start-up. Mappings are read-only views."""
 
-    config: dict
+    config: dict                         # the default configuration as the physics reads it (read_part)
+    base_config: dict                    # the default configuration as a base for cases (read_part with base=True)
     schema: dict
-    scenarios: Mapping                   # {name: resolved configuration} (a name left out raises its file's problem)
+    scenarios: Mapping                   # {name: resolved configuration as the physics reads it, read_part} (a name
+                                         # left out raises its file's problem)
     sources: MappingProxyType            # {name: where it comes from, for messages}
     scenario_files: MappingProxyType     # {name: path} of config/scenarios/
     sweeps: Mapping                      # {study: Sweep} (as scenarios)
@@ -503,6 +506,11 @@ class Plan:
         cfg = members[m]["cfg"]
         return {**physics_part(cfg), "figures": {"rate_spectrum": cfg["figures"]["rate_spectrum"]}}
 
+    def stability_config(self, case: str) -> dict:
+        """What a stability case reads of the default configuration (its job's params.cfg, the base its
+        overrides are merged onto): base_config without the keys the case leaves unread (case_base)."""
+        return case_base(self.base_config, self.stability["cases"][case].get("overrides", {}), self.schema)
+
     def convergence_points(self) -> list[str]:
         """Every point of the convergence study, references included."""
         return [f"results/convergence/points/{s}/{v}.nc" for s, v in self.convergence_values]
@@ -653,7 +661,8 @@ def plan(config: dict, schema: dict, root=".") -> Plan:
         return _left_out(name, broken, files)
 
     return Plan(
-        config=config, schema=schema, scenarios=_Known(scenarios, left_out), sources=ro(sources), scenario_files=ro(files),
+        config=scenarios["default"], base_config=read_part(config, schema, base=True), schema=schema,
+        scenarios=_Known(scenarios, left_out), sources=ro(sources), scenario_files=ro(files),
         sweeps=_Known(sweeps, left_out), traffic_cases=ro(cases), traffic_study=traffic_study, objects=_Known(objects, left_out),
         fleet_classes=_Known(classes, left_out),
         fleet_spectrum_keys=ro(spectrum_keys), fleet_spectrum_jobs=ro(spectrum_jobs), tables=ro(tables),
@@ -674,10 +683,11 @@ def _one_problem(e: ConfigError) -> str:
 
 def _scenarios(config: dict, schema: dict, root: Path, broken: dict, broken_sweeps: set):
     """Scenarios of config/scenarios/<name>.yaml (only the keys that differ from the defaults), each
-    resolved and validated (errors name its file); "default" is the configuration itself. A file with
+    resolved and validated (errors name its file), each as the physics reads it (read_part: what the jobs'
+    params are made from); "default" is the configuration itself. A file with
     a top-level "sweep:" is a study: one scenario per grid point, named <study>-p<n>. A file that is
     not valid is left out, its problem in ``broken`` under its name."""
-    scenarios, sources, sweeps = {"default": config}, {"default": DEFAULT_SOURCE}, {}
+    scenarios, sources, sweeps = {"default": read_part(config, schema)}, {"default": DEFAULT_SOURCE}, {}
     files = scenario_files(root / "config/scenarios")
     for path in files.values():
         try:
@@ -685,7 +695,7 @@ def _scenarios(config: dict, schema: dict, root: Path, broken: dict, broken_swee
             if "sweep" in scen:
                 broken_sweeps.add(path.stem)  # kept only if the file is left out
             if "sweep" not in scen:
-                scenarios[path.stem] = resolve_scenario_file(config, schema, scen, source=str(path))
+                scenarios[path.stem] = read_part(resolve_scenario_file(config, schema, scen, source=str(path)), schema)
                 sources[path.stem] = str(path)
                 continue
             keys, values, points = expand_sweep(config, schema, scen, str(path))
@@ -695,7 +705,7 @@ def _scenarios(config: dict, schema: dict, root: Path, broken: dict, broken_swee
         swept = []
         for n, (index, assignment, cfg) in enumerate(points):
             name = f"{path.stem}-p{n}"
-            scenarios[name] = cfg
+            scenarios[name] = read_part(cfg, schema)
             sources[name] = f"{path} (sweep point {', '.join(f'{k} = {v}' for k, v in assignment.items())})"
             speed = assignment["speed"] if "speed" in assignment else cfg["speeds"][0]
             swept.append(SweepPoint(name, tuple(index), speed))
@@ -716,7 +726,7 @@ def _traffic_cases(config, schema, study, path, scenarios, sources) -> dict:
         if name in scenarios:
             raise ConfigError(f"invalid configuration:\n  config/scenarios/{name}.yaml: the name is a case of the traffic study "
                               "(config/traffic_study.yaml): rename the file.")
-        scenarios[name] = resolve_scenario_file(config, schema, scen, source=f"{path} (case {name})")
+        scenarios[name] = read_part(resolve_scenario_file(config, schema, scen, source=f"{path} (case {name})"), schema)
         sources[name] = f"{path} (case {name})"
     return cases
 
@@ -778,7 +788,7 @@ def _uncertainty(config: dict, schema: dict, path: Path) -> dict:
             raise ConfigError(f"invalid configuration:\n  {path}: {e}") from None
         cfg["figures"]["rate_spectrum"].update(u["spectrum"])
         src = f"{path} (member {m}: {', '.join(f'{k} = {v:.6g}' for k, v in vals.items())})"
-        cfg = validate_config(cfg, schema, source=src)
+        cfg = read_part(validate_config(cfg, schema, source=src), schema)
         spectrum_scenario(cfg, f"uncertainty-m{m}", src)  # physics constraints, naming the member
         members.append({"cfg": cfg, "values": vals})
     return {"members": members, "speed": float(u["speed"]), "interval": list(u["interval"]),
