@@ -223,7 +223,7 @@ def test_a_wheelset_in_the_configuration_reaches_the_single_passage_jobs(P):
     from rail.setup.plan import FORCE_KEYS, WEAR_CASE_KEYS, config_part
     assert "wheelset" not in config_part(WEAR_CASE_KEYS, P.config)
     assert passage_scenario(config_part(WEAR_CASE_KEYS, P.config)).material.longitudinal is None
-    wheelset = load_yaml(ROOT / "config/scenarios/dyn_trailer.yaml")["wheelset"]
+    wheelset = load_yaml(ROOT / "config/studies/dynamic_creepage.yaml")["cases"]["dyn_trailer"]["wheelset"]
     with_wheelset = {**P.config, "wheelset": wheelset}
     part = config_part(WEAR_CASE_KEYS, with_wheelset)
     assert part["wheelset"] == wheelset
@@ -357,23 +357,27 @@ def test_the_plan_module_stays_under_800_lines_and_keeps_every_name():
     assert all(hasattr(plan_module, name) for name in plan_module.__all__)
 
 
-def test_the_speed_study_reads_every_dynspeed_scenario_at_its_own_speeds(P):
-    """Rule speed_study's inputs (issue 43), read here from the scenario files themselves: every
-    config/scenarios/dynspeed_*.yaml, one spectrum per speed its figures.rate_spectrum.speeds lists."""
-    files = sorted((ROOT / "config" / "scenarios").glob("dynspeed_*.yaml"))
-    assert len(files) == 12  # six mechanisms (fixed, trailer, driven, rail, falling, together) on two tracks
+def test_the_speed_study_reads_every_case_of_its_study_file_at_its_own_speeds(P):
+    """Rule speed_study's inputs (issue 43), read here from the study file itself: every case of
+    config/studies/dynamic_creepage_speeds.yaml, one spectrum per speed of its figures.rate_spectrum.speeds
+    (the file's defaults unless the case gives its own)."""
+    study = load_yaml(ROOT / "config/studies/dynamic_creepage_speeds.yaml")
+    assert len(study["cases"]) == 12  # six mechanisms (fixed, trailer, driven, rail, falling, together) on two tracks
     got = P.speed_study_spectra()
-    assert sorted(got) == [f.stem for f in files]
-    for f in files:
-        speeds = load_yaml(str(f))["figures"]["rate_spectrum"]["speeds"]
-        assert got[f.stem] == [f"results/spectrum/{f.stem}/V{v:g}.nc" for v in speeds]
+    assert sorted(got) == sorted(study["cases"])
+    for name, case in study["cases"].items():
+        speeds = ((case or {}).get("figures") or study["defaults"]["figures"])["rate_spectrum"].get(
+            "speeds", study["defaults"]["figures"]["rate_spectrum"]["speeds"])
+        assert got[name] == [f"results/spectrum/{name}/V{v:g}.nc" for v in speeds]
+    assert got["dynspeed_together_stiff"][0].endswith("/V40.nc")  # not at 20 m/s (the file says why)
 
 
-def test_rail_flexibility_target_is_dyn_fixed_and_every_dyn_rail_scenario(P):
-    """The named target rail_flexibility: dyn_fixed for comparison and every dyn_rail*.yaml, found from
-    the files (a new dyn_rail_*.yaml joins the target without an edit of the rule)."""
-    files = sorted((ROOT / "config" / "scenarios").glob("dyn_rail*.yaml"))
-    assert len(files) == 8
-    got = P.rail_flexibility_targets()
-    want = ["dyn_fixed"] + [f.stem for f in files]
+def test_rail_flexibility_target_is_dyn_fixed_and_every_case_of_its_study_file(P):
+    """The named target rail_flexibility: dyn_fixed for comparison (included from dynamic_creepage.yaml) and
+    every case of config/studies/rail_flexibility.yaml, read from the file (a new case joins the target without
+    an edit of the rule; a file in config/scenarios/ joins none: tests/test_study_files.py)."""
+    study = load_yaml(ROOT / "config/studies/rail_flexibility.yaml")
+    assert study["include"] == ["dyn_fixed"] and len(study["cases"]) == 8
+    got = P.study_file_targets("rail_flexibility")
+    want = ["dyn_fixed"] + list(study["cases"])
     assert sorted(got) == sorted(f"results/spectrum/{n}/rate_spectrum.png" for n in want)

@@ -24,6 +24,7 @@ from rail.setup import build
 from rail.setup.config import ConfigError, deep_merge, load_yaml, resolve_scenario_file, validate_config
 from rail.setup.plan import (FORCE_KEYS, GROWTH_FIGURE_KEYS, HALFSPACE_KEYS, RAIL_HEAD_KEYS, WEAR_CASE_KEYS,
                              config_part, physics_part, plan, read_part, track_part)
+from rail.setup.study_files import study_cases
 from rail.setup.tables import table_key
 
 # Configurations in which every optional key is tried: the report's, the rail's flexibility (with and
@@ -205,10 +206,14 @@ def small_root(root, tmp_path_factory):
     """The project's config/ with a few scenario files: the report figures', one on the rail's flexibility
     (whose table must not change with the pads' longitudinal stiffness either), a torsional wheelset and a cell."""
     top = tmp_path_factory.mktemp("plan")
-    shutil.copytree(root / "config", top / "config", ignore=shutil.ignore_patterns("scenarios"))
+    shutil.copytree(root / "config", top / "config", ignore=shutil.ignore_patterns("scenarios", "studies"))
     (top / "config/scenarios").mkdir()
-    for name in ("soft_pad", "class87", "dyn_rail_shear_soft", "dyn_driven", "irregular_dampers"):
+    (top / "config/studies").mkdir()
+    for name in ("soft_pad", "class87", "irregular_dampers"):
         shutil.copy(root / f"config/scenarios/{name}.yaml", top / "config/scenarios")
+    cases = study_cases(root)
+    study = {"cases": {name: cases[name][1] for name in ("dyn_rail_shear_soft", "dyn_driven")}}
+    (top / "config/studies/two.yaml").write_text(yaml.safe_dump(study, sort_keys=False))
     return top
 
 

@@ -21,13 +21,14 @@ Speeds in m/s, frequencies in Hz; labels are plain text without exponents ('40',
 from __future__ import annotations
 
 import copy
+from collections.abc import Mapping
 from dataclasses import dataclass, field
 
 from .build import OPTIONAL_KEYS, PASSAGE_KEYS
-from .config import deep_merge, schema_default
+from .config import ConfigError, deep_merge, schema_default
 
 __all__ = ["speed_label", "fleet_speed_label", "wear_frequency_label", "closure_label", "config_part", "physics_part", "track_part",
-           "read_part", "case_base", "RAIL_HEAD_KEYS",
+           "read_part", "case_base", "RAIL_HEAD_KEYS", "KnownNames",
            "SweepPoint", "Sweep", "Table", "HALFSPACE_KEYS", "FORCE_KEYS", "WEAR_CASE_KEYS", "GROWTH_FIGURE_KEYS", "HALFSPACE_FIGURES",
            "FORCE_FIGURES", "WEAR_FIGURES", "GROWTH_FIGURES", "CLOSURE_STUDIES", "IRREGULAR_SPEED", "IRREGULAR_NAMES",
            "CHARACTERISATION", "REPORT_SUFFIXES", "PRIORITY_KERNELS", "PRIORITY_TABLES", "DEFAULT_SOURCE"]
@@ -284,3 +285,32 @@ def _restrict(node: dict, keep: dict) -> dict:
     """``node`` with only the keys that ``keep`` holds, at any depth."""
     return {k: _restrict(v, keep[k]) if isinstance(v, dict) and isinstance(keep[k], dict) else v
             for k, v in node.items() if k in keep}
+
+
+class KnownNames(Mapping):
+    """A read-only mapping of scenario names in which looking up a scenario left out of the run (its
+    file is not valid: Plan.left_out) raises the ConfigError that names the file and its problem,
+    rather than a KeyError; ``in`` and iteration see only the scenarios that run."""
+
+    def __init__(self, data: dict, left_out):
+        self._data, self._left_out = dict(data), left_out
+
+    def __getitem__(self, name):
+        if name in self._data:
+            return self._data[name]
+        why = self._left_out(name) if isinstance(name, str) else None
+        if why:
+            raise ConfigError(why)
+        raise KeyError(name)
+
+    def __contains__(self, name):
+        return name in self._data
+
+    def __iter__(self):
+        return iter(self._data)
+
+    def __len__(self):
+        return len(self._data)
+
+    def __repr__(self):
+        return f"KnownNames({self._data!r})"
