@@ -32,6 +32,7 @@ from ..noise.tables import SOURCES
 from ..scenario import Scenario
 from ..setup import build, config, inputs, io
 from ..setup.targets import physics_part
+from ..setup.study_files import study_cases
 from ..studies import fleet as fleet_study
 from ..studies import exports, rate_spectrum, runs
 from ..studies.bands import band_mean_square
@@ -127,10 +128,19 @@ def load(name: str = "default", *, root: str | Path | None = None, changes: dict
         source, stem, scen = "config/config.yaml", "default", {}
     else:
         files = config.scenario_files(root / "config/scenarios")  # <name>.yaml or <name>.yml, not both
-        if str(name) not in files:
-            raise config.ConfigError(f"scenario '{name}' is not defined: the scenarios are default, {', '.join(files)}.")
-        path = files[str(name)]
-        source, stem, scen = str(path.relative_to(root)), name, config.load_yaml(path)
+        try:
+            cases = study_cases(root)  # the cases of config/studies/*.yaml, by name (rail.setup.study_files)
+        except ValueError as e:
+            raise config.ConfigError(str(e)) from None
+        if str(name) in cases and str(name) not in files:
+            (source, scen), stem = cases[str(name)], str(name)
+            source = source.replace(f"{root}/", "")
+        elif str(name) not in files:
+            raise config.ConfigError(f"scenario '{name}' is not defined: the scenarios are default, {', '.join(files)} "
+                                     f"(config/scenarios/), and the cases {', '.join(cases)} of config/studies/.")
+        else:
+            path = files[str(name)]
+            source, stem, scen = str(path.relative_to(root)), name, config.load_yaml(path)
     if "sweep" in scen:
         raise config.ConfigError(f"{source} is a sweep study: its grid points are scenarios of the workflow "
                                  "(snakemake -j2 sweeps); load one point's keys as changes instead.")

@@ -1,8 +1,8 @@
 """The workflow's plan: every scenario, sweep, traffic case, fleet class, receptance table and study set
 that the configuration and the files of config/ define, and every target list built from them.
 
-``plan(config, schema)`` reads config/scenarios/, config/traffic_study.yaml, config/uncertainty.yaml,
-config/stability.yaml, config/convergence.yaml and config/closure.yaml, resolves and validates each
+``plan(config, schema)`` reads config/scenarios/, config/studies/, config/traffic_study.yaml, uncertainty.yaml,
+stability.yaml, convergence.yaml and closure.yaml (of config/), resolves and validates each
 scenario, builds it once (rail.setup.build.scenario: the checks that need physics stop here, naming
 the file) and returns a frozen Plan. Nothing here imports snakemake: workflow/rules/common.smk only
 maps wildcards to the Plan's answers, and tests/test_plan.py checks the Plan without Snakemake.
@@ -38,18 +38,19 @@ from .build import fleet_classes, scenario, spectrum_scenario
 from .config import (ConfigError, check_scenario_names, expand_sweep, load_yaml, resolve_scenario_file, scenario_files, schema_unit,
                      validate_config)
 from .inputs import check_inputs, check_speed, fleet_checked
-from .study_files import check_convergence_study, class_estimate, class_key, traffic_cases
+from .study_files import SPEED_STUDY, check_convergence_study, class_estimate, class_key, read_studies, traffic_cases
 from .tables import table_key
 from .targets import (CHARACTERISATION, CLOSURE_STUDIES, DEFAULT_SOURCE, FORCE_FIGURES, FORCE_KEYS, GROWTH_FIGURE_KEYS, GROWTH_FIGURES,
                       HALFSPACE_FIGURES, HALFSPACE_KEYS, IRREGULAR_NAMES, IRREGULAR_SPEED, PRIORITY_KERNELS, PRIORITY_TABLES,
                       REPORT_SUFFIXES, WEAR_CASE_KEYS, WEAR_FIGURES, Sweep, SweepPoint, Table, closure_label, config_part,
-                      fleet_speed_label, physics_part, speed_label, track_part, wear_frequency_label)
+                      RAIL_HEAD_KEYS, case_base, fleet_speed_label, physics_part, read_part, speed_label, track_part,
+                      wear_frequency_label, KnownNames)
 
 __all__ = ["Plan", "Sweep", "SweepPoint", "Table", "plan", "speed_label", "fleet_speed_label", "config_part", "physics_part",
            "HALFSPACE_KEYS", "FORCE_KEYS", "WEAR_CASE_KEYS", "GROWTH_FIGURE_KEYS", "HALFSPACE_FIGURES", "FORCE_FIGURES",
            "WEAR_FIGURES", "GROWTH_FIGURES", "CLOSURE_STUDIES", "IRREGULAR_SPEED", "CHARACTERISATION", "REPORT_SUFFIXES",
            "PRIORITY_KERNELS", "PRIORITY_TABLES", "DEFAULT_SOURCE", "known_value", "wear_frequency_label",
-           "closure_label", "track_part"]
+           "closure_label", "track_part", "read_part", "case_base", "RAIL_HEAD_KEYS"]
 
 def _offsets(scenarios) -> list[float]:
     """Offsets d between every ordered pair of wheels of the scenarios (0 first) [m]."""
@@ -60,11 +61,13 @@ def _offsets(scenarios) -> list[float]:
 class Plan:
     """Everything the workflow runs, decided at start-up. Mappings are read-only views."""
 
-    config: dict
+    config: dict                         # the default configuration as the physics reads it (read_part)
+    base_config: dict                    # the default configuration as a base for cases (read_part with base=True)
     schema: dict
-    scenarios: Mapping                   # {name: resolved configuration} (a name left out raises its file's problem)
+    scenarios: Mapping                   # {name: resolved configuration as the physics reads it, read_part} (a name
+                                         # left out raises its file's problem)
     sources: MappingProxyType            # {name: where it comes from, for messages}
-    scenario_files: MappingProxyType     # {name: path} of config/scenarios/
+    scenario_files: MappingProxyType     # {name: path} of config/scenarios/, and the cases of config/studies/
     sweeps: Mapping                      # {study: Sweep} (as scenarios)
     traffic_cases: MappingProxyType      # {case name: scenario mapping}
     traffic_study: dict | None           # config/traffic_study.yaml
@@ -84,6 +87,8 @@ class Plan:
     notes: tuple                         # one line per roughness-input note, naming the scenarios
     broken: MappingProxyType             # {scenario file name: its problem}: left out of this run
     broken_sweeps: frozenset             # those of them that are sweep studies (sweep_targets names them, to stop there)
+    studies: MappingProxyType            # {name: the study file config/studies/<name>.yaml} (study_files.read_studies)
+    broken_studies: MappingProxyType     # {name: problem} of the study files that are not valid
 
     def left_out(self, name: str) -> str | None:
         """Why a scenario (or a sweep point, <study>-p<n>) is left out of this run, or None: its file in
@@ -308,18 +313,33 @@ class Plan:
                 out += self.study_targets(name)
         return out
 
-    def rail_flexibility_targets(self) -> list[str]:
-        """The named target rail_flexibility (issue 43): the growth-rate spectrum of dyn_fixed (the rigid
-        rail head, for comparison) and of every dyn_rail*.yaml scenario (the rail's longitudinal
-        flexibility, alone or with a wheelset's torsion), of those scenario files that exist."""
-        names = [n for n in sorted(self.scenarios) if n == "dyn_fixed" or n.startswith("dyn_rail")]
-        return [f"results/spectrum/{n}/rate_spectrum.png" for n in names]
+    def study_file_targets(self, name: str) -> list[str]:
+        """What the named target of config/studies/<name>.yaml builds: the growth-rate spectrum of each case
+        it includes and of each of its cases, in the file's order; the speed study's summary too where the
+        file sets speed_study (rail.setup.study_files)."""
+        st = self.studies[name]
+        out = [f"results/spectrum/{n}/rate_spectrum.png" for n in st["include"] + st["cases"] if n in self.scenarios]
+        return out + (["results/dynamic_creepage/speeds.png"] if st["speed_study"] else [])
+
+    def study_file_input(self, name: str):
+        """The input of a study file's named target: its targets, or (a study file or one of its cases not
+        valid, a case it includes not defined) a function that stops the run with why, if the target is asked for."""
+        cases = self.studies[name]["include"] + self.studies[name]["cases"] if name in self.studies else []
+        why = self.broken_studies.get(name) or next((self.left_out(n) for n in cases if self.left_out(n)), None) or next(
+            (f"config/studies/{name}.yaml includes {n}, which no study file defines." for n in cases if n not in self.scenarios), None)
+
+        def left_out(wildcards):
+            raise ConfigError(why)
+
+        return self.study_file_targets(name) if why is None else left_out
 
     def speed_study_spectra(self) -> dict[str, list[str]]:
-        """The dynamic-creepage study over speed (issue 43, rule speed_study): each dynspeed_*.yaml scenario's
-        name -> its per-speed spectra, results/spectrum/<name>/V<speed>.nc, at figures.rate_spectrum.speeds."""
+        """The dynamic-creepage study over speed (issue 43, rule speed_study): each case of
+        config/studies/dynamic_creepage_speeds.yaml (SPEED_STUDY), by name, -> its per-speed spectra,
+        results/spectrum/<name>/V<speed>.nc, at figures.rate_spectrum.speeds."""
+        names = sorted(n for n in self.studies.get(SPEED_STUDY, {"cases": []})["cases"] if n in self.scenarios)
         return {n: [f"results/spectrum/{n}/V{speed_label(v)}.nc" for v in self.scenarios[n]["figures"]["rate_spectrum"]["speeds"]]
-                for n in sorted(self.scenarios) if n.startswith("dynspeed_")}
+                for n in names}
 
     def _periodic(self) -> list[str]:
         """Scenarios with a roughness period of N > 1 bays, neither sweep points nor fleets."""
@@ -503,6 +523,11 @@ class Plan:
         cfg = members[m]["cfg"]
         return {**physics_part(cfg), "figures": {"rate_spectrum": cfg["figures"]["rate_spectrum"]}}
 
+    def stability_config(self, case: str) -> dict:
+        """What a stability case reads of the default configuration (its job's params.cfg, the base its
+        overrides are merged onto): base_config without the keys the case leaves unread (case_base)."""
+        return case_base(self.base_config, self.stability["cases"][case].get("overrides", {}), self.schema)
+
     def convergence_points(self) -> list[str]:
         """Every point of the convergence study, references included."""
         return [f"results/convergence/points/{s}/{v}.nc" for s, v in self.convergence_values]
@@ -525,35 +550,6 @@ def _left_out(name: str, broken, files) -> str | None:
     return f"target needs the scenario '{name}', which is left out of this run: {files[stem]} is not valid: {broken[stem]}"
 
 
-class _Known(Mapping):
-    """A read-only mapping of scenario names in which looking up a scenario left out of the run (its
-    file is not valid: Plan.left_out) raises the ConfigError that names the file and its problem,
-    rather than a KeyError; ``in`` and iteration see only the scenarios that run."""
-
-    def __init__(self, data: dict, left_out):
-        self._data, self._left_out = dict(data), left_out
-
-    def __getitem__(self, name):
-        if name in self._data:
-            return self._data[name]
-        why = self._left_out(name) if isinstance(name, str) else None
-        if why:
-            raise ConfigError(why)
-        raise KeyError(name)
-
-    def __contains__(self, name):
-        return name in self._data
-
-    def __iter__(self):
-        return iter(self._data)
-
-    def __len__(self):
-        return len(self._data)
-
-    def __repr__(self):
-        return f"_Known({self._data!r})"
-
-
 def known_value(known: dict, label: str, what: str, key: str):
     """The value a target's file-name label names, or one line saying which labels exist."""
     if label not in known:
@@ -566,8 +562,7 @@ def known_value(known: dict, label: str, what: str, key: str):
 
 
 def plan(config: dict, schema: dict, root=".") -> Plan:
-    """The workflow's plan from a validated configuration (with the schema's defaults) and the files
-    of ``root``/config/.
+    """The workflow's plan from a validated configuration and the files of ``root``/config/.
 
     Parameters
     ----------
@@ -590,7 +585,11 @@ def plan(config: dict, schema: dict, root=".") -> Plan:
     root = Path(root)
     broken = {}  # {scenario file name: problem}: a file that is not valid stops only the targets that need it
     sweep_files = set()  # the scenario files that are sweep studies
-    scenarios, sources, sweeps, files = _scenarios(config, schema, root, broken, sweep_files)
+    try:
+        studies, study_cases, broken_studies = read_studies(root)
+    except ValueError as e:
+        raise ConfigError(f"invalid configuration:\n  {e}") from None
+    scenarios, sources, sweeps, files = _scenarios(config, schema, root, broken, sweep_files, study_cases)
     traffic_file = root / "config/traffic_study.yaml"
     traffic_study = load_yaml(traffic_file) if traffic_file.exists() else None
     cases = _traffic_cases(config, schema, traffic_study, traffic_file, scenarios, sources)
@@ -653,9 +652,10 @@ def plan(config: dict, schema: dict, root=".") -> Plan:
         return _left_out(name, broken, files)
 
     return Plan(
-        config=config, schema=schema, scenarios=_Known(scenarios, left_out), sources=ro(sources), scenario_files=ro(files),
-        sweeps=_Known(sweeps, left_out), traffic_cases=ro(cases), traffic_study=traffic_study, objects=_Known(objects, left_out),
-        fleet_classes=_Known(classes, left_out),
+        config=scenarios["default"], base_config=read_part(config, schema, base=True), schema=schema,
+        scenarios=KnownNames(scenarios, left_out), sources=ro(sources), scenario_files=ro(files),
+        sweeps=KnownNames(sweeps, left_out), traffic_cases=ro(cases), traffic_study=traffic_study, objects=KnownNames(objects, left_out),
+        fleet_classes=KnownNames(classes, left_out),
         fleet_spectrum_keys=ro(spectrum_keys), fleet_spectrum_jobs=ro(spectrum_jobs), tables=ro(tables),
         scenario_table=ro(scenario_table), fleet_tables=ro(fleet_tables), fleet_table=ro(fleet_table),
         uncertainty=ro(_uncertainty(config, schema, root / "config/uncertainty.yaml")),
@@ -663,7 +663,7 @@ def plan(config: dict, schema: dict, root=".") -> Plan:
         convergence_values=ro({(name, f"{float(v):g}"): float(v) for name, s in convergence["settings"].items()
                                for v in s["values"] + [s["reference"]]}),
         closure=load_yaml(root / "config/closure.yaml"), notes=tuple(notes), broken=ro(broken),
-        broken_sweeps=frozenset(sweep_files & set(broken)))
+        broken_sweeps=frozenset(sweep_files & set(broken)), studies=ro(studies), broken_studies=ro(broken_studies))
 
 
 def _one_problem(e: ConfigError) -> str:
@@ -672,20 +672,34 @@ def _one_problem(e: ConfigError) -> str:
     return "\n".join(x.strip() for x in (lines[1:] if len(lines) > 1 and lines[0].endswith(":") else lines))
 
 
-def _scenarios(config: dict, schema: dict, root: Path, broken: dict, broken_sweeps: set):
-    """Scenarios of config/scenarios/<name>.yaml (only the keys that differ from the defaults), each
-    resolved and validated (errors name its file); "default" is the configuration itself. A file with
-    a top-level "sweep:" is a study: one scenario per grid point, named <study>-p<n>. A file that is
-    not valid is left out, its problem in ``broken`` under its name."""
-    scenarios, sources, sweeps = {"default": config}, {"default": DEFAULT_SOURCE}, {}
+def _scenarios(config: dict, schema: dict, root: Path, broken: dict, broken_sweeps: set, cases: dict):
+    """Scenarios of config/scenarios/<name>.yaml and the cases of config/studies/ (only the keys that differ
+    from the defaults; ``cases``: {name: (source, keys)}), in the order of their names, each resolved and
+    validated (errors name its file), each as the physics reads it (read_part: what the jobs' params are made
+    from); "default" is the configuration itself. A file with a top-level "sweep:" is a study: one scenario per
+    grid point, named <study>-p<n>. A file (or case) that is not valid is left out, its problem in ``broken``
+    under its name; ``files`` maps every name to its file (a case: its study file and case)."""
+    scenarios, sources, sweeps = {"default": read_part(config, schema)}, {"default": DEFAULT_SOURCE}, {}
     files = scenario_files(root / "config/scenarios")
-    for path in files.values():
+    both = sorted(set(files) & set(cases))
+    if both:
+        raise ConfigError(f"invalid configuration:\n  {files[both[0]]}: the scenario name '{both[0]}' is also "
+                          f"{cases[both[0]][0]}; rename the file.")
+    files = dict(sorted({**files, **{n: src for n, (src, _) in cases.items()}}.items()))
+    for name, path in files.items():
+        if name in cases:
+            try:
+                scenarios[name] = read_part(resolve_scenario_file(config, schema, cases[name][1], source=path), schema)
+                sources[name] = path
+            except ConfigError as e:
+                broken[name] = _one_problem(e)
+            continue
         try:
             scen = load_yaml(path)
             if "sweep" in scen:
                 broken_sweeps.add(path.stem)  # kept only if the file is left out
             if "sweep" not in scen:
-                scenarios[path.stem] = resolve_scenario_file(config, schema, scen, source=str(path))
+                scenarios[path.stem] = read_part(resolve_scenario_file(config, schema, scen, source=str(path)), schema)
                 sources[path.stem] = str(path)
                 continue
             keys, values, points = expand_sweep(config, schema, scen, str(path))
@@ -695,7 +709,7 @@ def _scenarios(config: dict, schema: dict, root: Path, broken: dict, broken_swee
         swept = []
         for n, (index, assignment, cfg) in enumerate(points):
             name = f"{path.stem}-p{n}"
-            scenarios[name] = cfg
+            scenarios[name] = read_part(cfg, schema)
             sources[name] = f"{path} (sweep point {', '.join(f'{k} = {v}' for k, v in assignment.items())})"
             speed = assignment["speed"] if "speed" in assignment else cfg["speeds"][0]
             swept.append(SweepPoint(name, tuple(index), speed))
@@ -716,7 +730,7 @@ def _traffic_cases(config, schema, study, path, scenarios, sources) -> dict:
         if name in scenarios:
             raise ConfigError(f"invalid configuration:\n  config/scenarios/{name}.yaml: the name is a case of the traffic study "
                               "(config/traffic_study.yaml): rename the file.")
-        scenarios[name] = resolve_scenario_file(config, schema, scen, source=f"{path} (case {name})")
+        scenarios[name] = read_part(resolve_scenario_file(config, schema, scen, source=f"{path} (case {name})"), schema)
         sources[name] = f"{path} (case {name})"
     return cases
 
@@ -778,7 +792,7 @@ def _uncertainty(config: dict, schema: dict, path: Path) -> dict:
             raise ConfigError(f"invalid configuration:\n  {path}: {e}") from None
         cfg["figures"]["rate_spectrum"].update(u["spectrum"])
         src = f"{path} (member {m}: {', '.join(f'{k} = {v:.6g}' for k, v in vals.items())})"
-        cfg = validate_config(cfg, schema, source=src)
+        cfg = read_part(validate_config(cfg, schema, source=src), schema)
         spectrum_scenario(cfg, f"uncertainty-m{m}", src)  # physics constraints, naming the member
         members.append({"cfg": cfg, "values": vals})
     return {"members": members, "speed": float(u["speed"]), "interval": list(u["interval"]),

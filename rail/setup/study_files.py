@@ -1,14 +1,132 @@
-"""The study files of config/ that are not scenarios: the traffic study (traffic_study.yaml), the
-convergence study (convergence.yaml), and the name of a fleet class's spectrum job. Read at start-up by
-the plan (rail.setup.plan), before any job runs; each problem is one line naming the file and key."""
+"""The study files of config/ that are not scenarios: the studies of config/studies/ (a named target each:
+defaults and cases), the traffic study (traffic_study.yaml), the convergence study (convergence.yaml),
+and the name of a fleet class's spectrum job. Read at start-up by the plan (rail.setup.plan), before
+any job runs; each problem is one line naming the file and key."""
 
 from __future__ import annotations
 
 import dataclasses
+from pathlib import Path
 
 import numpy as np
 
-__all__ = ["TRAFFIC_KEYS", "traffic_cases", "CLASS_SPECTRUM_READS", "class_key", "ClassEstimate", "class_estimate", "check_convergence_study"]
+__all__ = ["STUDY_FILE_KEYS", "SPEED_STUDY", "study_file", "read_studies", "study_cases", "TRAFFIC_KEYS", "traffic_cases",
+           "CLASS_SPECTRUM_READS", "class_key", "ClassEstimate", "class_estimate", "check_convergence_study"]
+
+
+# The studies of config/studies/<name>.yaml (issue 57, item 9): a named target each (snakemake -j2 <name>),
+# the growth-rate spectrum of every case (results/spectrum/<case>/rate_spectrum.png); each case is a scenario
+# named by its key, the file's defaults merged under the case's own keys, as a scenario file would hold
+# them (only the keys that differ from config/config.yaml). config/scenarios/ holds the users' own scenarios.
+
+STUDY_FILE_KEYS = ("description", "defaults", "cases", "include", "speed_study")
+# The study whose cases the speed study summarises (rule speed_study: results/dynamic_creepage/speeds.*).
+SPEED_STUDY = "dynamic_creepage_speeds"
+
+
+def study_file(path, data: dict) -> dict:
+    """A study file's cases as scenario mappings, checked.
+
+    Parameters
+    ----------
+    path : str or Path
+        The file (config/studies/<name>.yaml), named in every message.
+    data : dict
+        Its content: description (text), defaults (scenario keys every case starts from), cases ({name:
+        scenario keys, or null for the defaults alone}), include (names of cases of other study files the
+        target shows too, listed first), speed_study (true: the speed study summarises the cases, SPEED_STUDY only).
+
+    Returns
+    -------
+    dict
+        {"cases": {name: scenario mapping}, "include": [names], "speed_study": bool}, cases in the file's order.
+
+    Raises
+    ------
+    ValueError
+        Naming the file and the key.
+    """
+    import copy
+    import re
+
+    from .config import deep_merge
+
+    unknown = sorted(set(data) - set(STUDY_FILE_KEYS))
+    if unknown:
+        raise ValueError(f"{path}: unknown key {unknown[0]}; the keys of a study file are "
+                         f"{', '.join(STUDY_FILE_KEYS)}.")
+    defaults, cases, include = data.get("defaults") or {}, data.get("cases"), data.get("include") or []
+    if not isinstance(defaults, dict):
+        raise ValueError(f"{path}: defaults = {defaults!r} is not allowed: it must be a mapping of scenario keys.")
+    if not isinstance(cases, dict) or not cases:
+        raise ValueError(f"{path}: cases must map each case's name to its scenario keys (a mapping, or null for "
+                         "the defaults alone); the file has none.")
+    if not isinstance(include, list) or not all(isinstance(n, str) for n in include):
+        raise ValueError(f"{path}: include = {include!r} is not allowed: it must be a list of case names of other study files.")
+    if data.get("speed_study", False) not in (True, False) or (data.get("speed_study") and Path(path).stem != SPEED_STUDY):
+        raise ValueError(f"{path}: speed_study = {data.get('speed_study')!r} is not allowed: only config/studies/{SPEED_STUDY}.yaml "
+                         "may set it (true), for the speed study's summary (results/dynamic_creepage/speeds.*).")
+    out = {}
+    for name, keys in cases.items():
+        if not isinstance(name, str) or not re.fullmatch(r"[A-Za-z0-9_.]+(-[A-Za-z0-9_.]+)*", name):
+            raise ValueError(f"{path}: case name {name!r} is not allowed: it must be letters, digits, '_', '.' and '-' "
+                             "(it names the results' folder).")
+        if keys is not None and not isinstance(keys, dict):
+            raise ValueError(f"{path}: cases.{name} = {keys!r} is not allowed: it must be a mapping of scenario keys (or null).")
+        if "sweep" in (keys or {}) or "sweep" in defaults:
+            raise ValueError(f"{path}: cases.{name}: a sweep is not a case of a study file; write it as a sweep file in "
+                             "config/scenarios/.")
+        out[name] = deep_merge(copy.deepcopy(defaults), keys or {})
+    return {"cases": out, "include": list(include), "speed_study": bool(data.get("speed_study", False))}
+
+
+def read_studies(root) -> tuple[dict, dict, dict]:
+    """Every study file of ``root``/config/studies/ (sorted by name), each checked (study_file).
+
+    Returns
+    -------
+    tuple of dict
+        studies {name: {"path", "cases": [case names], "include", "speed_study"}}; cases {case name:
+        (source for messages, scenario mapping)}; problems {study name: one line naming the file} of the
+        files that are not valid (left out: only their targets stop).
+
+    Raises
+    ------
+    ValueError
+        A case name given by two study files, naming both.
+    """
+    from .config import ConfigError, load_yaml
+
+    studies, cases, problems = {}, {}, {}
+    folder = Path(root) / "config" / "studies"
+    for path in sorted(folder.glob("*.yaml")) if folder.is_dir() else []:
+        try:
+            st = study_file(path, load_yaml(path))
+        except (ConfigError, ValueError) as e:
+            problems[path.stem] = " ".join(str(e).split())
+            continue
+        for name, keys in st["cases"].items():
+            if name in cases:
+                raise ValueError(f"{path}: the case name '{name}' is also a case of {cases[name][0].split(' (case')[0]}; "
+                                 "rename one of them.")
+            cases[name] = (f"{path} (case {name})", keys)
+        studies[path.stem] = {**st, "path": str(path), "cases": list(st["cases"])}
+    return studies, cases, problems
+
+
+def study_cases(root) -> dict:
+    """{case name: (source, scenario mapping)} of every study file of ``root``/config/studies/
+    (rail.app.api.load finds a case by its name as it finds a scenario file).
+
+    Raises
+    ------
+    ValueError
+        The first study file that is not valid, or a case name given twice.
+    """
+    _, cases, problems = read_studies(root)
+    if problems:
+        raise ValueError(next(iter(problems.values())))
+    return cases
 
 
 # The traffic study (config/traffic_study.yaml, README "Traffic"): cases of one fleet at a spread of

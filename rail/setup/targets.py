@@ -6,7 +6,9 @@ issue 44; every name here is importable from rail.setup.plan as before).
   again only in rail.setup.plan.Plan (``target_speed``), checked like a configured value.
 - The configuration parts a job is handed as ``params.cfg`` (``config_part`` over the key tuples
   below, ``physics_part``, ``track_part``): params are a rerun trigger, and every result records
-  the configuration it read.
+  the configuration it read. Each is cut from a configuration as the physics reads it
+  (``read_part``: an optional key at its schema default, or one the chosen models do not read, is
+  left out), so that writing such a key reruns nothing (issue 57, item 5).
 - The fixed sets the target lists are built from (report figures by section, the closure and
   irregular-track studies, the characterisation results, report suffixes, job priorities) and the
   small frozen records a Plan holds (SweepPoint, Sweep, Table).
@@ -18,11 +20,15 @@ Speeds in m/s, frequencies in Hz; labels are plain text without exponents ('40',
 
 from __future__ import annotations
 
+import copy
+from collections.abc import Mapping
 from dataclasses import dataclass, field
 
 from .build import OPTIONAL_KEYS, PASSAGE_KEYS
+from .config import ConfigError, deep_merge, schema_default
 
 __all__ = ["speed_label", "fleet_speed_label", "wear_frequency_label", "closure_label", "config_part", "physics_part", "track_part",
+           "read_part", "case_base", "RAIL_HEAD_KEYS", "KnownNames",
            "SweepPoint", "Sweep", "Table", "HALFSPACE_KEYS", "FORCE_KEYS", "WEAR_CASE_KEYS", "GROWTH_FIGURE_KEYS", "HALFSPACE_FIGURES",
            "FORCE_FIGURES", "WEAR_FIGURES", "GROWTH_FIGURES", "CLOSURE_STUDIES", "IRREGULAR_SPEED", "IRREGULAR_NAMES",
            "CHARACTERISATION", "REPORT_SUFFIXES", "PRIORITY_KERNELS", "PRIORITY_TABLES", "DEFAULT_SOURCE"]
@@ -115,8 +121,107 @@ def physics_part(cfg: dict) -> dict:
 
 
 def track_part(cfg: dict) -> dict:
-    """The track and track numerics of a configuration: all a receptance table depends on."""
-    return {"track": cfg["track"], "numerics": {"track": cfg["numerics"]["track"]}}
+    """The track and track numerics of a configuration: all a receptance table depends on (the keys
+    of the rail head's longitudinal flexibility, RAIL_HEAD_KEYS, left out: no table reads them)."""
+    track = copy.deepcopy(cfg["track"])
+    for key in RAIL_HEAD_KEYS:
+        _drop(track, key.split(".")[1:])
+    return {"track": track, "numerics": {"track": cfg["numerics"]["track"]}}
+
+
+# What only the rail head's longitudinal flexibility reads (rail.setup.build._rail_flexibility): unread
+# without it (rail_flexibility absent or model none), and never read by a receptance table.
+RAIL_HEAD_KEYS = ("track.pad.longitudinal_stiffness", "track.pad.longitudinal_loss_factor",
+                  "track.pad.longitudinal_viscous_damping", "track.rail.head_height")
+# The wheelset's keys each model leaves unread (rail.wheelset.wheelset_modes): the rigid wheelset reads
+# only its inertias, a torsional one without a drive (motor_inertia 0) no coupling.
+_WHEELSET_UNREAD = {"rigid": ("axle_stiffness", "coupling_stiffness", "damping"),
+                    "torsional_trailer": ("coupling_stiffness",)}
+
+
+def _drop(node: dict, parts: list) -> None:
+    """Remove the key at path ``parts`` from the nested mapping ``node``, if it is there."""
+    for p in parts[:-1]:
+        node = node.get(p)
+        if not isinstance(node, dict):
+            return
+    node.pop(parts[-1], None)
+
+
+def _same_value(value, default) -> bool:
+    """Whether a configuration value is its schema default (1.0 is 1; True is not 1)."""
+    if isinstance(value, bool) or isinstance(default, bool):
+        return type(value) is type(default) and value == default
+    if isinstance(value, (int, float)) and isinstance(default, (int, float)):
+        return float(value) == float(default)
+    return value == default
+
+
+def _without_defaults(node: dict, schema_node: dict, defs: dict) -> dict:
+    """``node`` without the optional keys (those with a schema ``default``) at their default, at any
+    depth; a mapping that this leaves empty is left out too (absent: every key at its default)."""
+    out = {}
+    props = schema_node.get("properties", {})
+    for key, value in node.items():
+        sub = props.get(key, {})
+        if "$ref" in sub:
+            sub = {**defs[sub["$ref"].split("/")[-1]], **sub}
+        if "default" in sub and _same_value(value, sub["default"]):
+            continue
+        if isinstance(value, dict) and value:
+            value = _without_defaults(value, sub, defs)
+            if not value:
+                continue
+        out[key] = value
+    return out
+
+
+def read_part(cfg: dict, schema: dict, base: bool = False) -> dict:
+    """A resolved configuration as the physics reads it: what a job's params (its rerun trigger) and
+    a receptance table's name are made from, so that a key nothing reads, or one written at its
+    default, reruns nothing (issue 57, item 5).
+
+    Left out: every optional key (one with a schema ``default``, read through
+    rail.setup.config.setting) at its default, and a section that leaves empty
+    (``rail_flexibility: {model: none}``); a wheelset of model fixed_creepage (the report's rigid wheel:
+    rail.setup.build reads nothing of it); and, unless ``base``, the keys the chosen models leave
+    unread: RAIL_HEAD_KEYS without the rail's flexibility, and the wheelset keys its model does not
+    read (the rigid wheelset's stiffnesses and damping; a trailer's coupling). Every key that a
+    rail.setup.build object holds is kept (tests/test_rerun.py checks both directions over every
+    optional key of the schema). The order of the keys is kept.
+
+    Parameters
+    ----------
+    cfg : dict
+        A resolved, validated configuration (rail.setup.config.resolve).
+    schema : dict
+        config/schema/config.schema.yaml.
+    base : bool
+        The configuration is a base that cases are merged onto (the stability suite's): keep every key a
+        case could switch on (only the defaults, and a wheelset that is nothing but fixed_creepage, go).
+
+    Returns
+    -------
+    dict
+        A new mapping; ``cfg`` is not changed.
+    """
+    out = _without_defaults(cfg, schema, schema.get("$defs", {}))
+    ws = out.get("wheelset")
+    if ws is not None and ws.get("model") == "fixed_creepage" and (not base or set(ws) == {"model"}):
+        del out["wheelset"]
+    if base:
+        return out
+    out = copy.deepcopy(out)
+    if "rail_flexibility" not in out:
+        for key in RAIL_HEAD_KEYS:
+            _drop(out, key.split("."))
+    ws = out.get("wheelset")
+    if ws is not None:
+        motor = float(ws.get("motor_inertia", schema_default(schema, "wheelset.motor_inertia")))
+        kind = "torsional_trailer" if ws["model"] == "torsional" and motor == 0 else ws["model"]
+        for key in _WHEELSET_UNREAD.get(kind, ()):
+            ws.pop(key, None)
+    return out
 
 
 @dataclass(frozen=True)
@@ -150,3 +255,63 @@ class Table:
     scenario: str
     offsets: list
     scenarios: list = field(default_factory=list)
+
+
+def case_base(base: dict, overrides: dict, schema: dict) -> dict:
+    """What a case (its overrides merged onto ``base``, as the stability suite's) reads of the base: the
+    keys of ``base`` that read_part of the merged configuration keeps, so that a base key the case
+    leaves unread reruns nothing. The base as given where the merge is no configuration read_part can
+    cut (a case that is refused: its error is its outcome).
+
+    Parameters
+    ----------
+    base : dict
+        The configuration the cases are merged onto (read_part with base=True).
+    overrides : dict
+        The case's keys.
+    schema : dict
+
+    Returns
+    -------
+    dict
+    """
+    try:
+        read = read_part(deep_merge(base, overrides), schema)
+    except (KeyError, TypeError, AttributeError, ValueError):
+        return base
+    return _restrict(base, read)
+
+
+def _restrict(node: dict, keep: dict) -> dict:
+    """``node`` with only the keys that ``keep`` holds, at any depth."""
+    return {k: _restrict(v, keep[k]) if isinstance(v, dict) and isinstance(keep[k], dict) else v
+            for k, v in node.items() if k in keep}
+
+
+class KnownNames(Mapping):
+    """A read-only mapping of scenario names in which looking up a scenario left out of the run (its
+    file is not valid: Plan.left_out) raises the ConfigError that names the file and its problem,
+    rather than a KeyError; ``in`` and iteration see only the scenarios that run."""
+
+    def __init__(self, data: dict, left_out):
+        self._data, self._left_out = dict(data), left_out
+
+    def __getitem__(self, name):
+        if name in self._data:
+            return self._data[name]
+        why = self._left_out(name) if isinstance(name, str) else None
+        if why:
+            raise ConfigError(why)
+        raise KeyError(name)
+
+    def __contains__(self, name):
+        return name in self._data
+
+    def __iter__(self):
+        return iter(self._data)
+
+    def __len__(self):
+        return len(self._data)
+
+    def __repr__(self):
+        return f"KnownNames({self._data!r})"

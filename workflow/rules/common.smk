@@ -1,7 +1,7 @@
 # Helpers that map a rule's wildcards to paths and params. What the workflow runs (every scenario,
 # sweep, traffic case, fleet class, table and study set, and every target list) is decided once, at
 # start-up, by rail.setup.plan (a pure module, tested without Snakemake: tests/test_plan.py); the
-# helpers here only ask it. Rules live in the other .smk files.
+# helpers here only ask it. Rules live in the other .smk files. Params hold configurations as the physics reads them.
 
 import sys
 from pathlib import Path
@@ -42,13 +42,14 @@ def kernels(which):
 
 
 def config_part(keys, cfg=None):
-    """The part of a configuration (default: this run's) under the dotted keys: a job's params.cfg."""
-    return _config_part(keys, config if cfg is None else cfg)
+    """The part of a configuration (default: this run's, as the physics reads it: PLAN.config) under the
+    dotted keys: a job's params.cfg."""
+    return _config_part(keys, PLAN.config if cfg is None else cfg)
 
 
 def default_physics(*keys):
     """The default configuration's physics and the figure keys given: what a study script reads."""
-    return {**physics_part(config), **config_part(keys)}
+    return {**physics_part(PLAN.config), **config_part(keys)}
 
 
 def scenario_config(wildcards):

@@ -106,15 +106,6 @@ rule short_wave:
         PLAN.short_wave_targets(),
 
 
-rule dynamic_creepage:
-    """Named target (issue 43): the growth-rate spectrum at 30 and 50 m/s, 26-75 mm, with the report's
-    fixed creepage and with the wheelset's dynamic creepage (rigid spin, trailer in phase and independent,
-    motored): the scenario files dyn_*.yaml (docs/dynamic-creepage.md, docs/field.md)."""
-    input:
-        [f"results/spectrum/{n}/rate_spectrum.png" for n in ("dyn_fixed", "dyn_rigid", "dyn_trailer", "dyn_trailer_independent", "dyn_driven")
-         if n in PLAN.scenarios],
-
-
 rule speed_study:
     """The dynamic-creepage study over speed in one dataset, figure and table: per mechanism, track and speed
     the fastest line and its frequency, the line nearest the pinned-pinned frequency, and whether the
@@ -142,19 +133,13 @@ rule speed_study:
         "../scripts/speed_study.py"
 
 
-rule dynamic_creepage_speeds:
-    """Named target (issue 43): the growth-rate spectrum at 20, 40, 60 and 80 m/s, 20-120 mm, on the default
-    and a stiff-pad (1e9 N/m) track, with the report's fixed creepage, the trailer and the motored wheelsets'
-    torsion, the rail's longitudinal flexibility, friction falling with slip, and all of them together: the scenario files
-    dynspeed_*.yaml (docs/dynamic-creepage.md), each scenario's map, and the study's summary (rule speed_study)."""
-    input:
-        [f"results/spectrum/{n}/rate_spectrum.png" for n in PLAN.speed_study_spectra()],
-        "results/dynamic_creepage/speeds.png",
+# The studies of config/studies/<name>.yaml (issue 57, item 9): a named target each, the growth-rate spectrum of
+# every case (dynamic_creepage, dynamic_creepage_speeds with the speed study's summary, rail_flexibility; issue 43,
+# docs/dynamic-creepage.md). A study file that is not valid stops its own target alone.
+for _study in sorted({*PLAN.studies, *PLAN.broken_studies}):
 
-
-rule rail_flexibility:
-    """Named target (issue 43): the growth-rate spectrum at 30, 40 and 50 m/s, 24-100 mm, with the rail's
-    longitudinal flexibility at the contact, alone and with the trailer and the motored wheelset: the
-    scenario files dyn_rail*.yaml (docs/dynamic-creepage.md, docs/field.md)."""
-    input:
-        PLAN.rail_flexibility_targets(),
+    rule:
+        name:
+            _study
+        input:
+            PLAN.study_file_input(_study),

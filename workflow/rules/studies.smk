@@ -10,7 +10,7 @@ rule stability_case:
         "results/stability/cases/{case}.json",
     params:
         code=code("stability_case.py"),
-        cfg=config,  # every case resolves its overrides onto the whole configuration
+        cfg=lambda w: PLAN.stability_config(w.case),  # what the case reads of the configuration it is merged onto
         case=lambda w: {**PLAN.stability["defaults"], **PLAN.stability["cases"][w.case]},
     wildcard_constraints:
         case="|".join(PLAN.stability["cases"]),
