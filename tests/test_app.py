@@ -295,3 +295,12 @@ def test_bands_refuses_a_growth_file_of_another_configuration_naming_what_differ
     assert cli.main(["bands", "default", str(growth), "--out", str(tmp_path / "own.nc")]) == 0
     with xr.open_dataset(tmp_path / "own.nc") as b:
         assert b.attrs["period_m"] == pytest.approx(0.6, rel=1e-12)
+
+
+def test_bands_refuses_a_file_run_at_a_default_the_study_changes(default_growth):
+    # A key at its schema default is not recorded in a result (rail.setup.targets.read_part), so a study that
+    # sets it otherwise (friction falling with slip) must still differ from the file: the comparison goes
+    # both ways (a one-way check over the file's keys let this through)
+    falling = api.load("default", changes={"contact": {"friction_decay": 5.0, "friction_static": 0.4}})
+    with pytest.raises(ConfigError, match=r"contact\.friction_decay: not given / 5"):
+        api.bands(falling, default_growth)

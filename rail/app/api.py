@@ -31,7 +31,7 @@ from ..noise import rolling as rn
 from ..noise.tables import SOURCES
 from ..scenario import Scenario
 from ..setup import build, config, inputs, io
-from ..setup.targets import physics_part
+from ..setup.targets import physics_part, read_part
 from ..setup.study_files import study_cases
 from ..studies import fleet as fleet_study
 from ..studies import exports, rate_spectrum, runs
@@ -346,9 +346,19 @@ def grown_for(study: Study, growth: xr.Dataset) -> list[str]:
     out = [] if str(name) == study.name else [f"scenario: '{name}' / '{study.name}'"]
     if ("fleet" in recorded) != ("fleet" in study.config):
         out.append(f"fleet: {'given' if 'fleet' in recorded else 'not given'} / {'given' if 'fleet' in study.config else 'not given'}")
-    mine = _leaves(physics_part(study.config))
-    theirs = _leaves({k: v for k, v in recorded.items() if k not in ("figures", "measured")})
+    # both sides as the physics reads them (rail.setup.targets.read_part: a key at its schema default or one the
+    # chosen models leave unread is left out), so that a value the study sets and the file does not record
+    # (the file's run took the default) counts as a difference too
+    schema = config.project_schema()
+    mine = _leaves(physics_part(read_part(study.config, schema)))
+    try:
+        theirs = _leaves({k: v for k, v in read_part(recorded, schema).items() if k not in ("figures", "measured")})
+    except (KeyError, TypeError, ValueError):  # a configuration written before read_part: compared as recorded
+        theirs = _leaves({k: v for k, v in recorded.items() if k not in ("figures", "measured")})
     theirs = {k: v for k, v in theirs.items() if k[:2] != ("numerics", "halfspace")}
+    for key in mine:
+        if key not in theirs and key[:2] != ("numerics", "halfspace") and key[0] != "fleet":
+            theirs[key] = _ABSENT
     for key, value in theirs.items():
         other = mine.get(key, _ABSENT)
         if other is _ABSENT or not _same_value(key, value, other):
