@@ -5,6 +5,8 @@ from __future__ import annotations
 
 import numpy as np
 
+from ..wheelset import hz_text
+
 __all__ = ["VALIDITY_ATTRS", "WEAR_PATH_TEXT", "validity_text", "creepage_model_text"]
 
 VALIDITY_ATTRS = ("wear_path", "contact_shift_warning", "normal_contact", "validity", "creepage_model")
@@ -64,11 +66,12 @@ def creepage_model_text(material) -> str:
     head = material.rail_flexibility
     if material.longitudinal is not None:
         modes = material.longitudinal
-        freqs = ", ".join(f"{o / (2 * np.pi):.0f}" for o in modes.omega)
+        freqs = ", ".join(hz_text(o / (2 * np.pi)) for o in modes.omega)
         rail = "" if head is not None else "; the rail's longitudinal flexibility is not modelled"
         parts.append(f"dynamic creepage from the {modes.label or 'wheelset'} (modes at {freqs} Hz{rail})")
     if head is not None:
         parts.append(f"dynamic creepage from the {head.label} (rail.longitudinal)")
     if material.friction_decay > 0:
-        parts.append(f"friction falling with slip, s_0 = {material.friction_decay:g} m/s")
+        parts.append(material.friction_law)
     return "; ".join(parts)
+
