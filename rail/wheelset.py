@@ -163,8 +163,8 @@ def wheelset_modes(ws: Wheelset, reference_force: float | None = None) -> Longit
     LongitudinalModes or None
         omega_r [rad/s], zeta_r [-], c_r = R_w^2 phi_A (phi_A + s phi_B) [1/kg]; the modes that the chosen
         other wheel leaves unexcited (c_r below 1e-12 of the largest: the antisymmetric torsion with
-        ``in_phase``, a drive's mode far above the wheel's) are left out, and their frequencies named
-        in the label.
+        ``in_phase``, a drive's mode far above the wheel's) are left out, their frequencies [Hz] kept in
+        ``unexcited`` for the headers.
     """
     if ws.model == "fixed_creepage":
         return None
@@ -177,11 +177,9 @@ def wheelset_modes(ws: Wheelset, reference_force: float | None = None) -> Longit
     c = np.clip(R2 * phi[0] * (phi[0] + s * phi[2]), 0.0, None)
     keep = c > 1e-12 * c.max()
     zeta = np.where(om > 0, ws.damping, 0.0)
-    label = f"torsional wheelset ({'driven' if ws.driven else 'trailer'}, other wheel {ws.other_wheel}"
-    if not keep.all():
-        label += "; not excited at this wheel: " + ", ".join(hz_text(w / (2 * np.pi)) for w in om[~keep]) + " Hz"
-    label += ")"
-    return LongitudinalModes(tuple(om[keep]), tuple(zeta[keep]), tuple(c[keep]), reference_force, label)
+    label = f"torsional wheelset ({'driven' if ws.driven else 'trailer'}, other wheel {ws.other_wheel})"
+    return LongitudinalModes(tuple(om[keep]), tuple(zeta[keep]), tuple(c[keep]), reference_force, label,
+                             tuple(float(w) / (2 * np.pi) for w in om[~keep]))
 
 
 def hz_text(f: float) -> str:

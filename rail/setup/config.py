@@ -358,6 +358,9 @@ def validate_config(cfg: dict, schema: dict, source: str = "config") -> dict:
     """
     validator = Draft202012Validator(schema)
     errors = sorted(validator.iter_errors(cfg), key=lambda e: list(map(str, e.absolute_path)))
+    typed = {tuple(e.absolute_path) for e in errors if e.validator == "type"}
+    # a value of the wrong type is one problem: its range or enum, which the schema checks too, is not said again
+    errors = [e for e in errors if e.validator == "type" or tuple(e.absolute_path) not in typed]
     messages = _non_finite(cfg, source) + [_message(e, source) for e in errors]
     if not messages:
         messages = _cross_checks(cfg, source)

@@ -68,7 +68,9 @@ def creepage_model_text(material) -> str:
         modes = material.longitudinal
         freqs = ", ".join(hz_text(o / (2 * np.pi)) for o in modes.omega)
         rail = "" if head is not None else "; the rail's longitudinal flexibility is not modelled"
-        parts.append(f"dynamic creepage from the {modes.label or 'wheelset'} (modes at {freqs} Hz{rail})")
+        idle = getattr(modes, "unexcited", ())
+        idle = f"; not excited at this wheel: {', '.join(hz_text(f) for f in idle)} Hz" if idle else ""
+        parts.append(f"dynamic creepage from the {modes.label or 'wheelset'} (modes at {freqs} Hz{idle}{rail})")
     if head is not None:
         parts.append(f"dynamic creepage from the {head.label} (rail.longitudinal)")
     if material.friction_decay > 0:
