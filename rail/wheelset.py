@@ -183,8 +183,19 @@ def wheelset_modes(ws: Wheelset, reference_force: float | None = None) -> Longit
 
 
 def hz_text(f: float) -> str:
-    """A natural frequency [Hz] as results and messages write it: whole hertz below 100 kHz, else three
-    significant digits (5.03e+06)."""
+    """A natural frequency as results and messages write it: whole hertz below 100 kHz, else three
+    significant digits (5.03e+06).
+
+    Parameters
+    ----------
+    f : float
+        Frequency [Hz], >= 0.
+
+    Returns
+    -------
+    str
+        The number, without its unit [Hz].
+    """
     return f"{f:.0f}" if f < 1e5 else f"{f:.3g}"
 
 

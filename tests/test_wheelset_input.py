@@ -21,7 +21,8 @@ from rail import contact as C
 from rail.contact.creep import LongitudinalModes
 from rail.setup import build
 from rail.setup import config as rconfig
-from rail.wheelset import RANGES, Wheelset, wheelset_modes
+from rail import wheelset as W
+from rail.wheelset import Wheelset, wheelset_modes
 
 ROOT = Path(__file__).resolve().parents[1]
 TORSIONAL = {"model": "torsional"}
@@ -45,7 +46,7 @@ def _file(tmp_path, data, name="mine.yaml"):
 
 
 def test_the_schema_and_the_wheelset_state_one_range_per_key(schema):
-    for name, (key, low, high) in RANGES.items():
+    for name, (key, low, high) in W.RANGES.items():
         node = rconfig._schema_node(schema, key)
         assert (node.get("minimum"), node.get("maximum")) == (low, high), key
         for v in (low, high):  # a value the schema allows, the wheelset takes (2.0 m passed one and failed the other)
