@@ -7,11 +7,12 @@ import sys
 
 from snakemake.utils import min_version
 
-from rail.setup.runtime import one_blas_thread, reporting_only
+from rail.setup.runtime import check_file_size_limit, one_blas_thread, reporting_only
 
 # One BLAS/OpenMP thread per job unless the caller's environment says otherwise (why: its docstring);
 # before the first include imports numpy. Jobs inherit this process's environment.
 one_blas_thread(os.environ)
+check_file_size_limit(workflow.basedir)  # a `ulimit -f` below a rule file: named here, not by Snakemake's source cache
 
 min_version("9.0")
 

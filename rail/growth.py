@@ -132,7 +132,8 @@ def stop_message(done: int, Z0, Z, error: Exception, period: float | None = None
     """One line: why a growth run stopped, at how many passages, and the roughness that broke it.
 
     The contact breaks where the rail is too curved under the wheel, so the harmonic named is the
-    one with the largest curvature amplitude j^2 abs(Z_j), with its level and its change since the start.
+    one with the largest curvature amplitude j^2 abs(Z_j), with its level and its change since the start;
+    on a rail still smooth (every harmonic zero) the line says so instead of naming a harmonic.
 
     Parameters
     ----------
@@ -151,11 +152,14 @@ def stop_message(done: int, Z0, Z, error: Exception, period: float | None = None
     """
     J = (len(Z) - 1) // 2
     Z = np.asarray(Z)
+    reason = " ".join(str(error).split())
+    if not np.any(Z[J + 1:]):  # a smooth rail: no harmonic broke it (naming one at -480 dB misled)
+        return (f"growth stopped at {done} passages: {reason} The rail is still smooth (no roughness harmonic), so the "
+                "roughness did not cause it; every state saved up to here is kept.")
     j = int(np.argmax(np.arange(1, J + 1) ** 2 * np.abs(Z[J + 1:]))) + 1
     now, start = levels_dB(Z)[j - 1], levels_dB(Z0)[j - 1]
     where = f"wavelength {1e3 * period / j:.3g} mm" if period else f"harmonic {j} of {J}"
     change = f"{now - start:+.1f} dB since the start" if start > -400 else "absent at the start"
-    reason = " ".join(str(error).split())
     return (f"growth stopped at {done} passages: {reason} The most curved roughness is at {where} "
             f"(now {now:.1f} dB re 1 µm, {change}); every state saved up to here is kept.")
 

@@ -81,7 +81,7 @@ from .track import Track, damped_stiffness, damping_problem, periodic_sum, rail_
 __all__ = ["RailHead", "HeadTable", "HeadOperator", "free_beam_matrix", "rod_receptance", "rod_lattice_sum",
            "longitudinal_support_stiffness", "moving_head_matrix", "head_table", "head_operator",
            "smeared_rod_receptance", "smeared_rotation_receptance", "DEFAULT_HEAD_HEIGHT",
-           "DEFAULT_LONGITUDINAL_STIFFNESS"]
+           "DEFAULT_LONGITUDINAL_STIFFNESS", "MIN_LONGITUDINAL_STIFFNESS"]
 
 # UIC60 (60E1): I_y = 3038 cm^4 and the section modulus of the head 333.6 cm^3 (EN 13674-1) give the
 # running surface I / W = 91.1 mm above the neutral axis (and the foot I / W_foot = 3038 / 375.5 =
@@ -90,6 +90,15 @@ DEFAULT_HEAD_HEIGHT = 0.0911
 # A studded elastomer pad of 150 x 180 mm, 10 mm thick, shear modulus about 4 MPa: k_x = G A / t
 # = 4e6 x 0.027 / 0.01 = 1.1e7 N/m; the clips' friction and the sleeper in the ballast are left out.
 DEFAULT_LONGITUDINAL_STIFFNESS = 1.0e7
+# The least k_x (the schema's minimum of track.pad.longitudinal_stiffness): the softest resilient pad sheared,
+# G about 0.5 MPa over 180 x 150 x 15 mm: G A / t = 0.9e6 N/m; below it the clips' friction and the sleeper in the
+# ballast, which the model leaves out, restrain the rail instead of the pad. The rail's static longitudinal
+# displacement under the traction Q, Q / (2 sqrt(E A k_x / L)), grows without bound as k_x -> 0 (0.3 mm under
+# 30 kN at 1e6 N/m on UIC60 with 0.6 m bays, 0.3 m at 1 N/m). Measured (issue 57, 40 m/s, 15 contact nodes,
+# 36 harmonics): 1e7 runs; at 1e6 the coupled u_bar did not settle and the run stopped saying so; at 1e5 N/m and
+# below the moving rod's wavenumber rule met omega = 0 exactly (a 0 / 0 in rod_lattice_sum) and the march
+# failed with a non-finite u_bar after 80-170 s.
+MIN_LONGITUDINAL_STIFFNESS = 1.0e6
 
 
 @dataclass(frozen=True)
@@ -99,7 +108,7 @@ class RailHead:
     Attributes
     ----------
     track : rail.track.Track (rail, vertical supports, sleeper spacing L, damping model)
-    longitudinal_stiffness : k_x, the pad's longitudinal (shear) stiffness per support [N/m], > 0
+    longitudinal_stiffness : k_x, the pad's longitudinal (shear) stiffness per support [N/m], in [MIN_LONGITUDINAL_STIFFNESS, 1e12]
     longitudinal_loss_factor : eta_x [-], >= 0 (hysteretic model)
     longitudinal_viscous_damping : c_x [N s/m], >= 0 (viscous model)
     head_height : e, the running surface above the neutral axis [m], in [0, 0.3]
@@ -117,8 +126,9 @@ class RailHead:
         if not isinstance(self.track, Track):
             raise TypeError(f"RailHead.track must be a rail.track.Track, not {type(self.track).__name__}.")
         k = self.longitudinal_stiffness
-        if not (isinstance(k, (int, float)) and math.isfinite(k) and 0 < k <= 1e12):
-            raise ValueError(f"track.pad.longitudinal_stiffness = {k!r} N/m is not allowed: it must be a finite number in (0, 1e12].")
+        if not (isinstance(k, (int, float)) and math.isfinite(k) and MIN_LONGITUDINAL_STIFFNESS <= k <= 1e12):
+            raise ValueError(f"track.pad.longitudinal_stiffness = {k!r} N/m is not allowed: it must be a finite number in "
+                             f"[{MIN_LONGITUDINAL_STIFFNESS:g}, 1e12] N/m (the softest resilient pad sheared and up).")
         for name, v in (("track.pad.longitudinal_loss_factor", self.longitudinal_loss_factor),
                         ("track.pad.longitudinal_viscous_damping", self.longitudinal_viscous_damping)):
             if not (isinstance(v, (int, float)) and math.isfinite(v) and v >= 0):

@@ -40,12 +40,23 @@ from scipy import linalg
 
 from .contact.creep import LongitudinalModes
 
-__all__ = ["Wheelset", "WHEELSET_MODELS", "OTHER_WHEEL", "wheelset_modes", "tread_receptance"]
+__all__ = ["Wheelset", "WHEELSET_MODELS", "OTHER_WHEEL", "RANGES", "wheelset_modes", "chain_modes", "hz_text", "tread_receptance"]
 
 # 'fixed_creepage': the report's rigid wheel at a fixed creepage (u_bar = 0); 'rigid': a rigid wheelset
 # spinning under the drive torque (the rigid spin alone); 'torsional': the elastic axle and the drive
 WHEELSET_MODELS = ("fixed_creepage", "rigid", "torsional")
 OTHER_WHEEL = ("in_phase", "independent")
+# The valid range of each parameter, by its configuration key: the same closed ranges as
+# config/schema/config.schema.yaml states (tests/test_wheelset_input.py checks that they agree), so that
+# the schema refuses a value, naming its file, before this class ever sees it. The wheel radius is
+# wheels.radius, the radius of the contact too: 0.1 to 1.5 m holds every railway wheel (0.18 m: the
+# 360 mm wheels of low-floor car-carrier wagons; 0.23-0.33 m: tram and low-floor wheels; 0.46-0.625 m:
+# coaches and locomotives; 1.15 m: the largest steam driving wheels).
+RANGES = {"radius": ("wheels.radius", 0.1, 1.5), "wheel_inertia": ("wheelset.wheel_inertia", 1.0, 1e4),
+          "centre_inertia": ("wheelset.centre_inertia", 1e-3, 1e5), "axle_stiffness": ("wheelset.axle_stiffness", 1e4, 1e9),
+          "coupling_stiffness": ("wheelset.coupling_stiffness", 1e3, 1e9), "motor_inertia": ("wheelset.motor_inertia", 0.0, 1e5)}
+UNITS = {"radius": "m", "wheel_inertia": "kg m^2", "centre_inertia": "kg m^2", "axle_stiffness": "N m/rad",
+         "coupling_stiffness": "N m/rad", "motor_inertia": "kg m^2"}
 
 
 @dataclass(frozen=True)
@@ -80,14 +91,13 @@ class Wheelset:
             raise ValueError(f"wheelset.model = {self.model!r} is not allowed: it must be one of {list(WHEELSET_MODELS)}.")
         if self.other_wheel not in OTHER_WHEEL:
             raise ValueError(f"wheelset.other_wheel = {self.other_wheel!r} is not allowed: it must be one of {list(OTHER_WHEEL)}.")
-        for name, low, high in (("radius", 0.1, 1.5), ("wheel_inertia", 1.0, 1e4), ("centre_inertia", 1e-3, 1e5),
-                                ("axle_stiffness", 1e4, 1e9), ("coupling_stiffness", 1e3, 1e9)):
+        for name, (key, low, high) in RANGES.items():
             v = getattr(self, name)
-            if not (isinstance(v, (int, float)) and math.isfinite(v) and low <= v <= high):
-                raise ValueError(f"wheelset.{name} = {v!r} is not allowed: it must be a finite number in [{low:g}, {high:g}].")
-        if not (math.isfinite(self.motor_inertia) and 0 <= self.motor_inertia <= 1e5):
-            raise ValueError(f"wheelset.motor_inertia = {self.motor_inertia!r} kg m^2 is not allowed: it must lie in [0, 1e5] (0: a trailer).")
-        if not (math.isfinite(self.damping) and 0 <= self.damping < 1):
+            if not (isinstance(v, (int, float)) and not isinstance(v, bool) and math.isfinite(v) and low <= v <= high):
+                extra = " (0: a trailer)" if name == "motor_inertia" else ""
+                raise ValueError(f"{key} = {v!r} {UNITS[name]} is not allowed: it must be a finite number in [{low:g}, {high:g}] "
+                                 f"{UNITS[name]}{extra}.")
+        if not (isinstance(self.damping, (int, float)) and math.isfinite(self.damping) and 0 <= self.damping < 1):
             raise ValueError(f"wheelset.damping = {self.damping!r} is not allowed: it must lie in [0, 1).")
 
     @property
@@ -113,6 +123,32 @@ class Wheelset:
         return np.diag(J), K
 
 
+def chain_modes(ws: Wheelset):
+    """The free-free modes of the chain, K phi = omega^2 J phi with phi^T J phi = 1.
+
+    The chain is connected (every stiffness > 0), so it has exactly one rigid mode, the lowest: its
+    eigenvalue is set to 0 (it is rounding), and the elastic ones are kept as they are, however far
+    apart the scales (a threshold relative to the largest eigenvalue zeroed an 80 Hz mode beside the
+    5 MHz of a 1e-9 kg m^2 motor on its coupling).
+
+    Parameters
+    ----------
+    ws : Wheelset
+
+    Returns
+    -------
+    omega : ndarray, shape (n,)
+        Natural angular frequencies [rad/s], ascending; omega[0] = 0 (the rigid spin).
+    phi : ndarray, shape (n, n)
+        Mass-normalised mode shapes, one per column [rad / sqrt(kg m^2)], DOFs (A, centre, B[, drive]).
+    """
+    J, K = ws.matrices()
+    lam, phi = linalg.eigh(K, J)  # ascending, phi^T J phi = I
+    lam = lam.copy()
+    lam[0] = 0.0
+    return np.sqrt(np.clip(lam, 0.0, None)), phi
+
+
 def wheelset_modes(ws: Wheelset, reference_force: float | None = None) -> LongitudinalModes | None:
     """The tread receptance of wheel A in modal form (module docstring), or None for 'fixed_creepage'.
 
@@ -126,7 +162,9 @@ def wheelset_modes(ws: Wheelset, reference_force: float | None = None) -> Longit
     -------
     LongitudinalModes or None
         omega_r [rad/s], zeta_r [-], c_r = R_w^2 phi_A (phi_A + s phi_B) [1/kg]; the modes that the chosen
-        other wheel leaves unexcited (c_r below 1e-12 of the largest) are left out.
+        other wheel leaves unexcited (c_r below 1e-12 of the largest: the antisymmetric torsion with
+        ``in_phase``, a drive's mode far above the wheel's) are left out, their frequencies [Hz] kept in
+        ``unexcited`` for the headers.
     """
     if ws.model == "fixed_creepage":
         return None
@@ -135,14 +173,30 @@ def wheelset_modes(ws: Wheelset, reference_force: float | None = None) -> Longit
     J, K = ws.matrices()
     if ws.model == "rigid":
         return LongitudinalModes((0.0,), (0.0,), (R2 * (1 + s) / float(np.trace(J)),), reference_force, "rigid wheelset")
-    lam, phi = linalg.eigh(K, J)  # phi^T J phi = I
-    lam = np.where(np.abs(lam) < 1e-9 * lam.max(), 0.0, lam)
-    c = R2 * phi[0] * (phi[0] + s * phi[2])
-    keep = np.abs(c) > 1e-12 * np.abs(c).max()
-    om = np.sqrt(np.clip(lam[keep], 0.0, None))
+    om, phi = chain_modes(ws)
+    c = np.clip(R2 * phi[0] * (phi[0] + s * phi[2]), 0.0, None)
+    keep = c > 1e-12 * c.max()
     zeta = np.where(om > 0, ws.damping, 0.0)
     label = f"torsional wheelset ({'driven' if ws.driven else 'trailer'}, other wheel {ws.other_wheel})"
-    return LongitudinalModes(tuple(om), tuple(zeta), tuple(np.clip(c[keep], 0.0, None)), reference_force, label)
+    return LongitudinalModes(tuple(om[keep]), tuple(zeta[keep]), tuple(c[keep]), reference_force, label,
+                             tuple(float(w) / (2 * np.pi) for w in om[~keep]))
+
+
+def hz_text(f: float) -> str:
+    """A natural frequency as results and messages write it: whole hertz below 100 kHz, else three
+    significant digits (5.03e+06).
+
+    Parameters
+    ----------
+    f : float
+        Frequency [Hz], >= 0.
+
+    Returns
+    -------
+    str
+        The number, without its unit [Hz].
+    """
+    return f"{f:.0f}" if f < 1e5 else f"{f:.3g}"
 
 
 def tread_receptance(ws: Wheelset, omega):
@@ -162,8 +216,7 @@ def tread_receptance(ws: Wheelset, omega):
         H(omega) [m/N].
     """
     J, K = ws.matrices()
-    lam, phi = linalg.eigh(K, J)
-    om = np.sqrt(np.clip(np.where(np.abs(lam) < 1e-9 * lam.max(), 0.0, lam), 0.0, None))
+    om, phi = chain_modes(ws)
     C = J @ phi @ np.diag(2 * ws.damping * om) @ phi.T @ J
     s = 1.0 if ws.other_wheel == "in_phase" else 0.0
     f = np.zeros(J.shape[0])

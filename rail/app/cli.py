@@ -86,9 +86,14 @@ def _writable_target(option: str, path: Path | None) -> None:
 def _what_runs(study) -> str:
     """The line `check` prints: what the scenario will run (a fleet's vehicles and speed classes, not the
     one-train speeds and wheels it leaves unused)."""
+    from ..studies.validity import creepage_model_text
+
     scn = study.scenario
     rest = (f"roughness period {scn.roughness.bays} bay(s), normal contact {scn.contact_numerics.normal}, "
             f"wear path {scn.contact_numerics.path}")
+    creep = creepage_model_text(scn.material)  # the wheelset's modes, the rail head, the friction law, as results say
+    if creep:
+        rest += f"; {creep}"
     if "fleet" not in study.config:
         return (f"ok: scenario '{study.name}' is valid ({len(scn.speeds)} speed(s), {len(scn.wheels.positions)} wheel(s), "
                 f"{rest}).")

@@ -33,7 +33,7 @@ from mu_s at rest to mu_d in gross slip; s_0 -> 0 is the report's step (mu_s in 
 from __future__ import annotations
 
 import math
-from dataclasses import dataclass
+from dataclasses import dataclass, field
 
 import numpy as np
 
@@ -66,6 +66,8 @@ class LongitudinalModes:
         Q - Q_ref); None: Carter's steady traction at the mean load and the scenario's creepage
         (rail.wear.bay_wear sets it)
     label : what the modes are (for results and messages)
+    unexcited : the natural frequencies [Hz] of the modes left out (their participation at the contact
+        below 1e-12 of the largest), named in results' headers
     """
 
     omega: tuple
@@ -73,6 +75,9 @@ class LongitudinalModes:
     participation: tuple
     reference_force: float | None = None
     label: str = ""
+    # the frequencies [Hz] of the modes left out as not excited at the contact, for results' headers; out of
+    # the repr (hashed into the keys of class spectra) and of comparisons: what the march runs is unchanged
+    unexcited: tuple = field(default=(), repr=False, compare=False)
 
     def __post_init__(self):
         om = _finite_tuple("wheelset mode frequency (rad/s)", self.omega, low=0.0)

@@ -62,6 +62,20 @@ class ContactMaterial:
                         if getattr(self, k) != off)
         return f"ContactMaterial({base}{extra})"
 
+    @property
+    def friction_law(self) -> str:
+        """The friction law in words, for results' headers and start-up notes: the report's step from
+        mu_s to mu_d, friction falling with the slip velocity (friction_decay > 0), or, with mu_s = mu_d,
+        constant friction: mu(s) = mu_d + (mu_s - mu_d) exp(-|s| / s_0) is then flat and s_0 changes
+        nothing (the result is the step law's), which a header must not call falling."""
+        s0, mus, mud = self.friction_decay, self.friction_static, self.friction_dynamic
+        if s0 == 0:
+            return f"friction stepping from mu_s = {mus:g} in stick to mu_d = {mud:g} in slip (the report's)"
+        if mus > mud:
+            return f"friction falling with slip, s_0 = {s0:g} m/s"
+        return (f"friction constant, mu = {mud:g} (contact.friction_decay = {s0:g} m/s has no effect: contact.friction_static = "
+                "contact.friction_dynamic, so the falling law is flat)")
+
     def __post_init__(self):
         if not (np.isfinite(self.friction_decay) and 0 <= self.friction_decay <= 100):
             raise ValueError(f"contact.friction_decay = {self.friction_decay!r} m/s is not allowed: it must be a finite number "
@@ -75,7 +89,8 @@ class ContactMaterial:
             )
         for name in ("youngs_modulus", "half_width", "wheel_radius", "friction_dynamic"):
             if not (getattr(self, name) > 0 and np.isfinite(getattr(self, name))):
-                raise ValueError(f"contact.{name} = {getattr(self, name)!r} is not allowed: it must be a finite number > 0.")
+                key = {"wheel_radius": "wheels.radius", "youngs_modulus": "material.youngs_modulus"}.get(name, f"contact.{name}")
+                raise ValueError(f"{key} = {getattr(self, name)!r} is not allowed: it must be a finite number > 0.")
         if not (np.isfinite(self.poisson_ratio) and -1 < self.poisson_ratio < 0.5):
             raise ValueError(f"poisson_ratio = {self.poisson_ratio!r} is not allowed: it must lie in (-1, 0.5) "
                              "(an isotropic elastic solid).")

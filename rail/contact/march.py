@@ -373,6 +373,7 @@ def solve_tangential(P, a, m: ContactMaterial, speed: float, delta: float, M: in
     report_coef = report_rigid_compliance(m)  # 1/sigma per unit a, eq 33
     dts, gds = step_times(P.size, delta, speed, m.creepage, dt)
     dus, om, ze, cp, q_ref = _creep_inputs(m, P, speed, ubar)
+    _check_modes_resolved(om, dts, delta, speed)
     cl = 0 if closure == "default" else 1
     ws = _basis_workspace(nn)
     table = influence_table(a, Mom, mu, xi, k, delta, M, cl, float(closure_scale), report_coef, ws, influence)
@@ -418,6 +419,22 @@ def _check_falling_friction(Q, m: ContactMaterial):
             f"largest (limit {FALLING_FRICTION_ALTERNATION}): the law's slope (mu_s - mu_d) / s_0 = "
             f"{(m.friction_static - m.friction_dynamic) / m.friction_decay:.3g} s/m is steeper than the march resolves; use a "
             "larger contact.friction_decay (0.5 m/s and above ran smoothly at 0.1 difference of friction).")
+
+
+def _check_modes_resolved(om, dts, delta: float, speed: float) -> None:
+    """Raise ContactError if a mode of the wheelset lies above the Nyquist frequency 1 / (2 dt) of the
+    march's longest step (dt = Delta / V on the wheel's path): the mode would be aliased, and its force,
+    held over a step, drives it unstably (rail.setup.build.dynamic_creepage_problems refuses it at
+    start-up from the static patch; this is the march's own grid, coarser where the dynamic load's patch
+    is larger)."""
+    if om.size == 0 or dts.size == 0:
+        return
+    nyquist = 1.0 / (2.0 * float(np.max(dts)))
+    f = float(np.max(om)) / (2 * np.pi)
+    if f > nyquist:
+        raise ContactError(f"a wheelset mode at {f:.4g} Hz lies above the {nyquist:.4g} Hz the contact march resolves (the Nyquist "
+                           f"frequency of its step, grid spacing {delta * 1e3:.3g} mm at {speed:g} m/s): raise the wheelset's "
+                           "inertias or lower its stiffnesses (wheelset.*), or refine numerics.contact.nodes.")
 
 
 def _settle_steps(a, delta: float, q0) -> int:

@@ -27,7 +27,9 @@ from ..scenario import InitialRoughness, Scenario, TrackNumerics
 from ..track import Ballast, Pad, Rail, Sleeper, Track, damping_problem, min_harmonics, pinned_pinned_frequency
 from ..wear import WearLaw
 from ..longitudinal import RailHead
-from ..wheelset import Wheelset, wheelset_modes
+from ..wheelset import Wheelset, hz_text, wheelset_modes
+from ..contact.hertz import hertz_half_length
+from ..contact.numerics import rolling_grid
 from .config import ConfigError, configured_speeds, setting
 
 MAX_ROUGHNESS_BAYS = 64  # the schema's bound on roughness.bays (config/schema: roughness.bays.maximum)
@@ -157,7 +159,16 @@ def _spring(cfg: dict) -> ContactSpring:
     return ContactSpring(kH)
 
 
-def _material(cfg: dict) -> ContactMaterial:
+def _material(cfg: dict, source: str = "config") -> ContactMaterial:
+    """The contact's material, friction law and dynamic creepage. A value the dataclasses refuse (their
+    ranges are the schema's, so this is a backstop) is a ConfigError naming the key and ``source``."""
+    try:
+        return _material_unchecked(cfg)
+    except ValueError as e:
+        raise ConfigError(f"invalid configuration:\n  {source}: {e}") from None
+
+
+def _material_unchecked(cfg: dict) -> ContactMaterial:
     c, mat = cfg["contact"], cfg["material"]
     return ContactMaterial(
         youngs_modulus=float(mat["youngs_modulus"]),
@@ -253,6 +264,7 @@ def physics_problems(cfg: dict, source: str) -> list[str]:
                        "use rail_flexibility.model = 'none' on a cell, or the rail's flexibility on a track without track.cell.")
         if "spacing" in cell and len(cell["spacing"]) == nb:
             tr = dataclasses.replace(tr, sleeper=Sleeper(tr.sleeper.mass, float(np.mean(cell["spacing"]))))
+    out += dynamic_creepage_problems(cfg, source)
     K = int(cfg["numerics"]["track"]["harmonics"])
     for V in configured_speeds(cfg):
         try:
@@ -267,6 +279,76 @@ def physics_problems(cfg: dict, source: str) -> list[str]:
                 f"every harmonic; it must be >= {need} at this speed."
             )
     return out
+
+
+def dynamic_creepage_problems(cfg: dict, source: str) -> list[str]:
+    """The wheelset's modes the contact march cannot resolve, one line each naming the keys and ``source``.
+
+    The march advances the modes step by step (rail.contact.creep): a step of dt = Delta / V (Delta the
+    grid spacing of rail.contact.numerics.rolling_grid, from the patch at the static load; the dynamic
+    load's larger patch coarsens it, which the march checks again with its own grid) resolves
+    frequencies below its Nyquist frequency V / (2 Delta), lowest at the slowest configured speed. A
+    mode above it is aliased, and its force, extrapolated over the step, drives it unstably; the mode
+    responds quasi-statically to all the march resolves, so it is refused with what to change rather
+    than run. A value the wheelset refuses (rail.wheelset.Wheelset) is named here too.
+
+    Parameters
+    ----------
+    cfg : dict
+        A resolved, validated configuration.
+    source : str
+        The scenario file, named in each line.
+
+    Returns
+    -------
+    list of str
+        [] when the wheelset is absent, fixed_creepage, or every excited mode lies below the Nyquist frequency.
+    """
+    try:
+        modes = _longitudinal(cfg)
+    except ValueError as e:
+        return [f"{source}: {e}"]
+    speeds = configured_speeds(cfg)
+    if modes is None or not speeds:
+        return []
+    try:
+        m = _material_unchecked({**cfg, "wheelset": None})
+    except ValueError:
+        return []  # the material's own problem is named where it is built
+    loads = [float(cfg["wheels"]["static_load"])] + [float(v["static_load"]) for v in (cfg.get("fleet") or {}).get("vehicles", [])]
+    a = float(hertz_half_length(max(loads), m.wheel_radius, m))
+    delta = rolling_grid(1.02 * a, _cell_track(cfg).L, int(cfg["numerics"]["contact"]["nodes"]))[0]
+    V = min(speeds)
+    nyquist = V / (2 * delta)
+    above = [float(om) / (2 * np.pi) for om in modes.omega if float(om) / (2 * np.pi) > nyquist]
+    if not above:
+        return []
+    return [f"{source}: wheelset: the {modes.label} has mode(s) at {', '.join(hz_text(f) for f in above)} Hz, above the "
+            f"{hz_text(nyquist)} Hz the contact march resolves at V = {V:g} m/s (its step's Nyquist frequency V / (2 Delta), "
+            f"grid spacing Delta = {delta * 1e3:.3g} mm from numerics.contact.nodes = {int(cfg['numerics']['contact']['nodes'])}): "
+            "such a mode is aliased and its force, held over a step, drives it unstably; raise wheelset.wheel_inertia or "
+            "wheelset.centre_inertia (or wheelset.motor_inertia), or lower wheelset.axle_stiffness or wheelset.coupling_stiffness, "
+            "to bring it below (the torsional modes of real wheelsets lie at tens to hundreds of hertz)."]
+
+
+def model_notes(scn: Scenario) -> list[str]:
+    """What a valid scenario runs that its keys might not say: a friction law made flat by mu_s = mu_d
+    (contact.friction_decay then changes nothing; rail.contact.ContactMaterial.friction_law). The workflow
+    says each at start-up and ``railgrowth check`` with its verdict.
+
+    Parameters
+    ----------
+    scn : Scenario
+
+    Returns
+    -------
+    list of str
+        One line each [-]; [] for most scenarios.
+    """
+    m = scn.material
+    if m.friction_decay > 0 and not m.friction_static > m.friction_dynamic:
+        return [m.friction_law]
+    return []
 
 
 def spectrum_scenario(cfg: dict, name: str = "default", source: str = "config") -> Scenario:
@@ -308,7 +390,7 @@ def passage_scenario(cfg: dict, name: str = "default", source: str = "config") -
         track_numerics=TrackNumerics(int(num["track"]["harmonics"]), float(num["track"]["rtol"])),
         wheels=Wheels(float(w["mass"]), float(w["radius"]), float(w["static_load"]), (0.0,)),
         spring=_spring(cfg),
-        material=_material(cfg),
+        material=_material(cfg, source),
         elastic=elastic(cfg),
         wear_law=WearLaw(float(cfg["material"]["density"]), float(cfg["wear"]["coefficient"])) if "wear" in cfg else None,
         contact_numerics=ContactNumerics(int(num["contact"]["nodes"]), str(c["closure"]), float(c["closure_scale"]), str(c["normal"]),

@@ -298,6 +298,17 @@ def _non_finite(node, source: str, path: str = "") -> list[str]:
     return out
 
 
+_BOUNDS = ("minimum", "maximum", "exclusiveMinimum", "exclusiveMaximum")
+
+
+def _dotted(path) -> str:
+    """A schema error's path as _non_finite writes it: keys dotted, list items [i]."""
+    out = ""
+    for p in path:
+        out += f"[{p}]" if isinstance(p, int) else (f".{p}" if out else str(p))
+    return out
+
+
 SCENARIO_SUFFIXES = (".yaml", ".yml")
 
 
@@ -359,7 +370,22 @@ def validate_config(cfg: dict, schema: dict, source: str = "config") -> dict:
     """
     validator = Draft202012Validator(schema)
     errors = sorted(validator.iter_errors(cfg), key=lambda e: list(map(str, e.absolute_path)))
-    messages = _non_finite(cfg, source) + [_message(e, source) for e in errors]
+    typed = {tuple(e.absolute_path) for e in errors if e.validator == "type"}
+    # a value of the wrong type is one problem: its range or enum, which the schema checks too, is not said again
+    errors = [e for e in errors if e.validator == "type" or tuple(e.absolute_path) not in typed]
+    # NaN or inf: said once, with the valid range where the schema states one (its range error not said again)
+    ranged = {_dotted(e.absolute_path): e.schema for e in errors if isinstance(e.schema, dict) and e.validator in _BOUNDS}
+    non_finite = []
+    for m in _non_finite(cfg, source):
+        key = m[len(source) + 2:].split(" = ", 1)[0]
+        if key in ranged:
+            unit = ranged[key].get("unit", "")
+            unit = f" {unit}" if unit and unit != "-" else ""
+            m = f"{m[:-1]} (valid range {_range_text(ranged[key])}{unit})."
+        non_finite.append(m)
+    said = {m[len(source) + 2:].split(" = ", 1)[0] for m in non_finite}
+    errors = [e for e in errors if _dotted(e.absolute_path) not in said]
+    messages = non_finite + [_message(e, source) for e in errors]
     if not messages:
         messages = _cross_checks(cfg, source)
     if messages:

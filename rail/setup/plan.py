@@ -34,7 +34,7 @@ import numpy as np
 from .. import uncertainty as unc
 from ..chain import wheel_offsets
 from ..roughness import RoughnessInputWarning
-from .build import fleet_classes, scenario, spectrum_scenario
+from .build import fleet_classes, model_notes, scenario, spectrum_scenario
 from .config import (ConfigError, check_scenario_names, expand_sweep, load_yaml, resolve_scenario_file, scenario_files, schema_unit,
                      validate_config)
 from .inputs import check_inputs, check_speed, fleet_checked
@@ -622,6 +622,8 @@ def plan(config: dict, schema: dict, root=".") -> Plan:
             d.pop(name, None)
     for study in [s for s in sweeps if s in broken]:
         del sweeps[study]
+    notes += [f"railgrowth: note (scenario {name}, {sources[name]}): {line}" for name, scn in objects.items()
+              for line in model_notes(scn)]  # what a valid scenario runs that its keys might not say
     spectrum_jobs = {}
     for name, keys in spectrum_keys.items():
         for i, k in enumerate(keys):

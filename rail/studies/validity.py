@@ -5,6 +5,8 @@ from __future__ import annotations
 
 import numpy as np
 
+from ..wheelset import hz_text
+
 __all__ = ["VALIDITY_ATTRS", "WEAR_PATH_TEXT", "NOT_USED", "model_attributes", "validity_text", "creepage_model_text"]
 
 VALIDITY_ATTRS = ("wear_path", "wear_path_description", "contact_shift_warning", "normal_contact", "validity", "creepage_model")
@@ -91,11 +93,14 @@ def creepage_model_text(material) -> str:
     head = material.rail_flexibility
     if material.longitudinal is not None:
         modes = material.longitudinal
-        freqs = ", ".join(f"{o / (2 * np.pi):.0f}" for o in modes.omega)
+        freqs = ", ".join(hz_text(o / (2 * np.pi)) for o in modes.omega)
         rail = "" if head is not None else "; the rail's longitudinal flexibility is not modelled"
-        parts.append(f"dynamic creepage from the {modes.label or 'wheelset'} (modes at {freqs} Hz{rail})")
+        idle = getattr(modes, "unexcited", ())
+        idle = f"; not excited at this wheel: {', '.join(hz_text(f) for f in idle)} Hz" if idle else ""
+        parts.append(f"dynamic creepage from the {modes.label or 'wheelset'} (modes at {freqs} Hz{idle}{rail})")
     if head is not None:
         parts.append(f"dynamic creepage from the {head.label} (rail.longitudinal)")
     if material.friction_decay > 0:
-        parts.append(f"friction falling with slip, s_0 = {material.friction_decay:g} m/s")
+        parts.append(material.friction_law)
     return "; ".join(parts)
+
