@@ -282,6 +282,7 @@ class Plan:
         for scen, v in runs:
             base = f"results/growth/{scen}/V{speed_label(v)}"
             out += [f"{base}_overview.png", f"{base}_bands.png", f"{base}_3d.png"]
+            out += [f"{base}_noise.png", f"{base}_noise.csv"] if self.noise_possible(scen, v) else []  # issue 56
         return out + extra
 
     def study_input(self, name: str):
@@ -343,6 +344,20 @@ class Plan:
         out += [f"results/sweeps/{study}_bands.png" for study, sw in self.sweeps.items()
                 if "speed" in sw.keys and study not in CLOSURE_STUDIES.values()]
         return out
+
+    def noise_possible(self, name: str, speed: float) -> bool:
+        """Whether the noise of a one-train run of a scenario (or sweep point) at a speed [m/s] can be
+        computed (rail.setup.inputs.noise_problem: a CNOSSOS-EU speed, a pad class, a traffic)."""
+        from .inputs import noise_problem
+
+        return name in self.scenarios and noise_problem(self.scenarios[name], speed) is None
+
+    def noise_targets(self) -> list[str]:
+        """The named target noise (issue 56): the noise of the runs of the named target bands (the default
+        runs at every configured speed, the scenarios with a roughness period of N > 1 bays) whose noise can
+        be computed (noise_possible)."""
+        runs = [("default", v) for v in self.config["speeds"]] + [(n, self.objects[n].speeds[0]) for n in self._periodic()]
+        return [f"results/growth/{n}/V{speed_label(v)}_noise.{ext}" for n, v in runs if self.noise_possible(n, v) for ext in ("png", "csv")]
 
     def sweep_targets(self) -> list[str]:
         """Aggregated dataset and map figure of every sweep study (one left out of the run included: its

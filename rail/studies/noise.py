@@ -269,6 +269,7 @@ def noise_outputs(growth, cfg: dict, scn, name: str, settings, *, initial_spectr
             "years": data_var("passage", years, "year", "years of traffic"),
             "mgt": data_var("passage", mgt, "Mt", "million gross tonnes of traffic"),
             "frequency": data_var("frequency", nominal.astype(float), "Hz", "nominal one-third-octave centre frequency"),
+            "a_weighting": data_var("frequency", weight, "dB", "A-weighting of the band (IEC 61672-1 Table 3)"),
             "wavelength": data_var("wavelength", wbands.nominal, "m", "CNOSSOS-EU nominal centre wavelength (Table G-1b)"),
             "centre_wavelength": data_var("wavelength", wbands.centre, "m", "exact centre wavelength 10^(-n/10) m"),
             "rms_range_low": data_var("rms_range", np.array([lo for lo, _, _ in limits]), "m", "shortest wavelength of the range"),
