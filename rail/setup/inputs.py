@@ -18,7 +18,7 @@ from ..scenario import Scenario
 from .build import fleet_classes, physics_problems
 from .config import ConfigError
 
-__all__ = ["FILE_KEYS", "MAX_SPEED", "resolve_paths", "measured_decay_file", "check_inputs", "check_speed", "fleet_checked", "band_inputs", "noise_problem"]
+__all__ = ["FILE_KEYS", "MAX_SPEED", "resolve_paths", "measured_decay_file", "check_inputs", "check_speed", "fleet_checked", "band_inputs", "noise_problem", "noise_files"]
 
 MAX_SPEED = 300.0  # m/s, the schema's bound on a configured speed (config/schema: speeds.items.maximum)
 
@@ -278,3 +278,23 @@ def noise_problem(cfg: dict, speed: float) -> str | None:
     if s.vehicles_per_hour is None and not (cfg.get("traffic") or {}).get("axles_per_day"):
         return "no traffic: give traffic.axles_per_day or figures.noise.vehicles_per_hour"
     return None
+
+
+def noise_files(scenarios, runs) -> list[str]:
+    """The noise outputs (figure, CSV) of the one-train runs [(scenario, speed [m/s])] whose noise can be
+    computed (noise_problem); the others are left out (study_<name> and the named target noise; docs/noise.md).
+
+    Parameters
+    ----------
+    scenarios : mapping
+        Scenario name -> resolved configuration (rail.setup.plan.Plan.scenarios).
+    runs : sequence of (str, float)
+
+    Returns
+    -------
+    list of str
+    """
+    from .targets import speed_label
+
+    return [f"results/growth/{n}/V{speed_label(v)}_noise.{ext}" for n, v in runs
+            if n in scenarios and noise_problem(scenarios[n], v) is None for ext in ("png", "csv")]

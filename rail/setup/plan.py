@@ -37,7 +37,7 @@ from ..roughness import RoughnessInputWarning
 from .build import fleet_classes, scenario, spectrum_scenario
 from .config import (ConfigError, check_scenario_names, expand_sweep, load_yaml, resolve_scenario_file, scenario_files, schema_unit,
                      validate_config)
-from .inputs import check_inputs, check_speed, fleet_checked
+from .inputs import check_inputs, check_speed, fleet_checked, noise_files
 from .study_files import check_convergence_study, class_estimate, class_key, traffic_cases
 from .tables import table_key
 from .targets import (CHARACTERISATION, CLOSURE_STUDIES, DEFAULT_SOURCE, FORCE_FIGURES, FORCE_KEYS, GROWTH_FIGURE_KEYS, GROWTH_FIGURES,
@@ -282,7 +282,7 @@ class Plan:
         for scen, v in runs:
             base = f"results/growth/{scen}/V{speed_label(v)}"
             out += [f"{base}_overview.png", f"{base}_bands.png", f"{base}_3d.png"]
-            out += [f"{base}_noise.png", f"{base}_noise.csv"] if self.noise_possible(scen, v) else []  # issue 56
+            out += noise_files(self.scenarios, [(scen, v)])  # issue 56
         return out + extra
 
     def study_input(self, name: str):
@@ -345,19 +345,9 @@ class Plan:
                 if "speed" in sw.keys and study not in CLOSURE_STUDIES.values()]
         return out
 
-    def noise_possible(self, name: str, speed: float) -> bool:
-        """Whether the noise of a one-train run of a scenario (or sweep point) at a speed [m/s] can be
-        computed (rail.setup.inputs.noise_problem: a CNOSSOS-EU speed, a pad class, a traffic)."""
-        from .inputs import noise_problem
-
-        return name in self.scenarios and noise_problem(self.scenarios[name], speed) is None
-
     def noise_targets(self) -> list[str]:
-        """The named target noise (issue 56): the noise of the runs of the named target bands (the default
-        runs at every configured speed, the scenarios with a roughness period of N > 1 bays) whose noise can
-        be computed (noise_possible)."""
-        runs = [("default", v) for v in self.config["speeds"]] + [(n, self.objects[n].speeds[0]) for n in self._periodic()]
-        return [f"results/growth/{n}/V{speed_label(v)}_noise.{ext}" for n, v in runs if self.noise_possible(n, v) for ext in ("png", "csv")]
+        """The named target noise (issue 56): the noise of the runs of the named target bands (rail.setup.inputs.noise_files)."""
+        return noise_files(self.scenarios, [("default", v) for v in self.config["speeds"]] + [(n, self.objects[n].speeds[0]) for n in self._periodic()])
 
     def sweep_targets(self) -> list[str]:
         """Aggregated dataset and map figure of every sweep study (one left out of the run included: its
