@@ -249,3 +249,18 @@ def test_a_fleet_growth_and_a_speed_outside_cnossos_are_refused_before_computing
     assert "has no CNOSSOS-EU pad class" in noise_problem(soft.config, 40.0)
     named = api.load("default", changes={"track": {"pad": {"stiffness": 7.0e7}}, "figures": {"noise": {"pad_class": "soft"}}})
     assert noise_problem(named.config, 40.0) is None
+
+
+def test_run_of_one_train_ends_with_the_noise_change_in_one_line(tmp_path, monkeypatch, capsys):
+    study = api.load("default")
+    grown = _growth(study)
+    monkeypatch.setattr(api, "growth", lambda *a, **k: grown)  # the run itself is tested elsewhere (tests/test_app.py)
+    out = tmp_path / "x.nc"
+    assert cli.main(["run", "default", "--speed", "40", "--out", str(out)]) == 0
+    lines = [x for x in capsys.readouterr().out.splitlines() if x.startswith("noise")]
+    L = api.noise(study, grown).data["line_sound_power_A"].values
+    assert len(lines) == 1 and f"change {L[-1] - L[0]:+.2f} dB" in lines[0], lines
+    assert "first to trip: rise of the A-weighted line sound power over the start 3 dB: tripped after" in lines[0]
+    grown.attrs["speed_m_per_s"] = 120.0  # outside CNOSSOS-EU: the line says why
+    assert cli.main(["run", "default", "--speed", "40", "--out", str(out)]) == 0
+    assert "noise: not computed: growth speed = 120.0 m/s is not allowed" in capsys.readouterr().out
