@@ -47,6 +47,7 @@ include: "workflow/rules/closure.smk"
 include: "workflow/rules/studies.smk"
 include: "workflow/rules/irregular.smk"
 include: "workflow/rules/fleet.smk"
+include: "workflow/rules/noise.smk"
 
 
 # `snakemake --report report.html` (without a target) reports what is built: report_all is then the

@@ -545,14 +545,18 @@ def _growth_run(amplitudes, V=30.0, J=64, j=12):
     n = np.arange(len(amplitudes)) * 1e5
     Z = np.zeros((len(n), 2 * J + 1), complex)
     Z[:, J + j] = Z[:, J - j] = np.asarray(amplitudes) / 2
+    import yaml
+    from rail.app import api
+    study = api.load("default")  # the provenance a growth run writes: api.noise checks it (grown_for)
     return xr.Dataset({"Z_real": (("passage", "h"), Z.real), "Z_imag": (("passage", "h"), Z.imag)},
-                      coords={"passage": n}, attrs={"bays": 1, "speed_m_per_s": V})
+                      coords={"passage": n}, attrs={"bays": 1, "speed_m_per_s": V, "scenario": study.name,
+                                                    "config": yaml.safe_dump(study.config, sort_keys=True)})
 
 
 def test_api_noise_follows_the_growing_band_and_labels_every_band():
     from rail.app import api
     study = api.load("default")
-    ds = api.noise(study, _growth_run([1e-6, 3e-6, 9e-6]))
+    ds = api.noise(study, _growth_run([1e-6, 3e-6, 9e-6])).data
     k = list(T.WAVELENGTH_LABELS_MM).index(50.0)
     # Parseval: a cosine of amplitude a has rms a / sqrt(2): 20 lg(9 um / sqrt(2) / 1 um) = 16.08 dB
     assert ds["rail_roughness"].values[2, k] == pytest.approx(20 * math.log10(9 / math.sqrt(2)), abs=1e-9)

@@ -19,23 +19,19 @@ import sys
 from dataclasses import dataclass
 from pathlib import Path
 
-import numpy as np
 import xarray as xr
 import yaml
 
 from .. import chain
 from ..growth import BAND_GROWTH_SAVES
 from ..growth_spectrum import fleet_rate_spectrum, settings_lines
-from ..noise import cnossos as cn
-from ..noise import rolling as rn
-from ..noise.tables import SOURCES
 from ..scenario import Scenario
 from ..setup import build, config, inputs, io
 from ..setup.targets import physics_part, read_part
 from ..setup.study_files import study_cases
 from ..studies import fleet as fleet_study
 from ..studies import exports, rate_spectrum, runs
-from ..studies.bands import band_mean_square
+from ..studies import noise as noise_study
 
 __all__ = ["Study", "load", "growth", "check_bands", "bands", "spectrum", "fleet_spectrum", "noise", "ROOT"]
 
@@ -510,18 +506,21 @@ def fleet_spectrum(study: Study, *, shortest: float | None = None, longest: floa
                        scenario=study.name)
 
 
-def noise(study: Study, growth: xr.Dataset, *, vehicles_per_hour: float | None = None, axles: int = 4,
-          brake: str = "disc", sleeper: str = "monoblock", pad: str | None = None, rule: str = "energy",
-          fill: str | None = "M") -> xr.Dataset:
-    """Rolling noise by CNOSSOS-EU (rail.noise, docs/noise.md) at every save of a one-train growth run:
-    the rail roughness on CNOSSOS-EU's 35 wavelength bands (lines of the periodic profile summed per
-    band, as the rolling-noise export), the total effective roughness, the sound power per vehicle and
-    the sound power per metre of line of the traffic, per one-third-octave band 50 Hz .. 10 kHz and
-    A-weighted, with the change since the first save.
+def noise(study: Study, growth: xr.Dataset, *, vehicles_per_hour: float | None = None, axles: int | None = None,
+          brake: str | None = None, sleeper: str | None = None, pad: str | None = None, rule: str | None = None,
+          fill: str | None = "config") -> noise_study.NoiseOutputs:
+    """Rolling noise by CNOSSOS-EU (rail.noise, docs/noise.md) at every save of a one-train growth run
+    of the study, its change since the start and grinding by noise (rail.studies.noise.noise_outputs,
+    the one code path of the workflow's growth_noise and `railgrowth noise`): the rail roughness on
+    CNOSSOS-EU's 35 wavelength bands (lines of the periodic profile summed per band, as the
+    rolling-noise export), the total effective roughness, the sound power per vehicle and per metre of
+    line of the traffic, per one-third-octave band 50 Hz .. 10 kHz and A-weighted; the cycle average,
+    the band rms over Grassie, Saxon & Smith's ranges, and when each criterion of figures.noise trips.
 
     The wheel is the study's (diameter 2 x wheels.radius, load wheels.static_load: they choose Table
     G-2's column and G-3b's diameter by rail.noise's stated rules); the pad class is the study's
-    track.pad.stiffness by rail.noise.cnossos.pad_class unless ``pad`` names one.
+    track.pad.stiffness by rail.noise.cnossos.pad_class unless figures.noise.pad_class (or ``pad``)
+    names one. Every other choice is figures.noise's unless an argument is given.
 
     Parameters
     ----------
@@ -530,37 +529,40 @@ def noise(study: Study, growth: xr.Dataset, *, vehicles_per_hour: float | None =
     growth : xr.Dataset
         The result of growth at one speed (or a growth file, opened): Z_real, Z_imag per passage.
     vehicles_per_hour : float, optional
-        Q [1/h] of the vehicle class; default: the study's traffic.axles_per_day / (24 h x axles).
-    axles : int
-        Axles per vehicle N_a [-].
-    brake : str
-        "cast_iron", "composite" or "disc" (Table G-1a).
-    sleeper : str
-        "monoblock", "biblock", "wooden" or "direct".
+        Q [1/h] of the vehicle class (default figures.noise.vehicles_per_hour, else traffic.axles_per_day
+        / (24 h x axles)).
+    axles : int, optional
+        Axles per vehicle N_a [-] (figures.noise.axles_per_vehicle).
+    brake : str, optional
+        "cast_iron", "composite" or "disc" (Table G-1a; figures.noise.wheel).
+    sleeper : str, optional
+        "monoblock", "biblock", "wooden" or "direct" (figures.noise.sleeper).
     pad : str, optional
-        "soft", "medium" or "hard" (default: from track.pad.stiffness).
-    rule : str
-        Wavelength-to-frequency rule, "energy" (default) or "level".
-    fill : str, optional
-        Table G-1b class ("M" or "E") for the bands the run does not resolve (longer than the period,
-        shorter than the record's shortest wavelength), or None to leave them empty (then a speed
-        that reads them is refused). A kind: spectrum start fills them from its input spectrum
-        instead. A band the run resolves but where the rail is smooth is silence (-inf), not filled.
+        "soft", "medium" or "hard" (figures.noise.pad_class; default: from track.pad.stiffness).
+    rule : str, optional
+        Wavelength-to-frequency rule, "energy" or "level" (figures.noise.rule).
+    fill : str or None, optional
+        Table G-1b class ("M" or "E") for the bands the run does not resolve, or None to leave them
+        empty (then a speed that reads them is refused); default "config": figures.noise.fill. A kind:
+        spectrum start fills them from its input spectrum instead. A band the run resolves but where
+        the rail is smooth is silence (-inf), not filled.
 
     Returns
     -------
-    xr.Dataset
-        rail_roughness (passage, wavelength) with rail_roughness_source per band; total_effective_roughness,
-        sound_power_track, sound_power_vehicle, sound_power (per vehicle), line_sound_power over
-        (passage, frequency); their A-weighted totals and the change of line_sound_power_A since the
-        first save; the choices made as attributes; units and long names on every variable.
+    rail.studies.noise.NoiseOutputs
+        data: rail_roughness (passage, wavelength) with rail_roughness_source; total_effective_roughness,
+        sound_power_track, sound_power_vehicle, sound_power, line_sound_power over (passage, frequency);
+        the A-weighted totals, line_sound_power_A_change since the first save, the cycle average,
+        band_rms over (passage, rms_range); the criteria as grinding_noise_* attributes; units, long
+        names and provenance. csv: the noise export. trips: the criteria.
 
     Raises
     ------
     rail.setup.config.ConfigError
-        If growth is not a one-train growth result or the traffic is missing; ValueError from
-        rail.noise for a bad argument, a speed outside 7.94 .. 100 m/s or a pad stiffness outside
-        the classes (naming it).
+        If growth is not a growth result, a fleet run, or one computed for another scenario or
+        configuration (grown_for, naming what differs), or an argument is outside figures.noise's
+        schema (naming it); ValueError from rail.noise for a speed outside 7.94 .. 100 m/s, a pad
+        stiffness without a class, no traffic (naming it).
     """
     if not isinstance(growth, xr.Dataset) or not {"Z_real", "Z_imag", "passage"} <= set(growth.variables):
         raise config.ConfigError("growth is not a growth result: give the dataset api.growth returns "
@@ -568,89 +570,29 @@ def noise(study: Study, growth: xr.Dataset, *, vehicles_per_hour: float | None =
     if "fleet_speeds" in growth.attrs or "speed_m_per_s" not in growth.attrs:
         raise config.ConfigError("noise takes a one-train growth run (one speed); a fleet's noise is not "
                                  "implemented yet.")
+    differ = grown_for(study, growth)
+    if differ:
+        more = f"; and {len(differ) - 5} more" if len(differ) > 5 else ""
+        raise config.ConfigError(
+            f"the growth result was computed for another scenario or configuration than {study.name}: its noise would carry "
+            f"{study.name}'s wheel, pad and traffic. What differs (the result's / {study.name}'s): {'; '.join(differ[:5])}{more}. "
+            f"Give the scenario it was grown from (its attribute scenario: '{growth.attrs.get('scenario')}'), or grow "
+            f"{study.name} again.")
+    given = {"vehicles_per_hour": vehicles_per_hour, "axles_per_vehicle": axles, "wheel": brake, "sleeper": sleeper,
+             "pad_class": pad, "rule": rule}
+    given = {k: v for k, v in given.items() if v is not None}
+    if fill != "config":
+        given["fill"] = fill
     cfg = study.config
-    speed = cn.check_speed(float(growth.attrs["speed_m_per_s"]), "growth speed")
-    if vehicles_per_hour is None:
-        per_day = (cfg.get("traffic") or {}).get("axles_per_day")
-        if not per_day:
-            raise config.ConfigError(f"{study.name} gives no traffic.axles_per_day: give vehicles_per_hour.")
-        vehicles_per_hour = float(per_day) / 24.0 / axles
-    pad_rule = "given"
-    if pad is None and sleeper in ("monoblock", "biblock"):
-        pad, pad_rule = cn.pad_class(cfg["track"]["pad"]["stiffness"]), "from track.pad.stiffness"
-    track = rn.Track(sleeper, pad)
-    vehicle = rn.Vehicle(f"{study.name} vehicle", axles=axles, brake=brake,
-                         wheel_diameter=2 * float(cfg["wheels"]["radius"]),
-                         wheel_load=float(cfg["wheels"]["static_load"]))
-    traffic = rn.TrafficClass(vehicle, vehicles_per_hour, speed)
-
-    bands = cn.cnossos_wavelength_bands()
-    period = int(growth.attrs.get("bays", 1)) * study.scenario.L
-    Z = growth["Z_real"].values + 1j * growth["Z_imag"].values
-    ms, resolved = band_mean_square(Z, period, bands, int(cfg["figures"]["bands"]["min_lines"]))
-    with np.errstate(divide="ignore"):
-        rail = np.where(resolved, 10 * np.log10(np.where(resolved, ms, 1.0) / 1e-12), np.nan)
-    start = inputs.band_inputs(cfg, study.scenario)["initial_spectrum"]
-    if start is not None:
-        fill_dB, fill_source = exports.spectrum_on_bands(start[0], start[1]), f"input spectrum {start[2]}"
-    elif fill is not None:
-        fill_dB, fill_source = cn.rail_roughness_class(fill), f"CNOSSOS-EU Table G-1b class {fill}"
-    else:
-        fill_dB, fill_source = None, ""
-    source = np.where(resolved, "model", "")
-    if fill_dB is not None:
-        take = ~resolved & np.isfinite(fill_dB)
-        rail[:, take], source = fill_dB[take], np.where(take, fill_source, source)
-    results = [rn.rolling_noise(r, track, traffic, rule=rule) for r in rail]
-    f = results[0].frequency
-
-    def stack(name):  # one variable of the one class at every save
-        return np.array([getattr(x, name)[0] for x in results])
-
-    line_A = np.array([x.line_power_A for x in results])
-    n = growth["passage"].values
-    ds = xr.Dataset(
-        {
-            "rail_roughness": io.data_var(("passage", "wavelength"), rail, "dB re 1 um",
-                                       "rail roughness level per CNOSSOS-EU wavelength band (NaN: no level)"),
-            "rail_roughness_source": io.data_var("wavelength", source.astype(str), "",
-                                              "where the band's rail roughness comes from ('model': the growth run)"),
-            "total_effective_roughness": io.data_var(("passage", "frequency"), stack("roughness_total"), "dB re 1 um",
-                                                  "total effective roughness L_R,TOT (2.3.7) per frequency band"),
-            "sound_power_track": io.data_var(("passage", "frequency"), stack("power_track"), "dB re 1 pW",
-                                          "rolling-noise sound power of the track per vehicle L_W,0,TR (2.3.8)"),
-            "sound_power_vehicle": io.data_var(("passage", "frequency"), stack("power_vehicle"), "dB re 1 pW",
-                                            "rolling-noise sound power of the vehicle per vehicle L_W,0,VEH (2.3.9)"),
-            "sound_power": io.data_var(("passage", "frequency"), stack("power"), "dB re 1 pW",
-                                    "rolling-noise sound power per vehicle, track + vehicle, broadside"),
-            "line_sound_power": io.data_var(("passage", "frequency"), stack("line_power"), "dB re 1 pW/m",
-                                         "directional sound power per metre of line L'_W,eq,line (2.3.2), broadside"),
-            "sound_power_A": io.data_var("passage", np.array([x.power_A[0] for x in results]), "dB(A) re 1 pW",
-                                      "A-weighted rolling-noise sound power per vehicle"),
-            "line_sound_power_A": io.data_var("passage", line_A, "dB(A) re 1 pW/m",
-                                           "A-weighted sound power per metre of line of the traffic"),
-            "line_sound_power_A_change": io.data_var("passage", line_A - line_A[0], "dB",
-                                                  "change of the A-weighted line sound power since the first save"),
-        },
-        coords={
-            "passage": io.data_var("passage", n, "1", "axle passages (wheel passages on the rail)"),
-            "frequency": io.data_var("frequency", f, "Hz", "nominal one-third-octave centre frequency"),
-            "wavelength": io.data_var("wavelength", bands.nominal, "m",
-                                      "CNOSSOS-EU nominal centre wavelength (Table G-1b)"),
-            "centre_wavelength": io.data_var("wavelength", bands.centre, "m", "exact centre wavelength 10^(-n/10) m"),
-        },
-        attrs={
-            "method": "CNOSSOS-EU railway rolling noise, Directive 2002/49/EC Annex II 2.3 (2015/996, corrigendum "
-                      "2018, "
-                      "Delegated Directive (EU) 2021/1226); rail.noise, docs/noise.md",
-            "speed_m_per_s": speed, "vehicles_per_hour": float(vehicles_per_hour), "axles_per_vehicle": int(axles),
-            "brake": brake, "sleeper": sleeper, "pad_class": str(pad), "pad_class_rule": pad_rule,
-            "contact_filter_column_kN_mm": str(results[0].contact_columns[0]),
-            "vehicle_transfer_diameter_mm": float(results[0].diameters[0]),
-            "interpolation_rule": rule, "directivity": "broadside (phi = 90 deg, psi = 0): 0 dB",
-            "fill": fill_source or "none", "notes": results[0].notes,
-            **{f"source_{k.lower()}": v for k, v in SOURCES.items()},
-        },
-    )
-    return io.finalize(ds, cfg, title=f"CNOSSOS-EU rolling noise, scenario {study.name}", source="rail.app.api.noise",
+    if given:
+        cfg = config.deep_merge(study.config, {"figures": {"noise": {**(study.config["figures"].get("noise") or {}), **given}}})
+        try:
+            config.validate_config(cfg, config.project_schema(), source=f"noise(...) of {study.name}")
+        except config.ConfigError as e:  # the schema names the key figures.noise.<key>
+            raise config.ConfigError(str(e).replace("figures.noise.", "argument ")) from None
+    b = inputs.band_inputs(cfg, study.scenario)
+    out = noise_study.noise_outputs(growth, cfg, study.scenario, study.name, build.noise_settings(cfg),
+                                    initial_spectrum=b["initial_spectrum"], traffic=b["traffic"])
+    data = io.finalize(out.data, cfg, title=f"CNOSSOS-EU rolling noise, scenario {study.name}", source="rail.app.api.noise",
                        scenario=study.name)
+    return dataclasses.replace(out, data=data)

@@ -4,6 +4,7 @@
     railgrowth run soft_pad --speed 40                grow roughness; writes soft_pad_V40.nc here
     railgrowth run my_fleet --bands                   grow under the fleet (no --speed), with the band view
     railgrowth bands soft_pad soft_pad_V40.nc         the band view of a growth file written before
+    railgrowth noise soft_pad soft_pad_V40.nc         its rolling noise (CNOSSOS-EU) and grinding by noise
     railgrowth spectrum default --speed 40            the growth-rate spectrum; default_spectrum.nc
 
 A problem with the input is one line per problem naming file, key, value and valid range, and exit
@@ -13,8 +14,10 @@ growth run that stops early because the model's assumptions broke (contact lost,
 any passage count, 0 included) writes what it computed and exits with 3, with --bands or without. The
 growth file is written before any view of it (--bands), so no view loses it; the file is written whole
 or not at all: an existing file at --out survives a failed write (rail.setup.io.write_netcdf), and a
-failed checkpoint leaves no temporary file. ``bands`` refuses a growth file grown for another scenario
-or configuration, naming what differs (rail.app.api.grown_for).
+failed checkpoint leaves no temporary file. ``bands`` and ``noise`` refuse a growth file grown for another
+scenario or configuration, naming what differs (rail.app.api.grown_for). ``run`` of one train ends with one
+line stating the noise change over the run (rail.studies.noise.change_line) where the noise can be
+computed (rail.setup.inputs.noise_problem), else the reason.
 
 Exit status by cause (docs/usage.md), every failure one line on stderr, never a traceback::
 
@@ -62,6 +65,11 @@ def _parser() -> argparse.ArgumentParser:
     b.add_argument("scenario", help="the scenario the growth file was grown from")
     b.add_argument("growth", type=Path, help="a growth file (railgrowth run, or the workflow's)")
     b.add_argument("--out", type=Path, default=None, help="band dataset (default: <growth>_bands.nc; the CSVs beside it)")
+    z = sub.add_parser("noise", help="rolling noise (CNOSSOS-EU) at every save of a one-train growth file of a scenario, its change "
+                                     "and grinding by noise (figures.noise)")
+    z.add_argument("scenario", help="the scenario the growth file was grown from")
+    z.add_argument("growth", type=Path, help="a growth file (railgrowth run, or the workflow's)")
+    z.add_argument("--out", type=Path, default=None, help="noise dataset (default: <growth>_noise.nc; the CSV and figure beside it)")
     s = sub.add_parser("spectrum", help="growth-rate spectrum of a scenario about the smooth rail")
     s.add_argument("scenario", help="'default', a name in config/scenarios/, or a YAML file")
     s.add_argument("--speed", type=float, nargs="+", required=True, help="train speed(s), m/s")
@@ -126,7 +134,7 @@ def main(argv=None) -> int:
 
     loaded = False  # an OSError before this is the input's (a file missing); after, a resource's
     try:
-        if args.command in ("run", "spectrum", "bands"):
+        if args.command in ("run", "spectrum", "bands", "noise"):
             _writable_target("--out", args.out)
         if args.command == "run":
             _writable_target("--checkpoint", args.checkpoint)
@@ -137,6 +145,8 @@ def main(argv=None) -> int:
             return 0
         if args.command == "bands":
             return _bands(api, study, args)
+        if args.command == "noise":
+            return _noise(api, study, args)
         if args.command == "run":
             if "fleet" not in study.config and args.speed is None:
                 raise ConfigError(f"--speed is needed for {study.name}: a train speed in m/s (only a scenario with a fleet runs "
@@ -179,6 +189,8 @@ def main(argv=None) -> int:
     stopped = bool(ds.attrs.get("stopped"))
     print(f"wrote {out} (partial: {ds.attrs['stopped']})" if stopped else f"wrote {out}")
     done = EXIT_PARTIAL if stopped else 0
+    if args.command == "run" and args.speed is not None:
+        _noise_line(api, study, ds)
     if args.command == "run" and args.bands:
         return _bands_after_run(api, study, ds, out, done)
     return done
@@ -237,6 +249,50 @@ def _bands(api, study, args) -> int:
     except ConfigError as e:
         raise ConfigError(f"{args.growth}: {str(e).removeprefix('the growth result ')}") from None
     _write_band_view(view, args.out or args.growth.with_name(args.growth.stem + "_bands.nc"))
+    return 0
+
+
+def _noise_line(api, study, ds) -> None:
+    """run of one train: one line with the noise change over the run, or why there is none (cheap:
+    the CNOSSOS-EU chain on the bands of each save)."""
+    from ..setup.inputs import noise_problem
+    from ..studies.noise import change_line
+
+    why = noise_problem(study.config, float(ds.attrs["speed_m_per_s"]))
+    if why is None:
+        try:
+            print(change_line(api.noise(study, ds).data))
+            return
+        except (ConfigError, ValueError) as e:
+            why = " ".join(str(e).split())
+    print(f"noise: not computed: {why}")
+
+
+def _noise(api, study, args) -> int:
+    """railgrowth noise: the noise over traffic of a growth file (dataset, CSV, figure)."""
+    import xarray as xr
+
+    from ..plotting.noise import noise_over_traffic
+    from ..studies.noise import change_line
+
+    if not args.growth.is_file():
+        raise ConfigError(f"{args.growth}: no such growth file.")
+    with xr.open_dataset(args.growth) as g:  # the user's file: read, never moved
+        growth = g.load()
+    try:
+        out = api.noise(study, growth)  # refuses a file grown for another scenario or configuration, naming what differs
+    except ConfigError as e:
+        raise ConfigError(f"{args.growth}: {str(e).removeprefix('the growth result ')}") from None
+    data_path = args.out or args.growth.with_name(args.growth.stem + "_noise.nc")
+    stem = data_path.with_suffix("")
+    files = {"data": data_path, "csv": stem.with_name(stem.name + ".csv"), "figure": stem.with_name(stem.name + ".png")}
+    write_netcdf(out.data, files["data"])
+    files["csv"].write_text(out.csv)
+    noise_over_traffic(out.data, study.name).savefig(files["figure"], dpi=150, bbox_inches="tight")
+    print(f"wrote {', '.join(str(f) for f in files.values())}")
+    print(change_line(out.data))
+    for c in ("rise", "average", "band_rms"):
+        print(f"grinding by noise: {out.data.attrs[f'grinding_noise_{c}_text']}")
     return 0
 
 

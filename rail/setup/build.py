@@ -36,7 +36,8 @@ MAX_ROUGHNESS_BAYS = 64  # the schema's bound on roughness.bays (config/schema: 
 
 __all__ = ["HalfSpaceFigureSettings", "PASSAGE_KEYS", "OPTIONAL_KEYS", "elastic", "fleet",
            "fleet_classes", "track_cell", "passage_scenario", "scenario", "spectrum_scenario", "track",
-           "physics_problems", "halfspace_numerics", "halfspace_figures"]
+           "physics_problems", "halfspace_numerics", "halfspace_figures",
+           "NoiseSettings", "noise_settings"]
 
 
 @dataclass(frozen=True, slots=True)
@@ -55,6 +56,50 @@ class HalfSpaceFigureSettings:
     radii: np.ndarray
     frequencies: np.ndarray
     hertz_stiffness: float
+
+
+@dataclass(frozen=True, slots=True)
+class NoiseSettings:
+    """Rolling noise at the saves of a growth run and grinding by noise (config key ``figures.noise``,
+    every key optional with the schema's default; docs/noise.md).
+
+    vehicles_per_hour  : Q [1/h], > 0, or None (traffic.axles_per_day / 24 h / axles_per_vehicle)
+    axles_per_vehicle  : N_a [-], >= 1
+    wheel              : brake type of Table G-1a's wheel roughness ("disc", "composite", "cast_iron")
+    sleeper            : "monoblock", "biblock", "wooden", "direct" (Table G-3a)
+    pad_class          : "soft", "medium", "hard", or None (from track.pad.stiffness for concrete sleepers)
+    rule               : wavelength-to-frequency rule, "energy" or "level"
+    fill               : Table G-1b class for the bands the run does not resolve ("M", "E") or None
+    rise_dB            : criterion (a) [dB], > 0
+    average_target_dBA : criterion (b) [dB(A) re 1 pW/m], or None (not assessed)
+    band_rms           : criterion (c) on (Grassie, Saxon & Smith 1999)
+    extrapolation_max  : the criteria followed up to this many times the run's passages [-], >= 1
+    """
+
+    vehicles_per_hour: float | None
+    axles_per_vehicle: int
+    wheel: str
+    sleeper: str
+    pad_class: str | None
+    rule: str
+    fill: str | None
+    rise_dB: float
+    average_target_dBA: float | None
+    band_rms: bool
+    extrapolation_max: float
+
+
+def noise_settings(cfg: dict) -> NoiseSettings:
+    """figures.noise of a resolved configuration, each absent key at the schema's default (setting)."""
+    def get(key):
+        return setting(cfg, f"figures.noise.{key}")
+
+    q, target = get("vehicles_per_hour"), get("average_target_dBA")
+    return NoiseSettings(vehicles_per_hour=None if q is None else float(q), axles_per_vehicle=int(get("axles_per_vehicle")),
+                         wheel=str(get("wheel")), sleeper=str(get("sleeper")), pad_class=get("pad_class"), rule=str(get("rule")),
+                         fill=get("fill"), rise_dB=float(get("rise_dB")),
+                         average_target_dBA=None if target is None else float(target), band_rms=bool(get("band_rms")),
+                         extrapolation_max=float(get("extrapolation_max")))
 
 
 def elastic(cfg: dict) -> ElasticMaterial:

@@ -210,6 +210,10 @@ def _cross_checks(cfg: dict, source: str) -> list[str]:
             f"{source}: figures.halfspace.radius_min = {h['radius_min']!r} m is not allowed: it must be "
             f"< figures.halfspace.radius_max = {h['radius_max']!r} m."
         )
+    nz = cfg.get("figures", {}).get("noise") or {}
+    if nz.get("pad_class") is not None and nz.get("sleeper") in ("wooden", "direct"):
+        out.append(f"{source}: figures.noise.pad_class = {nz['pad_class']!r} is not allowed with figures.noise.sleeper = "
+                   f"{nz['sleeper']!r}: Table G-3a has one track transfer for it; leave pad_class out (null).")
     if "fleet" in cfg:
         out += _fleet_checks(cfg["fleet"], source)
     return out

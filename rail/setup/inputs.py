@@ -18,7 +18,8 @@ from ..scenario import Scenario
 from .build import fleet_classes, physics_problems
 from .config import ConfigError
 
-__all__ = ["FILE_KEYS", "MAX_SPEED", "resolve_paths", "measured_decay_file", "check_inputs", "check_speed", "fleet_checked", "band_inputs"]
+__all__ = ["FILE_KEYS", "MAX_SPEED", "resolve_paths", "measured_decay_file", "check_inputs", "check_speed", "fleet_checked", "band_inputs",
+           "noise_problem", "noise_files"]
 
 MAX_SPEED = 300.0  # m/s, the schema's bound on a configured speed (config/schema: speeds.items.maximum)
 
@@ -242,3 +243,59 @@ def band_inputs(cfg: dict, scn: Scenario) -> dict:
                              else None),
         "traffic": traffic,
     }
+
+
+def noise_problem(cfg: dict, speed: float) -> str | None:
+    """Why the noise of a one-train growth run of this configuration at ``speed`` [m/s] cannot be
+    computed (rail.studies.noise), or None: a fleet (not implemented), a speed outside CNOSSOS-EU's
+    7.94 .. 100 m/s, a concrete sleeper's pad stiffness without a pad class and none named
+    (figures.noise.pad_class), no traffic. The workflow leaves such a run out of study_<name>'s noise
+    and the named target noise (docs/noise.md), and the doors refuse it with the same words.
+
+    Parameters
+    ----------
+    cfg : dict
+        The resolved configuration.
+    speed : float
+        Train speed [m/s].
+
+    Returns
+    -------
+    str or None
+    """
+    from ..noise.cnossos import check_speed as noise_speed
+    from ..noise.cnossos import pad_class
+    from .build import noise_settings
+
+    if "fleet" in cfg:
+        return "a fleet's noise is not implemented (one traffic class per vehicle and speed would be needed)"
+    s = noise_settings(cfg)
+    try:
+        noise_speed(float(speed), "growth speed")
+        if s.sleeper in ("monoblock", "biblock") and s.pad_class is None:
+            pad_class(cfg["track"]["pad"]["stiffness"])
+    except ValueError as e:
+        return str(e)
+    if s.vehicles_per_hour is None and not (cfg.get("traffic") or {}).get("axles_per_day"):
+        return "no traffic: give traffic.axles_per_day or figures.noise.vehicles_per_hour"
+    return None
+
+
+def noise_files(scenarios, runs) -> list[str]:
+    """The noise outputs (figure, CSV) of the one-train runs [(scenario, speed [m/s])] whose noise can be
+    computed (noise_problem); the others are left out (study_<name> and the named target noise; docs/noise.md).
+
+    Parameters
+    ----------
+    scenarios : mapping
+        Scenario name -> resolved configuration (rail.setup.plan.Plan.scenarios).
+    runs : sequence of (str, float)
+
+    Returns
+    -------
+    list of str
+    """
+    from .targets import speed_label
+
+    return [f"results/growth/{n}/V{speed_label(v)}_noise.{ext}" for n, v in runs
+            if n in scenarios and noise_problem(scenarios[n], v) is None for ext in ("png", "csv")]

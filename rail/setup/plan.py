@@ -37,14 +37,14 @@ from ..roughness import RoughnessInputWarning
 from .build import fleet_classes, model_notes, scenario, spectrum_scenario
 from .config import (ConfigError, check_scenario_names, expand_sweep, load_yaml, resolve_scenario_file, scenario_files, schema_unit,
                      validate_config)
-from .inputs import check_inputs, check_speed, fleet_checked
+from .inputs import check_inputs, check_speed, fleet_checked, noise_files
 from .study_files import SPEED_STUDY, check_convergence_study, class_estimate, class_key, read_studies, traffic_cases
 from .tables import table_key
 from .targets import (CHARACTERISATION, CLOSURE_STUDIES, DEFAULT_SOURCE, FORCE_FIGURES, FORCE_KEYS, GROWTH_FIGURE_KEYS, GROWTH_FIGURES,
                       HALFSPACE_FIGURES, HALFSPACE_KEYS, IRREGULAR_NAMES, IRREGULAR_SPEED, PRIORITY_KERNELS, PRIORITY_TABLES,
                       REPORT_SUFFIXES, WEAR_CASE_KEYS, WEAR_FIGURES, Sweep, SweepPoint, Table, closure_label, config_part,
                       RAIL_HEAD_KEYS, case_base, fleet_speed_label, physics_part, read_part, speed_label, track_part,
-                      wear_frequency_label, KnownNames)
+                      wear_frequency_label, KnownNames, known_value)
 
 __all__ = ["Plan", "Sweep", "SweepPoint", "Table", "plan", "speed_label", "fleet_speed_label", "config_part", "physics_part",
            "HALFSPACE_KEYS", "FORCE_KEYS", "WEAR_CASE_KEYS", "GROWTH_FIGURE_KEYS", "HALFSPACE_FIGURES", "FORCE_FIGURES",
@@ -287,6 +287,7 @@ class Plan:
         for scen, v in runs:
             base = f"results/growth/{scen}/V{speed_label(v)}"
             out += [f"{base}_overview.png", f"{base}_bands.png", f"{base}_3d.png"]
+            out += noise_files(self.scenarios, [(scen, v)])  # issue 56
         return out + extra
 
     def study_input(self, name: str):
@@ -363,6 +364,11 @@ class Plan:
         out += [f"results/sweeps/{study}_bands.png" for study, sw in self.sweeps.items()
                 if "speed" in sw.keys and study not in CLOSURE_STUDIES.values()]
         return out
+
+    def noise_targets(self) -> list[str]:
+        """The named target noise (issue 56): the noise of the runs of the named target bands (rail.setup.inputs.noise_files)."""
+        runs = [("default", v) for v in self.config["speeds"]] + [(n, self.objects[n].speeds[0]) for n in self._periodic()]
+        return noise_files(self.scenarios, runs)
 
     def sweep_targets(self) -> list[str]:
         """Aggregated dataset and map figure of every sweep study (one left out of the run included: its
@@ -548,14 +554,6 @@ def _left_out(name: str, broken, files) -> str | None:
     if stem is None:
         return None
     return f"target needs the scenario '{name}', which is left out of this run: {files[stem]} is not valid: {broken[stem]}"
-
-
-def known_value(known: dict, label: str, what: str, key: str):
-    """The value a target's file-name label names, or one line saying which labels exist."""
-    if label not in known:
-        raise ConfigError(f"target names the {what}{label}, which is not configured: the labels are "
-                          f"{', '.join(sorted(known))} ({key}).")
-    return known[label]
 
 
 # -- building the plan ---------------------------------------------------------------------------

@@ -27,7 +27,7 @@ from dataclasses import dataclass, field
 from .build import OPTIONAL_KEYS, PASSAGE_KEYS
 from .config import ConfigError, deep_merge, schema_default
 
-__all__ = ["speed_label", "fleet_speed_label", "wear_frequency_label", "closure_label", "config_part", "physics_part", "track_part",
+__all__ = ["known_value", "speed_label", "fleet_speed_label", "wear_frequency_label", "closure_label", "config_part", "physics_part", "track_part",
            "read_part", "case_base", "RAIL_HEAD_KEYS", "KnownNames",
            "SweepPoint", "Sweep", "Table", "HALFSPACE_KEYS", "FORCE_KEYS", "WEAR_CASE_KEYS", "GROWTH_FIGURE_KEYS", "HALFSPACE_FIGURES",
            "FORCE_FIGURES", "WEAR_FIGURES", "GROWTH_FIGURES", "CLOSURE_STUDIES", "IRREGULAR_SPEED", "IRREGULAR_NAMES",
@@ -315,3 +315,27 @@ class KnownNames(Mapping):
 
     def __repr__(self):
         return f"KnownNames({self._data!r})"
+
+
+def known_value(known: dict, label: str, what: str, key: str):
+    """The value a target's file-name label names, or one line saying which labels exist.
+
+    Parameters
+    ----------
+    known : dict
+        {label: value} of the configured values.
+    label : str
+        The label a target names.
+    what : str
+        What the label is, for the message (for example "wear frequency f").
+    key : str
+        The configuration key that lists the values.
+
+    Returns
+    -------
+    The value the label names.
+    """
+    if label not in known:
+        raise ConfigError(f"target names the {what}{label}, which is not configured: the labels are "
+                          f"{', '.join(sorted(known))} ({key}).")
+    return known[label]
