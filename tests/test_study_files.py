@@ -59,7 +59,8 @@ def test_every_named_target_lists_the_same_files_as_before_the_study_files(P):
     now = named_targets(P)
     assert sorted(now) == sorted(BEFORE["targets"])
     for target, files in BEFORE["targets"].items():
-        assert now[target] == files, target
+        # the noise outputs beside the runs were added after the lists were recorded (issue 56; tests/test_plan.py checks them)
+        assert [f for f in now[target] if not f.endswith(("_noise.png", "_noise.csv"))] == files, target
 
 
 def test_every_scenario_resolves_as_before_and_reads_the_same_tables(P):

@@ -381,7 +381,20 @@ def trip_average(trend: BandTrend, curve: NoiseCurve, target: float) -> Trip:
 
 
 def range_bands(centre, low: float, high: float) -> np.ndarray:
-    """The bands whose exact centre [m] lies in [low, high) [m] (module docstring), as a bool mask."""
+    """The bands whose exact centre lies in [low, high) (module docstring), as a bool mask.
+
+    Parameters
+    ----------
+    centre : array_like
+        The bands' exact centre wavelengths [m].
+    low, high : float
+        The range's edges [m], low < high.
+
+    Returns
+    -------
+    ndarray of bool
+        True where a band's centre lies in the range [-].
+    """
     c = np.asarray(centre, dtype=float)
     return (c >= low * (1 - 1e-9)) & (c < high * (1 - 1e-9))
 

@@ -1,7 +1,6 @@
-# Helpers that map a rule's wildcards to paths and params. What the workflow runs (every scenario,
-# sweep, traffic case, fleet class, table and study set, and every target list) is decided once, at
-# start-up, by rail.setup.plan (a pure module, tested without Snakemake: tests/test_plan.py); the
-# helpers here only ask it. Rules live in the other .smk files. Params hold configurations as the physics reads them.
+# Helpers that map a rule's wildcards to paths and params. What the workflow runs (every scenario, sweep, traffic case, fleet class,
+# table and study set, every target list) is decided once, at start-up, by rail.setup.plan (a pure module, tested without Snakemake:
+# tests/test_plan.py); the helpers only ask it. Rules live in the other .smk files; params hold configurations as the physics reads them.
 
 import sys
 from pathlib import Path
