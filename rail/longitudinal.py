@@ -108,7 +108,8 @@ class RailHead:
     Attributes
     ----------
     track : rail.track.Track (rail, vertical supports, sleeper spacing L, damping model)
-    longitudinal_stiffness : k_x, the pad's longitudinal (shear) stiffness per support [N/m], in [MIN_LONGITUDINAL_STIFFNESS, 1e12]
+    longitudinal_stiffness : k_x, the pad's longitudinal (shear) stiffness per support [N/m],
+        in [MIN_LONGITUDINAL_STIFFNESS, 1e12]
     longitudinal_loss_factor : eta_x [-], >= 0 (hysteretic model)
     longitudinal_viscous_damping : c_x [N s/m], >= 0 (viscous model)
     head_height : e, the running surface above the neutral axis [m], in [0, 0.3]
@@ -127,8 +128,9 @@ class RailHead:
             raise TypeError(f"RailHead.track must be a rail.track.Track, not {type(self.track).__name__}.")
         k = self.longitudinal_stiffness
         if not (isinstance(k, (int, float)) and math.isfinite(k) and MIN_LONGITUDINAL_STIFFNESS <= k <= 1e12):
-            raise ValueError(f"track.pad.longitudinal_stiffness = {k!r} N/m is not allowed: it must be a finite number in "
-                             f"[{MIN_LONGITUDINAL_STIFFNESS:g}, 1e12] N/m (the softest resilient pad sheared and up).")
+            raise ValueError(f"track.pad.longitudinal_stiffness = {k!r} N/m is not allowed: it must be a finite "
+                             f"number in [{MIN_LONGITUDINAL_STIFFNESS:g}, 1e12] N/m (the softest resilient pad sheared "
+                             "and up).")
         for name, v in (("track.pad.longitudinal_loss_factor", self.longitudinal_loss_factor),
                         ("track.pad.longitudinal_viscous_damping", self.longitudinal_viscous_damping)):
             if not (isinstance(v, (int, float)) and math.isfinite(v) and v >= 0):

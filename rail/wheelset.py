@@ -40,7 +40,8 @@ from scipy import linalg
 
 from .contact.creep import LongitudinalModes
 
-__all__ = ["Wheelset", "WHEELSET_MODELS", "OTHER_WHEEL", "RANGES", "wheelset_modes", "chain_modes", "hz_text", "tread_receptance"]
+__all__ = ["Wheelset", "WHEELSET_MODELS", "OTHER_WHEEL", "RANGES", "wheelset_modes", "chain_modes", "hz_text",
+           "tread_receptance"]
 
 # 'fixed_creepage': the report's rigid wheel at a fixed creepage (u_bar = 0); 'rigid': a rigid wheelset
 # spinning under the drive torque (the rigid spin alone); 'torsional': the elastic axle and the drive
@@ -53,8 +54,10 @@ OTHER_WHEEL = ("in_phase", "independent")
 # 360 mm wheels of low-floor car-carrier wagons; 0.23-0.33 m: tram and low-floor wheels; 0.46-0.625 m:
 # coaches and locomotives; 1.15 m: the largest steam driving wheels).
 RANGES = {"radius": ("wheels.radius", 0.1, 1.5), "wheel_inertia": ("wheelset.wheel_inertia", 1.0, 1e4),
-          "centre_inertia": ("wheelset.centre_inertia", 1e-3, 1e5), "axle_stiffness": ("wheelset.axle_stiffness", 1e4, 1e9),
-          "coupling_stiffness": ("wheelset.coupling_stiffness", 1e3, 1e9), "motor_inertia": ("wheelset.motor_inertia", 0.0, 1e5)}
+          "centre_inertia": ("wheelset.centre_inertia", 1e-3, 1e5),
+          "axle_stiffness": ("wheelset.axle_stiffness", 1e4, 1e9),
+          "coupling_stiffness": ("wheelset.coupling_stiffness", 1e3, 1e9),
+          "motor_inertia": ("wheelset.motor_inertia", 0.0, 1e5)}
 UNITS = {"radius": "m", "wheel_inertia": "kg m^2", "centre_inertia": "kg m^2", "axle_stiffness": "N m/rad",
          "coupling_stiffness": "N m/rad", "motor_inertia": "kg m^2"}
 
@@ -95,8 +98,8 @@ class Wheelset:
             v = getattr(self, name)
             if not (isinstance(v, (int, float)) and not isinstance(v, bool) and math.isfinite(v) and low <= v <= high):
                 extra = " (0: a trailer)" if name == "motor_inertia" else ""
-                raise ValueError(f"{key} = {v!r} {UNITS[name]} is not allowed: it must be a finite number in [{low:g}, {high:g}] "
-                                 f"{UNITS[name]}{extra}.")
+                raise ValueError(f"{key} = {v!r} {UNITS[name]} is not allowed: it must be a finite number in "
+                                 f"[{low:g}, {high:g}] {UNITS[name]}{extra}.")
         if not (isinstance(self.damping, (int, float)) and math.isfinite(self.damping) and 0 <= self.damping < 1):
             raise ValueError(f"wheelset.damping = {self.damping!r} is not allowed: it must lie in [0, 1).")
 

@@ -73,8 +73,8 @@ class ContactMaterial:
             return f"friction stepping from mu_s = {mus:g} in stick to mu_d = {mud:g} in slip (the report's)"
         if mus > mud:
             return f"friction falling with slip, s_0 = {s0:g} m/s"
-        return (f"friction constant, mu = {mud:g} (contact.friction_decay = {s0:g} m/s has no effect: contact.friction_static = "
-                "contact.friction_dynamic, so the falling law is flat)")
+        return (f"friction constant, mu = {mud:g} (contact.friction_decay = {s0:g} m/s has no effect: "
+                "contact.friction_static = contact.friction_dynamic, so the falling law is flat)")
 
     def __post_init__(self):
         if not (np.isfinite(self.friction_decay) and 0 <= self.friction_decay <= 100):
@@ -89,7 +89,8 @@ class ContactMaterial:
             )
         for name in ("youngs_modulus", "half_width", "wheel_radius", "friction_dynamic"):
             if not (getattr(self, name) > 0 and np.isfinite(getattr(self, name))):
-                key = {"wheel_radius": "wheels.radius", "youngs_modulus": "material.youngs_modulus"}.get(name, f"contact.{name}")
+                key = {"wheel_radius": "wheels.radius", "youngs_modulus": "material.youngs_modulus"}.get(
+                    name, f"contact.{name}")
                 raise ValueError(f"{key} = {getattr(self, name)!r} is not allowed: it must be a finite number > 0.")
         if not (np.isfinite(self.poisson_ratio) and -1 < self.poisson_ratio < 0.5):
             raise ValueError(f"poisson_ratio = {self.poisson_ratio!r} is not allowed: it must lie in (-1, 0.5) "

@@ -432,9 +432,10 @@ def _check_modes_resolved(om, dts, delta: float, speed: float) -> None:
     nyquist = 1.0 / (2.0 * float(np.max(dts)))
     f = float(np.max(om)) / (2 * np.pi)
     if f > nyquist:
-        raise ContactError(f"a wheelset mode at {f:.4g} Hz lies above the {nyquist:.4g} Hz the contact march resolves (the Nyquist "
-                           f"frequency of its step, grid spacing {delta * 1e3:.3g} mm at {speed:g} m/s): raise the wheelset's "
-                           "inertias or lower its stiffnesses (wheelset.*), or refine numerics.contact.nodes.")
+        raise ContactError(f"a wheelset mode at {f:.4g} Hz lies above the {nyquist:.4g} Hz the contact march "
+                           f"resolves (the Nyquist frequency of its step, grid spacing {delta * 1e3:.3g} mm at "
+                           f"{speed:g} m/s): raise the wheelset's inertias or lower its stiffnesses (wheelset.*), or "
+                           "refine numerics.contact.nodes.")
 
 
 def _settle_steps(a, delta: float, q0) -> int:

@@ -360,20 +360,23 @@ def dynamic_creepage_problems(cfg: dict, source: str) -> list[str]:
         m = _material_unchecked({**cfg, "wheelset": None})
     except ValueError:
         return []  # the material's own problem is named where it is built
-    loads = [float(cfg["wheels"]["static_load"])] + [float(v["static_load"]) for v in (cfg.get("fleet") or {}).get("vehicles", [])]
+    vehicles = (cfg.get("fleet") or {}).get("vehicles", [])
+    loads = [float(cfg["wheels"]["static_load"])] + [float(v["static_load"]) for v in vehicles]
     a = float(hertz_half_length(max(loads), m.wheel_radius, m))
-    delta = rolling_grid(1.02 * a, _cell_track(cfg).L, int(cfg["numerics"]["contact"]["nodes"]))[0]
+    nodes = int(cfg["numerics"]["contact"]["nodes"])
+    delta = rolling_grid(1.02 * a, _cell_track(cfg).L, nodes)[0]
     V = min(speeds)
     nyquist = V / (2 * delta)
     above = [float(om) / (2 * np.pi) for om in modes.omega if float(om) / (2 * np.pi) > nyquist]
     if not above:
         return []
-    return [f"{source}: wheelset: the {modes.label} has mode(s) at {', '.join(hz_text(f) for f in above)} Hz, above the "
-            f"{hz_text(nyquist)} Hz the contact march resolves at V = {V:g} m/s (its step's Nyquist frequency V / (2 Delta), "
-            f"grid spacing Delta = {delta * 1e3:.3g} mm from numerics.contact.nodes = {int(cfg['numerics']['contact']['nodes'])}): "
-            "such a mode is aliased and its force, held over a step, drives it unstably; raise wheelset.wheel_inertia or "
-            "wheelset.centre_inertia (or wheelset.motor_inertia), or lower wheelset.axle_stiffness or wheelset.coupling_stiffness, "
-            "to bring it below (the torsional modes of real wheelsets lie at tens to hundreds of hertz)."]
+    return [f"{source}: wheelset: the {modes.label} has mode(s) at {', '.join(hz_text(f) for f in above)} Hz, "
+            f"above the {hz_text(nyquist)} Hz the contact march resolves at V = {V:g} m/s (its step's Nyquist "
+            f"frequency V / (2 Delta), grid spacing Delta = {delta * 1e3:.3g} mm from numerics.contact.nodes = {nodes}): such a "
+            "mode is aliased and its force, held over a step, drives it unstably; raise wheelset.wheel_inertia or "
+            "wheelset.centre_inertia (or wheelset.motor_inertia), or lower wheelset.axle_stiffness or "
+            "wheelset.coupling_stiffness, to bring it below (the torsional modes of real wheelsets lie at tens to "
+            "hundreds of hertz)."]
 
 
 def model_notes(scn: Scenario) -> list[str]:

@@ -378,7 +378,8 @@ def validate_config(cfg: dict, schema: dict, source: str = "config") -> dict:
     # a value of the wrong type is one problem: its range or enum, which the schema checks too, is not said again
     errors = [e for e in errors if e.validator == "type" or tuple(e.absolute_path) not in typed]
     # NaN or inf: said once, with the valid range where the schema states one (its range error not said again)
-    ranged = {_dotted(e.absolute_path): e.schema for e in errors if isinstance(e.schema, dict) and e.validator in _BOUNDS}
+    ranged = {_dotted(e.absolute_path): e.schema for e in errors
+              if isinstance(e.schema, dict) and e.validator in _BOUNDS}
     non_finite = []
     for m in _non_finite(cfg, source):
         key = m[len(source) + 2:].split(" = ", 1)[0]

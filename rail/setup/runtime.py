@@ -67,6 +67,11 @@ def check_file_size_limit(root, limit: int | None = None) -> None:
         The limit [bytes] (default: this process's soft RLIMIT_FSIZE; none where the platform has no
         such limit).
 
+    Returns
+    -------
+    None
+        When the limit holds every source file [bytes], or there is none.
+
     Raises
     ------
     OSError
@@ -84,12 +89,14 @@ def check_file_size_limit(root, limit: int | None = None) -> None:
         if limit == resource.RLIM_INFINITY:
             return
     root = Path(root)
-    files = [root / "Snakefile", *sorted((root / "workflow").glob("rules/*.smk")), *sorted((root / "workflow").glob("scripts/*.py"))]
+    files = [root / "Snakefile", *sorted((root / "workflow").glob("rules/*.smk")),
+             *sorted((root / "workflow").glob("scripts/*.py"))]
     sizes = {f: f.stat().st_size for f in files if f.is_file()}
     if not sizes:
         return
     biggest = max(sizes, key=sizes.get)
     if sizes[biggest] > limit:
-        raise OSError(errno.EFBIG, f"the file-size limit (ulimit -f) is {limit} bytes, below {biggest} ({sizes[biggest]} bytes), "
-                                   "which Snakemake copies into its source cache before it runs, and below the results (a growth "
-                                   "file is several MB): raise the limit (ulimit -f unlimited)")
+        raise OSError(errno.EFBIG, f"the file-size limit (ulimit -f) is {limit} bytes, below {biggest} "
+                                   f"({sizes[biggest]} bytes), which Snakemake copies into its source cache before it "
+                                   "runs, and below the results (a growth file is several MB): raise the limit "
+                                   "(ulimit -f unlimited)")
