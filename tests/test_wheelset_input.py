@@ -166,9 +166,11 @@ def test_a_wheelset_mode_above_the_marchs_nyquist_frequency_is_refused_at_start_
     a = float(C.hertz_half_length(cfg["wheels"]["static_load"], m.wheel_radius, m))
     delta = C.rolling_grid(1.02 * a, cfg["track"]["sleeper"]["spacing"], cfg["numerics"]["contact"]["nodes"])[0]
     assert f"the {V / (2 * delta):.0f} Hz the contact march resolves at V = {V:g} m/s" in line
-    # a real wheelset (dyn_driven.yaml's) passes
-    assert build.dynamic_creepage_problems(rconfig.resolve_scenario_file(
-        defaults, schema, rconfig.load_yaml(ROOT / "config/scenarios/dyn_driven.yaml"), "d.yaml"), "d.yaml") == []
+    # a real wheelset (the case dyn_driven of config/studies/dynamic_creepage.yaml) passes
+    from rail.setup.study_files import study_cases
+
+    driven = study_cases(ROOT)["dyn_driven"][1]
+    assert build.dynamic_creepage_problems(rconfig.resolve_scenario_file(defaults, schema, driven, "d.yaml"), "d.yaml") == []
 
 
 def test_the_march_refuses_a_mode_above_its_own_nyquist_frequency():
