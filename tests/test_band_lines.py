@@ -52,3 +52,35 @@ def test_settings_lines_add_the_band_to_the_log_spaced_lines():
     assert set(plain) <= set(banded)
     assert np.array_equal(np.sort(banded), banded)
     assert set(band_lines(L, 48, K, [40.0, 60.0], 900.0, 1400.0, 15.0)) <= set(banded)
+
+
+def test_scenario_files_resolve_the_band_unless_they_set_their_own_period():
+    # issue 54: the scenario files' default spectrum settings resolve 900-1,400 Hz at every speed; a file that sets its
+    # own period (a track cell's, the 2-bay surveys) keeps its own lines; a fleet's class spectra take fleet.spectrum's
+    from pathlib import Path
+
+    from rail.setup import config as rconfig
+
+    root = Path(__file__).resolve().parents[1]
+    schema = rconfig.load_yaml(root / "config/schema/config.schema.yaml")
+    defaults = rconfig.validate_config(rconfig.load_yaml(root / "config/config.yaml"), schema, source="config/config.yaml")
+    assert not defaults["figures"]["rate_spectrum"].get("band")  # config.yaml: the report's spectrum
+    own = rconfig.resolve_scenario_file(defaults, schema, {"track": {"pad": {"stiffness": 1.5e8}}}, "soft.yaml")
+    s = own["figures"]["rate_spectrum"]
+    assert s["band"] == {"low": 900.0, "high": 1400.0, "spacing": 15.0}
+    lines = settings_lines(L, int(s["bays"]), K, s)
+    for V in s["speeds"]:
+        f = np.sort(V * lines / (int(s["bays"]) * L))
+        inside = f[(f >= 900.0 - 1e-9) & (f <= 1400.0 + 1e-9)]
+        assert np.max(np.diff(inside)) <= 15.0 + 1e-9, V
+    cell = rconfig.resolve_scenario_file(defaults, schema, {"figures": {"rate_spectrum": {"bays": 2}}}, "two.yaml")
+    assert cell["figures"]["rate_spectrum"]["band"] is None
+    import sys
+
+    import yaml
+
+    sys.path.insert(0, str(root / "tests"))
+    from fleets import TWO_VEHICLES
+
+    f_cfg = rconfig.resolve_scenario_file(defaults, schema, yaml.safe_load(TWO_VEHICLES), "fleet.yaml")
+    assert "band" not in f_cfg["figures"]["rate_spectrum"]

@@ -440,6 +440,7 @@ def fleet_spectrum(cfg: dict, scenario: dict, schema: dict, source: str) -> dict
     out = copy.deepcopy(cfg)
     out["figures"]["rate_spectrum"] = {**out["figures"]["rate_spectrum"],
                                        **{k: setting(out, f"fleet.spectrum.{k}", schema) for k in FLEET_SPECTRUM_KEYS}}
+    out["figures"]["rate_spectrum"].pop("band", None)  # the class spectra take fleet.spectrum's lines (it has no band)
     return out
 
 
@@ -447,16 +448,25 @@ def fleet_spectrum(cfg: dict, scenario: dict, schema: dict, source: str) -> dict
 # (its normal contact, eqs 22-24, and its wear under the wheel centre), a user's scenario gets the normal
 # contact of the field's practice, which sees the roughness under the patch, the wear where that patch
 # really is (docs/contact.md), and a growth-rate spectrum down to the
-# shortest wavelength L / K; a file that sets a key keeps its own. The one table of defaults that differ
-# by design: every other default is config.yaml's value or, for an optional key, the schema's (setting).
-SCENARIO_FILE_DEFAULTS = {"contact": {"normal": "nonhertzian", "wear_path": "patch"}, "figures": {"rate_spectrum": {"shortest": 0.0}}}
+# shortest wavelength L / K with the band near the pinned-pinned frequency resolved (lines at most 15 Hz apart over
+# 900-1,400 Hz at each of the spectrum's speeds, issue 54: the band that grows with the rail's flexibility is about
+# 50 Hz wide); a file that sets a key keeps its own, and one that sets its spectrum's period (figures.rate_spectrum.bays,
+# a track cell's) without a band keeps the log-spaced lines of that period (resolve_scenario_file).
+# The one table of defaults that differ by design: every other default is config.yaml's value or, for an optional key,
+# the schema's (setting).
+SCENARIO_FILE_DEFAULTS = {"contact": {"normal": "nonhertzian", "wear_path": "patch"},
+                          "figures": {"rate_spectrum": {"shortest": 0.0, "band": {"low": 900.0, "high": 1400.0, "spacing": 15.0}}}}
 
 
 def resolve_scenario_file(defaults: dict, schema: dict, scenario: dict | None, source: str) -> dict:
     """A scenario file's resolved configuration: config.yaml, then SCENARIO_FILE_DEFAULTS, then the
     file's keys, validated (problems reported against ``source``). The workflow, the command line and
     the API all resolve scenario files here."""
-    return resolve(deep_merge(defaults, SCENARIO_FILE_DEFAULTS), schema, scenario, source)
+    own = ((scenario or {}).get("figures") or {}).get("rate_spectrum") or {}
+    start = deep_merge(defaults, SCENARIO_FILE_DEFAULTS)
+    if "bays" in own and "band" not in own:  # its own period: its own lines (a cell's, or the 2-bay surveys')
+        start["figures"]["rate_spectrum"]["band"] = None
+    return resolve(start, schema, scenario, source)
 
 
 def _set_dotted(d: dict, dotted: str, value) -> dict:
