@@ -381,7 +381,20 @@ def trip_average(trend: BandTrend, curve: NoiseCurve, target: float) -> Trip:
 
 
 def range_bands(centre, low: float, high: float) -> np.ndarray:
-    """The bands whose exact centre [m] lies in [low, high) [m] (module docstring), as a bool mask."""
+    """The bands whose exact centre [m] lies in [low, high) [m] (module docstring), as a bool mask.
+
+    Parameters
+    ----------
+    centre : array-like
+        Exact band centre wavelengths [m].
+    low, high : float
+        The range's shortest and longest wavelength [m] (a centre equal to high is outside).
+
+    Returns
+    -------
+    ndarray of bool
+        True for the bands in the range [-].
+    """
     c = np.asarray(centre, dtype=float)
     return (c >= low * (1 - 1e-9)) & (c < high * (1 - 1e-9))
 
