@@ -9,9 +9,9 @@ The comparison with Table G-3a. The default track (pad 350 MN/m, concrete monobl
 tolerance in each band is the class spread, |L_H,TR(soft) - L_H,TR(hard)| of the monoblock columns
 in that band: the own transfer of a medium-class track should be no further from the medium class
 than the soft class is from the hard one. Measured (docs/noise.md), own - medium, dB:
-250 Hz -14.8, 315 -12.5, 400 -9.0, 500 -4.2 (the sleepers, which L_H,TR holds and the own transfer
-leaves out), 630 +1.7, 800 +4.0, 1000 +5.2, 1250 +3.6 (this track decays more slowly than the class
-average), 1600 +2.2, 2000 +1.3, 2500 +0.5, 3150 +0.6, 4000 -0.1, 5000 -1.5. The fast test asserts
+250 Hz -14.7, 315 -12.4, 400 -9.0, 500 -4.1 (the sleepers, which L_H,TR holds and the own transfer
+leaves out), 630 +1.5, 800 +4.0, 1000 +5.2, 1250 +3.6 (the track's own decay rate and a contact
+resonance at mid-span, docs/noise.md), 1600 +2.3, 2000 +1.3, 2500 +0.4, 3150 -0.2, 4000 -0.1, 5000 -1.2. The fast test asserts
 the class spread at 2000-4000 Hz, where the rail's vertical vibration carries the track's noise and
 the model holds; the slow one states the whole range.
 """
