@@ -5,7 +5,8 @@ Delegated Directive (EU) 2021/1226). docs/noise.md.
 Modules: rail.noise.tables (Appendix G's rolling-noise tables as data, each with its source),
 rail.noise.weighting (A-weighting of IEC 61672-1, energy sums), rail.noise.cnossos (total effective
 roughness, the wavelength-to-frequency mapping, the sound power per vehicle and per metre of line),
-rail.noise.rolling (a traffic over a track, the whole chain).
+rail.noise.rolling (a traffic over a track, the whole chain), rail.noise.own_track (the track's own
+transfer from its rail receptance and decay rate, in place of Table G-3a's), rail.noise.grinding.
 """
 
 from .cnossos import (RULES, SPEED_MAX, SPEED_MIN, check_speed, contact_filter, contact_filter_column,

@@ -28,17 +28,24 @@ class Track:
 
     sleeper : "monoblock", "biblock", "wooden" or "direct" (direct fastening on bridges)
     pad     : "soft", "medium", "hard" for concrete sleepers (pad_class from the stiffness), None else
+    own     : the track's own transfer L_H,TR,own per band, 24 levels [dB re 1 pW per axle for 0 dB
+              re 1 um] (rail.noise.own_track), in place of Table G-3a's; None: Table G-3a's of the
+              sleeper and pad (which are then not read)
     """
 
     sleeper: str = "monoblock"
     pad: str | None = "medium"
+    own: tuple | None = None
 
     def __post_init__(self):
-        track_transfer(self.sleeper, self.pad)  # refuses an unknown sleeper or pad, naming it
+        if self.own is None:
+            track_transfer(self.sleeper, self.pad)  # refuses an unknown sleeper or pad, naming it
+        elif len(self.own) != 24 or not np.all(np.isfinite(np.asarray(self.own, dtype=float))):
+            raise ValueError("own: the track's own transfer must be 24 finite levels (50 Hz .. 10 kHz, dB re 1 pW per axle).")
 
     def transfer(self):
-        """L_H,TR of Table G-3a [dB re 1 pW per axle], 24 bands."""
-        return track_transfer(self.sleeper, self.pad)
+        """L_H,TR of Table G-3a, or the track's own, [dB re 1 pW per axle], 24 bands."""
+        return track_transfer(self.sleeper, self.pad) if self.own is None else np.array(self.own, dtype=float)
 
 
 @dataclass(frozen=True, slots=True)

@@ -68,6 +68,8 @@ class NoiseSettings:
     wheel              : brake type of Table G-1a's wheel roughness ("disc", "composite", "cast_iron")
     sleeper            : "monoblock", "biblock", "wooden", "direct" (Table G-3a)
     pad_class          : "soft", "medium", "hard", or None (from track.pad.stiffness for concrete sleepers)
+    track_transfer     : "cnossos" (Table G-3a's L_H,TR) or "own" (the scenario's rail receptance and decay rate,
+                         rail.noise.own_track)
     rule               : wavelength-to-frequency rule, "energy" or "level"
     fill               : Table G-1b class for the bands the run does not resolve ("M", "E") or None
     rise_dB            : criterion (a) [dB], > 0
@@ -87,6 +89,7 @@ class NoiseSettings:
     average_target_dBA: float | None
     band_rms: bool
     extrapolation_max: float
+    track_transfer: str = "cnossos"
 
 
 def noise_settings(cfg: dict) -> NoiseSettings:
@@ -99,7 +102,7 @@ def noise_settings(cfg: dict) -> NoiseSettings:
                          wheel=str(get("wheel")), sleeper=str(get("sleeper")), pad_class=get("pad_class"), rule=str(get("rule")),
                          fill=get("fill"), rise_dB=float(get("rise_dB")),
                          average_target_dBA=None if target is None else float(target), band_rms=bool(get("band_rms")),
-                         extrapolation_max=float(get("extrapolation_max")))
+                         extrapolation_max=float(get("extrapolation_max")), track_transfer=str(get("track_transfer")))
 
 
 def elastic(cfg: dict) -> ElasticMaterial:

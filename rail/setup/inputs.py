@@ -249,8 +249,9 @@ def noise_problem(cfg: dict, speed: float) -> str | None:
     """Why the noise of a one-train growth run of this configuration at ``speed`` [m/s] cannot be
     computed (rail.studies.noise), or None: a fleet (not implemented), a speed outside CNOSSOS-EU's
     7.94 .. 100 m/s, a concrete sleeper's pad stiffness without a pad class and none named
-    (figures.noise.pad_class), no traffic. The workflow leaves such a run out of study_<name>'s noise
-    and the named target noise (docs/noise.md), and the doors refuse it with the same words.
+    (figures.noise.pad_class; not asked with figures.noise.track_transfer: own), no traffic. The
+    workflow leaves such a run out of study_<name>'s noise and the named target noise
+    (docs/noise.md), and the doors refuse it with the same words.
 
     Parameters
     ----------
@@ -272,8 +273,8 @@ def noise_problem(cfg: dict, speed: float) -> str | None:
     s = noise_settings(cfg)
     try:
         noise_speed(float(speed), "growth speed")
-        if s.sleeper in ("monoblock", "biblock") and s.pad_class is None:
-            pad_class(cfg["track"]["pad"]["stiffness"])
+        if s.sleeper in ("monoblock", "biblock") and s.pad_class is None and s.track_transfer == "cnossos":
+            pad_class(cfg["track"]["pad"]["stiffness"])  # the own track transfer needs no pad class
     except ValueError as e:
         return str(e)
     if s.vehicles_per_hour is None and not (cfg.get("traffic") or {}).get("axles_per_day"):

@@ -29,6 +29,7 @@ import numpy as np
 
 from ..noise import cnossos as cn
 from ..noise import grinding as gr
+from ..noise import own_track
 from ..noise import rolling as rn
 from ..noise.tables import SOURCES
 from ..noise.weighting import a_weighting
@@ -56,8 +57,9 @@ class NoiseOutputs:
     trips: dict
 
 
-def _vehicle_traffic(cfg: dict, settings, speed: float):
-    """The track, vehicle class and its flow of a scenario's noise, and how the pad class was chosen."""
+def _vehicle_traffic(cfg: dict, settings, speed: float, own=None):
+    """The track, vehicle class and its flow of a scenario's noise, and how the pad class was chosen
+    (own: the track's own transfer, rail.noise.own_track.OwnTrackTransfer, in place of Table G-3a's)."""
     per_day = (cfg.get("traffic") or {}).get("axles_per_day")
     q = settings.vehicles_per_hour
     if q is None:
@@ -65,11 +67,13 @@ def _vehicle_traffic(cfg: dict, settings, speed: float):
             raise ValueError("no traffic: give traffic.axles_per_day or figures.noise.vehicles_per_hour.")
         q = float(per_day) / 24.0 / settings.axles_per_vehicle
     pad, pad_rule = settings.pad_class, "figures.noise.pad_class"
-    if settings.sleeper in ("monoblock", "biblock") and pad is None:
+    if own is not None:
+        pad, pad_rule = None, "not used: the track's own transfer (figures.noise.track_transfer: own)"
+    elif settings.sleeper in ("monoblock", "biblock") and pad is None:
         pad, pad_rule = cn.pad_class(cfg["track"]["pad"]["stiffness"]), "from track.pad.stiffness"
     elif settings.sleeper not in ("monoblock", "biblock"):
         pad, pad_rule = None, f"none ({settings.sleeper})"
-    track = rn.Track(settings.sleeper, pad)
+    track = rn.Track(settings.sleeper, pad) if own is None else rn.Track(settings.sleeper, None, own=tuple(own.transfer))
     vehicle = rn.Vehicle("vehicle", axles=settings.axles_per_vehicle, brake=settings.wheel,
                          wheel_diameter=2 * float(cfg["wheels"]["radius"]), wheel_load=float(cfg["wheels"]["static_load"]))
     return track, rn.TrafficClass(vehicle, float(q), speed), pad_rule
@@ -118,7 +122,19 @@ def change_line(ds) -> str:
             f"{readable_count(n[-1])} axle passages, change {L[-1] - L[0]:+.2f} dB; {first}")
 
 
-def noise_outputs(growth, cfg: dict, scn, name: str, settings, *, initial_spectrum=None, traffic=None) -> NoiseOutputs:
+def _cnossos_transfer(cfg: dict, settings):
+    """Table G-3a's L_H,TR of the scenario's sleeper and pad class, or None where the pad has no class."""
+    pad = settings.pad_class
+    try:
+        if settings.sleeper in ("monoblock", "biblock") and pad is None:
+            pad = cn.pad_class(cfg["track"]["pad"]["stiffness"])
+        return cn.track_transfer(settings.sleeper, pad if settings.sleeper in ("monoblock", "biblock") else None), pad
+    except ValueError:
+        return None, None
+
+
+def noise_outputs(growth, cfg: dict, scn, name: str, settings, *, initial_spectrum=None, traffic=None,
+                  own_transfer=None) -> NoiseOutputs:
     """The noise over traffic of a one-train growth run (module docstring).
 
     Parameters
@@ -136,6 +152,9 @@ def noise_outputs(growth, cfg: dict, scn, name: str, settings, *, initial_spectr
         The initial roughness's input spectrum: fills the bands the run does not resolve.
     traffic : rail.traffic.Traffic, optional
         Years and MGT.
+    own_transfer : rail.noise.own_track.OwnTrackTransfer, optional
+        With figures.noise.track_transfer: own, the track's own transfer on the 24 bands (computed
+        from scn's track, wheels.mass and contact spring if not given: about 4 minutes, the decay rate).
 
     Returns
     -------
@@ -156,7 +175,13 @@ def noise_outputs(growth, cfg: dict, scn, name: str, settings, *, initial_spectr
         raise ValueError("the noise is computed for a one-train growth run (one speed); a fleet's noise is not implemented "
                          "(its classes' speeds and vehicles would each need their own traffic class).")
     speed = cn.check_speed(float(growth.attrs["speed_m_per_s"]), "growth speed")
-    track, traffic_class, pad_rule = _vehicle_traffic(cfg, settings, speed)
+    own = None
+    if settings.track_transfer == "own":
+        own = own_transfer if own_transfer is not None else own_track.own_track_transfer(scn.track, scn.wheels.mass, scn.spring)
+        if own.transfer.shape != (24,):
+            raise ValueError(f"own_transfer holds {own.transfer.size} bands: the track's own transfer must cover the 24 bands "
+                             "50 Hz .. 10 kHz (rail.noise.own_track.own_track_transfer's default range).")
+    track, traffic_class, pad_rule = _vehicle_traffic(cfg, settings, speed, own)
     wbands, fbands = cn.cnossos_wavelength_bands(), cn.cnossos_frequency_bands()
     period = int(growth.attrs.get("bays", 1)) * scn.L
     Z = growth["Z_real"].values + 1j * growth["Z_imag"].values
@@ -229,8 +254,31 @@ def noise_outputs(growth, cfg: dict, scn, name: str, settings, *, initial_spectr
         "(rail.growth.band_growth, from its last level; a band whose rate is <= 0 held, never decayed) at most "
         f"{settings.extrapolation_max:g} x the run's passages (the factor stated); inf: not reached; NaN: not assessed "
         "(rail.noise.grinding)")
+    g3a, g3a_pad = _cnossos_transfer(cfg, settings)
+    transfer_vars = {"track_transfer": data_var("frequency", track.transfer(), "dB re 1 pW",
+                                                "track transfer function per axle for a total effective roughness of 0 dB re 1 um "
+                                                + ("(the track's own: rail.noise.own_track)" if own is not None else
+                                                   f"L_H,TR (Table G-3a, {settings.sleeper}, pad {track.pad})"))}
+    if own is not None:
+        if g3a is not None:
+            transfer_vars["track_transfer_cnossos"] = data_var(
+                "frequency", g3a, "dB re 1 pW", f"Table G-3a's L_H,TR of the scenario's sleeper ({settings.sleeper}) and pad class "
+                f"({g3a_pad}), for comparison (not used)")
+        transfer_vars.update({
+            "own_track_decay_rate": data_var(("contact_position", "frequency"), own.decay_rate, "dB/m",
+                                             "vertical track decay rate Delta (EN 15461, bay-sampled positions; rail.decay) at the contact"),
+            "own_track_force": data_var(("contact_position", "frequency"), own.force_dB, "dB re 1 N",
+                                        "band mean of the contact force |F|^2 for a roughness of 1 um rms"),
+            "own_track_rail_mobility": data_var(("contact_position", "frequency"), own.mobility_dB, "dB re 1 m/(s N)",
+                                                "band mean of the rail's point mobility |i omega alpha_R|^2 at the contact"),
+            "own_track_radiation_ratio": data_var("frequency", own.sigma, "1",
+                                                  "rail radiation ratio sigma over the width 2 x foot width (band mean)"),
+            "own_track_rail_power": data_var(("contact_position", "frequency"), own.power_rail_dB, "dB re 1 pW",
+                                             "sound power of one rail for a roughness of 1 um rms, contact at the position"),
+        })
     ds = xr.Dataset(
         {
+            **transfer_vars,
             "rail_roughness": data_var(("passage", "wavelength"), rail, "dB re 1 um",
                                        "rail roughness level per CNOSSOS-EU wavelength band (NaN: no level; -inf: smooth)"),
             "rail_roughness_source": data_var("wavelength", source.astype(str), "",
@@ -272,6 +320,9 @@ def noise_outputs(growth, cfg: dict, scn, name: str, settings, *, initial_spectr
             "a_weighting": data_var("frequency", weight, "dB", "A-weighting of the band (IEC 61672-1 Table 3)"),
             "wavelength": data_var("wavelength", wbands.nominal, "m", "CNOSSOS-EU nominal centre wavelength (Table G-1b)"),
             "centre_wavelength": data_var("wavelength", wbands.centre, "m", "exact centre wavelength 10^(-n/10) m"),
+            **({"contact_position": data_var("contact_position", own.excitation, "m",
+                                             "contact position x_0 from a sleeper (0: above a sleeper, L/2: mid-span)")}
+               if own is not None else {}),
             "rms_range_low": data_var("rms_range", np.array([lo for lo, _, _ in limits]), "m", "shortest wavelength of the range"),
             "rms_range_high": data_var("rms_range", np.array([hi for _, hi, _ in limits]), "m",
                                        "longest wavelength of the range (bands with exact centres in [low, high))"),
@@ -282,6 +333,10 @@ def noise_outputs(growth, cfg: dict, scn, name: str, settings, *, initial_spectr
             "speed_m_per_s": speed, "vehicles_per_hour": float(traffic_class.vehicles_per_hour),
             "axles_per_vehicle": int(settings.axles_per_vehicle), "brake": settings.wheel, "sleeper": settings.sleeper,
             "pad_class": str(track.pad), "pad_class_rule": pad_rule,
+            "track_transfer": settings.track_transfer,
+            "track_transfer_model": (own.description + (f"; {own.per_band} frequencies per band; the scenario's nominal track"
+                                                        + (" (the cell's mean spacing)" if scn.cell is not None else ""))
+                                     if own is not None else "cnossos: Table G-3a's L_H,TR of the sleeper and pad class"),
             "contact_filter_column_kN_mm": str(results[0].contact_columns[0]),
             "vehicle_transfer_diameter_mm": float(results[0].diameters[0]),
             "interpolation_rule": settings.rule, "directivity": "broadside (phi = 90 deg, psi = 0): 0 dB",
@@ -307,7 +362,9 @@ def noise_csv_text(ds, name: str) -> str:
     head = [f"# rolling noise by CNOSSOS-EU at every save of the growth run of scenario {name} (rail.studies.noise; docs/noise.md)",
             f"# speed {a['speed_m_per_s']:g} m/s; {a['vehicles_per_hour']:.4g} vehicles/h of {a['axles_per_vehicle']} axles, wheel "
             f"roughness {a['brake']}, contact filter column {a['contact_filter_column_kN_mm']} (kN, mm), vehicle transfer "
-            f"{a['vehicle_transfer_diameter_mm']:g} mm; track {a['sleeper']}, pad {a['pad_class']} ({a['pad_class_rule']})",
+            f"{a['vehicle_transfer_diameter_mm']:g} mm; "
+            + (f"track {a['sleeper']}, pad {a['pad_class']} ({a['pad_class_rule']})" if a.get("track_transfer", "cnossos") == "cnossos"
+               else "track transfer: the track's own (rail receptance and EN 15461 decay rate, rail.noise.own_track)"),
             f"# rule {a['interpolation_rule']}; bands the run does not resolve: {a['fill']}; {a['directivity']}; {a['notes']}",
             "# levels: sound power dB re 1 pW, line sound power dB re 1 pW/m, A-weighted dB(A); passages are axle passages"
             + (f"; traffic {a['axles_per_day']:g} axles/day, axle load {a['axle_load_t']:.4g} t" if "axle_load_t" in a else "; no traffic")]
