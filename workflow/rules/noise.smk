@@ -21,7 +21,7 @@ rule growth_noise:
         cfg=scenario_config,
     resources:
         mem_mb=400,
-        runtime=5,
+        runtime=15,
     log:
         "logs/growth/{scenario}/V{speed}_noise.log",
     benchmark:
