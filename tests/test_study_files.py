@@ -8,6 +8,7 @@ workflow/rules/spectrum.smk): every named target's list of files, every scenario
 hash of it in key order: Snakemake compares a job's params as written), the table of every scenario and the
 scenario order. The same lists from the plan now must be identical, so that every built result stays valid."""
 
+import copy
 import hashlib
 import json
 import os
@@ -63,11 +64,19 @@ def test_every_named_target_lists_the_same_files_as_before_the_study_files(P):
         assert [f for f in now[target] if not f.endswith(("_noise.png", "_noise.csv"))] == files, target
 
 
+def _without_band(cfg):
+    """A configuration without figures.rate_spectrum.band: the scenario files' default band (issue 54) was added
+    after the configurations were recorded (rail.setup.config.SCENARIO_FILE_DEFAULTS; tests/test_band_lines.py)."""
+    out = copy.deepcopy(cfg)
+    (out.get("figures") or {}).get("rate_spectrum", {}).pop("band", None)
+    return out
+
+
 def test_every_scenario_resolves_as_before_and_reads_the_same_tables(P):
     # the study files' cases are the former scenario files: the same names, in the same order (a track is characterised
     # under the first scenario holding it), the same configuration key for key, the same tables
     assert list(P.scenarios) == BEFORE["scenarios"]
-    configs = {n: hashlib.sha256(json.dumps(P.scenarios[n], default=str).encode()).hexdigest()[:16] for n in P.scenarios}
+    configs = {n: hashlib.sha256(json.dumps(_without_band(P.scenarios[n]), default=str).encode()).hexdigest()[:16] for n in P.scenarios}
     assert configs == BEFORE["configs"]
     assert {n: P.table_file(n, P.objects[n].speeds[0]) for n in P.scenario_table} == BEFORE["tables"]
     assert P.characterised_tracks() == BEFORE["characterised_tracks"]
