@@ -13,6 +13,7 @@ import numpy as np
 from .. import chain, wear
 from ..contact.tangent import work_tangent
 from ..interaction import Roughness
+from .creepage import closed_loop_wear, has_creepage
 from .probes import GridMismatch, batches
 
 __all__ = ["tangent_batches", "probe_roughness", "check_held_grid", "input_names", "column_chunk", "wear_tangent", "line_coefficient",
@@ -93,6 +94,31 @@ def wear_tangent(scn, wheel: int, ref, speed: float, d: dict):
     points = ref.spin + ref.M + np.arange(ref.Nx)
     kd = scn.wear_law.coefficient / scn.wear_law.density
     return scn.wear_law.depth(work[points]), kd * dwork[points]
+
+
+def _bay_tangent(scn, ref, speed: float, max_columns=None):
+    """tangent(material, ubar, d, dubar) for rail.growth_spectrum.creepage.closed_loop_wear: the tangent
+    march on the reference inputs ``ref`` with u_bar_0 given (ubar) and the directions d (as wear_tangent's)
+    and dubar (of u_bar, or None), in chunks of columns; returns the derivative of the work at the bay's
+    points x_k and of the tangential force at the bay's steps, each (N_x, nc)."""
+    nums = scn.contact_numerics
+    points = ref.spin + ref.M + np.arange(ref.Nx)
+    steps = ref.spin + np.arange(ref.Nx)
+
+    def tangent(material, ubar, d, dubar):
+        ncol = next(iter(d.values())).shape[-1]
+        dW, dQ = np.zeros((ref.Nx, ncol)), np.zeros((ref.Nx, ncol))
+        chunk = column_chunk(ref, ncol, max_columns) if "shape" in d else ncol
+        for c0 in range(0, ncol, max(chunk, 1)):
+            sl = slice(c0, min(c0 + chunk, ncol))
+            _, dw, _, dq = work_tangent(ref.P, ref.a, material, speed, ref.delta, ref.M, d["P"][:, sl], d["a"][:, sl],
+                                        d["shape"][..., sl] if "shape" in d else None, closure=nums.closure,
+                                        closure_scale=nums.closure_scale, shape=ref.shape, dt=ref.dt,
+                                        ddt=d["dt"][:, sl] if "dt" in d else None, ubar=ubar,
+                                        dubar=None if dubar is None else dubar[:, sl], force=True)
+            dW[:, sl], dQ[:, sl] = dw[points], dq[steps]
+        return dW, dQ
+    return tangent
 
 
 def line_coefficient(gws: dict, c, jj: int, periods: int, imag=None):
@@ -200,6 +226,12 @@ def linear_rates(scn, tabs, free, locked, eps, phase, max_columns=None, progress
     for w_i, l in enumerate(order):
         mi1 = ref[w_i]
         gw = gws.setdefault(mi1.Nx, np.zeros((mi1.Nx, ncol)))
+        if has_creepage(chain.wheel_material(scn, l)):  # the loop of u_bar closed per class (rail.growth_spectrum.creepage)
+            d = {name: np.moveaxis(np.array(dirs[w_i][name]), 0, -1) for name in names}
+            groups = [(j % N, c, c + 1 if kind == "free" else None) for c, (j, kind, imag) in enumerate(cols) if not imag]
+            kd = scn.wear_law.coefficient / scn.wear_law.density
+            gw += kd * closed_loop_wear(scn, l, mi1, tabs[0].speed, d, groups, _bay_tangent(scn, mi1, tabs[0].speed, max_columns))
+            continue
         chunk = column_chunk(mi1, ncol, max_columns)
         for c0 in range(0, ncol, chunk):
             sl = slice(c0, min(c0 + chunk, ncol))

@@ -133,8 +133,8 @@ def _checked_arguments(scn: Scenario, lines, eps: float, grid_phases: int, metho
     if method not in ("linear", "probe"):
         raise ValueError(f"method = {method!r} is not allowed: it must be 'linear' or 'probe'.")
     forced = ""
-    if method == "linear" and (why := linear_unsupported(scn.material)):
-        method, forced = "probe", f" (the tangent march has no {why})"
+    if method == "linear" and getattr(scn, "cell", None) is not None and (why := linear_unsupported(scn.material)):
+        method, forced = "probe", f" (the tangent march of a track cell has no {why})"
     return lines, method, forced
 
 
