@@ -368,7 +368,7 @@ def _march_tangent(P, a, shape, dP, da, dshape, has_dshape, xi, Mom, mu, ws, ws2
     dp = np.zeros((nn, nc))
     h = np.empty(nn)
     dh = np.zeros((nn, nc))
-    s = np.empty(nn)
+    s = np.zeros(nn)  # the slip velocities (the falling friction starts its nodes there, as _march)
     ds = np.zeros((nn, nc))
     qn = np.zeros(nn)
     dqn = np.zeros((nn, nc))

@@ -42,7 +42,6 @@ import dataclasses
 import numpy as np
 
 from .._lazyjit import njit
-from ..contact.creep import _free_transition
 from ..contact.steady import carter
 from ..contact.tangent import work_tangent
 from ..longitudinal import head_operator
@@ -100,6 +99,14 @@ def creepage_reference(mi, material, speed: float, numerics, harmonics: int) -> 
     period = slice(mi.spin, mi.spin + mi.Nx)
     return CreepageReference(ubar, float(st.vbar), sol.Q[period].copy(), info["reference_force"], float(dt_all.mean()),
                              float(np.mean(mi.P[period])))
+
+
+def _free_transition(om: float, ze: float, T: float):
+    """The 2 x 2 transition of (x [m], v [m/s]) over T [s] of x'' + 2 zeta omega x' + omega^2 x = 0 (omega > 0),
+    as rail.contact.creep's march of the modes."""
+    sg, wd = ze * om, om * np.sqrt(1 - ze * ze)
+    ex, cs, sn = np.exp(-sg * T), np.cos(wd * T), np.sin(wd * T)
+    return ex * np.array([[cs + sg / wd * sn, sn / wd], [-(om * om) / wd * sn, cs - sg / wd * sn]])
 
 
 def discrete_mode_response(modes, dt: float, q, n: int):
