@@ -152,7 +152,10 @@ def linear_rates(scn, tabs, free, locked, eps, phase, max_columns=None, progress
     and without a probe of amplitude eps over the N bays (one evaluation per batch of lines, as the
     probes of method 'probe' but without the march), split into the classes by a DFT over the bays.
     With several wheels, the wear of the wheels before a wheel is taken at the smooth rail's (its
-    derivative, of relative size the wear per passage, ~1e-6, is left out). ``progress(i, n)``, if
+    derivative, of relative size the wear per passage, ~1e-6, is left out). With dynamic creepage (the
+    wheelset's modes or the rail's flexibility on a wheel's material) each wheel's derivative closes the
+    loop of u_bar about the smooth rail's periodic state per Bloch class (rail.growth_spectrum.creepage.
+    closed_loop_wear); falling friction alone is in the tangent march itself. ``progress(i, n)``, if
     given, is called after each of the n batches of probes."""
     N = scn.roughness.bays
     K = scn.harmonics
