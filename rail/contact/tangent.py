@@ -23,7 +23,7 @@ import numpy as np
 
 from .._lazyjit import njit
 from .basis import _basis_workspace, _closure_matrix, _influence_arrays, chebyshev_hat_moments
-from .influence import INFLUENCE, _influence_d_at, _lead_cell, influence_table
+from .influence import INFLUENCE, _influence_d_at, _lead_cell, _table_place, influence_table
 from .hertz import ContactError, ContactMaterial, compliance, report_rigid_compliance
 from .march import step_times
 from .._linalg import solve_in_place
@@ -64,10 +64,10 @@ def _d_pressure(p0, dp0, ai, dai, xi, shape_row, dshape_i, has_dshape, dp):
 @njit(cache=True)
 def _d_closure_matrix(ai, Mom, mu, xi, k, delta, M, closure, closure_scale, report_coef, C, r_edge, w, r_trail, AT, r_a, wu,
                       ws, C2, r_edge2, w2, r_trail2, AT2, r_a2, wu2, ws2, C3, r_edge3, w3, r_trail3, AT3, r_a3, wu3, ws3, Cd,
-                      r_edge_d, r_trail_d):
+                      r_edge_d, r_trail_d, w_d):
     """The influence matrix at ai (C, r_edge, w, r_trail: rail.contact.basis._closure_matrix) and its
-    derivative in a (Cd, r_edge_d, r_trail_d, in place): a central difference where no node crosses the
-    patch edge within +-h, else one-sided (the ...2, ...3 arrays: the matrices at a +- h)."""
+    derivative in a (Cd, r_edge_d, r_trail_d and the weights' w_d, in place): a central difference where no
+    node crosses the patch edge within +-h, else one-sided (the ...2, ...3 arrays: the matrices at a +- h)."""
     nn = xi.size
     lead, _ = _closure_matrix(ai, Mom, mu, xi, k, delta, M, closure, closure_scale, report_coef, C, r_edge, w, r_trail,
                               AT, r_a, wu, ws)
@@ -83,17 +83,35 @@ def _d_closure_matrix(ai, Mom, mu, xi, k, delta, M, closure, closure_scale, repo
         C3[:] = C
         r_edge3[:] = r_edge
         r_trail3[:] = r_trail
+        w3[:] = w
     else:
         hd = hstep
         C2[:] = C
         r_edge2[:] = r_edge
         r_trail2[:] = r_trail
+        w2[:] = w
     for r in range(nn + 1):
         for c in range(nn):
             Cd[r, c] = (C2[r, c] - C3[r, c]) / hd
     for n in range(nn):
         r_edge_d[n] = (r_edge2[n] - r_edge3[n]) / hd
         r_trail_d[n] = (r_trail2[n] - r_trail3[n]) / hd
+        w_d[n] = (w2[n] - w3[n]) / hd
+
+
+@njit(cache=True)
+def _table_weights_d(ai, delta, M, pieces, w, w2, w_d):
+    """The derivative in a of the column weights w (in place, w_d [m/m]) after _influence_d_at (w2: the
+    scaled weights' derivative in the local x that it left; w unscaled): the interpolant's, the two
+    outermost loaded columns F / sqrt(e) differentiated as _influence_d_at does the matrix's."""
+    lead, e, _, _, dxda = _table_place(ai, delta, M, pieces)
+    trail = 2 * M - lead
+    for n in range(w.size):
+        w_d[n] = w2[n] * dxda
+    se = math.sqrt(e)
+    g = 0.5 / (e * delta)
+    for n in (lead, trail):
+        w_d[n] = w_d[n] / se - w[n] * g
 
 
 @njit(cache=True)
@@ -132,10 +150,15 @@ def _d_enter_particles(xi, delta, a_prev, ai, da_prev, dai, du_old, du_edge_old,
 
 @njit(cache=True)
 def _d_stick_solve(E, C, Cd, r_edge, r_edge_d, qn, dai, enter, theta, dtheta, inside, stick, sign, dp, dh, S, ns, mu_d, dt,
-                   dEq, dqn, ds, s, gV, ddt, dgd):
+                   dEq, dqn, ds, s, gV, ddt, dgd, ddub, falling, mus, mu_s, decay, p):
     """The tangent of _stick_solve with its stick set S[:ns] held (in place): dE q (the rows of the
     entering particles as modified, C still holding them), the tractions dqn and the slip velocities ds
-    (s = gV + (E q - h - gd) / dt, with the derivatives ddt, dgd of the step's time and rigid slip)."""
+    (s = gV + dub / dt + (E q - h - gd) / dt, with the derivatives ddt, dgd of the step's time and of its
+    rigid slip gd (which holds the change of u_bar, dub), and ddub of dub). With falling friction
+    (``falling``; mus the slip nodes' friction reached, mu_s, decay = s_0) a slip node's traction
+    mus p sign follows its slip velocity, d mu / d s = -(mu_s - mu_d) / s_0 exp(-abs(s) / s_0) sign(s),
+    and the stick and slip nodes are solved together; else (the step law) the slip nodes' traction is
+    mu_d p sign and the stick block alone is solved."""
     nn = qn.size
     nc = dqn.shape[1]
     vq = Cd[:nn] @ qn
@@ -151,43 +174,89 @@ def _d_stick_solve(E, C, Cd, r_edge, r_edge_d, qn, dai, enter, theta, dtheta, in
         else:
             for c in range(nc):
                 dEq[n, c] = vq[n] * dai[c]
-    for n in range(nn):
-        for c in range(nc):
-            dqn[n, c] = mu_d * sign[n] * dp[n, c] if (inside[n] and not stick[n]) else 0.0
-    if ns > 0:
-        Edq = E @ dqn
-        A = np.empty((ns, ns))
-        B = np.empty((ns, nc))
-        for r in range(ns):
-            for cc in range(ns):
-                A[r, cc] = E[S[r], S[cc]]
+    if falling:
+        _d_stick_slip_solve(E, p, inside, stick, sign, dp, dh, dEq, dqn, s, gV, dt, ddt, dgd, ddub, mus, mu_s, mu_d, decay)
+    else:
+        for n in range(nn):
             for c in range(nc):
-                B[r, c] = dh[S[r], c] - dEq[S[r], c] - Edq[S[r], c]
-        solve_in_place(A, B)
-        for r in range(ns):
-            for c in range(nc):
-                dqn[S[r], c] = B[r, c]
+                dqn[n, c] = mu_d * sign[n] * dp[n, c] if (inside[n] and not stick[n]) else 0.0
+        if ns > 0:
+            Edq = E @ dqn
+            A = np.empty((ns, ns))
+            B = np.empty((ns, nc))
+            for r in range(ns):
+                for cc in range(ns):
+                    A[r, cc] = E[S[r], S[cc]]
+                for c in range(nc):
+                    B[r, c] = dh[S[r], c] - dEq[S[r], c] - Edq[S[r], c]
+            solve_in_place(A, B)
+            for r in range(ns):
+                for c in range(nc):
+                    dqn[S[r], c] = B[r, c]
     Edq = E @ dqn
     for n in range(nn):
         if inside[n] and not stick[n]:
             for c in range(nc):
-                ds[n, c] = (dEq[n, c] + Edq[n, c] - dh[n, c] - dgd[c]) / dt - (s[n] - gV) / dt * ddt[c]
+                ds[n, c] = (dEq[n, c] + Edq[n, c] - dh[n, c] - dgd[c] + ddub[c]) / dt - (s[n] - gV) / dt * ddt[c]
         else:
             for c in range(nc):
                 ds[n, c] = 0.0
 
 
 @njit(cache=True)
+def _d_stick_slip_solve(E, p, inside, stick, sign, dp, dh, dEq, dqn, s, gV, dt, ddt, dgd, ddub, mus, mu_s, mu_d, decay):
+    """dqn of _d_stick_solve under falling friction (in place): on the loaded nodes U, the stick rows
+    (E dq)_n = dh_n - dEq_n and the slip rows dq_n = sign_n (mus_n dp_n + p_n mu'(s_n) ds_n), with
+    ds_n = (dEq_n + (E dq)_n - dh_n - dgd + ddub) / dt - (s_n - gV) / dt ddt; one dense solve."""
+    nn = p.size
+    nc = dqn.shape[1]
+    U = np.empty(nn, dtype=np.int64)
+    nu = 0
+    for n in range(nn):
+        for c in range(nc):
+            dqn[n, c] = 0.0
+        if inside[n]:
+            U[nu] = n
+            nu += 1
+    if nu == 0:
+        return
+    A = np.zeros((nu, nu))
+    B = np.empty((nu, nc))
+    for r in range(nu):
+        n = U[r]
+        if stick[n]:
+            for cc in range(nu):
+                A[r, cc] = E[n, U[cc]]
+            for c in range(nc):
+                B[r, c] = dh[n, c] - dEq[n, c]
+        else:
+            sg = sign[n]
+            pn = p[n]
+            slope = -(mu_s - mu_d) / decay * math.exp(-abs(s[n]) / decay) * (1.0 if s[n] > 0 else (-1.0 if s[n] < 0 else 0.0))
+            kap = sg * pn * slope / dt
+            for cc in range(nu):
+                A[r, cc] = -kap * E[n, U[cc]]
+            A[r, r] += 1.0
+            for c in range(nc):
+                B[r, c] = sg * mus[n] * dp[n, c] + kap * (dEq[n, c] - dh[n, c] - dgd[c] + ddub[c] - (s[n] - gV) * ddt[c])
+    solve_in_place(A, B)
+    for r in range(nu):
+        for c in range(nc):
+            dqn[U[r], c] = B[r, c]
+
+
+@njit(cache=True)
 def _d_exit_slip(xi, a_prev, ai, da_prev, dai, dt, u_old, du_old, du_new, u_trail_old, u_trail_new, du_trail_old,
-                 du_trail_new, how, ds_exit, s_exit, gV, ddt):
-    """The derivative of _exit_slip (in place), by its cases ``how`` (ddt: of the step's time)."""
+                 du_trail_new, how, ds_exit, s_exit, gV, ddt, ddub):
+    """The derivative of _exit_slip (in place), by its cases ``how`` (ddt: of the step's time; ddub: of the
+    step's change of u_bar, whose rate dub / dt the slip holds)."""
     nc = ds_exit.shape[1]
     for n in range(xi.size - 1):
         for c in range(nc):
             ds_exit[n, c] = 0.0
         if how[n] == 2:  # left a zone into a gap: along its path
             for c in range(nc):
-                ds_exit[n, c] = (du_new[n, c] - du_old[n + 1, c]) / dt - (s_exit[n] - gV) / dt * ddt[c]
+                ds_exit[n, c] = (du_new[n, c] - du_old[n + 1, c]) / dt - (s_exit[n] - gV) / dt * ddt[c] + ddub[c] / dt
         elif how[n] == 1:  # left at -a after phi dt
             phi0, num, den, _ = _exit_fraction(xi, n, a_prev, ai)
             phi = min(max(phi0, 0.0), 1.0)
@@ -201,7 +270,7 @@ def _d_exit_slip(xi, a_prev, ai, da_prev, dai, dt, u_old, du_old, du_new, u_trai
                     dphi = 0.0
                 du_exit = (dphi * (u_trail_new - u_trail_old) + (1.0 - phi) * du_trail_old[c] + phi * du_trail_new[c])
                 ds_exit[n, c] = ((du_exit - du_old[n + 1, c]) / (phi * dt) - (u_exit - u_old[n + 1]) * dphi / (phi * phi * dt)
-                                 - (s_exit[n] - gV) / dt * ddt[c])
+                                 - (s_exit[n] - gV) / dt * ddt[c] + ddub[c] / dt)
 
 
 @njit(cache=True)
@@ -250,18 +319,26 @@ def _d_step_work(i, xi, delta, a_prev, ai, da_prev, dai, p0m, dp0_prev, dp0, dt,
 
 @njit(cache=True)
 def _march_tangent(P, a, shape, dP, da, dshape, has_dshape, xi, Mom, mu, ws, ws2, ws3, k, delta, M, speed, dts, gds, ddts, g, mu_d,
-                   mu_s, half_width, closure, closure_scale, report_coef, max_iter, table):
+                   mu_s, half_width, closure, closure_scale, report_coef, max_iter, table, dus, ddus, decay):
     """The march of rail.contact.march._march (its steps, rail.contact.steps) from zero traction and,
-    with it, the derivative of every step along the columns of dP, da, dshape, the stick/slip sets
-    held. table: the influence matrix's table (rail.contact.influence.influence_table): in its cells the
-    matrix and its derivative in a are the interpolant's, elsewhere _d_closure_matrix's.
-    Returns (work, dwork, status): status as _march's (0 ok, 1 no convergence, 2 not finite)."""
+    with it, the derivative of every step along the columns of dP, da, dshape, ddts and ddus, the
+    stick/slip sets held. dus: the given change of u_bar over each step [m] (rail.contact.creep; zeros:
+    none), ddus its direction; decay: s_0 of the falling friction [m/s] (0: the step law). table: the
+    influence matrix's table (rail.contact.influence.influence_table): in its cells the matrix and its
+    derivative in a are the interpolant's, elsewhere _d_closure_matrix's.
+    Returns (work, dwork, Q, dQ, status): Q the tangential force 2 b int q at each step [N] and dQ its
+    derivative; status as _march's (0 ok, 1 no convergence, 2 not finite)."""
     nn = xi.size
     steps = P.size
     nc = dP.shape[1]
     sg = 0.0 if g == 0 else (1.0 if g > 0 else -1.0)
     work = np.zeros(steps + nn)
     dwork = np.zeros((steps + nn, nc))
+    Q_hist = np.zeros(steps)
+    dQ_hist = np.zeros((steps, nc))
+    b2 = 2 * half_width
+    w_d = np.zeros(nn)
+    falling = decay > 0.0
     status = np.zeros(3)
     C, r_edge, r_trail, w, AT, r_a, wu = _influence_arrays(nn)
     # the matrices at a (1 +- h), for the derivative
@@ -291,12 +368,12 @@ def _march_tangent(P, a, shape, dP, da, dshape, has_dshape, xi, Mom, mu, ws, ws2
     dp = np.zeros((nn, nc))
     h = np.empty(nn)
     dh = np.zeros((nn, nc))
-    s = np.empty(nn)
+    s = np.zeros(nn)  # the slip velocities (the falling friction starts its nodes there, as _march)
     ds = np.zeros((nn, nc))
     qn = np.zeros(nn)
     dqn = np.zeros((nn, nc))
     S = np.empty(nn, dtype=np.int64)
-    mus = np.empty(nn)  # the falling friction's workspace (unused: the tangent is of the step law)
+    mus = np.empty(nn)  # the slip nodes' friction under falling friction
     theta = np.zeros(nn)
     dtheta = np.zeros((nn, nc))
     enter = np.zeros(nn, dtype=np.bool_)
@@ -317,16 +394,19 @@ def _march_tangent(P, a, shape, dP, da, dshape, has_dshape, xi, Mom, mu, ws, ws2
         if ai != a_built and _tabulated(ai, table, delta, M):
             _influence_d_at(ai, table, C, r_edge, w, r_trail, Cd, r_edge_d, r_trail_d, C2, r_edge2, w2, r_trail2, delta, M,
                             lw, dlw)
+            _table_weights_d(ai, delta, M, table[7], w, w2, w_d)
             a_built = ai
         elif ai != a_built:
             _d_closure_matrix(ai, Mom, mu, xi, k, delta, M, closure, closure_scale, report_coef, C, r_edge, w, r_trail, AT,
                               r_a, wu, ws, C2, r_edge2, w2, r_trail2, AT2, r_a2, wu2, ws2, C3, r_edge3, w3, r_trail3, AT3,
-                              r_a3, wu3, ws3, Cd, r_edge_d, r_trail_d)
+                              r_a3, wu3, ws3, Cd, r_edge_d, r_trail_d, w_d)
             a_built = ai
         dai = da[i]
-        dt, gd = dts[i], gds[i]  # the step's length in time and its rigid slip
+        dt, dub = dts[i], dus[i]  # the step's length in time and its change of u_bar
+        gd = gds[i] + dub  # the step's rigid slip gamma V dt and the change of u_bar (as _march)
         ddt = ddts[i]
-        dgd = gd / dt * ddt
+        ddub = ddus[i]
+        dgd = gds[i] / dt * ddt + ddub
         E = C[:nn]
         p0 = _pressure(P[i], ai, xi, shape[i], half_width, p, inside)
         dp0 = p0 * (dP[i] / P[i] - dai / ai)
@@ -337,12 +417,12 @@ def _march_tangent(P, a, shape, dP, da, dshape, has_dshape, xi, Mom, mu, ws, ws2
                          theta, saved)
         _d_enter_particles(xi, delta, a_prev, ai, da_prev, dai, du_old, du_edge_old, was_inside, inside, enter, theta, dp, dh,
                            dtheta, dgd)
-        converged, _, ns = _stick_solve(E, h, p, inside, stick, sign, qn, s, S, g, speed, gd, dt, mu_d, mu_s, max_iter, 0.0, 0.0, mus)
+        converged, _, ns = _stick_solve(E, h, p, inside, stick, sign, qn, s, S, g, speed, gd, dt, mu_d, mu_s, max_iter, dub, decay, mus)
         if not converged:
             status[0], status[1] = 1, i
             break
         _d_stick_solve(E, C, Cd, r_edge, r_edge_d, qn, dai, enter, theta, dtheta, inside, stick, sign, dp, dh, S, ns, mu_d,
-                       dt, dEq, dqn, ds, s, g * speed, ddt, dgd)
+                       dt, dEq, dqn, ds, s, g * speed, ddt, dgd, ddub, falling, mus, mu_s, decay, p)
         _restore_rows(C, saved, enter)
         if not _all_finite(qn):
             status[0], status[1] = 2, i
@@ -358,9 +438,17 @@ def _march_tangent(P, a, shape, dP, da, dshape, has_dshape, xi, Mom, mu, ws, ws2
         for r in range(nn + 1):
             for c in range(nc):
                 du_new[r, c] += vC[r] * dai[c]
-        _exit_slip(xi, a_prev, ai, g, speed, dt, u_old, u_new, u_trail_old, u_trail_new, inside_prev, inside, s_exit, how, 0.0)
+        _exit_slip(xi, a_prev, ai, g, speed, dt, u_old, u_new, u_trail_old, u_trail_new, inside_prev, inside, s_exit, how, dub)
         _d_exit_slip(xi, a_prev, ai, da_prev, dai, dt, u_old, du_old, du_new, u_trail_old, u_trail_new, du_trail_old,
-                     du_trail_new, how, ds_exit, s_exit, g * speed, ddt)
+                     du_trail_new, how, ds_exit, s_exit, g * speed, ddt, ddub)
+        # the tangential force 2 b int q and its derivative (the weights w depend on a)
+        Q_hist[i] = b2 * np.dot(w, qn)
+        wq = np.dot(w_d, qn)
+        for c in range(nc):
+            acc = wq * dai[c]
+            for n in range(nn):
+                acc += w[n] * dqn[n, c]
+            dQ_hist[i, c] = b2 * acc
         p0m = 0.5 * (p0_prev + p0)
         _d_step_work(i, xi, delta, a_prev, ai, da_prev, dai, p0m, dp0_prev, dp0, dt, mu_d, qn, dqn, q, dq, p, dp, p_prev,
                      dp_prev, s, ds, s_exit, ds_exit, inside, inside_prev, shape, dshape, has_dshape, work, dwork, ddt)
@@ -378,17 +466,21 @@ def _march_tangent(P, a, shape, dP, da, dshape, has_dshape, xi, Mom, mu, ws, ws2
         du_edge_old[:] = np.dot(r_edge_d, qn) * dai + r_edge @ dqn
         u_old = u_new
         du_old = du_new
-    return work, dwork, status
+    return work, dwork, Q_hist, dQ_hist, status
 
 
 def work_tangent(P, a, m: ContactMaterial, speed: float, delta: float, M: int, dP, da, dshape=None, closure: str = "default",
-                 closure_scale: float = 1.0, shape=None, max_iter: int = 200, dt=None, ddt=None, influence: str = "table"):
+                 closure_scale: float = 1.0, shape=None, max_iter: int = 200, dt=None, ddt=None, influence: str = "table",
+                 ubar=None, dubar=None, force: bool = False):
     """The frictional work of solve_tangential from zero traction and its derivative along input directions.
 
     Parameters
     ----------
-    P, a, shape, m, speed, delta, M, closure, closure_scale, max_iter, dt
-        As rail.contact.solve_tangential (the reference march).
+    P, a, shape, m, speed, delta, M, closure, closure_scale, max_iter, dt, ubar
+        As rail.contact.solve_tangential (the reference march; ubar: a given u_bar [m] at each step). The
+        material's falling friction (m.friction_decay > 0) is differentiated too; its wheelset's modes
+        (m.longitudinal) must be None: u_bar enters as given (ubar, dubar), the loop through the modes
+        is closed outside (rail.growth_spectrum.creepage).
     dP, da : ndarray, shape (len(P), nc)
         Directions of the force [N] and the half-length [m] at each step (nc real columns).
     dshape : ndarray, shape (len(P), 2M + 1, nc), optional
@@ -398,6 +490,11 @@ def work_tangent(P, a, m: ContactMaterial, speed: float, delta: float, M: int, d
     influence : str
         As solve_tangential: 'table' (the influence matrix and its derivative in a from the interpolant
         of rail.contact.influence) or 'exact' (rebuilt, the derivative by a central difference).
+    dubar : ndarray, shape (len(P), nc), optional
+        Direction of u_bar [m] at each step (its change over a step enters that step's slip; none in the
+        first step, as solve_tangential's ubar; default: none).
+    force : bool
+        Also return the tangential force and its derivative.
 
     Returns
     -------
@@ -405,6 +502,9 @@ def work_tangent(P, a, m: ContactMaterial, speed: float, delta: float, M: int, d
         The reference's work per unit area by particle [J/m^2] (solve_tangential's work).
     dwork : ndarray, shape (len(P) + 2M + 1, nc)
         Its derivative along each column, the stick/slip sets held.
+    Q, dQ : ndarray, shapes (len(P),) and (len(P), nc)
+        With ``force``: the tangential force 2 b int q at each step [N] (solve_tangential's Q) and its
+        derivative along each column.
     """
     P = np.ascontiguousarray(P, dtype=float)
     a = np.ascontiguousarray(a, dtype=float)
@@ -420,6 +520,9 @@ def work_tangent(P, a, m: ContactMaterial, speed: float, delta: float, M: int, d
         raise ValueError("work_tangent needs a loaded patch inside the grid at every step.")
     if influence not in INFLUENCE:
         raise ValueError(f"influence = {influence!r} is not allowed: it must be one of {list(INFLUENCE)}.")
+    if m.longitudinal is not None:
+        raise ValueError("work_tangent takes u_bar as given (ubar, dubar): pass the material without its wheelset's modes "
+                         "(ContactMaterial.longitudinal None); rail.growth_spectrum.creepage closes their loop.")
     xi = (np.arange(nn) - M) * delta
     Mom, mu = chebyshev_hat_moments(nn)
     cl = 0 if closure == "default" else 1
@@ -430,10 +533,24 @@ def work_tangent(P, a, m: ContactMaterial, speed: float, delta: float, M: int, d
     ddts = np.zeros(dP.shape) if ddt is None else np.ascontiguousarray(ddt, dtype=float)
     if ddts.shape != dP.shape:
         raise ValueError(f"ddt must have the shape of dP {dP.shape}; got {ddts.shape}.")
-    work, dwork, status = _march_tangent(
+    dus = np.zeros(P.size)
+    if ubar is not None:
+        ub = np.ascontiguousarray(ubar, dtype=float)
+        if ub.shape != P.shape or not np.all(np.isfinite(ub)):
+            raise ValueError(f"ubar must hold one finite displacement [m] per step ({P.size}); got shape {ub.shape}.")
+        dus = np.diff(ub, prepend=ub[:1])  # the change over each step (none in the first), as solve_tangential
+    ddus = np.zeros(dP.shape)
+    if dubar is not None:
+        du = np.ascontiguousarray(dubar, dtype=float)
+        if du.shape != dP.shape:
+            raise ValueError(f"dubar must have the shape of dP {dP.shape}; got {du.shape}.")
+        ddus = np.ascontiguousarray(np.diff(du, axis=0, prepend=du[:1]))
+    decay = float(m.friction_decay)
+    work, dwork, Q, dQ, status = _march_tangent(
         P, a, shape, dP, da, dshape, has, xi, Mom, mu, ws, _basis_workspace(nn), _basis_workspace(nn), compliance(m), delta, M,
         float(speed), dts, gds, ddts, float(m.creepage), float(m.friction_dynamic), float(m.friction_static), float(m.half_width),
-        cl, float(closure_scale), report_rigid_compliance(m), int(max_iter), table)
+        cl, float(closure_scale), report_rigid_compliance(m), int(max_iter if decay == 0 else max(max_iter, 2000)), table, dus,
+        ddus, decay)
     if int(status[0]) != 0:
         raise ContactError(f"the tangent march failed at step {int(status[1])} (code {int(status[0])}).")
-    return work, dwork
+    return (work, dwork, Q, dQ) if force else (work, dwork)

@@ -18,7 +18,8 @@ R_j is the feedback part only.
 
 Modules: probes (the nonlinear probes, a locked line's 2 x 2 operator, the class operator and the
 result RateSpectrum), linear (the tangent of the contact march over one bay, and the pieces the
-cell's tangent shares), cell (a track cell of bays whose supports differ), lines (spectrum_lines;
+cell's tangent shares), creepage (the loop of dynamic creepage's u_bar closed about the smooth rail
+for the linear method), cell (a track cell of bays whose supports differ), lines (spectrum_lines;
 band_lines and settings_lines for a band resolved in frequency), spectrum (rate_spectrum) and fleet
 (the traffic-weighted spectrum). Every public name is importable from rail.growth_spectrum.
 """

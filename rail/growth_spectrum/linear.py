@@ -13,6 +13,7 @@ import numpy as np
 from .. import chain, wear
 from ..contact.tangent import work_tangent
 from ..interaction import Roughness
+from .creepage import closed_loop_wear, has_creepage
 from .probes import GridMismatch, batches
 
 __all__ = ["tangent_batches", "probe_roughness", "check_held_grid", "input_names", "column_chunk", "wear_tangent", "line_coefficient",
@@ -168,6 +169,31 @@ def wear_tangent(scn, wheel: int, ref, speed: float, d: dict):
     return scn.wear_law.depth(work[points]), kd * dwork[points]
 
 
+def _bay_tangent(scn, ref, speed: float, max_columns=None):
+    """tangent(material, ubar, d, dubar) for rail.growth_spectrum.creepage.closed_loop_wear: the tangent
+    march on the reference inputs ``ref`` with u_bar_0 given (ubar) and the directions d (as wear_tangent's)
+    and dubar (of u_bar, or None), in chunks of columns; returns the derivative of the work at the bay's
+    points x_k and of the tangential force at the bay's steps, each (N_x, nc)."""
+    nums = scn.contact_numerics
+    points = ref.spin + ref.M + np.arange(ref.Nx)
+    steps = ref.spin + np.arange(ref.Nx)
+
+    def tangent(material, ubar, d, dubar):
+        ncol = next(iter(d.values())).shape[-1]
+        dW, dQ = np.zeros((ref.Nx, ncol)), np.zeros((ref.Nx, ncol))
+        chunk = column_chunk(ref, ncol, max_columns) if "shape" in d else ncol
+        for c0 in range(0, ncol, max(chunk, 1)):
+            sl = slice(c0, min(c0 + chunk, ncol))
+            _, dw, _, dq = work_tangent(ref.P, ref.a, material, speed, ref.delta, ref.M, d["P"][:, sl], d["a"][:, sl],
+                                        d["shape"][..., sl] if "shape" in d else None, closure=nums.closure,
+                                        closure_scale=nums.closure_scale, shape=ref.shape, dt=ref.dt,
+                                        ddt=d["dt"][:, sl] if "dt" in d else None, ubar=ubar,
+                                        dubar=None if dubar is None else dubar[:, sl], force=True)
+            dW[:, sl], dQ[:, sl] = dw[points], dq[steps]
+        return dW, dQ
+    return tangent
+
+
 def line_coefficient(gws: dict, c, jj: int, periods: int, imag=None):
     """Wear coefficient W_jj per unit probe (eq 53) from derivatives of the depth gws = {n: (n, ncol)}
     at the points x_k = k P / n of one period P (each wheel's grid size summed apart), over a roughness
@@ -230,7 +256,10 @@ def linear_rates(scn, tabs, free, locked, eps, phase, max_columns=None, progress
     and without a probe of amplitude eps over the N bays (one evaluation per batch of lines, as the
     probes of method 'probe' but without the march), split into the classes by a DFT over the bays.
     With several wheels, the wear of the wheels before a wheel is taken at the smooth rail's (its
-    derivative, of relative size the wear per passage, ~1e-6, is left out). ``progress(i, n)``, if
+    derivative, of relative size the wear per passage, ~1e-6, is left out). With dynamic creepage (the
+    wheelset's modes or the rail's flexibility on a wheel's material) each wheel's derivative closes the
+    loop of u_bar about the smooth rail's periodic state per Bloch class (rail.growth_spectrum.creepage.
+    closed_loop_wear); falling friction alone is in the tangent march itself. ``progress(i, n)``, if
     given, is called before the first (i = 0) and after each of the n batches of probes, and
     ``progress(i, n, "tangent marches")`` before the first and after each wheel's tangent march (the
     longest part of a spectrum of few lines: issue 57, item 8, a log empty for 648 s).
@@ -341,6 +370,12 @@ def linear_rates(scn, tabs, free, locked, eps, phase, max_columns=None, progress
             progress(w_i, len(order), "tangent marches")
         mi1 = ref[w_i]
         gw = gws.setdefault(mi1.Nx, np.zeros((mi1.Nx, ncol)))
+        if has_creepage(chain.wheel_material(scn, l)):  # the loop of u_bar closed per class (rail.growth_spectrum.creepage)
+            d = {name: np.moveaxis(np.array(dirs[w_i][name]), 0, -1) for name in names}
+            groups = [(j % N, c, c + 1 if kind == "free" else None) for c, (j, kind, imag) in enumerate(cols) if not imag]
+            kd = scn.wear_law.coefficient / scn.wear_law.density
+            gw += kd * closed_loop_wear(scn, l, mi1, tabs[0].speed, d, groups, _bay_tangent(scn, mi1, tabs[0].speed, max_columns))
+            continue
         chunk = column_chunk(mi1, ncol, max_columns)
         for c0 in range(0, ncol, chunk):
             sl = slice(c0, min(c0 + chunk, ncol))

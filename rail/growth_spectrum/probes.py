@@ -305,11 +305,14 @@ def sorted_eigenvalues(M):
 
 
 def linear_unsupported(material) -> str:
-    """What of the contact the tangent march (rail.contact.tangent, method 'linear') does not have, or ''.
+    """What of the contact a track cell's tangent march (rail.growth_spectrum.cell, method 'linear') does not
+    have, or ''.
 
-    The tangent march differentiates the report's march: a fixed creepage (no u_bar) and the step
-    friction law. The wheelset's modes, the rail's longitudinal flexibility and falling friction make
-    rate_spectrum fall back to the probes.
+    On the uniform track the linear method carries every mechanism (rail.growth_spectrum.creepage: the
+    loop of u_bar closed per Bloch class, the falling friction's slope in the tangent march); a track
+    cell's tangent has none of them (a fixed creepage, the step friction law), so there the wheelset's
+    modes, the rail's longitudinal flexibility and falling friction make rate_spectrum fall back to the
+    probes.
 
     Parameters
     ----------

@@ -59,9 +59,10 @@ def rate_spectrum(scn: Scenario, table, lines, eps: float = 1e-9, grid_phases: i
         'probe': the previous path, each line from the difference of two nonlinear marches over the
         N bays (one line per pair of classes per march, batches; on a cell a cosine and a sine
         march per line), the reference of the tests; about seven times the cost at the default
-        resolution (four times on the irregular_voided cell). With the wheelset's dynamic creepage or
-        falling friction or the rail's longitudinal flexibility (scn.material.longitudinal,
-        friction_decay, rail_flexibility) 'linear' falls back to 'probe', and the method says so.
+        resolution (four times on the irregular_voided cell). With the wheelset's dynamic creepage, the
+        rail's longitudinal flexibility or falling friction (scn.material.longitudinal, rail_flexibility,
+        friction_decay) 'linear' linearises the periodic state with u_bar too (rail.growth_spectrum.creepage);
+        on a track cell it falls back to 'probe' for them, and the method says so.
     progress : callable, optional
         Called with one line of text as the work proceeds ("<i> of <n> probe batches, grid phase
         <p> of <P>"; method 'linear'; on a cell "<i> of <n> probe inputs ..." or, for 'probe',
@@ -133,8 +134,8 @@ def _checked_arguments(scn: Scenario, lines, eps: float, grid_phases: int, metho
     if method not in ("linear", "probe"):
         raise ValueError(f"method = {method!r} is not allowed: it must be 'linear' or 'probe'.")
     forced = ""
-    if method == "linear" and (why := linear_unsupported(scn.material)):
-        method, forced = "probe", f" (the tangent march has no {why})"
+    if method == "linear" and getattr(scn, "cell", None) is not None and (why := linear_unsupported(scn.material)):
+        method, forced = "probe", f" (the tangent march of a track cell has no {why})"
     return lines, method, forced
 
 

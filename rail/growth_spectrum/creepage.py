@@ -1,0 +1,405 @@
+"""The linear method with dynamic creepage: the periodic state with u_bar (rail.wear.march_with_creepage)
+linearised about the smooth rail, per Bloch class (method 'linear' of rate_spectrum).
+
+The nonlinear passage over a period of N bays (n = N N_x steps) finds the u_bar of eq 26 in its
+periodic steady state, u_bar = p + v_bar t at the steps: p the periodic part, v_bar the mean slip
+rate of a free rotation (the torque balance), with
+
+    p = R[F] + A_Q Q - A_P P + V int E_P P dt     (up to a constant),   F = (Q_{i-1} + Q_i) / 2 - Q_ref,
+
+R the wheelset's periodic response (rail.contact.creep.periodic_response; its free rotation takes
+F less its time mean) and A_Q, A_P, E_P the rail head's (rail.longitudinal.HeadOperator); with a free
+rotation, v_bar such that the time mean of F is 0. Q is the march's tangential force with u_bar given.
+
+About the smooth rail (one bay, u_bar_0 = p_0 + v_bar_0 t from march_with_creepage) a probe of the
+Bloch class r changes the march's inputs (force, half-length, pressure shape, step times: as
+linear_rates finds them) and through them and through delta u_bar the force Q. The tangent march
+(rail.contact.tangent.work_tangent, with u_bar as an input direction, the force's derivative
+returned, the falling friction's slope) gives delta Q and the wear's derivative along the input
+directions and along a basis of delta u_bar: the harmonics exp(2 pi i q k / n), k = i - spin the
+step, of the class (q = m N + r, the head table's m, |q| <= N K; q = 0 left out: a constant u_bar
+does not enter the slip), and for class 0 with a free rotation the slip rate (delta v_bar t). In
+those harmonics the loop is a small linear solve per class:
+
+    c = G (dQ_in + T c) + g_in,   G = diag(H_d(q) (1 + exp(-2 pi i q / n)) / 2) + A_Q (class r),
+
+H_d the wheelset's exact response of the march's discrete modes to a force held over each step,
+T[q', q] the harmonic q' of delta Q per unit u_bar harmonic q, and g_in the inputs' own part: the
+rail head's -A_P dP + V int E_P dP, and the wheelset's response to the step times' change (the
+periodic response depends on the step times: its tangent, periodic_response_dt). For class 0 the
+torque balance adds delta v_bar and the row: the time mean of delta F (with delta Q_ref from the mean
+load's change) is 0. The wear's derivative is then the inputs' plus the basis' weighted by c.
+
+Left out: the wheelset's response above the head's harmonics N K (delta u_bar is taken in the
+harmonics |q| <= N K; the modes' receptance falls as 1 / omega^2 there); the reference's u_bar is
+converged to 1e-8 of the creep velocity (march_with_creepage's tol), the probes' to 1e-5.
+"""
+
+from __future__ import annotations
+
+import dataclasses
+
+import numpy as np
+
+from .._lazyjit import njit
+from ..contact.steady import carter
+from ..longitudinal import head_operator
+from ..wear import march_with_creepage, steady_material
+from .probes import GridMismatch
+
+__all__ = ["has_creepage", "CreepageReference", "creepage_reference", "closed_loop_wear", "discrete_mode_response",
+           "periodic_response_dt"]
+
+REFERENCE_TOL = 1e-8  # the smooth rail's u_bar: Newton steps down to this fraction of the creep velocity
+REFERENCE_STEPS = 60
+
+
+def has_creepage(material) -> bool:
+    """Whether the material carries a source of u_bar (the wheelset's modes or the rail head's flexibility)."""
+    return material.longitudinal is not None or material.rail_flexibility is not None
+
+
+@dataclasses.dataclass(frozen=True)
+class CreepageReference:
+    """The smooth rail's periodic state with u_bar over one bay (march_with_creepage), as the tangent needs it.
+
+    Attributes
+    ----------
+    ubar : (steps,) u_bar_0 at every step of the one-bay march (spin-up included) [m]
+    vbar : v_bar_0 [m/s]
+    Q : (N_x,) the tangential force at the bay's steps [N]
+    q_ref : Q_ref [N] (None without the wheelset's modes)
+    dt : the step time [s] (uniform on the smooth rail)
+    P_mean : the mean force over the bay [N]
+    """
+
+    ubar: np.ndarray
+    vbar: float
+    Q: np.ndarray
+    q_ref: float | None
+    dt: float
+    P_mean: float
+
+
+def creepage_reference(mi, material, speed: float, numerics, harmonics: int) -> CreepageReference:
+    """The smooth rail's u_bar_0 over its one-bay march inputs mi (march_with_creepage to REFERENCE_TOL).
+
+    Raises GridMismatch where the smooth rail's step times are not uniform (the harmonic basis's
+    response of the modes assumes it; rate_spectrum then takes the probes)."""
+    sol, info = march_with_creepage(mi, material, speed, numerics, tol=REFERENCE_TOL, max_iter=REFERENCE_STEPS, harmonics=harmonics)
+    steps = mi.P.size
+    dt_all = np.full(steps, mi.delta / speed) if mi.dt is None else np.asarray(mi.dt, dtype=float)
+    if np.ptp(dt_all) > 1e-9 * dt_all.mean():
+        raise GridMismatch(f"the smooth rail's step times vary by {np.ptp(dt_all) / dt_all.mean():.2g} of their mean; the "
+                           "linear method with dynamic creepage needs them uniform; use method='probe'.")
+    st = info["state"]
+    idx = (np.arange(steps) - mi.spin) % mi.Nx
+    ubar = st.p[idx] + st.vbar * np.cumsum(dt_all)
+    period = slice(mi.spin, mi.spin + mi.Nx)
+    return CreepageReference(ubar, float(st.vbar), sol.Q[period].copy(), info["reference_force"], float(dt_all.mean()),
+                             float(np.mean(mi.P[period])))
+
+
+def _free_transition(om: float, ze: float, T: float):
+    """The 2 x 2 transition of (x [m], v [m/s]) over T [s] of x'' + 2 zeta omega x' + omega^2 x = 0 (omega > 0),
+    as rail.contact.creep's march of the modes."""
+    sg, wd = ze * om, om * np.sqrt(1 - ze * ze)
+    ex, cs, sn = np.exp(-sg * T), np.cos(wd * T), np.sin(wd * T)
+    return ex * np.array([[cs + sg / wd * sn, sn / wd], [-(om * om) / wd * sn, cs - sg / wd * sn]])
+
+
+def discrete_mode_response(modes, dt: float, q, n: int):
+    """H_d(q) [m/N]: the modes' periodic response at the end of each step to the force exp(2 pi i q k / n) held
+    over step k (rail.contact.creep.periodic_response with uniform steps of dt [s], exactly), q != 0 mod n."""
+    z = np.exp(2j * np.pi * np.asarray(q, dtype=float) / n)
+    out = np.zeros(z.shape, dtype=complex)
+    for om, ze, c in zip(modes.omega, modes.zeta, modes.participation):
+        if om == 0:
+            Phi = np.array([[1.0, dt], [0.0, 1.0]])
+            Gam = np.array([0.5 * c * dt * dt, c * dt])
+        else:
+            Phi = _free_transition(om, ze, dt)
+            xe = c / om**2  # the static response to a unit force: Gamma = (I - Phi) (xe, 0)
+            Gam = xe * (np.array([1.0, 0.0]) - Phi[:, 0])
+        # s = (I - Phi / z)^-1 Gamma, x its first entry
+        a11, a12, a21, a22 = 1 - Phi[0, 0] / z, -Phi[0, 1] / z, -Phi[1, 0] / z, 1 - Phi[1, 1] / z
+        det = a11 * a22 - a12 * a21
+        out += (a22 * Gam[0] - a12 * Gam[1]) / det
+    return out
+
+
+@njit(cache=True)
+def _dt_tangent_mode(F, dt, om, ze, c, ddt, dF0, out):
+    """Add to out (n, nc) the tangent of one mode's periodic response (rail.contact.creep.periodic_response's
+    per-mode part, its force F held over each step) along the step-time directions ddt (n, nc), with the
+    force changed by the constant dF0 (nc,) at every step (the free rotation's mean force)."""
+    n = F.size
+    nc = ddt.shape[1]
+    T = 0.0
+    for i in range(n):
+        T += dt[i]
+    dT = np.zeros(nc, dtype=np.complex128)
+    for i in range(n):
+        for cc in range(nc):
+            dT[cc] += ddt[i, cc]
+    w2 = om * om
+    zw2 = 2.0 * ze * om
+    sg = ze * om
+    wd = om * np.sqrt(1.0 - ze * ze) if om > 0 else 0.0
+    for sweep in range(2):  # from rest, then (elastic) from the periodic start
+        if sweep == 0:
+            x, v = 0.0, 0.0
+            dx = np.zeros(nc, dtype=np.complex128)
+            dv = np.zeros(nc, dtype=np.complex128)
+        else:
+            if om == 0.0:
+                break
+            ex = np.exp(-sg * T)
+            cs, sn = np.cos(wd * T), np.sin(wd * T)
+            P00, P01 = ex * (cs + sg / wd * sn), ex * sn / wd
+            P10, P11 = -(om * om) / wd * ex * sn, ex * (cs - sg / wd * sn)
+            # s0 = (I - Phi_T)^-1 s_end; d s0 = (I - Phi_T)^-1 (d s_end + A Phi_T s0 dT), A = [[0, 1], [-w2, -zw2]]
+            b00, b01, b10, b11 = 1 - P00, -P01, -P10, 1 - P11
+            det = b00 * b11 - b01 * b10
+            x0 = (b11 * x - b01 * v) / det
+            v0 = (-b10 * x + b00 * v) / det
+            px, pv = P00 * x0 + P01 * v0, P10 * x0 + P11 * v0  # Phi_T s0
+            ax, av = pv, -w2 * px - zw2 * pv
+            for cc in range(nc):
+                rx, rv = dx[cc] + ax * dT[cc], dv[cc] + av * dT[cc]
+                dx[cc] = (b11 * rx - b01 * rv) / det
+                dv[cc] = (-b10 * rx + b00 * rv) / det
+            x, v = x0, v0
+        xs_end = 0.0
+        tcum = 0.0
+        for i in range(n):
+            h = dt[i]
+            f = c * F[i]
+            if om == 0.0:
+                ph00, ph01, ph10, ph11 = 1.0, h, 0.0, 1.0
+                x1 = x + v * h + 0.5 * f * h * h
+                v1 = v + f * h
+            else:
+                ex = np.exp(-sg * h)
+                cs, sn = np.cos(wd * h), np.sin(wd * h)
+                ph00, ph01 = ex * (cs + sg / wd * sn), ex * sn / wd
+                ph10, ph11 = -(om * om) / wd * ex * sn, ex * (cs - sg / wd * sn)
+                xe = f / w2
+                x1 = xe + ph00 * (x - xe) + ph01 * v
+                v1 = ph10 * (x - xe) + ph11 * v
+            # d s1 = Phi d s0 + (v1, f - w2 x1 - zw2 v1) ddt (the state's rate at the step's end)
+            fx, fv = v1, f - w2 * x1 - zw2 * v1
+            for cc in range(nc):
+                nx = ph00 * dx[cc] + ph01 * dv[cc] + fx * ddt[i, cc]
+                nv = ph10 * dx[cc] + ph11 * dv[cc] + fv * ddt[i, cc]
+                if om == 0.0:  # the constant force's change (elastic modes: dF0 is 0)
+                    nx += 0.5 * c * dF0[cc] * h * h
+                    nv += c * dF0[cc] * h
+                dx[cc], dv[cc] = nx, nv
+                if sweep == 1 or om == 0.0:
+                    out[i, cc] += nx
+            x, v = x1, v1
+            xs_end = x1
+            tcum += h
+        if om == 0.0:
+            # xs - cumsum(dt) vm, vm = xs[-1] / T: d = dxs - cumsum(ddt) vm - cumsum(dt) dvm
+            vm = xs_end / T
+            for cc in range(nc):
+                dvm = (dx[cc] - vm * dT[cc]) / T
+                cum_dt = 0.0
+                cum_ddt = 0.0 + 0.0j
+                for i in range(n):
+                    cum_dt += dt[i]
+                    cum_ddt += ddt[i, cc]
+                    out[i, cc] -= cum_ddt * vm + cum_dt * dvm
+
+
+def periodic_response_dt(F, dt, modes, ddt):
+    """The tangent of rail.contact.creep.periodic_response(F, dt, modes)[0] along step-time directions ddt
+    (n, nc), complex allowed, with F fixed [m per unit of the direction] (up to a constant per column):
+    the wheelset's part of the step times' change; the free rotation's force is F less its time mean
+    sum(F dt) / T, which the step times change too."""
+    F = np.ascontiguousarray(F, dtype=float)
+    dt = np.ascontiguousarray(dt, dtype=float)
+    ddt = np.ascontiguousarray(ddt, dtype=complex)
+    out = np.zeros(ddt.shape, dtype=complex)
+    T = float(np.sum(dt))
+    Fm = float(np.sum(F * dt) / T)
+    dFm = (F @ ddt - Fm * ddt.sum(axis=0)) / T
+    for om, ze, c in zip(modes.omega, modes.zeta, modes.participation):
+        Fr = F - Fm if om == 0 else F
+        dF0 = -dFm if om == 0 else np.zeros_like(dFm)
+        _dt_tangent_mode(np.ascontiguousarray(Fr), dt, float(om), float(ze), float(c), ddt, np.ascontiguousarray(dF0), out)
+    return out
+
+
+def _class_harmonics(r: int, N: int, K: int):
+    """The harmonics q = m N + r of the period of class r that the head's table holds (m = -K..K for r = 0,
+    -K..K-1 otherwise; rail.longitudinal.HeadTable.indices) [-]."""
+    m = np.arange(-K, K + (1 if r == 0 else 0))
+    return m * N + r
+
+
+def _bloch_dft(f, q, n: int):
+    """Harmonics q of the n-periodic Bloch sequence whose first N_x samples (one bay) are f (N_x, ...):
+    (1 / N_x) sum_k f_k exp(-2 pi i q k / n)."""
+    Nx = f.shape[0]
+    E = np.exp(-2j * np.pi * np.outer(q, np.arange(Nx)) / n) / Nx
+    return E @ f
+
+
+def _expand(f, r: int, N: int):
+    """The n = N N_x samples over the period of the class-r Bloch sequence whose first bay is f (N_x, ...)."""
+    w = np.exp(2j * np.pi * r * np.arange(N) / N)
+    return (w[:, None, None] * f[None]).reshape((N * f.shape[0],) + f.shape[1:])
+
+
+def _head_class_matrix(op, r: int, N: int, Qr):
+    """The real-linear head operator A_Q on class r in its harmonics Qr [m/N] (rows and columns Qr):
+    (A_r[q', q] + conj(A_{N-r}[-q', -q])) / 2, exactly what HeadOperator.from_force does to the real and
+    imaginary parts of a class-r sequence (it takes the real part of its result)."""
+    ta, tb = op.tables[r], op.tables[(N - r) % N]
+    qa = ta.indices * N + r
+    qb = tb.indices * N + (N - r) % N
+    pos = {int(q): i for i, q in enumerate(Qr)}
+    ia = np.array([pos[int(q)] for q in qa])
+    ib = np.array([pos[int(-q)] for q in qb])
+    G = np.zeros((len(Qr), len(Qr)), dtype=complex)
+    G[np.ix_(ia, ia)] += 0.5 * ta.A_Q
+    G[np.ix_(ib, ib)] += 0.5 * np.conj(tb.A_Q)
+    return G
+
+
+def closed_loop_wear(scn, wheel: int, mi1, speed: float, d: dict, groups, tangent):
+    """The wear's derivative at the bay's points along probe directions with the loop of u_bar closed
+    (module docstring), for one wheel.
+
+    Parameters
+    ----------
+    scn : Scenario
+        roughness.bays = N, harmonics K; the wheel's material (chain.wheel_material) with its sources of u_bar.
+    wheel : int
+    mi1 : rail.wear.MarchInputs
+        The smooth rail's one-bay march inputs of the wheel.
+    speed : float
+        V [m/s].
+    d : dict
+        The input directions (as wear_tangent's d: 'P', 'a', optionally 'shape', 'dt'), ncol real columns.
+    groups : list of (r, c_re, c_im)
+        The probes: Bloch class r and the columns of the real and imaginary parts of a complex direction
+        (c_im None: a real direction, of class 0 or N / 2).
+    tangent : callable
+        tangent(material, ubar, d, dubar) -> (dwork at the bay's points (N_x, nc), dQ at the bay's
+        steps (N_x, nc)): the tangent march on mi1 (linear.wear_tangent's grid and chunks).
+
+    Returns
+    -------
+    ndarray, shape (N_x, ncol)
+        The derivative of the work per unit area at x_k [J/m^2 per unit column], real columns in the
+        layout of d.
+    """
+    from ..chain import wheel_material  # chain imports rail.growth_spectrum's neighbours only through here
+
+    N, K = scn.roughness.bays, scn.harmonics
+    mat = wheel_material(scn, wheel)
+    bare = dataclasses.replace(mat, longitudinal=None, rail_flexibility=None)
+    modes, head = mat.longitudinal, mat.rail_flexibility
+    Nx, spin = mi1.Nx, mi1.spin
+    n = N * Nx
+    steps = mi1.P.size
+    ref = creepage_reference(mi1, mat, speed, scn.contact_numerics, K)
+    ncol = next(iter(d.values())).shape[-1]
+    # the inputs' tangent: u_bar_0's slip rate v_bar_0 over the changed step times, v_bar_0 int ddt
+    dub_in = ref.vbar * np.cumsum(d["dt"], axis=0) if ("dt" in d and ref.vbar != 0.0) else None
+    dW_in, dQ_in = tangent(bare, ref.ubar, d, dub_in)
+    # the basis of delta u_bar: the harmonics of each class present, cosine and sine columns per pair of classes
+    classes = sorted({int(r) % N for r, _, _ in groups})
+    rigid = modes is not None and any(o == 0 for o in modes.omega)
+    canon = {}
+    for r in classes:
+        key = min(r, (N - r) % N)
+        if key not in canon:
+            Qk = _class_harmonics(key, N, K)
+            canon[key] = Qk[Qk > 0] if key == (N - key) % N else Qk
+    qs = np.concatenate([canon[k] for k in sorted(canon)]) if canon else np.zeros(0)
+    kk = np.arange(steps) - spin
+    cols = [np.cos(2 * np.pi * q * kk / n) for q in qs] + [np.sin(2 * np.pi * q * kk / n) for q in qs]
+    with_v = rigid and 0 in classes
+    if with_v:
+        cols.append(np.cumsum(np.full(steps, ref.dt)))
+    nb = len(cols)
+    zero = np.zeros((steps, nb))
+    dW_b, dQ_b = tangent(bare, ref.ubar, {"P": zero, "a": zero}, np.array(cols).T) if nb else (None, None)
+    where = {int(q): i for i, q in enumerate(qs)}
+
+    def basis(q):
+        """Complex (dwork, dQ) of the u_bar harmonic exp(2 pi i q k / n) from the cosine and sine columns."""
+        if int(q) in where:
+            i, sg = where[int(q)], 1.0
+        else:
+            i, sg = where[int(-q)], -1.0
+        j = i + len(qs)
+        return dW_b[:, i] + sg * 1j * dW_b[:, j], dQ_b[:, i] + sg * 1j * dQ_b[:, j]
+
+    op = head_operator(head, speed, K, N) if head is not None else None
+    F0 = 0.5 * (np.roll(ref.Q, 1) + ref.Q) - (ref.q_ref or 0.0)
+    out = np.zeros((Nx, ncol))
+    for r in classes:
+        mine = [g for g in groups if int(g[0]) % N == r]
+        Qr = _class_harmonics(r, N, K)
+        U = Qr[Qr != 0]
+        # the probes' complex columns
+        cin = np.array([dW_in[:, g[1]] + (1j * dW_in[:, g[2]] if g[2] is not None else 0) for g in mine]).T
+        qin = np.array([dQ_in[:, g[1]] + (1j * dQ_in[:, g[2]] if g[2] is not None else 0) for g in mine]).T
+
+        def cplx(name):
+            a = d[name][spin:spin + Nx]
+            return np.array([a[:, g[1]] + (1j * a[:, g[2]] if g[2] is not None else 0) for g in mine]).T
+
+        Wb, Qb = zip(*(basis(q) for q in U)) if U.size else ((), ())
+        Wb, Qb = np.array(Wb).T, np.array(Qb).T  # (steps + 2M + 1 or N_x, |U|)
+        T = _bloch_dft(Qb, Qr, n)  # (|Qr|, |U|)
+        Qh = _bloch_dft(qin, Qr, n)  # (|Qr|, m)
+        G = np.zeros((U.size, Qr.size), dtype=complex)
+        rows = np.flatnonzero(Qr != 0)
+        g_in = np.zeros((U.size, len(mine)), dtype=complex)
+        if modes is not None:
+            G[np.arange(U.size), rows] += discrete_mode_response(modes, ref.dt, U, n) * 0.5 * (1 + np.exp(-2j * np.pi * U / n))
+            if "dt" in d:
+                ddt_N = _expand(cplx("dt"), r, N)
+                warp = periodic_response_dt(np.tile(F0, N), np.full(n, ref.dt), modes, ddt_N)
+                g_in += (np.fft.fft(warp, axis=0) / n)[U % n]
+        if op is not None:
+            G += _head_class_matrix(op, r, N, Qr)[rows]
+            dP_N = _expand(cplx("P"), r, N)
+            uP = np.array([op.from_vertical(c.real) + 1j * op.from_vertical(c.imag) for c in dP_N.T]).T
+            g_in -= (np.fft.fft(uP, axis=0) / n)[U % n]
+        A = np.eye(U.size) - G @ T
+        b = G @ Qh + g_in
+        if with_v and r == 0:
+            Wv, Qv = dW_b[:, -1], dQ_b[:, -1]
+            Tv = _bloch_dft(Qv[:, None], Qr, n)[:, 0]
+            # the torque balance: the time mean of delta F = delta Q - delta Q_ref (uniform steps) plus the step times' share
+            dq_ref = 0.0
+            if modes.reference_force is None:
+                steady = steady_material(mat, speed)
+                h = 1e-6 * ref.P_mean
+                slope = (carter(0.0, ref.P_mean + h, steady, speed, mat.wheel_radius)[2]
+                         - carter(0.0, ref.P_mean - h, steady, speed, mat.wheel_radius)[2]) / (2 * h)
+                dq_ref = slope * np.mean(cplx("P"), axis=0)
+            warp_mean = np.zeros(len(mine))
+            if "dt" in d:  # sum(F0 ddt - Fm0 ddt) / T over the period (class 0: N times the bay's)
+                ddt1 = cplx("dt")
+                warp_mean = (F0 @ ddt1 - np.mean(F0) * ddt1.sum(axis=0)) / (Nx * ref.dt)
+            A = np.block([[A, -(G @ Tv)[:, None]], [np.mean(Qb, axis=0)[None, :], np.array([[np.mean(Qv)]])]])
+            b = np.vstack([b, (-(np.mean(qin, axis=0) - dq_ref + warp_mean))[None, :]])
+            c = np.linalg.solve(A, b)
+            dW = cin + Wb @ c[:-1] + np.outer(Wv, c[-1])
+        else:
+            c = np.linalg.solve(A, b) if U.size else np.zeros((0, len(mine)))
+            dW = cin + Wb @ c
+        for i, g in enumerate(mine):
+            out[:, g[1]] = dW[:, i].real
+            if g[2] is not None:
+                out[:, g[2]] = dW[:, i].imag
+    return out

@@ -1,0 +1,107 @@
+"""Benchmark (not a test): the linear growth-rate spectrum with every mechanism of dynamic creepage
+(config/scenarios/dynspeed_together.yaml: the motored wheelset, the rail's longitudinal flexibility and
+falling friction) against the fixed-creepage linear spectrum (dynspeed_fixed.yaml) on the same lines.
+
+Target (issue 54): at most 1.5 times. Both on the scenarios' own settings (2 bays, 20-120 mm at five per
+octave, one contact grid, 41 nodes, the non-Hertzian contact on the patch's true path) at one speed. The
+receptance tables and the rail head's Bloch tables are computed first (kept in numba's and the
+head tables' caches by a warm-up spectrum of one line at the same speed), so that only the spectrum is
+timed. Printed: the CPU time of each spectrum, the ratio, and the parts of the one with dynamic
+creepage (rail.growth_spectrum.linear_rates, of which the smooth rail's u_bar_0 and the tangent
+marches; the rest is the comb's source and the linearity check, probes of 2 eps by the nonlinear
+march). With --probe the probes' spectrum too (method 'probe', minutes) and the largest difference
+over the largest rate. CPU time is time.process_time of this process.
+
+Run:  OMP_NUM_THREADS=1 OPENBLAS_NUM_THREADS=1 python tests/benchmarks/bench_creepage_spectrum.py [--speed 40] [--probe]
+"""
+
+import argparse
+import os
+import time
+from pathlib import Path
+
+import numpy as np
+
+from rail import chain, growth_spectrum
+from rail.growth_spectrum import creepage, linear
+from rail.setup import build
+from rail.setup.config import load_yaml, validate_config
+from rail.setup.plan import plan
+
+ROOT = Path(__file__).resolve().parents[2]
+
+
+def scenarios():
+    """The resolved configurations of the dynspeed scenarios (rail.setup.plan, as the workflow reads them)."""
+    here = Path.cwd()
+    os.chdir(ROOT)
+    try:
+        schema = load_yaml("config/schema/config.schema.yaml")
+        return plan(validate_config(load_yaml("config/config.yaml"), schema), schema).scenarios
+    finally:
+        os.chdir(here)
+
+
+def timed(fn, *args, **kw):
+    c = time.process_time()
+    out = fn(*args, **kw)
+    return out, time.process_time() - c
+
+
+class Parts:
+    """CPU time spent inside named functions (wrapped in their modules while a spectrum runs)."""
+
+    def __init__(self, targets):
+        self.targets, self.spent, self.saved = targets, {}, []
+
+    def __enter__(self):
+        for mod, name in self.targets:
+            fn = getattr(mod, name)
+            self.saved.append((mod, name, fn))
+
+            def wrap(*a, _fn=fn, _key=name, **k):
+                c = time.process_time()
+                try:
+                    return _fn(*a, **k)
+                finally:
+                    self.spent[_key] = self.spent.get(_key, 0.0) + time.process_time() - c
+            setattr(mod, name, wrap)
+        return self
+
+    def __exit__(self, *exc):
+        for mod, name, fn in self.saved:
+            setattr(mod, name, fn)
+
+
+def main():
+    ap = argparse.ArgumentParser(description=__doc__.splitlines()[0])
+    ap.add_argument("--speed", type=float, default=40.0)
+    ap.add_argument("--probe", action="store_true", help="also the probes' spectrum of dynspeed_together (minutes)")
+    a = ap.parse_args()
+    cfgs = scenarios()
+    out = {}
+    for name in ("dynspeed_fixed", "dynspeed_together"):
+        cfg = cfgs[name]
+        scn = build.spectrum_scenario(cfg, name)
+        s = cfg["figures"]["rate_spectrum"]
+        lines = growth_spectrum.spectrum_lines(scn.L, scn.roughness.bays, scn.harmonics, float(s["shortest"]), float(s["longest"]),
+                                               int(s["per_octave"]))
+        tabs, t_tab = timed(chain.receptance_table, scn, a.speed)
+        _, t_warm = timed(growth_spectrum.rate_spectrum, scn, tabs, lines[:1], grid_phases=1, check_lines=1)
+        print(f"{name}: tables {t_tab:.1f} s, warm-up {t_warm:.1f} s CPU", flush=True)
+        with Parts([(growth_spectrum.spectrum, "linear_rates"), (creepage, "creepage_reference"), (linear, "work_tangent")]) as parts:
+            sp, t = timed(growth_spectrum.rate_spectrum, scn, tabs, lines, grid_phases=int(s["grid_phases"]), check_lines=4)
+        out[name] = (scn, tabs, lines, sp, t)
+        print(f"{name}: {len(lines)} lines of {scn.roughness.bays} bays at {a.speed:g} m/s, method {sp.method}: {t:.1f} s CPU; "
+              + ", ".join(f"{k} {v:.1f} s" for k, v in parts.spent.items()), flush=True)
+    t_fixed, t_all = out["dynspeed_fixed"][4], out["dynspeed_together"][4]
+    print(f"ratio (every mechanism / fixed creepage): {t_all / t_fixed:.2f} (target 1.5)")
+    if a.probe:
+        scn, tabs, lines, sp, _ = out["dynspeed_together"]
+        ref, t = timed(growth_spectrum.rate_spectrum, scn, tabs, lines, grid_phases=1, check_lines=1, method="probe")
+        big = np.abs(ref.rate).max()
+        print(f"probes: {t:.1f} s CPU; largest |linear - probe| / max |rate| = {np.abs(sp.rate - ref.rate).max() / big:.2e}")
+
+
+if __name__ == "__main__":
+    main()
