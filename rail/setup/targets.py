@@ -9,8 +9,9 @@ issue 44; every name here is importable from rail.setup.plan as before).
   the configuration it read. Each is cut from a configuration as the physics reads it
   (``read_part``: an optional key at its schema default, or one the chosen models do not read, is
   left out), so that writing such a key reruns nothing (issue 57, item 5).
-- The fixed sets the target lists are built from (report figures by section, the closure and
-  irregular-track studies, the characterisation results, report suffixes, job priorities) and the
+- The fixed sets the target lists are built from (report figures by section, the irregular-track
+  study's speed, the characterisation results, report suffixes, job priorities; the studies' cases are
+  those of their study files, rail.setup.study_files) and the
   small frozen records a Plan holds (SweepPoint, Sweep, Table).
 
 Conventions
@@ -30,7 +31,7 @@ from .config import ConfigError, deep_merge, schema_default
 __all__ = ["known_value", "speed_label", "fleet_speed_label", "wear_frequency_label", "closure_label", "config_part", "physics_part", "track_part",
            "read_part", "case_base", "RAIL_HEAD_KEYS", "KnownNames",
            "SweepPoint", "Sweep", "Table", "HALFSPACE_KEYS", "FORCE_KEYS", "WEAR_CASE_KEYS", "GROWTH_FIGURE_KEYS", "HALFSPACE_FIGURES",
-           "FORCE_FIGURES", "WEAR_FIGURES", "GROWTH_FIGURES", "CLOSURE_STUDIES", "IRREGULAR_SPEED", "IRREGULAR_NAMES",
+           "FORCE_FIGURES", "WEAR_FIGURES", "GROWTH_FIGURES", "IRREGULAR_SPEED",
            "CHARACTERISATION", "REPORT_SUFFIXES", "PRIORITY_KERNELS", "PRIORITY_TABLES", "DEFAULT_SOURCE"]
 
 DEFAULT_SOURCE = "configuration (config/config.yaml and --config/--configfile)"
@@ -49,12 +50,9 @@ FORCE_FIGURES = ["08", "22"]
 WEAR_FIGURES = [f"{n:02d}" for n in range(9, 20)]
 GROWTH_FIGURES = ["20", "21", "23", "24", "25", "26", "27"]
 
-# Closure sensitivity study (named target closure_study): three sweep files over contact.closure_scale,
-# single wheel at two speeds, softer railpad and four wheels.
-CLOSURE_STUDIES = {"run": "closure", "soft": "closure_soft_pad", "four": "closure_class87"}
-# Irregular track (issue 34): the cases config/scenarios/irregular_<kind>.yaml beside irregular_uniform.yaml.
+# The speed [m/s] of the irregular-track study (named target irregular_track: its cases are those of
+# config/studies/irregular_track.yaml, read by rail.setup.study_files, each at this speed).
 IRREGULAR_SPEED = "40"
-IRREGULAR_NAMES = ("irregular_voided", "irregular_spacing", "irregular_stiff_pad", "irregular_dampers")
 # The three characterisation results of a track: data results/.../<name>.nc, figure <name>.png.
 CHARACTERISATION = ["track_receptance", "moving_receptance", "track_decay_rate"]
 # Suffixes of the outputs a report shows (figures, CSV exports, markdown and HTML tables).

@@ -1,7 +1,7 @@
 """The irregular-track study (issue 34, named target irregular_track): each kind of support beside the
 uniform track, and what the pinned-pinned band does as the irregularity grows.
 
-Per case (a scenario file config/scenarios/irregular_<kind>.yaml with a track cell): the point
+Per case (a case of config/studies/irregular_track.yaml with a track cell): the point
 receptance above each support of the cell and of the uniform track; the contact force of one wheel
 over the smooth rail along the cell; the roughness grown after the run's passages; the growth-rate
 spectrum.  Over the cases and the random-track ensemble: the level of the one-third-octave band that
