@@ -381,7 +381,20 @@ def trip_average(trend: BandTrend, curve: NoiseCurve, target: float) -> Trip:
 
 
 def range_bands(centre, low: float, high: float) -> np.ndarray:
-    """The bands whose exact centre [m] lies in [low, high) [m] (module docstring), as a bool mask."""
+    """The bands whose exact centre [m] lies in [low, high) [m] (module docstring), as a bool mask.
+
+    Parameters
+    ----------
+    centre : array-like, shape (B,)
+        Exact centre wavelength of each band [m].
+    low, high : float
+        The range's shortest and longest wavelength [m] (high excluded; both to a relative 1e-9).
+
+    Returns
+    -------
+    ndarray of bool, shape (B,)
+        True for the bands of the range [-].
+    """
     c = np.asarray(centre, dtype=float)
     return (c >= low * (1 - 1e-9)) & (c < high * (1 - 1e-9))
 
