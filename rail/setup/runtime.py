@@ -67,6 +67,10 @@ def check_file_size_limit(root, limit: int | None = None) -> None:
         The limit [bytes] (default: this process's soft RLIMIT_FSIZE; none where the platform has no
         such limit).
 
+    Returns
+    -------
+    None
+
     Raises
     ------
     OSError

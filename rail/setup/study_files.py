@@ -190,6 +190,16 @@ def study_cases(root) -> dict:
     """{case name: (source, scenario mapping)} of every study file of ``root``/config/studies/
     (rail.app.api.load finds a case by its name as it finds a scenario file).
 
+    Parameters
+    ----------
+    root : str or Path
+        The project folder.
+
+    Returns
+    -------
+    dict
+        {case name: (source for messages, scenario mapping)}.
+
     Raises
     ------
     ValueError
@@ -424,7 +434,24 @@ def uncertainty_study(config: dict, schema: dict, path) -> dict:
 def check_convergence_study(study: dict, source: str = "config/convergence.yaml") -> None:
     """Check the convergence study's file before any job: a speed, and per known setting a quantity
     (force, wear or growth), values and a reference that are finite numbers > 0 (integers for the
-    counts), and the wear frequencies finite > 0. Raises ValueError, one line naming file and key."""
+    counts), and the wear frequencies finite > 0. Raises ValueError, one line naming file and key.
+
+    Parameters
+    ----------
+    study : dict
+        config/convergence.yaml: speed [m/s], settings ({name: quantity, values, reference}), wear_frequencies [Hz].
+    source : str
+        The file, named in the message.
+
+    Returns
+    -------
+    None
+
+    Raises
+    ------
+    ValueError
+        One line naming the file and the key.
+    """
     def positive(key, v, whole=False):
         ok = isinstance(v, (int, float)) and not isinstance(v, bool) and np.isfinite(v) and v > 0
         if not ok or (whole and float(v) != int(v)):

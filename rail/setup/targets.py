@@ -80,25 +80,68 @@ def speed_label(v) -> str:
 
 def fleet_speed_label(v) -> str:
     """A fleet class's speed in a file name, exact: float(label) == v (40.0 -> '40', 33.6 -> '33.6').
-    The classes of a distribution need not be round numbers, and a table must be at the class's speed."""
+    The classes of a distribution need not be round numbers, and a table must be at the class's speed.
+
+    Parameters
+    ----------
+    v : float
+        Speed [m/s].
+
+    Returns
+    -------
+    str
+    """
     text = repr(float(v))
     return text[:-2] if text.endswith(".0") else text
 
 
 def wear_frequency_label(f) -> str:
-    """Excitation frequency in a file name: 533.333 -> '533'."""
+    """Excitation frequency in a file name: 533.333 -> '533'.
+
+    Parameters
+    ----------
+    f : float
+        Excitation frequency [Hz].
+
+    Returns
+    -------
+    str
+    """
     return f"{float(f):.0f}"
 
 
 def closure_label(s) -> str:
-    """Closure value in a file name: 0.01 -> '0.01'."""
+    """Closure value in a file name: 0.01 -> '0.01'.
+
+    Parameters
+    ----------
+    s : float
+        Closure value [-] (contact.closure_scale).
+
+    Returns
+    -------
+    str
+    """
     return f"{float(s):g}"
 
 
 def config_part(keys, cfg: dict) -> dict:
     """The part of a configuration under the dotted keys, nested as there: what a job is handed as
     params.cfg (params are a rerun trigger, and each result records the configuration it read). A key of
-    rail.setup.build.OPTIONAL_KEYS (the wheelset) is left out where the configuration does not have it."""
+    rail.setup.build.OPTIONAL_KEYS (the wheelset) is left out where the configuration does not have it.
+
+    Parameters
+    ----------
+    keys : iterable of str
+        Dotted keys ('track', 'numerics.track', 'figures.wear.speed').
+    cfg : dict
+        A configuration as the physics reads it (read_part).
+
+    Returns
+    -------
+    dict
+        A new nested mapping of those keys' values.
+    """
     out = {}
     for key in keys:
         if key in OPTIONAL_KEYS and key not in cfg:
@@ -113,14 +156,36 @@ def config_part(keys, cfg: dict) -> dict:
 
 def physics_part(cfg: dict) -> dict:
     """A configuration without the figure settings, site measurements and half-space quadrature (which
-    no growth computation reads: the contact damping has its own, Fig. 6)."""
+    no growth computation reads: the contact damping has its own, Fig. 6).
+
+    Parameters
+    ----------
+    cfg : dict
+        A configuration as the physics reads it (read_part).
+
+    Returns
+    -------
+    dict
+        A new mapping (the values shared with ``cfg``).
+    """
     out = {k: v for k, v in cfg.items() if k not in ("figures", "measured", "numerics")}
     return {**out, "numerics": {k: v for k, v in cfg["numerics"].items() if k != "halfspace"}}
 
 
 def track_part(cfg: dict) -> dict:
     """The track and track numerics of a configuration: all a receptance table depends on (the keys
-    of the rail head's longitudinal flexibility, RAIL_HEAD_KEYS, left out: no table reads them)."""
+    of the rail head's longitudinal flexibility, RAIL_HEAD_KEYS, left out: no table reads them).
+
+    Parameters
+    ----------
+    cfg : dict
+        A configuration as the physics reads it (read_part).
+
+    Returns
+    -------
+    dict
+        {"track": ..., "numerics": {"track": ...}}, a new mapping.
+    """
     track = copy.deepcopy(cfg["track"])
     for key in RAIL_HEAD_KEYS:
         _drop(track, key.split(".")[1:])
