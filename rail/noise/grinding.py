@@ -248,15 +248,25 @@ def noise_curve(trend: BandTrend, level_of, extrapolation_max: float = 10.0, sub
 class Trip:
     """When a criterion trips.
 
-    criterion           : "rise", "average" or "band_rms"
-    threshold           : the criterion's value (dB, dB(A) or the range's limit in m)
-    passages            : axle passages at the trip [-] (inf: not reached; NaN: not assessed)
-    status              : "at the start", "within the run", "extrapolated", "not reached", "not assessed"
-    extrapolation_factor: (passages - n0) / (n_last - n0) where extrapolated, else NaN [-]
-    band_index          : the frequency band (rise, average: its A-weighted energy rose most by the trip; at the
-                          start the loudest) or wavelength band (band_rms: the range's largest) that drives it, -1 if none
-    range_index         : the band-rms range that trips first (band_rms), -1 else
-    note                : why not reached or not assessed, and the horizon
+    Attributes
+    ----------
+    criterion : str
+        "rise", "average" or "band_rms".
+    threshold : float
+        The criterion's value (dB, dB(A) or the range's limit in m).
+    passages : float
+        Axle passages at the trip [-] (inf: not reached; NaN: not assessed).
+    status : str
+        "at the start", "within the run", "extrapolated", "not reached", "not assessed".
+    extrapolation_factor : float
+        (passages - n0) / (n_last - n0) where extrapolated, else NaN [-].
+    band_index : int
+        The frequency band (rise, average: its A-weighted energy rose most by the trip; at the start the
+        loudest) or wavelength band (band_rms: the range's largest) that drives it, -1 if none.
+    range_index : int
+        The band-rms range that trips first (band_rms), -1 else.
+    note : str
+        Why not reached or not assessed, and the horizon.
     """
 
     criterion: str
