@@ -14,8 +14,9 @@ tests/data/named_targets_before_closure_irregular_short_wave.json was recorded i
 list in Plan.short_wave_targets) became the study files closure_study.yaml, irregular_track.yaml and
 short_wave.yaml, with the noise files added since the first recording, every sweep's keys, values, points and
 units, the closure study's inputs and their roles, and the irregular-track study's cases and the parts of their
-configurations its rules are handed (by the script /tmp/rooms/record.py of that change, which called the plan
-methods of 3c3fde9 that this module's named_targets calls now).
+configurations its rules are handed (by a script of that change that computed, with the plan methods of 3c3fde9,
+what test_every_named_target_scenario_and_sweep_is_as_before_... computes now: short_wave, closure_study and
+irregular_track then from short_wave_targets, closure_targets and irregular_targets).
 `snakemake -n --forceall` of every affected target (closure_study, irregular_track, short_wave, sweeps, bands,
 any_wavelength, noise, rate_spectrum_sweeps, track_characterisation, dynamic_creepage_speeds and the study_<name> of
 each moved file) planned the same jobs, with the same inputs, outputs, wildcards, priorities and resources, before
