@@ -384,8 +384,26 @@ def test_rerun_hash_follows_the_schemas_defaults(tmp_path):
     assert provenance.code_hash(script, pkg) != before
 
 
-def _docstring_problems(files) -> list[str]:
-    """Public functions of the files whose docstring lacks numpydoc Parameters or Returns, or a unit in brackets."""
+# A documented parameter or return of one of these types is a number or an array of numbers: a quantity whose unit
+# the docstring must state (the lighter rule of the layers above the physics)
+NUMERIC_TYPE = re.compile(r"\b(float|complex|number|ndarray|array|array_like|array-like)s?\b")
+
+
+def _numeric_entries(doc: str) -> list[str]:
+    """Names of the Parameters and Returns entries of a numpydoc docstring whose type is numeric (NUMERIC_TYPE)."""
+    from numpydoc.docscrape import NumpyDocString
+
+    try:
+        parsed = NumpyDocString(doc)
+    except Exception:  # not parseable: the Sphinx build (tests/test_docs.py, -W) says why
+        return []
+    return [p.name or p.type for section in ("Parameters", "Returns") for p in parsed[section] if NUMERIC_TYPE.search(p.type)]
+
+
+def _docstring_problems(files, units: str = "always") -> list[str]:
+    """Public functions of the files whose docstring lacks numpydoc Parameters or Returns, or a unit in brackets:
+    in every function (``units="always"``, the physics layer), or (``units="quantities"``) in a function one of
+    whose documented parameters or returns is a number or an array (NUMERIC_TYPE)."""
     unitless = {"single_wheel", "damping_problem", "data_rows"}  # take and give only objects or text
     problems = []
     for f in files:
@@ -399,7 +417,8 @@ def _docstring_problems(files) -> list[str]:
                 problems.append(f"{name}: {node.name} has no Parameters section")
             if "Returns\n-------" not in d:
                 problems.append(f"{name}: {node.name} has no Returns section")
-            if node.name not in unitless and not re.search(r"\[[^\]]*\]", d):
+            needs_unit = node.name not in unitless if units == "always" else bool(_numeric_entries(d))
+            if needs_unit and not re.search(r"\[[^\]]*\]", d):
                 problems.append(f"{name}: {node.name} states no unit in brackets")
     return problems
 
@@ -419,12 +438,35 @@ def test_public_physics_functions_have_numpydoc_docstrings_with_units():
     assert not problems, "\n".join(problems)
 
 
+def test_public_functions_of_every_other_package_have_numpydoc_docstrings_with_units_of_their_quantities():
+    # issue 54: "the docstring rule covers every package in rail/, not only the top level". The packages above the
+    # physics (rail/setup, rail/studies, rail/plotting, rail/app) take and give configurations, datasets, figures,
+    # paths and text as much as numbers: each public function states its parameters and returns (numpydoc), and
+    # a function with a parameter or a return that is a number or an array (float, complex, ndarray, ...) states
+    # its unit in brackets ([m], [Hz], [-]). A function of text, paths, mappings and objects alone needs none,
+    # where the physics rule would ask for a bracket that says nothing.
+    files = [f for f in _rail_files() if _layer(f) != "physics"]
+    assert {f.parent.name for f in files} == {"setup", "studies", "plotting", "app"}
+    problems = _docstring_problems(files, units="quantities")
+    assert not problems, "\n".join(problems)
+
+
 def test_the_docstring_rule_finds_a_function_of_a_physics_package_without_one(tmp_path):
     pkg = tmp_path / "pkg"
     pkg.mkdir()
     (pkg / "m.py").write_text('def rate(x):\n    """A rate."""\n    return x\n\n\ndef _helper(x):\n    return x\n')
     assert _docstring_problems([pkg / "m.py"]) == ["m.py: rate has no Parameters section", "m.py: rate has no Returns section",
                                                    "m.py: rate states no unit in brackets"]
+
+
+def test_the_lighter_rule_asks_a_unit_only_of_a_function_of_numbers(tmp_path):
+    returns = "\n    Returns\n    -------\n    str\n    \"\"\"\n"
+    (tmp_path / "m.py").write_text(
+        'def label(name):\n    """A label.\n\n    Parameters\n    ----------\n    name : str\n' + returns
+        + '\n\ndef speed(v):\n    """A speed.\n\n    Parameters\n    ----------\n    v : float\n        Speed.\n' + returns
+        + '\n\ndef table(v):\n    """A table.\n\n    Returns\n    -------\n    ndarray\n    """\n')
+    assert _docstring_problems([tmp_path / "m.py"], units="quantities") == [
+        "m.py: speed states no unit in brackets", "m.py: table has no Parameters section", "m.py: table states no unit in brackets"]
 
 
 def test_workflow_scripts_read_intermediate_netcdf_files_only_through_open_intermediate():

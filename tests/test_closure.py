@@ -1,5 +1,5 @@
 """The closure family l = (a/2) exp(2 s / pi) of the tangential contact (docs/contact.md) and the
-closure sensitivity study (config/scenarios/closure*.yaml)."""
+closure sensitivity study (config/studies/closure_study.yaml)."""
 
 from pathlib import Path
 
@@ -16,10 +16,13 @@ M = C.ContactMaterial(2.1e11, 0.3, 0.008, R, 0.3, 0.3, -0.001)
 
 
 def sweep_values():
-    """The closure values of the study (the same in its three sweep files)."""
-    values = [load_yaml(ROOT / f"config/scenarios/{n}.yaml")["sweep"]["contact.closure_scale"]
-              for n in ("closure", "closure_soft_pad", "closure_class87")]
-    assert values[0] == values[1] == values[2]
+    """The closure values of the study (the same in its three sweeps: its study file's defaults, which no case overrides)."""
+    from rail.setup.study_files import study_cases
+
+    study = load_yaml(ROOT / "config/studies/closure_study.yaml")
+    cases = study_cases(ROOT)
+    values = [cases[study["summary"][part]][1]["sweep"]["contact.closure_scale"] for part in ("run", "soft", "four")]
+    assert values[0] == values[1] == values[2] == study["defaults"]["sweep"]["contact.closure_scale"]
     return [float(s) for s in values[0]]
 
 

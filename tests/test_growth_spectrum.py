@@ -181,7 +181,7 @@ def test_closure_study_rate_at_1000_hz_is_the_spectrum_rate_plus_its_source(root
     # halving the amplitude; that nonlinearity is itself below 1.5 % of the largest rate
     import yaml
 
-    values = yaml.safe_load((root / "config/scenarios/closure.yaml").read_text())["sweep"]["contact.closure_scale"]
+    values = yaml.safe_load((root / "config/studies/closure_study.yaml").read_text())["defaults"]["sweep"]["contact.closure_scale"]
     tr = track()
     Kc, m = 48, 15
     tab = moving.receptance_table(tr, 40.0, Kc)

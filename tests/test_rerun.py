@@ -213,10 +213,10 @@ def small_root(root, tmp_path_factory):
     shutil.copytree(root / "config", top / "config", ignore=shutil.ignore_patterns("scenarios", "studies"))
     (top / "config/scenarios").mkdir()
     (top / "config/studies").mkdir()
-    for name in ("soft_pad", "class87", "irregular_dampers"):
+    for name in ("soft_pad", "class87"):
         shutil.copy(root / f"config/scenarios/{name}.yaml", top / "config/scenarios")
     cases = study_cases(root)
-    study = {"cases": {name: cases[name][1] for name in ("dyn_rail_shear_soft", "dyn_driven")}}
+    study = {"cases": {name: cases[name][1] for name in ("dyn_rail_shear_soft", "dyn_driven", "irregular_dampers")}}
     (top / "config/studies/two.yaml").write_text(yaml.safe_dump(study, sort_keys=False))
     return top
 

@@ -448,7 +448,9 @@ def test_a_voided_support_is_marked_and_described_where_the_cell_has_it():
     from rail.setup.config import project_schema, resolve, load_yaml
     from rail.studies.irregular import support_marks
 
-    cfg = resolve(load_yaml(ROOT / "config/config.yaml"), project_schema(), load_yaml(ROOT / "config/scenarios/irregular_voided.yaml"))
+    from rail.setup.study_files import study_cases
+
+    cfg = resolve(load_yaml(ROOT / "config/config.yaml"), project_schema(), study_cases(ROOT)["irregular_voided"][1])
     cell = build.track_cell(cfg)
     marks = support_marks(cell)
     assert marks == [(0.0, ""), (pytest.approx(0.6), "ballast ×0.001"), (pytest.approx(1.2), ""), (pytest.approx(1.8), ""),
@@ -469,7 +471,9 @@ def test_the_overview_script_reads_the_cell_from_the_runs_configuration():
     script = importlib.util.module_from_spec(spec)
     spec.loader.exec_module(script)
     defaults = load_yaml(ROOT / "config/config.yaml")
-    voided = resolve(defaults, project_schema(), load_yaml(ROOT / "config/scenarios/irregular_voided.yaml"))
+    from rail.setup.study_files import study_cases
+
+    voided = resolve(defaults, project_schema(), study_cases(ROOT)["irregular_voided"][1])  # config/studies/irregular_track.yaml
     run = growth_run(saved=2, bays=4)
     assert [m[1] for m in script.supports(run.assign_attrs(config=yaml.safe_dump(voided)))][1] == "ballast ×0.001"
     assert script.supports(run.assign_attrs(config=yaml.safe_dump(resolve(defaults, project_schema())))) is None  # uniform: the figure's own

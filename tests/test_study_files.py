@@ -6,7 +6,21 @@ tests/data/named_targets_before_study_files.json was recorded from the plan at 2
 (the 25 scenario files dyn_*.yaml and dynspeed_*.yaml, and targets picked by name prefix or a literal list in
 workflow/rules/spectrum.smk): every named target's list of files, every scenario's resolved configuration (a
 hash of it in key order: Snakemake compares a job's params as written), the table of every scenario and the
-scenario order. The same lists from the plan now must be identical, so that every built result stays valid."""
+scenario order. The same lists from the plan now must be identical, so that every built result stays valid.
+
+tests/data/named_targets_before_closure_irregular_short_wave.json was recorded in the same way from the plan at
+3c3fde9, before the closure study (closure*.yaml, picked by the literal CLOSURE_STUDIES), the irregular track
+(irregular_*.yaml, IRREGULAR_NAMES) and the short-wave study (nonhertzian.yaml and short_wave_study*.yaml, a literal
+list in Plan.short_wave_targets) became the study files closure_study.yaml, irregular_track.yaml and
+short_wave.yaml, with the noise files added since the first recording, every sweep's keys, values, points and
+units, the closure study's inputs and their roles, and the irregular-track study's cases and the parts of their
+configurations its rules are handed (by a script of that change that computed, with the plan methods of 3c3fde9,
+what test_every_named_target_scenario_and_sweep_is_as_before_... computes now: short_wave, closure_study and
+irregular_track then from short_wave_targets, closure_targets and irregular_targets).
+`snakemake -n --forceall` of every affected target (closure_study, irregular_track, short_wave, sweeps, bands,
+any_wavelength, noise, rate_spectrum_sweeps, track_characterisation, dynamic_creepage_speeds and the study_<name> of
+each moved file) planned the same jobs, with the same inputs, outputs, wildcards, priorities and resources, before
+and after (compared by hand)."""
 
 import copy
 import hashlib
@@ -24,6 +38,8 @@ from rail.setup.study_files import study_file
 
 ROOT = Path(__file__).resolve().parents[1]
 BEFORE = json.loads((ROOT / "tests/data/named_targets_before_study_files.json").read_text())
+BEFORE_57B = json.loads((ROOT / "tests/data/named_targets_before_closure_irregular_short_wave.json").read_text())
+STUDY_FILES = ["closure_study", "dynamic_creepage", "dynamic_creepage_speeds", "irregular_track", "rail_flexibility", "short_wave"]
 
 
 def plan_at(root):
@@ -45,23 +61,52 @@ def named_targets(P) -> dict:
     """Every named target's files, as the workflow's rules take them from the plan."""
     out = {
         "all": P.paper_figures(), "receptances": P.receptance_tables(), "sweeps": P.sweep_targets(), "bands": P.band_targets(),
-        "any_wavelength": P.any_wavelength_targets(), "rate_spectrum_sweeps": P.rate_spectrum_sweep_targets(),
-        "short_wave": P.short_wave_targets(), "track_characterisation": P.characterisation_targets(),
-        "closure_study": P.closure_targets(), "irregular_track": P.irregular_targets(),
-        "rail_flexibility": P.study_file_input("rail_flexibility"), "dynamic_creepage": P.study_file_input("dynamic_creepage"),
-        "dynamic_creepage_speeds": P.study_file_input("dynamic_creepage_speeds"),
+        "noise": P.noise_targets(), "any_wavelength": P.any_wavelength_targets(), "rate_spectrum_sweeps": P.rate_spectrum_sweep_targets(),
+        "track_characterisation": P.characterisation_targets(), **{name: P.study_file_input(name) for name in P.studies},
         "speed_study": [f for fs in P.speed_study_spectra().values() for f in fs], "traffic_study": P.traffic_study_inputs(),
         "uncertainty": P.uncertainty_members(), "convergence": P.convergence_points(), "report_candidates": P.report_candidates(),
     }
     return out | {f"study_{n}": P.study_targets(n) for n in P.study_names()}
 
 
+def _without_noise(files):
+    """Files without the noise outputs added since the first recording (issue 56: rule growth_noise)."""
+    return [f for f in files if not f.endswith(("_noise.png", "_noise.csv"))]
+
+
 def test_every_named_target_lists_the_same_files_as_before_the_study_files(P):
     now = named_targets(P)
-    assert sorted(now) == sorted(BEFORE["targets"])
+    assert sorted(set(now) - {"noise"}) == sorted(BEFORE["targets"])
     for target, files in BEFORE["targets"].items():
-        # the noise outputs beside the runs were added after the lists were recorded (issue 56; tests/test_plan.py checks them)
-        assert [f for f in now[target] if not f.endswith(("_noise.png", "_noise.csv"))] == files, target
+        assert _without_noise(now[target]) == files, target
+
+
+def test_every_named_target_scenario_and_sweep_is_as_before_the_closure_irregular_and_short_wave_study_files(P):
+    from rail.setup.plan import config_part
+
+    def h(x):
+        return hashlib.sha256(json.dumps(x, default=str).encode()).hexdigest()[:16]
+
+    B = BEFORE_57B
+    now = named_targets(P)
+    assert sorted(now) == sorted(B["targets"])
+    for target, files in B["targets"].items():
+        assert now[target] == files, target
+    assert list(P.scenarios) == B["scenarios"] and P.study_names() == B["study_names"]
+    assert {n: h(_without_band(P.scenarios[n])) for n in P.scenarios} == B["configs"]
+    assert {n: P.table_file(n, P.objects[n].speeds[0]) for n in P.scenario_table} == B["tables"]
+    assert P.characterised_tracks() == B["characterised_tracks"]
+    assert {s: {"keys": sw.keys, "values": sw.values, "points": [[p.name, list(p.index), p.speed] for p in sw.points], "units": sw.units}
+            for s, sw in P.sweeps.items()} == B["sweeps"]
+    paths, meta = P.closure_inputs()
+    assert [P.closure_values(), paths, meta] == [B["closure"]["values"], B["closure"]["inputs"], B["closure"]["meta"]]
+    assert {f"{v:g}": h(P.closure_wear_config(f"{v:g}")) for v in P.closure_values()} == B["closure"]["wear_config"]
+    rnd, irr = P.irregular_random_points(), B["irregular"]
+    assert [P.irregular_cases(), rnd] == [irr["cases"], irr["random_points"]]
+    assert {c: h(config_part(("track",), P.scenarios[c])) for c in P.irregular_cases()} == irr["case_cfg"]
+    assert h(config_part(("track", "numerics.track"), P.scenarios[P.irregular_study()["uniform"]])) == irr["uniform_cfg"]
+    assert {n: h(config_part(("track",), P.scenarios[n])) for n in rnd} == irr["random_cfg"]
+    assert {n: P.scenarios[n]["track"]["cell"]["random"].get("spacing", 0.0) for n in rnd} == irr["spreads"]
 
 
 def _without_band(cfg):
@@ -84,18 +129,28 @@ def test_every_scenario_resolves_as_before_and_reads_the_same_tables(P):
 
 
 def test_the_named_study_targets_come_from_the_study_files(P):
-    assert sorted(P.studies) == ["dynamic_creepage", "dynamic_creepage_speeds", "rail_flexibility"]
+    assert sorted(P.studies) == STUDY_FILES
     for name, st in P.studies.items():
-        assert P.study_file_targets(name)[:len(st["include"] + st["cases"])] == [
-            f"results/spectrum/{n}/rate_spectrum.png" for n in st["include"] + st["cases"]]
-    rules = (ROOT / "workflow/rules/spectrum.smk").read_text()
-    assert not re.search(r"dyn_|dynspeed_|startswith", rules)  # no rule picks scenarios by name
-    assert not re.search(r"startswith\(\"dyn", (ROOT / "rail/setup/plan.py").read_text())
+        spectra = [n for n in st["include"] + st["cases"] if st["builds"][n] == "spectrum"]
+        assert [t for t in P.study_file_targets(name) if t.startswith("results/spectrum/")] == [
+            f"results/spectrum/{n}/rate_spectrum.png" for n in spectra]
+    assert P.study_file_targets("short_wave")[1:] == P.study_targets("short_wave_study") + P.study_targets("short_wave_study_report")
+    assert P.study_file_targets("closure_study") == P.closure_targets() and P.closure_studies() == {
+        "run": "closure", "soft": "closure_soft_pad", "four": "closure_class87"}
+    assert P.study_file_targets("irregular_track") == P.irregular_targets()
+    # no rule, and no line of the plan, picks scenarios by a name or a name's prefix: no case of a study file is
+    # named in them, in quotes, and no wildcard is constrained to a prefix
+    names = [n for st in P.studies.values() for n in st["cases"]]
+    for f in ("workflow/rules/spectrum.smk", "workflow/rules/irregular.smk", "workflow/rules/closure.smk", "workflow/rules/common.smk",
+              "rail/setup/plan.py", "rail/setup/targets.py"):
+        text = (ROOT / f).read_text()
+        assert not re.search(r"startswith\(\"dyn|\"(irregular|closure|dyn|dynspeed)_\[", text), f
+        assert [n for n in names if f'"{n}"' in text or f"'{n}'" in text] == [], f
 
 
 def test_config_scenarios_holds_no_study_family_and_its_readme_lists_every_file():
     names = sorted(p.name for p in (ROOT / "config/scenarios").glob("*.y*ml"))
-    assert not [n for n in names if n.startswith(("dyn_", "dynspeed_"))]
+    assert not [n for n in names if n.startswith(("dyn_", "dynspeed_", "closure", "irregular_", "short_wave", "nonhertzian"))]
     readme = (ROOT / "config/scenarios/README.md").read_text()
     assert [n for n in names if f"`{n}`" not in readme] == []
     studies = (ROOT / "config/studies/README.md").read_text()
@@ -121,6 +176,28 @@ def test_a_copy_of_a_study_case_in_config_scenarios_joins_no_named_target(P, pro
     assert Q.study_targets("dyn_rail_mine")  # its own study target, study_dyn_rail_mine
 
 
+def test_a_copy_of_a_closure_or_irregular_case_in_config_scenarios_joins_no_study(P, project):
+    # a sweep over the closure value named as the study's were, and a track cell named as the irregular cases
+    (project / "config/scenarios/closure_mine.yaml").write_text("sweep:\n  contact.closure_scale: [0.5, 1.0]\n  speed: [40.0]\n")
+    (project / "config/scenarios/irregular_mine.yaml").write_text(
+        "track: {cell: {bays: 4, ballast: [1.0, 0.5, 1.0, 1.0]}}\nroughness: {bays: 4}\nspeeds: [40.0]\nnumerics: {track: {harmonics: 36}}\n")
+    Q = plan_at(project)
+    assert "closure_mine" in Q.sweeps and "irregular_mine" in Q.scenarios
+    assert Q.closure_studies() == P.closure_studies() and Q.closure_inputs() == P.closure_inputs()
+    assert Q.irregular_cases() == P.irregular_cases() and Q.irregular_targets() == P.irregular_targets()
+    assert "results/sweeps/closure_mine_bands.png" in Q.band_targets()  # a sweep over speed of its own, not the closure study's
+    assert "results/sweeps/closure_soft_pad_bands.png" not in Q.band_targets()
+
+
+def test_the_study_files_sweeps_are_sweeps_of_the_plan_named_by_their_file_and_case(P):
+    assert {"closure", "closure_soft_pad", "closure_class87", "irregular_random"} <= set(P.sweeps)
+    assert P.sources["closure-p0"] == ("config/studies/closure_study.yaml (case closure) (sweep point contact.closure_scale = 0.01, "
+                                       "speed = 20.0)")
+    assert P.sweeps["closure"].values == [[0.01, 0.1, 0.3, 1.0, 2.0, 4.0], [20.0, 40.0]]  # the defaults' values, the case's speeds
+    assert P.sweeps["closure_soft_pad"].values == [[0.01, 0.1, 0.3, 1.0, 2.0, 4.0], [40.0]]
+    assert P.study_targets("closure")[-2:] == ["results/sweeps/closure.nc", "results/sweeps/closure.png"]  # study_closure kept
+
+
 def test_a_users_study_file_is_a_named_target_of_its_cases(project):
     (project / "config/studies/my_pads.yaml").write_text(
         "defaults: {figures: {rate_spectrum: {bays: 2, shortest: 0.03, longest: 0.06, per_octave: 4, grid_phases: 1, speeds: [40.0]}}}\n"
@@ -144,6 +221,24 @@ def test_a_study_case_that_is_not_valid_stops_only_its_own_targets(P, project):
         stop(None)
 
 
+def test_a_summary_named_by_two_study_files_is_refused_naming_both(project):
+    (project / "config/studies/my_closure.yaml").write_text(
+        "summary: {kind: closure_study, run: a, soft: a, four: a}\ncases:\n  a: {sweep: {contact.closure_scale: [1.0]}}\n")
+    with pytest.raises(ConfigError, match=r"config/studies/my_closure\.yaml: summary closure_study is also "
+                                          r"config/studies/closure_study\.yaml's"):
+        plan_at(project)
+
+
+def test_a_study_file_that_is_not_valid_stops_its_summarys_target_alone(P, project):
+    path = project / "config/studies/irregular_track.yaml"
+    path.write_text(path.read_text().replace("cases: [irregular_voided,", "cases: [irregular_nosuch,"))
+    Q = plan_at(project)
+    assert "summary.cases = ['irregular_nosuch'" in Q.broken_studies["irregular_track"]
+    with pytest.raises(ConfigError, match=r"config/studies/irregular_track\.yaml: summary\.cases .* must be a list of cases of the file"):
+        Q.study_file_input("irregular_track")(None)
+    assert Q.irregular_targets() == ["results/irregular/summary.png"] and Q.study_file_input("closure_study") == P.study_file_input("closure_study")
+
+
 def test_a_study_file_that_is_not_valid_or_a_name_given_twice_is_refused_naming_the_file(project):
     (project / "config/studies/bad.yaml").write_text("cases: {a: {}}\nsweep: {speed: [20.0]}\n")
     Q = plan_at(project)
@@ -161,9 +256,18 @@ def test_a_study_file_that_is_not_valid_or_a_name_given_twice_is_refused_naming_
     ({"cases": {}}, "cases must map each case's name"),
     ({"cases": {"a": 3}}, r"cases\.a = 3 is not allowed"),
     ({"cases": {"a b": {}}}, "case name 'a b' is not allowed"),
-    ({"cases": {"a": {"sweep": {"speed": [20.0]}}}}, "a sweep is not a case of a study file"),
     ({"cases": {"a": None}, "include": "dyn_fixed"}, "include = 'dyn_fixed' is not allowed"),
-    ({"cases": {"a": None}, "speed_study": True}, "only config/studies/dynamic_creepage_speeds.yaml may set it"),
+    ({"cases": {"a": None}, "speed_study": True}, "unknown key speed_study"),
+    ({"cases": {"a": None}, "builds": "figures"}, "builds = 'figures' is not allowed: it must be one of spectrum, study, none"),
+    ({"cases": {"a": None}, "builds": {"b": "study"}}, r"builds = \{'b': 'study'\} is not allowed"),
+    ({"cases": {"a": None}, "summary": "closure"}, "summary = 'closure' is not allowed: it must be a mapping with a kind, one of"),
+    ({"cases": {"a": None}, "summary": {"kind": "speed_study", "run": "a"}}, "summary.run is not known: the roles of summary speed_study are none"),
+    ({"cases": {"a": None}, "summary": {"kind": "closure_study", "run": "a", "soft": "a"}},
+     r"summary\.four = None is not allowed: it must be one case"),
+    ({"cases": {"a": None}, "summary": {"kind": "irregular_track", "uniform": "a", "cases": "a"}},
+     r"summary\.cases = 'a' is not allowed: it must be a list"),
+    ({"cases": {"a": None}, "summary": {"kind": "irregular_track", "uniform": "b", "cases": ["a"]}},
+     r"summary\.uniform = 'b' is not allowed.*\(a\)"),
 ])
 def test_a_study_file_is_checked_naming_the_file_and_key(data, message):
     with pytest.raises(ValueError, match=message):

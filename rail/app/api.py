@@ -248,6 +248,11 @@ def check_bands(study: Study, *, passages: int | None = None, option: str = "pas
         How the caller names the passages and the band view in the message (the command line:
         "--passages", "--bands").
 
+    Returns
+    -------
+    None
+        Only if the band view can be made.
+
     Raises
     ------
     rail.setup.config.ConfigError

@@ -125,7 +125,18 @@ def _os_line(e: OSError) -> str:
 def main(argv=None) -> int:
     """Run the command line; returns the exit status by cause (0 ok, 1 the model broke in a computation
     that keeps nothing, 2 invalid input, 3 a growth run stopped early with a partial result, 4 a
-    resource failed: a write, the memory). Every failure is one line on stderr, never a traceback."""
+    resource failed: a write, the memory). Every failure is one line on stderr, never a traceback.
+
+    Parameters
+    ----------
+    argv : list of str, optional
+        The arguments (default: sys.argv[1:]).
+
+    Returns
+    -------
+    int
+        The exit status.
+    """
     args = _parser().parse_args(argv)
     from ..contact import ContactError  # after parsing: --help answers without importing the model
     from ..growth import GrowthStepError

@@ -66,7 +66,7 @@ class ContactMaterial:
     def friction_law(self) -> str:
         """The friction law in words, for results' headers and start-up notes: the report's step from
         mu_s to mu_d, friction falling with the slip velocity (friction_decay > 0), or, with mu_s = mu_d,
-        constant friction: mu(s) = mu_d + (mu_s - mu_d) exp(-|s| / s_0) is then flat and s_0 changes
+        constant friction: mu(s) = mu_d + (mu_s - mu_d) exp(-abs(s) / s_0) is then flat and s_0 changes
         nothing (the result is the step law's), which a header must not call falling."""
         s0, mus, mud = self.friction_decay, self.friction_static, self.friction_dynamic
         if s0 == 0:

@@ -248,15 +248,25 @@ def noise_curve(trend: BandTrend, level_of, extrapolation_max: float = 10.0, sub
 class Trip:
     """When a criterion trips.
 
-    criterion           : "rise", "average" or "band_rms"
-    threshold           : the criterion's value (dB, dB(A) or the range's limit in m)
-    passages            : axle passages at the trip [-] (inf: not reached; NaN: not assessed)
-    status              : "at the start", "within the run", "extrapolated", "not reached", "not assessed"
-    extrapolation_factor: (passages - n0) / (n_last - n0) where extrapolated, else NaN [-]
-    band_index          : the frequency band (rise, average: its A-weighted energy rose most by the trip; at the
-                          start the loudest) or wavelength band (band_rms: the range's largest) that drives it, -1 if none
-    range_index         : the band-rms range that trips first (band_rms), -1 else
-    note                : why not reached or not assessed, and the horizon
+    Attributes
+    ----------
+    criterion : str
+        "rise", "average" or "band_rms".
+    threshold : float
+        The criterion's value (dB, dB(A) or the range's limit in m).
+    passages : float
+        Axle passages at the trip [-] (inf: not reached; NaN: not assessed).
+    status : str
+        "at the start", "within the run", "extrapolated", "not reached", "not assessed".
+    extrapolation_factor : float
+        (passages - n0) / (n_last - n0) where extrapolated, else NaN [-].
+    band_index : int
+        The frequency band (rise, average: its A-weighted energy rose most by the trip; at the start the
+        loudest) or wavelength band (band_rms: the range's largest) that drives it, -1 if none.
+    range_index : int
+        The band-rms range that trips first (band_rms), -1 else.
+    note : str
+        Why not reached or not assessed, and the horizon.
     """
 
     criterion: str
@@ -381,19 +391,19 @@ def trip_average(trend: BandTrend, curve: NoiseCurve, target: float) -> Trip:
 
 
 def range_bands(centre, low: float, high: float) -> np.ndarray:
-    """The bands whose exact centre lies in [low, high) (module docstring), as a bool mask.
+    """The bands whose exact centre [m] lies in [low, high) [m] (module docstring), as a bool mask.
 
     Parameters
     ----------
-    centre : array_like
-        The bands' exact centre wavelengths [m].
+    centre : array-like, shape (B,)
+        Exact centre wavelength of each band [m].
     low, high : float
-        The range's edges [m], low < high.
+        The range's shortest and longest wavelength [m] (high excluded; both to a relative 1e-9).
 
     Returns
     -------
-    ndarray of bool
-        True where a band's centre lies in the range [-].
+    ndarray of bool, shape (B,)
+        True for the bands of the range [-].
     """
     c = np.asarray(centre, dtype=float)
     return (c >= low * (1 - 1e-9)) & (c < high * (1 - 1e-9))

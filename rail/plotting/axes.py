@@ -44,6 +44,10 @@ def wavelength_axis(ax, lam_mm, pad: float = 1.05, ticks=_TICKS_MM) -> None:
         Factor of room beyond the extreme wavelengths [-] (1: none, for cell edges).
     ticks : sequence of float
         Candidate ticks [mm]; those inside the span are used.
+
+    Returns
+    -------
+    None
     """
     lo, hi = float(np.min(lam_mm)) / pad, float(np.max(lam_mm)) * pad
     ax.set_xscale("log")
@@ -71,7 +75,22 @@ def _ticks_within(lo: float, hi: float, ticks) -> list:
 
 def frequency_axis(ax, speed: float, what: str = "V"):
     """A secondary axis on top of a wavelength axis in mm: the frequency f = V / lambda [Hz] at the
-    speed ``speed`` [m/s]; ``what`` names the speed in the label ("V", "mean V"). Returns the axis."""
+    speed ``speed`` [m/s]; ``what`` names the speed in the label ("V", "mean V"). Returns the axis.
+
+    Parameters
+    ----------
+    ax : matplotlib Axes
+        With a wavelength axis in mm (wavelength_axis).
+    speed : float
+        Train speed V [m/s].
+    what : str
+        How the label names the speed.
+
+    Returns
+    -------
+    matplotlib axis
+        The secondary axis [Hz].
+    """
     V = float(speed)
 
     def f_of_lam(lam_mm):
@@ -93,7 +112,20 @@ def frequency_axis(ax, speed: float, what: str = "V"):
 def per_mgt_axis(ax, axle_load_t: float):
     """A secondary axis on the right of a rate axis in dB per 100,000 axle passages: the same rate in
     dB per million gross tonnes, rate x 1e6 / axle load / 1e5, at the axle load ``axle_load_t`` [t].
-    Returns the axis."""
+    Returns the axis.
+
+    Parameters
+    ----------
+    ax : matplotlib Axes
+        With a rate axis in dB per 100,000 axle passages.
+    axle_load_t : float
+        Axle load [t].
+
+    Returns
+    -------
+    matplotlib axis
+        The secondary axis [dB per MGT].
+    """
     per = 1e6 / float(axle_load_t) / AXLES_PER_RATE
     sec = ax.secondary_yaxis("right", functions=(lambda r: np.asarray(r) * per, lambda m: np.asarray(m) / per))
     sec.set_ylabel(f"dB per MGT (axle load {float(axle_load_t):.3g} t)", fontsize=8)
@@ -113,6 +145,11 @@ def mark_supports(ax, supports) -> str:
     supports : sequence of (float, str)
         (position [m], description) per support over the plotted length, the period's end included;
         an empty description for a nominal support ("ballast ×0.001" for a voided sleeper, say).
+
+    Returns
+    -------
+    str
+        The key for the axis label ("" without supports).
     """
     differs = {}
     for x, label in supports:
@@ -135,6 +172,10 @@ def footer(fig, notes) -> None:
     ----------
     fig : matplotlib Figure (constrained layout)
     notes : sequence of (str, colour)
+
+    Returns
+    -------
+    None
     """
     notes = [(t, c) for t, c in notes if t]
     if not notes:

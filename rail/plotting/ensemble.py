@@ -16,7 +16,17 @@ __all__ = ["band_interval_figure"]
 
 def band_interval_figure(ds: xr.Dataset):
     """Band spectrum of the growth rate: median over the members and its stated interval (shaded), each
-    member's band values as dots; dB per 100,000 axle passages over band centre wavelength (mm)."""
+    member's band values as dots; dB per 100,000 axle passages over band centre wavelength (mm).
+
+    Parameters
+    ----------
+    ds : xr.Dataset
+        The ensemble's band dataset (rail.studies.ensemble): rates [dB per 100000 axle passages] per member and band centre [m].
+
+    Returns
+    -------
+    matplotlib.figure.Figure
+    """
     fig, ax = plt.subplots(figsize=(7.5, 4.5), layout="constrained")
     x = ds["band"].values * 1e3
     q = ds.attrs["interval_quantiles"]

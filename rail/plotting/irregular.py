@@ -18,7 +18,20 @@ __all__ = ["case_figure", "summary_figure"]
 
 def case_figure(ds: xr.Dataset, title: str):
     """Four panels, each beside the uniform track: receptance above each support, force along the cell,
-    roughness after the run, growth-rate spectrum (pinned-pinned wavelength marked)."""
+    roughness after the run, growth-rate spectrum (pinned-pinned wavelength marked).
+
+    Parameters
+    ----------
+    ds : xr.Dataset
+        One irregular case beside the uniform track (workflow/scripts/irregular_case.py): receptance [m/N],
+        force [N], roughness [m] and growth rates [dB per 100000 axle passages].
+    title : str
+        The figure's title.
+
+    Returns
+    -------
+    matplotlib.figure.Figure
+    """
     fig, axs = plt.subplots(2, 2, figsize=(11, 8), layout="constrained")
     a, b, c, d = axs.ravel()
     f = ds["frequency"].values
@@ -78,7 +91,18 @@ def case_figure(ds: xr.Dataset, title: str):
 
 def summary_figure(table: xr.Dataset):
     """The pinned-pinned band's level after the run against the irregularity: the uniform track, the
-    named cases, and the random tracks (median and range over seeds per spread)."""
+    named cases, and the random tracks (median and range over seeds per spread).
+
+    Parameters
+    ----------
+    table : xr.Dataset
+        The study's summary (workflow/scripts/irregular_summary.py): pp_level_dB [dB re 1 µm] per case, its kind
+        and spacing spread [-].
+
+    Returns
+    -------
+    matplotlib.figure.Figure
+    """
     fig, ax = plt.subplots(figsize=(7.5, 4.5), layout="constrained")
     kind = table["kind"].values
     lvl = table["pp_level_dB"].values

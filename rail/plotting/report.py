@@ -35,7 +35,17 @@ def _new():
 
 
 def fig02(ds: xr.Dataset):
-    """Fig. 2: real (solid) and imaginary (dashed) parts of the folded integrand of eq (14)."""
+    """Fig. 2: real (solid) and imaginary (dashed) parts of the folded integrand of eq (14).
+
+    Parameters
+    ----------
+    ds : xr.Dataset
+        rail.studies.datasets.fig02's: the integrand over beta / beta_R [-].
+
+    Returns
+    -------
+    matplotlib.figure.Figure
+    """
     fig, ax = _new()
     beta = ds["wavenumber"]
     ax.plot(beta, ds["integrand_real"], "-", color="k", label="real part")
@@ -51,7 +61,17 @@ def fig02(ds: xr.Dataset):
 
 
 def fig03(ds: xr.Dataset):
-    """Fig. 3: beta G against wavenumber for beta >= 2 beta_R, with the limit of eq (15)."""
+    """Fig. 3: beta G against wavenumber for beta >= 2 beta_R, with the limit of eq (15).
+
+    Parameters
+    ----------
+    ds : xr.Dataset
+        rail.studies.datasets.fig03's: beta G over beta / beta_R [-].
+
+    Returns
+    -------
+    matplotlib.figure.Figure
+    """
     fig, ax = _new()
     ax.plot(ds["wavenumber"], ds["beta_G"], "-", color="k", label=r"$\beta G(\beta,\omega)$")
     ax.plot(ds["wavenumber"], ds["static_limit"], "--", color="tab:blue", label=r"$2(1-\nu^2)/E$, eq (15)")
@@ -63,7 +83,17 @@ def fig03(ds: xr.Dataset):
 
 
 def fig04(ds: xr.Dataset):
-    """Fig. 4: real part of eq (16) (solid) against Boussinesq's eq (17) (dashed)."""
+    """Fig. 4: real part of eq (16) (solid) against Boussinesq's eq (17) (dashed).
+
+    Parameters
+    ----------
+    ds : xr.Dataset
+        rail.studies.datasets.fig04's: displacement [m] per unit load over radius [m].
+
+    Returns
+    -------
+    matplotlib.figure.Figure
+    """
     fig, ax = _new()
     r_mm = 1e3 * ds["radius"]
     ax.plot(r_mm, ds["displacement_real"], "-", color="k", label="real part, eq (16)")
@@ -77,7 +107,17 @@ def fig04(ds: xr.Dataset):
 
 
 def fig05(ds: xr.Dataset):
-    """Fig. 5: power radiated into the half-space by a unit harmonic load."""
+    """Fig. 5: power radiated into the half-space by a unit harmonic load.
+
+    Parameters
+    ----------
+    ds : xr.Dataset
+        rail.studies.datasets.fig05's: radiated power [W] over frequency [Hz].
+
+    Returns
+    -------
+    matplotlib.figure.Figure
+    """
     fig, ax = _new()
     ax.plot(ds["frequency"], ds["radiated_power"], "-", color="k")
     ax.set_xlabel("frequency (Hz)")
@@ -87,7 +127,17 @@ def fig05(ds: xr.Dataset):
 
 
 def fig06(ds: xr.Dataset):
-    """Fig. 6: loss factor of the contact spring against frequency."""
+    """Fig. 6: loss factor of the contact spring against frequency.
+
+    Parameters
+    ----------
+    ds : xr.Dataset
+        rail.studies.datasets.fig06's: loss factor [-] over frequency [Hz].
+
+    Returns
+    -------
+    matplotlib.figure.Figure
+    """
     fig, ax = _new()
     ax.plot(ds["frequency"], ds["loss_factor"], "-", color="k")
     ax.set_xlabel("frequency (Hz)")
@@ -97,7 +147,17 @@ def fig06(ds: xr.Dataset):
 
 
 def fig08(ds: xr.Dataset):
-    """Fig. 8: position-history of the normal dynamic contact force (solid), roughness (dotted, not to scale)."""
+    """Fig. 8: position-history of the normal dynamic contact force (solid), roughness (dotted, not to scale).
+
+    Parameters
+    ----------
+    ds : xr.Dataset
+        rail.studies.datasets.fig08's: force [N] and roughness [m] over position [m].
+
+    Returns
+    -------
+    matplotlib.figure.Figure
+    """
     fig, ax = _new()
     x = ds["position"]
     ax.plot(x, ds["dynamic_force"] / 1e3, "-", color="k", label="dynamic contact force")
@@ -117,7 +177,17 @@ def fig08(ds: xr.Dataset):
 
 
 def fig22(ds: xr.Dataset):
-    """Fig. 22: normal contact force over a smooth rail at each speed (solid, dashed, ...)."""
+    """Fig. 22: normal contact force over a smooth rail at each speed (solid, dashed, ...).
+
+    Parameters
+    ----------
+    ds : xr.Dataset
+        rail.studies.datasets.fig22's: force [N] per speed over position [m].
+
+    Returns
+    -------
+    matplotlib.figure.Figure
+    """
     fig, ax = _new()
     styles = ["-", "--", "-.", ":"]
     for i, name in enumerate(v for v in ds.data_vars if v.startswith("force_V")):
@@ -135,7 +205,17 @@ def _case_title(ds):
 
 
 def fig09(ds: xr.Dataset):
-    """Fig. 9: position-history of the tangential contact force."""
+    """Fig. 9: position-history of the tangential contact force.
+
+    Parameters
+    ----------
+    ds : xr.Dataset
+        rail.studies.datasets.fig09's: tangential force [N] over position [m].
+
+    Returns
+    -------
+    matplotlib.figure.Figure
+    """
     fig, ax = _new()
     ax.plot(ds["position"], ds["tangential_force"] / 1e3, "-", color="k")
     ax.set_xlabel("wheel position in the sleeper bay (m)")
@@ -160,18 +240,48 @@ def _instants(ds, scale, ylabel):
 
 
 def fig10(ds: xr.Dataset):
-    """Fig. 10: tangential contact stress at five instants of one excitation period."""
+    """Fig. 10: tangential contact stress at five instants of one excitation period.
+
+    Parameters
+    ----------
+    ds : xr.Dataset
+        rail.studies.datasets.fig10_11's traction [Pa] across the patch [m] at each instant [s].
+
+    Returns
+    -------
+    matplotlib.figure.Figure
+    """
     return _instants(ds, 1e-6, "tangential contact stress (MPa)")
 
 
 def fig11(ds: xr.Dataset):
-    """Fig. 11: slip velocity at five instants (meaningless outside the patch, plotted as 0)."""
+    """Fig. 11: slip velocity at five instants (meaningless outside the patch, plotted as 0).
+
+    Parameters
+    ----------
+    ds : xr.Dataset
+        rail.studies.datasets.fig10_11's slip velocity [m/s] across the patch [m] at each instant [s].
+
+    Returns
+    -------
+    matplotlib.figure.Figure
+    """
     return _instants(ds, 1.0, "slip velocity (m/s)")
 
 
 def fig_wear(ds: xr.Dataset):
     """Figs 12, 14, 16, 18: wear (solid), initial roughness (dotted) and dynamic force (dashed), the
-    last two scaled to the wear's range (not to scale, as in the report)."""
+    last two scaled to the wear's range (not to scale, as in the report).
+
+    Parameters
+    ----------
+    ds : xr.Dataset
+        rail.studies.datasets.fig_wear's: wear depth [m], roughness [m] and dynamic force [N] over position [m].
+
+    Returns
+    -------
+    matplotlib.figure.Figure
+    """
     fig, ax = _new()
     x = ds["position"]
     wear = ds["wear_depth"] * 1e9
@@ -190,7 +300,17 @@ def fig_wear(ds: xr.Dataset):
 
 
 def fig_wear_spectrum(ds: xr.Dataset):
-    """Figs 13, 15, 17, 19: amplitude spectrum of the wear after one passage."""
+    """Figs 13, 15, 17, 19: amplitude spectrum of the wear after one passage.
+
+    Parameters
+    ----------
+    ds : xr.Dataset
+        rail.studies.datasets.fig_wear_spectrum's: wear amplitude [m] over wavenumber [rad/m].
+
+    Returns
+    -------
+    matplotlib.figure.Figure
+    """
     fig, ax = _new()
     ax.plot(ds["wavenumber"], ds["wear_spectrum"] * 1e12, "-o", color="k", ms=2.5)
     ax.set_xlabel("wavenumber (rad/m)")
@@ -215,14 +335,35 @@ def _speed_text(ds) -> str:
 
 def uniform_supports(ds):
     """The sleepers over a growth dataset's period, every L = period / N from 0 (0 above a sleeper) to the
-    period's end, as (position [m], "") pairs for rail.plotting.axes.mark_supports."""
+    period's end, as (position [m], "") pairs for rail.plotting.axes.mark_supports.
+
+    Parameters
+    ----------
+    ds : xr.Dataset
+        A growth dataset (its period and bays).
+
+    Returns
+    -------
+    list of tuple of (float, str)
+        (position [m], "") per sleeper, the period's end included.
+    """
     N = int(ds.attrs.get("bays", 1))
     x = ds["position"].values
     return [(float(x[0] + j * (x[-1] - x[0]) / N), "") for j in range(N + 1)]
 
 
 def growth_profiles(ds: xr.Dataset):
-    """Figs 20, 21: roughness profiles every saved passage count (10,000 apart), offset for clarity."""
+    """Figs 20, 21: roughness profiles every saved passage count (10,000 apart), offset for clarity.
+
+    Parameters
+    ----------
+    ds : xr.Dataset
+        A growth dataset (rail.studies.datasets.growth): levels [dB re 1 µm], profiles [m] over position [m].
+
+    Returns
+    -------
+    matplotlib.figure.Figure
+    """
     fig, ax = _new()
     names = list(ds.data_vars)
     vals = [ds[n].values * 1e6 for n in names]
@@ -237,7 +378,17 @@ def growth_profiles(ds: xr.Dataset):
 
 
 def growth_spectra(ds: xr.Dataset):
-    """Figs 23, 25, 26, 27: roughness level spectra of several runs (solid, dashed, dash-dot, dotted)."""
+    """Figs 23, 25, 26, 27: roughness level spectra of several runs (solid, dashed, dash-dot, dotted).
+
+    Parameters
+    ----------
+    ds : xr.Dataset
+        rail.studies.datasets.growth_figure's spectra: levels [dB re 1 µm] per run over wavenumber [rad/m].
+
+    Returns
+    -------
+    matplotlib.figure.Figure
+    """
     fig, ax = _new()
     for style, name in zip(_STYLES, ds.data_vars):
         ax.plot(ds["wavenumber"], ds[name], linestyle=style, color="k", label=ds[name].attrs.get("label", name))
@@ -248,7 +399,17 @@ def growth_spectra(ds: xr.Dataset):
 
 
 def growth_final_profiles(ds: xr.Dataset):
-    """Fig. 24: final roughness profiles of two runs (solid, dashed)."""
+    """Fig. 24: final roughness profiles of two runs (solid, dashed).
+
+    Parameters
+    ----------
+    ds : xr.Dataset
+        rail.studies.datasets.growth_figure's final profiles [m] per run over position [m].
+
+    Returns
+    -------
+    matplotlib.figure.Figure
+    """
     fig, ax = _new()
     for style, name in zip(_STYLES, ds.data_vars):
         ax.plot(ds["position"], ds[name] * 1e6, linestyle=style, color="k", label=ds[name].attrs.get("label", name))
@@ -275,6 +436,10 @@ def growth_3d(ds: xr.Dataset, axis: str = "wavenumber", name: str = ""):
         scale; the slope along the passage axis is the growth rate either way.
     name : str
         The scenario, named in the title when given.
+
+    Returns
+    -------
+    matplotlib.figure.Figure
     """
     if axis not in ("wavenumber", "wavelength"):
         raise ValueError(f"growth_3d: axis = {axis!r} is not allowed: it must be 'wavenumber' or 'wavelength'")
@@ -317,7 +482,19 @@ def growth_narrowband(ds: xr.Dataset, supports=None):
     wavelength (frequency at the run's speed on top) at the first, middle and last saved passage
     counts, with the lines of the one-bay comb L / k (every N-th wavenumber) marked; (right) the
     profiles over the N bays with the supports marked (``supports``: (position [m], description)
-    pairs as rail.plotting.axes.mark_supports takes them; default every sleeper of uniform track)."""
+    pairs as rail.plotting.axes.mark_supports takes them; default every sleeper of uniform track).
+
+    Parameters
+    ----------
+    ds : xr.Dataset
+        A growth dataset (rail.studies.datasets.growth): levels [dB re 1 µm], profiles [m] over position [m].
+    supports : sequence of (float, str), optional
+        (position [m], description) per support (uniform_supports by default).
+
+    Returns
+    -------
+    matplotlib.figure.Figure
+    """
     N = int(ds.attrs.get("bays", 1))
     fig, (a1, a2) = plt.subplots(1, 2, figsize=(11.0, 4.2), layout="constrained")
     lam = 2 * np.pi / ds["wavenumber"].values * 1e3
@@ -355,7 +532,18 @@ def band_spectra(ds: xr.Dataset):
     (the law the data prefer marked: o linear, ^ exponential); (right) the amplitude growth rate in µm
     per 100,000 axle passages, which ranks the bands where growth is linear (from a smooth rail every
     such band's dB rate is the same, about 8.7 dB at 100,000 passages). Wavelength decreases to the
-    right with the band's frequency at the run's speed on top; one key beside the panels."""
+    right with the band's frequency at the run's speed on top; one key beside the panels.
+
+    Parameters
+    ----------
+    ds : xr.Dataset
+        A band dataset (rail.studies.bands): band levels [dB re 1 µm], growth rates [dB per 100000 axle passages]
+        and [µm per 100000 axle passages] per band centre [m].
+
+    Returns
+    -------
+    matplotlib.figure.Figure
+    """
     fig, (a1, a2, a3) = plt.subplots(1, 3, figsize=(15.0, 4.6), layout="constrained")
     lam = ds["nominal_wavelength"].values * 1e3
     n = ds["passage"].values
@@ -429,7 +617,24 @@ def sweep_panels(ds: xr.Dataset, name: str, across: str, extra_width: float = 0.
     """The layout of a map over a sweep: ``across`` along x, the first swept key up, one panel per
     value of a second swept key (the first value of any further key). Returns (z, keys, second,
     panels, fig, axes): the variable with the further keys fixed, the swept keys, the second key (or
-    None), the panel indices and the figure with its row of axes."""
+    None), the panel indices and the figure with its row of axes.
+
+    Parameters
+    ----------
+    ds : xr.Dataset
+        A dataset over a sweep's grid.
+    name : str
+        The variable mapped.
+    across : str
+        Its dimension along x.
+    extra_width : float
+        Room added to the figure's width [in].
+
+    Returns
+    -------
+    tuple
+        (z, keys, second, panels, fig, axes).
+    """
     keys = [d for d in ds[name].dims if d != across]
     z = ds[name]
     for k in keys[2:]:
@@ -443,7 +648,17 @@ def sweep_panels(ds: xr.Dataset, name: str, across: str, extra_width: float = 0.
 def sweep_band_map(ds: xr.Dataset):
     """Level growth rate per one-third-octave band over a sweep (dB per 100,000 axle passages, as the
     band export): band wavelength across, the first swept key up; one panel per value of a second
-    swept key (the first value of any further key)."""
+    swept key (the first value of any further key).
+
+    Parameters
+    ----------
+    ds : xr.Dataset
+        A sweep's band dataset: growth_dB_per_1e5_axles [dB per 100000 axle passages] per band over the grid.
+
+    Returns
+    -------
+    matplotlib.figure.Figure
+    """
     z, keys, second, panels, fig, axes = sweep_panels(ds, "growth_dB_per_1e5_axles", "band")
     lam = ds["nominal_wavelength"].values * 1e3
     lim = float(np.nanmax(np.abs(z.values))) if np.isfinite(z.values).any() else 1.0
@@ -463,7 +678,17 @@ def sweep_band_map(ds: xr.Dataset):
 
 def sweep_map(ds: xr.Dataset):
     """Growth rate of the fastest-growing wavelength over a sweep's grid (map for two swept keys,
-    lines for one or more than two)."""
+    lines for one or more than two).
+
+    Parameters
+    ----------
+    ds : xr.Dataset
+        rail.studies.datasets.sweep's: the fastest growth [µm per 100000 axle passages] on the grid.
+
+    Returns
+    -------
+    matplotlib.figure.Figure
+    """
     fig, ax = _new()
     dims = [d for d in ds["max_amplitude_growth_um_per_1e5_axles"].dims]
     z = ds["max_amplitude_growth_um_per_1e5_axles"]
@@ -514,7 +739,18 @@ def level_change(ds: xr.Dataset):
     """Change in level of every line since a reference state [dB]: the initial state where it has a
     level, else (a smooth rail) the first saved state with a level. Returns (change, ref): change of
     shape (passage, harmonic), NaN where a line has no level at the reference or at that state; ref
-    the index of the reference state (None when no state has a level)."""
+    the index of the reference state (None when no state has a level).
+
+    Parameters
+    ----------
+    ds : xr.Dataset
+        A growth dataset (levels [dB re 1 µm] per passage and harmonic).
+
+    Returns
+    -------
+    tuple of (ndarray, int or None)
+        (change [dB], ref).
+    """
     level = ds["level"].values
     has = np.isfinite(level).any(axis=1)
     if not has.any():
@@ -536,6 +772,23 @@ def scenario_overview(ds: xr.Dataset, default: xr.Dataset | None = None, name: s
     on (c) and (d) the supports (``supports``: (position [m], description) pairs as
     rail.plotting.axes.mark_supports takes them; default every sleeper of uniform track).
     Wavelength decreases to the right, with the frequency at the run's speed on top.
+
+    Parameters
+    ----------
+    ds : xr.Dataset
+        A growth dataset (rail.studies.datasets.growth): levels [dB re 1 µm], profiles [m] over position [m].
+    default : xr.Dataset, optional
+        The default scenario's run at the same speed [m/s].
+    name : str
+        The scenario, in the title.
+    default_note : str
+        Why there is no default run to compare with.
+    supports : sequence of (float, str), optional
+        (position [m], description) per support (uniform_supports by default).
+
+    Returns
+    -------
+    matplotlib.figure.Figure
     """
     fig, axes = plt.subplots(2, 2, figsize=(13.0, 8.5), layout="constrained")
     (a1, a4), (a2, a3) = axes

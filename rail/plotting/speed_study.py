@@ -18,7 +18,18 @@ _TICKS_HZ = (50, 100, 200, 500, 1000, 2000, 5000)  # round frequencies, written 
 
 def speed_study_figure(ds: xr.Dataset):
     """Growth rate (dB per 100,000 axles) against the passing frequency, one curve per speed, a panel per
-    mechanism (columns) and track (rows); the pinned-pinned frequency and zero growth marked."""
+    mechanism (columns) and track (rows); the pinned-pinned frequency and zero growth marked.
+
+    Parameters
+    ----------
+    ds : xr.Dataset
+        rail.studies.speed_study.study_dataset's: rates [dB per 100000 axle passages] per mechanism, track,
+        speed [m/s] and frequency [Hz].
+
+    Returns
+    -------
+    matplotlib.figure.Figure
+    """
     mechs = list(dict.fromkeys(ds["mechanism"].values.tolist()))
     tracks = list(dict.fromkeys(ds["track"].values.tolist()))
     fig, axs = plt.subplots(len(tracks), len(mechs), figsize=(2.9 * len(mechs) + 1, 2.6 * len(tracks) + 0.8), sharex=True, sharey=True,

@@ -39,7 +39,17 @@ def _closure_lines(ds):
 
 def closure_spectra(ds: xr.Dataset):
     """Closure study: roughness level spectra after the last passage per closure value (as Fig. 23),
-    one panel per speed. Closure values that are not well-posed are marked in the legend."""
+    one panel per speed. Closure values that are not well-posed are marked in the legend.
+
+    Parameters
+    ----------
+    ds : xr.Dataset
+        rail.studies.closure.closure_study's: levels [dB re 1 µm] per closure value, speed [m/s] and harmonic.
+
+    Returns
+    -------
+    matplotlib.figure.Figure
+    """
     V = ds["speed"].values
     fig, axes = plt.subplots(1, len(V), figsize=(6.0 * len(V), 4.2), layout="constrained", squeeze=False)
     sel = ds["wavenumber"].values <= ds.attrs["spectrum_max_wavenumber_rad_per_m"]
@@ -56,7 +66,17 @@ def closure_spectra(ds: xr.Dataset):
 
 def closure_wear_spectra(ds: xr.Dataset):
     """Closure study: wear spectra of one passage over a harmonic roughness (Figs 13, 15, 17, 19)
-    per closure value, one panel per excitation frequency."""
+    per closure value, one panel per excitation frequency.
+
+    Parameters
+    ----------
+    ds : xr.Dataset
+        rail.studies.closure.closure_study's: wear spectra [m] per closure value and frequency [Hz].
+
+    Returns
+    -------
+    matplotlib.figure.Figure
+    """
     F = ds["frequency"].values
     fig, axes = plt.subplots(2, (len(F) + 1) // 2, figsize=(11.0, 7.0), layout="constrained", squeeze=False)
     sel = ds["wavenumber"].values <= ds.attrs["spectrum_max_wavenumber_rad_per_m"]
@@ -77,7 +97,17 @@ _QUANTITY_TEXT = {"force": "normal force along the bay (Fig. 22)", "wear": "wear
 
 def convergence_figure(ds: xr.Dataset):
     """Error against CPU time, log-log, one panel per quantity and a line per setting; the default
-    value is a filled marker, the others open; each point is labelled with its value."""
+    value is a filled marker, the others open; each point is labelled with its value.
+
+    Parameters
+    ----------
+    ds : xr.Dataset
+        rail.studies.convergence.convergence_dataset's: error [-] and CPU time [s] per point.
+
+    Returns
+    -------
+    matplotlib.figure.Figure
+    """
     quantities = list(dict.fromkeys(ds["quantity"].values))
     fig, axes = plt.subplots(1, len(quantities), figsize=(5.0 * len(quantities), 4.2), layout="constrained", squeeze=False)
     markers = ["o", "s", "^", "D", "v"]
@@ -134,7 +164,18 @@ def rate_spectrum_figure(ds: xr.Dataset):
     """Growth-rate spectrum: the level change per 100,000 axle passages (growth_dB_per_1e5_axles, the
     export convention) over wavelength, one line
     per speed (top), and the speed x wavelength map (bottom); comb lines L/k marked. With one speed
-    only the line (a map of one speed would smear it over an invented speed range)."""
+    only the line (a map of one speed would smear it over an invented speed range).
+
+    Parameters
+    ----------
+    ds : xr.Dataset
+        A spectrum dataset over speed [m/s] and wavelength [m] (growth_dB_per_1e5_axles [dB per 100000 axle
+        passages]).
+
+    Returns
+    -------
+    matplotlib.figure.Figure
+    """
     one = ds.sizes["speed"] == 1
     if one:
         fig, ax = plt.subplots(figsize=(7.5, 4.2), layout="constrained")
@@ -230,7 +271,18 @@ def _mark_contact(ds: xr.Dataset, axes, lam_edges):
 
 def rate_spectrum_sweep_figure(ds: xr.Dataset):
     """Growth-rate spectrum over a sweep (growth_dB_per_1e5_axles): wavelength across, the first swept
-    key up, one panel per value of a second swept key (the first value of any further key)."""
+    key up, one panel per value of a second swept key (the first value of any further key).
+
+    Parameters
+    ----------
+    ds : xr.Dataset
+        The spectra of a sweep's points on its grid (growth_dB_per_1e5_axles [dB per 100000 axle passages] over
+        wavelength [m]).
+
+    Returns
+    -------
+    matplotlib.figure.Figure
+    """
     z, keys, second, panels, fig, axes = sweep_panels(ds, "growth_dB_per_1e5_axles", "wavelength", extra_width=1.0)
     lam_edges = _wavelength_edges(ds["wavelength"].values * 1e3)
     norm, ticks = _growth_norm(z.values)
@@ -252,7 +304,20 @@ def fleet_spectrum_figure(ds: xr.Dataset, title: str = ""):
     """Growth-rate spectrum under a fleet (rail.studies.fleet.fleet_spectrum_dataset): the level change
     per 100,000 axle passages of the traffic over wavelength (thick), each class's contribution (thin;
     they sum to the total at a free line), the pinned-pinned wavelength at the mean speed (dotted) and
-    the comb L/k (grey)."""
+    the comb L/k (grey).
+
+    Parameters
+    ----------
+    ds : xr.Dataset
+        rail.studies.fleet.fleet_spectrum_dataset's: rates [dB per 100000 axle passages] over wavelength [m], total
+        and per class.
+    title : str
+        The figure's title ("": the dataset's own).
+
+    Returns
+    -------
+    matplotlib.figure.Figure
+    """
     fig, ax = plt.subplots(figsize=(7.5, 4.5), layout="constrained")
     lam = ds["wavelength"].values * 1e3
     per_axle = 1.0 / float(ds.attrs["axles_per_train"])
@@ -281,7 +346,18 @@ def fleet_spectrum_figure(ds: xr.Dataset, title: str = ""):
 
 def traffic_study_figure(ds: xr.Dataset):
     """The traffic study: growth-rate spectrum per case (one line per speed spread, a panel per drive),
-    dB per 100,000 axle passages over wavelength, the pinned-pinned wavelength marked."""
+    dB per 100,000 axle passages over wavelength, the pinned-pinned wavelength marked.
+
+    Parameters
+    ----------
+    ds : xr.Dataset
+        The traffic study's dataset: rates [dB per 100000 axle passages] per drive, speed spread [-] and
+        wavelength [m].
+
+    Returns
+    -------
+    matplotlib.figure.Figure
+    """
     drives = list(ds["drive"].values)
     fig, axes = plt.subplots(1, len(drives), figsize=(5.2 * len(drives), 4.5), layout="constrained", sharey=True, squeeze=False)
     lam = ds["wavelength"].values * 1e3

@@ -20,8 +20,16 @@ def count(n, significant: int = 3) -> str:
     """A count with thousands separators: an integer exactly (``10000`` -> ``"10,000"``), any other
     number rounded to ``significant`` figures (``82345.6`` -> ``"82,300"``).
 
-    n : int or float, a count of passages, days, members, ... (finite).
-    significant : significant figures kept for a non-integer, >= 1.
+    Parameters
+    ----------
+    n : int or float
+        A count of passages, days, members, ... [-] (finite).
+    significant : int
+        Significant figures kept for a non-integer, >= 1.
+
+    Returns
+    -------
+    str
     """
     if isinstance(n, numbers.Integral):  # numpy integers too
         return f"{int(n):,}"
@@ -38,19 +46,53 @@ def count(n, significant: int = 3) -> str:
 
 
 def passages(n) -> str:
-    """``"82,300 passages"`` (``"1 passage"``)."""
+    """``"82,300 passages"`` (``"1 passage"``).
+
+    Parameters
+    ----------
+    n : int or float
+        Passages [-].
+
+    Returns
+    -------
+    str
+    """
     return f"{count(n)} passage{'' if n == 1 else 's'}"
 
 
 def after(n) -> str:
-    """The time of a saved state: ``"initially"`` at 0 passages, ``"after 82,300 passages"`` otherwise."""
+    """The time of a saved state: ``"initially"`` at 0 passages, ``"after 82,300 passages"`` otherwise.
+
+    Parameters
+    ----------
+    n : int or float
+        Passages [-].
+
+    Returns
+    -------
+    str
+    """
     return "initially" if n == 0 else f"after {passages(n)}"
 
 
 def limit_reached(n, days: float = float("nan"), band_mm: float | None = None) -> str:
     """The grinding interval in words: ``"limit reached after 82,300 passages (95 days) in the
     31.5 mm band"``, or ``"limit already exceeded initially (in the 31.5 mm band)"`` when the
-    interval is 0 passages; ``days`` NaN when the traffic is not given."""
+    interval is 0 passages; ``days`` NaN when the traffic is not given.
+
+    Parameters
+    ----------
+    n : int or float
+        The grinding interval [passages].
+    days : float
+        The same in days [d] (NaN: no traffic given).
+    band_mm : float, optional
+        The band that reaches its limit first [mm].
+
+    Returns
+    -------
+    str
+    """
     band = f" in the {band_mm:g} mm band" if band_mm is not None else ""
     if n <= 0:
         return f"limit already exceeded initially{f' ({band.strip()})' if band else ''}"
@@ -60,7 +102,19 @@ def limit_reached(n, days: float = float("nan"), band_mm: float | None = None) -
 
 def number(x, significant: int = 3) -> str:
     """A parameter value for a title or tick: ``"40"``, ``"0.25"``, ``"3.5×10⁸"`` (powers of ten
-    for magnitudes from 10⁵ and below 10⁻³, never ``"3.5e+08"``)."""
+    for magnitudes from 10⁵ and below 10⁻³, never ``"3.5e+08"``).
+
+    Parameters
+    ----------
+    x : float
+        The value, in the unit the caller writes beside it [-].
+    significant : int
+        Significant figures.
+
+    Returns
+    -------
+    str
+    """
     x = float(x)
     if x == 0 or not math.isfinite(x):
         return f"{x:g}"
@@ -83,6 +137,11 @@ def validity_notes(attrs) -> list:
     ----------
     attrs : mapping
         The plotted dataset's attributes (wear_path, contact_shift_warning).
+
+    Returns
+    -------
+    list of tuple of (str, str)
+        (text, colour) per note.
     """
     warning = attrs.get("contact_shift_warning")
     if warning:
@@ -104,6 +163,10 @@ def validity_note(fig, attrs, extra=()) -> None:
         The plotted dataset's attributes (wear_path, contact_shift_warning).
     extra : sequence of (str, colour)
         Notes of the figure itself, first.
+
+    Returns
+    -------
+    None
     """
     from .axes import footer
 

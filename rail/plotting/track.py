@@ -35,7 +35,17 @@ def _mark(ax, f, label, y=0.03):
 
 def track_receptance(ds: xr.Dataset):
     """Magnitude and phase of the vertical point receptance above a sleeper (solid) and at
-    mid-span (dashed), with the characteristic frequencies marked (dotted)."""
+    mid-span (dashed), with the characteristic frequencies marked (dotted).
+
+    Parameters
+    ----------
+    ds : xr.Dataset
+        rail.studies.characterisation.track_receptance's: receptance [m/N] over frequency [Hz].
+
+    Returns
+    -------
+    matplotlib.figure.Figure
+    """
     fig, (ax_m, ax_p) = plt.subplots(2, 1, figsize=(6.5, 6.0), sharex=True, layout="constrained", height_ratios=(2, 1))
     f = ds["frequency"]
     for key, style, label in (("sleeper", "-", "above a sleeper, x = 0"), ("midspan", "--", "mid-span, x = L/2")):
@@ -62,7 +72,17 @@ def track_receptance(ds: xr.Dataset):
 
 def moving_receptance(ds: xr.Dataset):
     """abs(a_0) of a moving harmonic load at the contact point for each speed (coloured) and the
-    stationary point receptance averaged over the bay (black dashed)."""
+    stationary point receptance averaged over the bay (black dashed).
+
+    Parameters
+    ----------
+    ds : xr.Dataset
+        rail.studies.characterisation.moving_receptance's: a_0 [m/N] over speed [m/s] and frequency [Hz].
+
+    Returns
+    -------
+    matplotlib.figure.Figure
+    """
     fig, ax = plt.subplots(figsize=(6.5, 4.5), layout="constrained")
     f = ds["frequency"]
     speeds = ds["speed"].values
@@ -87,7 +107,19 @@ def track_decay_rate(ds: xr.Dataset, measured: xr.Dataset | None = None):
     """Vertical track decay rate in one-third-octave bands, excited above a sleeper (circles) and
     at mid-span (squares) with EN 15461-like positions, dotted with far positions sampling the
     whole bay; a measured decay rate (``measured_decay_rate`` over ``measured_band_centre``), if
-    given, on the same axes."""
+    given, on the same axes.
+
+    Parameters
+    ----------
+    ds : xr.Dataset
+        rail.studies.characterisation.track_decay_rate's: decay rate [dB/m] per band centre [Hz].
+    measured : xr.Dataset, optional
+        A measured decay rate (rail.studies.characterisation.measured_decay_rate).
+
+    Returns
+    -------
+    matplotlib.figure.Figure
+    """
     fig, ax = plt.subplots(figsize=(6.5, 4.5), layout="constrained")
     fc = ds["band_centre"].values
     L = ds.attrs.get("sleeper_spacing_m", np.nan)

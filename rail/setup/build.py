@@ -93,7 +93,18 @@ class NoiseSettings:
 
 
 def noise_settings(cfg: dict) -> NoiseSettings:
-    """figures.noise of a resolved configuration, each absent key at the schema's default (setting)."""
+    """figures.noise of a resolved configuration, each absent key at the schema's default (setting).
+
+    Parameters
+    ----------
+    cfg : dict
+        A resolved, validated configuration (rail.setup.config.resolve), SI units.
+
+    Returns
+    -------
+    NoiseSettings
+        Traffic [1/h], axles per vehicle, wheel and sleeper types, pad class, the grinding rule and its targets [dB(A)].
+    """
     def get(key):
         return setting(cfg, f"figures.noise.{key}")
 
@@ -107,19 +118,52 @@ def noise_settings(cfg: dict) -> NoiseSettings:
 
 def elastic(cfg: dict) -> ElasticMaterial:
     """Rail steel as an elastic half-space (config key ``material``): all that Figs 2-6 read of the
-    physics."""
+    physics.
+
+    Parameters
+    ----------
+    cfg : dict
+        A resolved, validated configuration (rail.setup.config.resolve), SI units.
+
+    Returns
+    -------
+    ElasticMaterial
+        Young's modulus [Pa], Poisson's ratio [-], density [kg/m^3].
+    """
     m = cfg["material"]
     return ElasticMaterial(float(m["youngs_modulus"]), float(m["poisson_ratio"]), float(m["density"]))
 
 
 def halfspace_numerics(cfg: dict) -> HalfSpaceNumerics:
-    """Quadrature settings of eq (16) (config key ``numerics.halfspace``)."""
+    """Quadrature settings of eq (16) (config key ``numerics.halfspace``).
+
+    Parameters
+    ----------
+    cfg : dict
+        A resolved, validated configuration (rail.setup.config.resolve), SI units.
+
+    Returns
+    -------
+    HalfSpaceNumerics
+        Relative tolerance [-] and subdivision limit [-] of the quadrature.
+    """
     n = cfg["numerics"]["halfspace"]
     return HalfSpaceNumerics(epsrel=float(n["epsrel"]), limit=int(n["limit"]))
 
 
 def halfspace_figures(cfg: dict) -> HalfSpaceFigureSettings:
-    """Settings of Figs 2-6 (config key ``figures.halfspace`` and ``contact.hertz_stiffness``)."""
+    """Settings of Figs 2-6 (config key ``figures.halfspace`` and ``contact.hertz_stiffness``).
+
+    Parameters
+    ----------
+    cfg : dict
+        A resolved, validated configuration (rail.setup.config.resolve), SI units.
+
+    Returns
+    -------
+    HalfSpaceFigureSettings
+        Frequencies [Hz] and contact radii [m] of Figs 2-6, the contact stiffness [N/m].
+    """
     f = cfg["figures"]["halfspace"]
     return HalfSpaceFigureSettings(
         frequency=float(f["frequency"]),
@@ -133,7 +177,18 @@ def halfspace_figures(cfg: dict) -> HalfSpaceFigureSettings:
 def track(cfg: dict) -> tuple[Track, TrackNumerics]:
     """The track and its receptance numerics alone (config keys ``track``, ``numerics.track``): what a
     receptance table depends on. Raises ConfigError if the rail damping is too small for the
-    moving-load integrals."""
+    moving-load integrals.
+
+    Parameters
+    ----------
+    cfg : dict
+        A resolved, validated configuration (rail.setup.config.resolve), SI units.
+
+    Returns
+    -------
+    tuple of (Track, TrackNumerics)
+        The track (SI units) and its harmonics K per bay [-] and relative tolerance [-].
+    """
     tr = _track(cfg)
     if (problem := damping_problem(tr)) is not None:
         raise ConfigError(f"invalid configuration:\n  {problem}")
@@ -144,7 +199,18 @@ def track(cfg: dict) -> tuple[Track, TrackNumerics]:
 def track_cell(cfg: dict) -> TrackCell | None:
     """The track's cell of N bays (config key ``track.cell``, rail.cell.make_cell), or None for
     identical supports at equal spacing. Raises ConfigError naming the key if a list has the wrong
-    length."""
+    length.
+
+    Parameters
+    ----------
+    cfg : dict
+        A resolved, validated configuration (rail.setup.config.resolve), SI units.
+
+    Returns
+    -------
+    TrackCell or None
+        The cell's supports (spacing [m], factors [-] of pad, ballast and sleeper mass, dampers).
+    """
     c = cfg["track"].get("cell")
     if c is None:
         return None
@@ -287,7 +353,20 @@ def _record_bays(cfg: dict, source: str) -> int:
 
 def physics_problems(cfg: dict, source: str) -> list[str]:
     """Constraints that need physics to state: rail damping for the moving-load integrals, and
-    numerics.track.harmonics reaching the pinned-pinned frequency at every configured speed."""
+    numerics.track.harmonics reaching the pinned-pinned frequency at every configured speed.
+
+    Parameters
+    ----------
+    cfg : dict
+        A resolved, validated configuration (rail.setup.config.resolve), SI units.
+    source : str
+        Where the configuration comes from, at the start of each line.
+
+    Returns
+    -------
+    list of str
+        One line per broken constraint, [] when there is none.
+    """
     out = []
     tr = _track(cfg)
     if (problem := damping_problem(tr)) is not None:
@@ -405,7 +484,27 @@ def model_notes(scn: Scenario) -> list[str]:
 def spectrum_scenario(cfg: dict, name: str = "default", source: str = "config") -> Scenario:
     """The Scenario of a growth-rate spectrum (``figures.rate_spectrum``): the configuration's, about
     the smooth rail, with the spectrum's roughness period N = figures.rate_spectrum.bays (its lines
-    2 pi j / (N L), rail.growth_spectrum)."""
+    2 pi j / (N L), rail.growth_spectrum).
+
+    Parameters
+    ----------
+    cfg : dict
+        A resolved, validated configuration (rail.setup.config.resolve), SI units.
+    name : str
+        The scenario's name (results/<...>/<name>/).
+    source : str
+        Where the configuration comes from (a scenario file), named in every message.
+
+    Returns
+    -------
+    Scenario
+        About the smooth rail, its roughness period the spectrum's N bays.
+
+    Raises
+    ------
+    ConfigError
+        A spectrum period other than the track cell's, or a physics constraint broken (physics_problems).
+    """
     bays = int(cfg["figures"]["rate_spectrum"]["bays"])
     cell = cfg["track"].get("cell")
     if cell is not None and int(cell["bays"]) != bays:
@@ -430,6 +529,25 @@ def passage_scenario(cfg: dict, name: str = "default", source: str = "config") -
     Without ``wear`` (the forces alone) the wear law is None; the growth settings, the initial
     roughness and the traffic, which one passage never reads, are None, and the speeds are those of
     the figures in ``cfg`` (checked like the scenario's: physics_problems).
+
+    Parameters
+    ----------
+    cfg : dict
+        A resolved, validated configuration (rail.setup.config.resolve), SI units.
+    name : str
+        The scenario's name (results/<...>/<name>/).
+    source : str
+        Where the configuration comes from (a scenario file), named in every message.
+
+    Returns
+    -------
+    Scenario
+        One wheel (wheels.positions not read), speeds [m/s] of the figures.
+
+    Raises
+    ------
+    ConfigError
+        Every physics constraint the configuration breaks (physics_problems), naming ``source``.
     """
     problems = physics_problems(cfg, source)
     if problems:
@@ -460,6 +578,19 @@ def scenario(cfg: dict, name: str = "default", source: str = "config") -> Scenar
     growth settings, the initial roughness, the speeds, the traffic and the track's cell added.
     Raises ConfigError listing every physics constraint the configuration breaks (physics_problems),
     with ``source`` (the scenario file) in each line.
+
+    Parameters
+    ----------
+    cfg : dict
+        A resolved, validated configuration (rail.setup.config.resolve), SI units.
+    name : str
+        The scenario's name (results/<...>/<name>/).
+    source : str
+        Where the configuration comes from (a scenario file), named in every message.
+
+    Returns
+    -------
+    Scenario
     """
     passage = passage_scenario(cfg, name, source)
     g = cfg["growth"]
@@ -481,6 +612,15 @@ def fleet(cfg: dict) -> Fleet | None:
 
     Raises ConfigError naming the key if a vehicle or the speed distribution is not allowed (the
     schema and rail.setup.config's cross-checks have refused most of it already).
+
+    Parameters
+    ----------
+    cfg : dict
+        A resolved, validated configuration (rail.setup.config.resolve), SI units.
+
+    Returns
+    -------
+    rail.fleet.Fleet or None
     """
     f = cfg.get("fleet")
     if f is None:
@@ -498,6 +638,19 @@ def fleet_classes(cfg: dict, scn: Scenario) -> tuple:
     """The (vehicle, speed) classes of the configuration's fleet (rail.fleet.Fleet.classes), each the
     scenario ``scn`` with the vehicle's wheels, contact spring (scaled from the load
     ``wheels.static_load`` that ``contact.hertz_stiffness`` is given for) and per-axle creepage, at
-    one speed; () without a fleet."""
+    one speed; () without a fleet.
+
+    Parameters
+    ----------
+    cfg : dict
+        A resolved, validated configuration (rail.setup.config.resolve), SI units.
+    scn : Scenario
+        The scenario each class starts from (scenario or spectrum_scenario of ``cfg``).
+
+    Returns
+    -------
+    tuple of rail.fleet.FleetClass
+        In the fleet's order, each with its speed [m/s] and share [-].
+    """
     fl = fleet(cfg)
     return () if fl is None else fl.classes(scn, float(cfg["wheels"]["static_load"]))

@@ -80,7 +80,22 @@ def _check_expanded_size(node, path) -> None:
 
 def load_yaml(path) -> dict:
     """Read a YAML mapping; an empty file gives an empty dict. A key given twice in one mapping is
-    an error naming the file and the line."""
+    an error naming the file and the line.
+
+    Parameters
+    ----------
+    path : str or Path
+        The YAML file.
+
+    Returns
+    -------
+    dict
+
+    Raises
+    ------
+    ConfigError
+        Not YAML text, a key given twice, or not a mapping: naming the file and the line.
+    """
     path = Path(path)
     with path.open() as fh:
         try:
@@ -108,7 +123,20 @@ def load_yaml(path) -> dict:
 
 
 def deep_merge(base: dict, override: dict) -> dict:
-    """Return a copy of ``base`` with ``override`` merged in (nested mappings merge, the rest replaces)."""
+    """Return a copy of ``base`` with ``override`` merged in (nested mappings merge, the rest replaces).
+
+    Parameters
+    ----------
+    base : dict
+        The mapping merged onto (not changed).
+    override : dict
+        The keys that replace or extend it.
+
+    Returns
+    -------
+    dict
+        A new mapping.
+    """
     out = copy.deepcopy(base)
     for key, value in override.items():
         if isinstance(value, dict) and isinstance(out.get(key), dict):
@@ -319,7 +347,23 @@ SCENARIO_SUFFIXES = (".yaml", ".yml")
 def scenario_files(directory) -> dict:
     """{name: path} of the scenario and sweep files in ``directory`` (config/scenarios/): every
     <name>.yaml and <name>.yml, sorted by name. Two files that give one name (x.yaml and x.yml) are
-    refused, naming both: neither may silently replace the other."""
+    refused, naming both: neither may silently replace the other.
+
+    Parameters
+    ----------
+    directory : str or Path
+        The scenarios' folder (config/scenarios/); none: no files.
+
+    Returns
+    -------
+    dict
+        {name: Path}, by name.
+
+    Raises
+    ------
+    ConfigError
+        Two files giving one name, naming both.
+    """
     directory = Path(directory)
     by_name = {}
     for path in sorted(directory.iterdir()) if directory.is_dir() else []:
@@ -333,10 +377,25 @@ def scenario_files(directory) -> dict:
 
 
 def check_scenario_names(files: dict, sweep_points: dict) -> None:
-    """Refuse scenario names that would silently replace another scenario.
+    """Refuse scenario names that would silently replace another scenario: 'default' is the configuration
+    itself; '<study>-p<n>' names the points of sweep studies.
 
-    files : {name: path} of ``config/scenarios/*.yaml`` and ``*.yml`` (scenario_files); sweep_points : {point name: sweep file}.
-    'default' is the configuration itself; '<study>-p<n>' names the points of sweep studies.
+    Parameters
+    ----------
+    files : dict
+        {name: path} of ``config/scenarios/*.yaml`` and ``*.yml`` (scenario_files) and of the cases of the
+        study files.
+    sweep_points : dict
+        {point name: sweep file}.
+
+    Returns
+    -------
+    None
+
+    Raises
+    ------
+    ConfigError
+        One line per name refused, naming its file.
     """
     import re
 
@@ -354,7 +413,18 @@ def check_scenario_names(files: dict, sweep_points: dict) -> None:
 
 
 def configured_speeds(cfg: dict) -> list[float]:
-    """Every train speed a configuration computes at (speeds and the figures' speeds), m/s."""
+    """Every train speed a configuration computes at (speeds and the figures' speeds), m/s.
+
+    Parameters
+    ----------
+    cfg : dict
+        A configuration (resolved, or as written).
+
+    Returns
+    -------
+    list of float
+        The speeds [m/s], each once, increasing.
+    """
     f = cfg.get("figures", {})
     v = set(cfg.get("speeds", []))
     v |= set(f.get("fig22", {}).get("speeds", [])) | set(f.get("growth", {}).get("speeds", []))
@@ -371,6 +441,25 @@ def validate_config(cfg: dict, schema: dict, source: str = "config") -> dict:
 
     Each line names the key (dotted path), the offending value with its unit, the valid range
     and ``source`` (the file the value came from).
+
+    Parameters
+    ----------
+    cfg : dict
+        A configuration (config/config.yaml merged with a scenario).
+    schema : dict
+        config/schema/config.schema.yaml.
+    source : str
+        The file the values come from (a scenario file), named in every message.
+
+    Returns
+    -------
+    dict
+        ``cfg`` itself (defaults are not written into it).
+
+    Raises
+    ------
+    ConfigError
+        Every problem, one line each.
     """
     validator = Draft202012Validator(schema)
     errors = sorted(validator.iter_errors(cfg), key=lambda e: list(map(str, e.absolute_path)))
@@ -406,6 +495,27 @@ def resolve(defaults: dict, schema: dict, scenario: dict | None = None, source: 
 
     Problems are reported against ``source``, the scenario file's name. With a fleet, the
     figures.rate_spectrum every door reads for the class spectra is the fleet's (fleet_spectrum).
+
+    Parameters
+    ----------
+    defaults : dict
+        The validated default configuration (config/config.yaml).
+    schema : dict
+        config/schema/config.schema.yaml.
+    scenario : dict or None
+        The scenario's own keys (only those that differ from the defaults).
+    source : str
+        The file the values come from (a scenario file), named in every message.
+
+    Returns
+    -------
+    dict
+        The resolved, validated configuration (a new mapping).
+
+    Raises
+    ------
+    ConfigError
+        Every problem, one line each, naming ``source``.
     """
     merged = deep_merge(defaults, scenario or {})
     cfg = validate_config(merged, schema, source)
@@ -427,6 +537,11 @@ def fleet_spectrum(cfg: dict, scenario: dict, schema: dict, source: str) -> dict
     schema : dict
     source : str
         The scenario file, named in the error.
+
+    Returns
+    -------
+    dict
+        A new configuration: ``cfg`` with the fleet's spectrum settings [m, -] in figures.rate_spectrum.
 
     Raises
     ------
@@ -461,7 +576,29 @@ SCENARIO_FILE_DEFAULTS = {"contact": {"normal": "nonhertzian", "wear_path": "pat
 def resolve_scenario_file(defaults: dict, schema: dict, scenario: dict | None, source: str) -> dict:
     """A scenario file's resolved configuration: config.yaml, then SCENARIO_FILE_DEFAULTS, then the
     file's keys, validated (problems reported against ``source``). The workflow, the command line and
-    the API all resolve scenario files here."""
+    the API all resolve scenario files here.
+
+    Parameters
+    ----------
+    defaults : dict
+        The validated default configuration (config/config.yaml).
+    schema : dict
+        config/schema/config.schema.yaml.
+    scenario : dict or None
+        The scenario's own keys (only those that differ from the defaults).
+    source : str
+        The file the values come from (a scenario file), named in every message.
+
+    Returns
+    -------
+    dict
+        The resolved, validated configuration.
+
+    Raises
+    ------
+    ConfigError
+        Every problem, one line each, naming ``source``.
+    """
     own = ((scenario or {}).get("figures") or {}).get("rate_spectrum") or {}
     start = deep_merge(defaults, SCENARIO_FILE_DEFAULTS)
     if "bays" in own and "band" not in own:  # its own period: its own lines (a cell's, or the 2-bay surveys')
@@ -485,6 +622,30 @@ def expand_sweep(defaults: dict, schema: dict, scenario: dict, source: str):
 
     Returns (keys, values, points) with points a list of (index tuple, assignment dict, resolved
     config). Every point is validated like a scenario; an error names the file, the point and the key.
+
+    Parameters
+    ----------
+    defaults : dict
+        The validated default configuration (config/config.yaml).
+    schema : dict
+        config/schema/config.schema.yaml.
+    scenario : dict
+        The sweep file's keys: ``sweep`` ({dotted key or 'speed': [values]}), optionally confirm_large_sweep, and
+        the keys every point shares.
+    source : str
+        The file the values come from (a scenario file), named in every message.
+
+    Returns
+    -------
+    tuple
+        (keys, values, points): the swept keys, their values, and per grid point (in C order) its index
+        tuple, its assignment {key: value} (a speed in m/s) and its resolved configuration.
+
+    Raises
+    ------
+    ConfigError
+        A sweep that is not a mapping of non-empty lists, too many points without confirm_large_sweep, or a
+        point that is not valid (naming the file, the point and the key).
     """
     sweep = scenario.get("sweep")
     if not isinstance(sweep, dict) or not sweep:
@@ -564,7 +725,13 @@ SCHEMA_FILE = Path(__file__).resolve().parents[2] / "config" / "schema" / "confi
 
 @functools.lru_cache(maxsize=1)
 def project_schema() -> dict:
-    """config/schema/config.schema.yaml of the project folder holding this package (read once per process)."""
+    """config/schema/config.schema.yaml of the project folder holding this package (read once per process).
+
+    Returns
+    -------
+    dict
+        The schema (one cached object: not to be changed).
+    """
     return load_yaml(SCHEMA_FILE)
 
 

@@ -65,7 +65,22 @@ def resolve_paths(cfg: dict, root) -> dict:
 
 def measured_decay_file(cfg: dict, name: str, root=".") -> tuple[str | None, str]:
     """The measured decay-rate file of a scenario and the key that names it: measured.decay_rate if
-    given, else config/measured/<name>_decay_rate.csv under ``root`` if it exists, else None."""
+    given, else config/measured/<name>_decay_rate.csv under ``root`` if it exists, else None.
+
+    Parameters
+    ----------
+    cfg : dict
+        A resolved configuration.
+    name : str
+        The scenario's name.
+    root : str or Path
+        The project folder.
+
+    Returns
+    -------
+    tuple of (str or None, str)
+        The file (None: none) and the key that names it (measured.decay_rate, or where it was looked for).
+    """
     given = _get(cfg, ("measured", "decay_rate"))
     if given:
         return str(given), "measured.decay_rate"
@@ -177,6 +192,10 @@ def check_inputs(cfg: dict, scn: Scenario, name: str, source: str, root=".") -> 
         The scenario's name and file (named in the messages).
     root : path
         The project folder (for config/measured/).
+
+    Returns
+    -------
+    None
 
     Raises
     ------

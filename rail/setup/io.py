@@ -33,7 +33,7 @@ def data_var(dims, data, units: str, long_name: str, **extra) -> tuple:
     dims : str or tuple of str
         The dimension names.
     data : array_like
-        The values, in ``units``.
+        The values [``units``].
     units : str
         The unit (``"m/N"``, ``"dB"``, ``"1"``; ``cf_units`` maps it for netCDF readers).
     long_name : str
@@ -82,7 +82,13 @@ _PACKAGES = ("numpy", "scipy", "numba", "xarray", "netCDF4", "pandas", "matplotl
 
 
 def package_versions() -> dict[str, str]:
-    """Versions of railgrowth, Python and the scientific packages it runs on."""
+    """Versions of railgrowth, Python and the scientific packages it runs on.
+
+    Returns
+    -------
+    dict
+        {package: version}.
+    """
     out = {"railgrowth": __version__, "python": platform.python_version()}
     for name in _PACKAGES:
         try:
@@ -107,6 +113,16 @@ def cf_units(units: str) -> tuple[str, dict]:
       train passages"): the unit scaled to one passage ("1e-05 um": the value times 1e-05 um is the
       amount per wheel passage), with per "passage" (or "axle passage", "train passage");
     * anything else unchanged. The original string is kept in units_text whenever it changes.
+
+    Parameters
+    ----------
+    units : str
+        A unit as the results state it.
+
+    Returns
+    -------
+    tuple of (str, dict)
+        The CF unit and the extra attributes (empty where the unit is unchanged).
     """
     m = _LEVEL.match(units)
     if m:
@@ -129,7 +145,12 @@ def cf_units(units: str) -> tuple[str, dict]:
 
 
 def code_version() -> str:
-    """The commit of the code (git), "<commit> with uncommitted changes", or "unknown" outside git."""
+    """The commit of the code (git), "<commit> with uncommitted changes", or "unknown" outside git.
+
+    Returns
+    -------
+    str
+    """
     root = Path(__file__).resolve().parents[2]
     try:
         commit = subprocess.run(["git", "rev-parse", "HEAD"], cwd=root, capture_output=True, text=True, timeout=10)
@@ -147,6 +168,23 @@ def finalize(ds: xr.Dataset, config: dict, *, title: str, source: str, scenario:
 
     Raises ValueError naming every variable or coordinate that lacks ``units`` or ``long_name``,
     so an unlabelled number can never reach a result file.
+
+    Parameters
+    ----------
+    ds : xr.Dataset
+        The result, each variable and coordinate with units and long_name.
+    config : dict
+        The configuration it was computed from (stored as YAML text).
+    title, source : str
+        What the dataset is and what computed it (the function).
+    scenario : str, optional
+        The scenario's name.
+
+    Returns
+    -------
+    xr.Dataset
+        ``ds`` with its attributes set: the configuration, the versions (package_versions), the code
+        (code_version), the time and the CF conventions; units mapped for udunits (cf_units).
     """
     missing = [
         f"{name} ({attr})"
@@ -192,6 +230,22 @@ def write_netcdf(ds: xr.Dataset, path) -> None:
     (os.replace, atomic): a write that fails leaves an existing file at ``path`` whole and no partial
     file behind. A failed write (the netCDF library says only "HDF error" when the disk is full) names
     the file, the free space left and the size of the data.
+
+    Parameters
+    ----------
+    ds : xr.Dataset
+        The result (finalize), complex values split.
+    path : str or Path
+        The target file.
+
+    Returns
+    -------
+    None
+
+    Raises
+    ------
+    OSError
+        A write that failed, naming the file, the free space and the data's size.
     """
     import os
     import shutil
@@ -228,6 +282,16 @@ def open_intermediate(path) -> xr.Dataset:
     A file that exists but cannot be read (truncated by a killed job or a full disk: the netCDF
     library says only "NetCDF: HDF error") is renamed to <name>.unreadable, so that the next
     snakemake run, finding the file missing, rebuilds it instead of failing on it again.
+
+    Parameters
+    ----------
+    path : str or Path
+        The file.
+
+    Returns
+    -------
+    xr.Dataset
+        Loaded into memory.
 
     Raises
     ------

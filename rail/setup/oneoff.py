@@ -39,7 +39,22 @@ def one_off_run_dir(config: dict, configfiles, root="."):
     this project's config/ (so that scenario and input files resolve as here); None for the
     defaults. <hash> is that of the differing keys and their resolved values, so two configurations
     of the same file name get their own folders and one configuration always the same one.
-    A one-off run never writes over the default results."""
+    A one-off run never writes over the default results.
+
+    Parameters
+    ----------
+    config : dict
+        The run's resolved configuration (config/config.yaml with --config/--configfile).
+    configfiles : list of str
+        The --configfile files given (their names, joined by "_", name the folder).
+    root : str or Path
+        The project folder.
+
+    Returns
+    -------
+    Path or None
+        The run's folder (made, with its config link), or None for the defaults.
+    """
     root = Path(root)
     changed = _differing_keys(config, load_yaml(root / "config/config.yaml"))
     if not changed:

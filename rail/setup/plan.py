@@ -29,26 +29,23 @@ from dataclasses import dataclass
 from pathlib import Path
 from types import MappingProxyType
 
-import numpy as np
-
-from .. import uncertainty as unc
 from ..chain import wheel_offsets
 from ..roughness import RoughnessInputWarning
 from .build import fleet_classes, model_notes, scenario, spectrum_scenario
-from .config import (ConfigError, check_scenario_names, expand_sweep, load_yaml, resolve_scenario_file, scenario_files, schema_unit,
-                     validate_config)
+from .config import ConfigError, check_scenario_names, expand_sweep, load_yaml, resolve_scenario_file, scenario_files, schema_unit
 from .inputs import check_inputs, check_speed, fleet_checked, noise_files
-from .study_files import SPEED_STUDY, check_convergence_study, class_estimate, class_key, read_studies, traffic_cases
+from .study_files import (SPEED_STUDY, check_convergence_study, class_estimate, class_key, read_studies, study_summary, traffic_cases,
+                          uncertainty_study)
 from .tables import table_key
-from .targets import (CHARACTERISATION, CLOSURE_STUDIES, DEFAULT_SOURCE, FORCE_FIGURES, FORCE_KEYS, GROWTH_FIGURE_KEYS, GROWTH_FIGURES,
-                      HALFSPACE_FIGURES, HALFSPACE_KEYS, IRREGULAR_NAMES, IRREGULAR_SPEED, PRIORITY_KERNELS, PRIORITY_TABLES,
+from .targets import (CHARACTERISATION, DEFAULT_SOURCE, FORCE_FIGURES, FORCE_KEYS, GROWTH_FIGURE_KEYS, GROWTH_FIGURES,
+                      HALFSPACE_FIGURES, HALFSPACE_KEYS, IRREGULAR_SPEED, PRIORITY_KERNELS, PRIORITY_TABLES,
                       REPORT_SUFFIXES, WEAR_CASE_KEYS, WEAR_FIGURES, Sweep, SweepPoint, Table, closure_label, config_part,
                       RAIL_HEAD_KEYS, case_base, fleet_speed_label, physics_part, read_part, speed_label, track_part,
                       wear_frequency_label, KnownNames, known_value)
 
 __all__ = ["Plan", "Sweep", "SweepPoint", "Table", "plan", "speed_label", "fleet_speed_label", "config_part", "physics_part",
            "HALFSPACE_KEYS", "FORCE_KEYS", "WEAR_CASE_KEYS", "GROWTH_FIGURE_KEYS", "HALFSPACE_FIGURES", "FORCE_FIGURES",
-           "WEAR_FIGURES", "GROWTH_FIGURES", "CLOSURE_STUDIES", "IRREGULAR_SPEED", "CHARACTERISATION", "REPORT_SUFFIXES",
+           "WEAR_FIGURES", "GROWTH_FIGURES", "IRREGULAR_SPEED", "CHARACTERISATION", "REPORT_SUFFIXES",
            "PRIORITY_KERNELS", "PRIORITY_TABLES", "DEFAULT_SOURCE", "known_value", "wear_frequency_label",
            "closure_label", "track_part", "read_part", "case_base", "RAIL_HEAD_KEYS"]
 
@@ -302,32 +299,27 @@ class Plan:
 
         return left_out
 
-    def short_wave_targets(self) -> list[str]:
-        """The named target short_wave (issue 31): nonhertzian's growth-rate spectrum and the studies
-        short_wave_study and short_wave_study_report, of those scenario files that exist."""
-        out = []
-        for name in ("nonhertzian",):  # the scenario file of that name (not a question of the normal model)
-            if name in self.scenarios:
-                out.append(f"results/spectrum/{name}/rate_spectrum.png")
-        for name in ("short_wave_study", "short_wave_study_report"):
-            if name in self.scenarios:
-                out += self.study_targets(name)
-        return out
-
     def study_file_targets(self, name: str) -> list[str]:
-        """What the named target of config/studies/<name>.yaml builds: the growth-rate spectrum of each case
-        it includes and of each of its cases, in the file's order; the speed study's summary too where the
-        file sets speed_study (rail.setup.study_files)."""
-        st = self.studies[name]
-        out = [f"results/spectrum/{n}/rate_spectrum.png" for n in st["include"] + st["cases"] if n in self.scenarios]
-        return out + (["results/dynamic_creepage/speeds.png"] if st["speed_study"] else [])
+        """What the named target of config/studies/<name>.yaml builds: of each case it includes and of each of
+        its cases, in the file's order, what its ``builds`` says (the growth-rate spectrum's figure, or the
+        case's study_<case> outputs, or nothing), then the outputs of the file's summary (rail.setup.study_files)."""
+        st, out = self.studies[name], []
+        for n in st["include"] + st["cases"]:
+            if st["builds"][n] == "spectrum" and n in self.scenarios:
+                out.append(f"results/spectrum/{n}/rate_spectrum.png")
+            elif st["builds"][n] == "study" and (n in self.scenarios or n in self.sweeps):
+                out += self.study_targets(n)
+        summary = {"speed_study": lambda: ["results/dynamic_creepage/speeds.png"], "closure_study": self.closure_targets,
+                   "irregular_track": self.irregular_targets}
+        return out + (summary[st["summary"]["kind"]]() if st["summary"] else [])
 
     def study_file_input(self, name: str):
         """The input of a study file's named target: its targets, or (a study file or one of its cases not
         valid, a case it includes not defined) a function that stops the run with why, if the target is asked for."""
         cases = self.studies[name]["include"] + self.studies[name]["cases"] if name in self.studies else []
         why = self.broken_studies.get(name) or next((self.left_out(n) for n in cases if self.left_out(n)), None) or next(
-            (f"config/studies/{name}.yaml includes {n}, which no study file defines." for n in cases if n not in self.scenarios), None)
+            (f"config/studies/{name}.yaml includes {n}, which no study file defines." for n in cases if n not in self.scenarios
+             and n not in self.sweeps), None)
 
         def left_out(wildcards):
             raise ConfigError(why)
@@ -335,10 +327,11 @@ class Plan:
         return self.study_file_targets(name) if why is None else left_out
 
     def speed_study_spectra(self) -> dict[str, list[str]]:
-        """The dynamic-creepage study over speed (issue 43, rule speed_study): each case of
-        config/studies/dynamic_creepage_speeds.yaml (SPEED_STUDY), by name, -> its per-speed spectra,
-        results/spectrum/<name>/V<speed>.nc, at figures.rate_spectrum.speeds."""
-        names = sorted(n for n in self.studies.get(SPEED_STUDY, {"cases": []})["cases"] if n in self.scenarios)
+        """The dynamic-creepage study over speed (issue 43, rule speed_study): each case of the study file whose
+        summary is the speed study (config/studies/dynamic_creepage_speeds.yaml), by name, -> its per-speed
+        spectra, results/spectrum/<name>/V<speed>.nc, at figures.rate_spectrum.speeds."""
+        study = study_summary(self.studies, SPEED_STUDY).get("study")
+        names = sorted(n for n in (self.studies[study]["cases"] if study else []) if n in self.scenarios)
         return {n: [f"results/spectrum/{n}/V{speed_label(v)}.nc" for v in self.scenarios[n]["figures"]["rate_spectrum"]["speeds"]]
                 for n in names}
 
@@ -362,7 +355,7 @@ class Plan:
         out = [f"results/growth/default/V{speed_label(v)}_bands.csv" for v in self.config["speeds"]]
         out += [f"results/growth/{n}/V{speed_label(self.objects[n].speeds[0])}_bands.csv" for n in self._periodic()]
         out += [f"results/sweeps/{study}_bands.png" for study, sw in self.sweeps.items()
-                if "speed" in sw.keys and study not in CLOSURE_STUDIES.values()]
+                if "speed" in sw.keys and study not in self.closure_studies().values()]
         return out
 
     def noise_targets(self) -> list[str]:
@@ -436,22 +429,27 @@ class Plan:
 
     # -- the named studies -----------------------------------------------------------------------
 
+    def closure_studies(self) -> dict:
+        """{part: sweep} of the closure study (the roles run, soft and four of the summary closure_study of
+        config/studies/closure_study.yaml); {} without it."""
+        return {k: v for k, v in study_summary(self.studies, "closure_study").items() if k not in ("kind", "study")}
+
     def closure_values(self) -> list[float]:
-        """The closure values s of the study, the same in each of its sweep files ([] without them)."""
+        """The closure values s of the study, the same in each of its sweeps ([] without them)."""
         found = {}
-        for study in CLOSURE_STUDIES.values():
+        for study in self.closure_studies().values():
             if study not in self.sweeps or "contact.closure_scale" not in self.sweeps[study].keys:
                 return []
             found[study] = [float(x) for x in self.sweeps[study].values_of("contact.closure_scale")]
-        values = next(iter(found.values()))
+        values = next(iter(found.values()), [])
         if any(v != values for v in found.values()):
-            raise ValueError(f"the closure study's sweep files must use the same contact.closure_scale values: {found}")
+            raise ValueError(f"the closure study's sweeps must use the same contact.closure_scale values: {found}")
         return values
 
     def closure_inputs(self) -> tuple[list[str], list]:
         """Every file the closure study aggregates, and what each is: ([paths], [[kind, s, speed or Hz]])."""
         paths, meta = [], []
-        for tag, study in CLOSURE_STUDIES.items():
+        for tag, study in self.closure_studies().items():
             sw = self.sweeps[study]
             ki = sw.keys.index("contact.closure_scale")
             for p in sw.points:
@@ -474,7 +472,7 @@ class Plan:
     def closure_wear_config(self, label: str) -> dict:
         """What a wear case reads of the default configuration, with the closure value its label names."""
         s = known_value({closure_label(x): x for x in self.closure_values()}, label, "closure value s",
-                        "contact.closure_scale of config/scenarios/closure*.yaml")
+                        "contact.closure_scale of config/studies/closure_study.yaml")
         return config_part(WEAR_CASE_KEYS, {**self.config, "contact": {**self.config["contact"], "closure_scale": s}})
 
     def characterised_tracks(self) -> list[str]:
@@ -482,19 +480,29 @@ class Plan:
         characterised once, under results/tracks/<scenario>/."""
         return [name for name in self.scenarios if name != "default" and self.track_name(name) == name]
 
+    def characterised_track_pattern(self) -> str:
+        """The wildcard constraint of 'track' of the scenario characterisation rules (never matches if none)."""
+        return "|".join(re.escape(name) for name in self.characterised_tracks()) or "(?!)"
+
     def characterisation_targets(self) -> list[str]:
         """Data and figures of every characterisation result of every track in use."""
         default = [f"results/{kind}/{name}.{ext}" for kind, ext in (("data", "nc"), ("figures", "png")) for name in CHARACTERISATION]
         return default + [f"results/tracks/{t}/{name}.{ext}" for t in self.characterised_tracks() for name in CHARACTERISATION
                           for ext in ("nc", "png")]
 
+    def irregular_study(self) -> dict:
+        """The irregular-track study's roles: uniform (the case each is shown beside), cases and random (a sweep),
+        of the summary irregular_track of config/studies/irregular_track.yaml; {} without it."""
+        return study_summary(self.studies, "irregular_track")
+
     def irregular_cases(self) -> list[str]:
-        """The irregular-track cases that exist, each beside irregular_uniform."""
-        return [n for n in IRREGULAR_NAMES if n in self.scenarios]
+        """The irregular-track cases that exist, each beside the uniform track (irregular_study)."""
+        return [n for n in self.irregular_study().get("cases", []) if n in self.scenarios]
 
     def irregular_random_points(self) -> list[str]:
-        """The random-track ensemble's scenarios (the points of sweep irregular_random)."""
-        return [p.name for p in self.sweeps["irregular_random"].points] if "irregular_random" in self.sweeps else []
+        """The random-track ensemble's scenarios (the points of the sweep of the role random)."""
+        rnd = self.irregular_study().get("random")
+        return [p.name for p in self.sweeps[rnd].points] if rnd in self.sweeps else []
 
     def irregular_targets(self) -> list[str]:
         """The named target irregular_track: each case's figure and the summary."""
@@ -658,7 +666,7 @@ def plan(config: dict, schema: dict, root=".") -> Plan:
         fleet_classes=KnownNames(classes, left_out),
         fleet_spectrum_keys=ro(spectrum_keys), fleet_spectrum_jobs=ro(spectrum_jobs), tables=ro(tables),
         scenario_table=ro(scenario_table), fleet_tables=ro(fleet_tables), fleet_table=ro(fleet_table),
-        uncertainty=ro(_uncertainty(config, schema, root / "config/uncertainty.yaml")),
+        uncertainty=ro(uncertainty_study(config, schema, root / "config/uncertainty.yaml")),
         stability=load_yaml(root / "config/stability.yaml"), convergence=convergence,
         convergence_values=ro({(name, f"{float(v):g}"): float(v) for name, s in convergence["settings"].items()
                                for v in s["values"] + [s["reference"]]}),
@@ -676,9 +684,9 @@ def _scenarios(config: dict, schema: dict, root: Path, broken: dict, broken_swee
     """Scenarios of config/scenarios/<name>.yaml and the cases of config/studies/ (only the keys that differ
     from the defaults; ``cases``: {name: (source, keys)}), in the order of their names, each resolved and
     validated (errors name its file), each as the physics reads it (read_part: what the jobs' params are made
-    from); "default" is the configuration itself. A file with a top-level "sweep:" is a study: one scenario per
-    grid point, named <study>-p<n>. A file (or case) that is not valid is left out, its problem in ``broken``
-    under its name; ``files`` maps every name to its file (a case: its study file and case)."""
+    from); "default" is the configuration itself. A file (or case) with a top-level "sweep:" is a study: one
+    scenario per grid point, named <study>-p<n>. A file (or case) that is not valid is left out, its problem in
+    ``broken`` under its name; ``files`` maps every name to its file (a case: its study file and case)."""
     scenarios, sources, sweeps = {"default": read_part(config, schema)}, {"default": DEFAULT_SOURCE}, {}
     files = scenario_files(root / "config/scenarios")
     both = sorted(set(files) & set(cases))
@@ -687,33 +695,26 @@ def _scenarios(config: dict, schema: dict, root: Path, broken: dict, broken_swee
                           f"{cases[both[0]][0]}; rename the file.")
     files = dict(sorted({**files, **{n: src for n, (src, _) in cases.items()}}.items()))
     for name, path in files.items():
-        if name in cases:
-            try:
-                scenarios[name] = read_part(resolve_scenario_file(config, schema, cases[name][1], source=path), schema)
-                sources[name] = path
-            except ConfigError as e:
-                broken[name] = _one_problem(e)
-            continue
+        src = str(path)
         try:
-            scen = load_yaml(path)
-            if "sweep" in scen:
-                broken_sweeps.add(path.stem)  # kept only if the file is left out
+            scen = cases[name][1] if name in cases else load_yaml(path)
             if "sweep" not in scen:
-                scenarios[path.stem] = read_part(resolve_scenario_file(config, schema, scen, source=str(path)), schema)
-                sources[path.stem] = str(path)
+                scenarios[name] = read_part(resolve_scenario_file(config, schema, scen, source=src), schema)
+                sources[name] = src
                 continue
-            keys, values, points = expand_sweep(config, schema, scen, str(path))
+            broken_sweeps.add(name)  # kept only if the file is left out
+            keys, values, points = expand_sweep(config, schema, scen, src)
         except ConfigError as e:
-            broken[path.stem] = _one_problem(e)
+            broken[name] = _one_problem(e)
             continue
         swept = []
         for n, (index, assignment, cfg) in enumerate(points):
-            name = f"{path.stem}-p{n}"
-            scenarios[name] = read_part(cfg, schema)
-            sources[name] = f"{path} (sweep point {', '.join(f'{k} = {v}' for k, v in assignment.items())})"
+            point = f"{name}-p{n}"
+            scenarios[point] = read_part(cfg, schema)
+            sources[point] = f"{src} (sweep point {', '.join(f'{k} = {v}' for k, v in assignment.items())})"
             speed = assignment["speed"] if "speed" in assignment else cfg["speeds"][0]
-            swept.append(SweepPoint(name, tuple(index), speed))
-        sweeps[path.stem] = Sweep(keys, values, tuple(swept), [schema_unit(schema, k) for k in keys])
+            swept.append(SweepPoint(point, tuple(index), speed))
+        sweeps[name] = Sweep(keys, values, tuple(swept), [schema_unit(schema, k) for k in keys])
     return scenarios, sources, sweeps, files
 
 
@@ -769,31 +770,3 @@ def _input_notes(scenarios, sources, objects, each) -> list[str]:
         if not issubclass(w.category, RoughnessInputWarning):
             warnings.warn_explicit(w.message, w.category, w.filename, w.lineno)
     return [f"railgrowth: note (scenario {', '.join(names)}): {text}" for text, names in said.items()]
-
-
-def _uncertainty(config: dict, schema: dict, path: Path) -> dict:
-    """The uncertainty ensemble (config/uncertainty.yaml, rail.uncertainty): the members'
-    configurations, drawn with the seed and validated (a draw outside a key's range names the member
-    and the key); {} without the file."""
-    if not path.exists():
-        return {}
-    u = load_yaml(path)
-    try:
-        draws = unc.sample(u["parameters"], u["members"], u["seed"])
-        unc.band_statistics(np.zeros((1, 1)), u["interval"])  # the interval's quantiles checked
-    except (ValueError, KeyError) as e:
-        raise ConfigError(f"invalid configuration:\n  {path}: {e}") from None
-    members = []
-    for m in range(int(u["members"])):
-        vals = {k: float(v[m]) for k, v in draws.items()}
-        try:
-            cfg = unc.member_config(config, vals)
-        except ValueError as e:
-            raise ConfigError(f"invalid configuration:\n  {path}: {e}") from None
-        cfg["figures"]["rate_spectrum"].update(u["spectrum"])
-        src = f"{path} (member {m}: {', '.join(f'{k} = {v:.6g}' for k, v in vals.items())})"
-        cfg = read_part(validate_config(cfg, schema, source=src), schema)
-        spectrum_scenario(cfg, f"uncertainty-m{m}", src)  # physics constraints, naming the member
-        members.append({"cfg": cfg, "values": vals})
-    return {"members": members, "speed": float(u["speed"]), "interval": list(u["interval"]),
-            "draws": {k: [float(x) for x in v] for k, v in draws.items()}}

@@ -157,7 +157,17 @@ def time_left(done: float, total: float, elapsed: float) -> float | None:
 
 def duration(seconds: float) -> str:
     """A time span as a reader takes it in: "45 s", "12 min", "2.3 h" (seconds below 2 minutes, minutes
-    below 2 hours)."""
+    below 2 hours).
+
+    Parameters
+    ----------
+    seconds : float
+        The time span [s].
+
+    Returns
+    -------
+    str
+    """
     if seconds < 120:
         return f"{seconds:.0f} s"
     if seconds < 7200:

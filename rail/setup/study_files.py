@@ -1,7 +1,7 @@
 """The study files of config/ that are not scenarios: the studies of config/studies/ (a named target each:
-defaults and cases), the traffic study (traffic_study.yaml), the convergence study (convergence.yaml),
-and the name of a fleet class's spectrum job. Read at start-up by the plan (rail.setup.plan), before
-any job runs; each problem is one line naming the file and key."""
+defaults and cases), the traffic study (traffic_study.yaml), the convergence study (convergence.yaml), the
+uncertainty ensemble (uncertainty.yaml), and the name of a fleet class's spectrum job. Read at start-up by the
+plan (rail.setup.plan), before any job runs; each problem is one line naming the file and key."""
 
 from __future__ import annotations
 
@@ -10,18 +10,31 @@ from pathlib import Path
 
 import numpy as np
 
-__all__ = ["STUDY_FILE_KEYS", "SPEED_STUDY", "study_file", "read_studies", "study_cases", "TRAFFIC_KEYS", "traffic_cases",
-           "CLASS_SPECTRUM_READS", "class_key", "ClassEstimate", "class_estimate", "check_convergence_study"]
+__all__ = ["STUDY_FILE_KEYS", "BUILDS", "SUMMARIES", "SPEED_STUDY", "study_file", "read_studies", "study_cases", "study_summary",
+           "TRAFFIC_KEYS", "traffic_cases",
+           "CLASS_SPECTRUM_READS", "class_key", "ClassEstimate", "class_estimate", "check_convergence_study",
+           "uncertainty_study"]
 
 
-# The studies of config/studies/<name>.yaml (issue 57, item 9): a named target each (snakemake -j2 <name>),
-# the growth-rate spectrum of every case (results/spectrum/<case>/rate_spectrum.png); each case is a scenario
-# named by its key, the file's defaults merged under the case's own keys, as a scenario file would hold
-# them (only the keys that differ from config/config.yaml). config/scenarios/ holds the users' own scenarios.
+# The studies of config/studies/<name>.yaml (issue 57, item 9): a named target each (snakemake -j2 <name>); each
+# case is a scenario named by its key (or a sweep, its points <case>-p<n>), the file's defaults merged under the
+# case's own keys, as a scenario file would hold them (only the keys that differ from config/config.yaml). The
+# target builds of each case what ``builds`` says (BUILDS; by default its growth-rate spectrum,
+# results/spectrum/<case>/rate_spectrum.png), then the study's summary, if it has one. config/scenarios/ holds
+# the users' own scenarios: a file there joins no named target by its name.
 
-STUDY_FILE_KEYS = ("description", "defaults", "cases", "include", "speed_study")
-# The study whose cases the speed study summarises (rule speed_study: results/dynamic_creepage/speeds.*).
-SPEED_STUDY = "dynamic_creepage_speeds"
+STUDY_FILE_KEYS = ("description", "defaults", "cases", "include", "builds", "summary")
+# What a named target builds of a case: its growth-rate spectrum's figure, the outputs of its target
+# study_<case> (Plan.study_targets), or nothing (the study's summary alone).
+BUILDS = ("spectrum", "study", "none")
+# The summaries a study file may name (summary.kind), each made by its own rules from the cases its roles name
+# (a role of one case, or of a list of cases; None: optional), and each set by one study file at most (its
+# outputs' paths are fixed): the speed study over every case (rule speed_study, results/dynamic_creepage/speeds.*),
+# the closure study (workflow/rules/closure.smk, results/closure/) and the irregular track
+# (workflow/rules/irregular.smk, results/irregular/).
+SUMMARIES = {"speed_study": {}, "closure_study": {"run": str, "soft": str, "four": str},
+             "irregular_track": {"uniform": str, "cases": list, "random": None}}
+SPEED_STUDY = "speed_study"  # the summary kind of the speed study (Plan.speed_study_spectra)
 
 
 def study_file(path, data: dict) -> dict:
@@ -33,13 +46,16 @@ def study_file(path, data: dict) -> dict:
         The file (config/studies/<name>.yaml), named in every message.
     data : dict
         Its content: description (text), defaults (scenario keys every case starts from), cases ({name:
-        scenario keys, or null for the defaults alone}), include (names of cases of other study files the
-        target shows too, listed first), speed_study (true: the speed study summarises the cases, SPEED_STUDY only).
+        scenario keys, or null for the defaults alone; with ``sweep:`` a sweep study}), include (names of cases
+        of other study files the target shows too, listed first), builds (what the target builds of each
+        case, BUILDS: one for every case, or {case: kind} with spectrum for a case not named), summary
+        ({kind: a key of SUMMARIES, and its roles: the names of the cases each part of the summary reads}).
 
     Returns
     -------
     dict
-        {"cases": {name: scenario mapping}, "include": [names], "speed_study": bool}, cases in the file's order.
+        {"cases": {name: scenario mapping}, "include": [names], "builds": {case: kind} of every case included
+        and of every case, "summary": the summary mapping or None}, cases in the file's order.
 
     Raises
     ------
@@ -63,9 +79,6 @@ def study_file(path, data: dict) -> dict:
                          "the defaults alone); the file has none.")
     if not isinstance(include, list) or not all(isinstance(n, str) for n in include):
         raise ValueError(f"{path}: include = {include!r} is not allowed: it must be a list of case names of other study files.")
-    if data.get("speed_study", False) not in (True, False) or (data.get("speed_study") and Path(path).stem != SPEED_STUDY):
-        raise ValueError(f"{path}: speed_study = {data.get('speed_study')!r} is not allowed: only config/studies/{SPEED_STUDY}.yaml "
-                         "may set it (true), for the speed study's summary (results/dynamic_creepage/speeds.*).")
     out = {}
     for name, keys in cases.items():
         if not isinstance(name, str) or not re.fullmatch(r"[A-Za-z0-9_.]+(-[A-Za-z0-9_.]+)*", name):
@@ -73,27 +86,62 @@ def study_file(path, data: dict) -> dict:
                              "(it names the results' folder).")
         if keys is not None and not isinstance(keys, dict):
             raise ValueError(f"{path}: cases.{name} = {keys!r} is not allowed: it must be a mapping of scenario keys (or null).")
-        if "sweep" in (keys or {}) or "sweep" in defaults:
-            raise ValueError(f"{path}: cases.{name}: a sweep is not a case of a study file; write it as a sweep file in "
-                             "config/scenarios/.")
         out[name] = deep_merge(copy.deepcopy(defaults), keys or {})
-    return {"cases": out, "include": list(include), "speed_study": bool(data.get("speed_study", False))}
+    names = list(include) + list(out)
+    builds = data.get("builds", "spectrum")
+    if builds in BUILDS:
+        builds = dict.fromkeys(names, builds)
+    elif isinstance(builds, dict) and set(builds) <= set(names) and set(builds.values()) <= set(BUILDS):
+        builds = {n: builds.get(n, "spectrum") for n in names}
+    else:
+        raise ValueError(f"{path}: builds = {builds!r} is not allowed: it must be one of {', '.join(BUILDS)}, or map cases of "
+                         "the file (or included) to one of them.")
+    return {"cases": out, "include": list(include), "builds": builds, "summary": _summary(path, data.get("summary"), names)}
+
+
+def _summary(path, summary, names: list) -> dict | None:
+    """A study file's summary (SUMMARIES), checked: a known kind, and each of its roles naming cases of the file."""
+    if summary is None:
+        return None
+    kinds = ", ".join(SUMMARIES)
+    if not isinstance(summary, dict) or summary.get("kind") not in SUMMARIES:
+        raise ValueError(f"{path}: summary = {summary!r} is not allowed: it must be a mapping with a kind, one of {kinds}, "
+                         "and that summary's roles.")
+    roles = SUMMARIES[summary["kind"]]
+    for role in sorted(set(summary) - {"kind"} - set(roles)):
+        raise ValueError(f"{path}: summary.{role} is not known: the roles of summary {summary['kind']} are "
+                         f"{', '.join(roles) or 'none'}.")
+    for role, kind in roles.items():
+        value = summary.get(role)
+        given = [value] if isinstance(value, str) else value
+        if value is None and kind is None:
+            continue
+        if not isinstance(value, kind or str) or not given or [n for n in given if n not in names]:
+            what = "a list of cases" if kind is list else "one case"
+            raise ValueError(f"{path}: summary.{role} = {value!r} is not allowed: it must be {what} of the file "
+                             f"({', '.join(names)}).")
+    return dict(summary)
 
 
 def read_studies(root) -> tuple[dict, dict, dict]:
     """Every study file of ``root``/config/studies/ (sorted by name), each checked (study_file).
 
+    Parameters
+    ----------
+    root : str or Path
+        The project folder.
+
     Returns
     -------
     tuple of dict
-        studies {name: {"path", "cases": [case names], "include", "speed_study"}}; cases {case name:
+        studies {name: {"path", "cases": [case names], "include", "builds", "summary"}}; cases {case name:
         (source for messages, scenario mapping)}; problems {study name: one line naming the file} of the
         files that are not valid (left out: only their targets stop).
 
     Raises
     ------
     ValueError
-        A case name given by two study files, naming both.
+        A case name given by two study files, or a summary kind set by two, naming both.
     """
     from .config import ConfigError, load_yaml
 
@@ -110,13 +158,47 @@ def read_studies(root) -> tuple[dict, dict, dict]:
                 raise ValueError(f"{path}: the case name '{name}' is also a case of {cases[name][0].split(' (case')[0]}; "
                                  "rename one of them.")
             cases[name] = (f"{path} (case {name})", keys)
+        kind = (st["summary"] or {}).get("kind")
+        other = next((s["path"] for s in studies.values() if (s["summary"] or {}).get("kind") == kind), None) if kind else None
+        if other:
+            raise ValueError(f"{path}: summary {kind} is also {other}'s: each summary writes its own files, so one study file "
+                             "at most may name it.")
         studies[path.stem] = {**st, "path": str(path), "cases": list(st["cases"])}
     return studies, cases, problems
+
+
+def study_summary(studies: dict, kind: str) -> dict:
+    """The summary of kind ``kind`` (SUMMARIES) of the study file that names it, with its file's name as
+    ``study``, or {} where no study file names it.
+
+    Parameters
+    ----------
+    studies : dict
+        {name: study} as read_studies gives them.
+    kind : str
+        A key of SUMMARIES.
+
+    Returns
+    -------
+    dict
+        {"kind", "study", and the roles: case names}.
+    """
+    return next(({**st["summary"], "study": name} for name, st in studies.items() if (st["summary"] or {}).get("kind") == kind), {})
 
 
 def study_cases(root) -> dict:
     """{case name: (source, scenario mapping)} of every study file of ``root``/config/studies/
     (rail.app.api.load finds a case by its name as it finds a scenario file).
+
+    Parameters
+    ----------
+    root : str or Path
+        The project folder.
+
+    Returns
+    -------
+    dict
+        {case name: (source for messages, scenario mapping)}.
 
     Raises
     ------
@@ -296,10 +378,80 @@ def class_estimate(fleet_class, settings: dict) -> ClassEstimate:
                          CLASS_CPU_SECONDS * lines * axles * int(settings["grid_phases"]) * (nodes / 61) ** 2)
 
 
+def uncertainty_study(config: dict, schema: dict, path) -> dict:
+    """The uncertainty ensemble (config/uncertainty.yaml, rail.uncertainty): the members' configurations,
+    drawn with the seed and validated (a draw outside a key's range names the member and the key).
+
+    Parameters
+    ----------
+    config : dict
+        The resolved, validated default configuration the members are drawn about.
+    schema : dict
+        config/schema/config.schema.yaml.
+    path : Path
+        config/uncertainty.yaml (members, seed, parameters, interval [-], speed [m/s], spectrum).
+
+    Returns
+    -------
+    dict
+        {"members": [{"cfg": configuration as the physics reads it, "values": the draws}], "speed" [m/s],
+        "interval" [-], "draws": {key: [value per member]}}; {} without the file.
+
+    Raises
+    ------
+    rail.setup.config.ConfigError
+        Naming the file, the member and the key.
+    """
+    from .. import uncertainty as unc
+    from .build import spectrum_scenario
+    from .config import ConfigError, load_yaml, validate_config
+    from .targets import read_part
+
+    if not path.exists():
+        return {}
+    u = load_yaml(path)
+    try:
+        draws = unc.sample(u["parameters"], u["members"], u["seed"])
+        unc.band_statistics(np.zeros((1, 1)), u["interval"])  # the interval's quantiles checked
+    except (ValueError, KeyError) as e:
+        raise ConfigError(f"invalid configuration:\n  {path}: {e}") from None
+    members = []
+    for m in range(int(u["members"])):
+        vals = {k: float(v[m]) for k, v in draws.items()}
+        try:
+            cfg = unc.member_config(config, vals)
+        except ValueError as e:
+            raise ConfigError(f"invalid configuration:\n  {path}: {e}") from None
+        cfg["figures"]["rate_spectrum"].update(u["spectrum"])
+        src = f"{path} (member {m}: {', '.join(f'{k} = {v:.6g}' for k, v in vals.items())})"
+        cfg = read_part(validate_config(cfg, schema, source=src), schema)
+        spectrum_scenario(cfg, f"uncertainty-m{m}", src)  # physics constraints, naming the member
+        members.append({"cfg": cfg, "values": vals})
+    return {"members": members, "speed": float(u["speed"]), "interval": list(u["interval"]),
+            "draws": {k: [float(x) for x in v] for k, v in draws.items()}}
+
+
 def check_convergence_study(study: dict, source: str = "config/convergence.yaml") -> None:
     """Check the convergence study's file before any job: a speed, and per known setting a quantity
     (force, wear or growth), values and a reference that are finite numbers > 0 (integers for the
-    counts), and the wear frequencies finite > 0. Raises ValueError, one line naming file and key."""
+    counts), and the wear frequencies finite > 0. Raises ValueError, one line naming file and key.
+
+    Parameters
+    ----------
+    study : dict
+        config/convergence.yaml: speed [m/s], settings ({name: quantity, values, reference}), wear_frequencies [Hz].
+    source : str
+        The file, named in the message.
+
+    Returns
+    -------
+    None
+
+    Raises
+    ------
+    ValueError
+        One line naming the file and the key.
+    """
     def positive(key, v, whole=False):
         ok = isinstance(v, (int, float)) and not isinstance(v, bool) and np.isfinite(v) and v > 0
         if not ok or (whole and float(v) != int(v)):

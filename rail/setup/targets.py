@@ -9,8 +9,9 @@ issue 44; every name here is importable from rail.setup.plan as before).
   the configuration it read. Each is cut from a configuration as the physics reads it
   (``read_part``: an optional key at its schema default, or one the chosen models do not read, is
   left out), so that writing such a key reruns nothing (issue 57, item 5).
-- The fixed sets the target lists are built from (report figures by section, the closure and
-  irregular-track studies, the characterisation results, report suffixes, job priorities) and the
+- The fixed sets the target lists are built from (report figures by section, the irregular-track
+  study's speed, the characterisation results, report suffixes, job priorities; the studies' cases are
+  those of their study files, rail.setup.study_files) and the
   small frozen records a Plan holds (SweepPoint, Sweep, Table).
 
 Conventions
@@ -30,7 +31,7 @@ from .config import ConfigError, deep_merge, schema_default
 __all__ = ["known_value", "speed_label", "fleet_speed_label", "wear_frequency_label", "closure_label", "config_part", "physics_part", "track_part",
            "read_part", "case_base", "RAIL_HEAD_KEYS", "KnownNames",
            "SweepPoint", "Sweep", "Table", "HALFSPACE_KEYS", "FORCE_KEYS", "WEAR_CASE_KEYS", "GROWTH_FIGURE_KEYS", "HALFSPACE_FIGURES",
-           "FORCE_FIGURES", "WEAR_FIGURES", "GROWTH_FIGURES", "CLOSURE_STUDIES", "IRREGULAR_SPEED", "IRREGULAR_NAMES",
+           "FORCE_FIGURES", "WEAR_FIGURES", "GROWTH_FIGURES", "IRREGULAR_SPEED",
            "CHARACTERISATION", "REPORT_SUFFIXES", "PRIORITY_KERNELS", "PRIORITY_TABLES", "DEFAULT_SOURCE"]
 
 DEFAULT_SOURCE = "configuration (config/config.yaml and --config/--configfile)"
@@ -49,12 +50,9 @@ FORCE_FIGURES = ["08", "22"]
 WEAR_FIGURES = [f"{n:02d}" for n in range(9, 20)]
 GROWTH_FIGURES = ["20", "21", "23", "24", "25", "26", "27"]
 
-# Closure sensitivity study (named target closure_study): three sweep files over contact.closure_scale,
-# single wheel at two speeds, softer railpad and four wheels.
-CLOSURE_STUDIES = {"run": "closure", "soft": "closure_soft_pad", "four": "closure_class87"}
-# Irregular track (issue 34): the cases config/scenarios/irregular_<kind>.yaml beside irregular_uniform.yaml.
+# The speed [m/s] of the irregular-track study (named target irregular_track: its cases are those of
+# config/studies/irregular_track.yaml, read by rail.setup.study_files, each at this speed).
 IRREGULAR_SPEED = "40"
-IRREGULAR_NAMES = ("irregular_voided", "irregular_spacing", "irregular_stiff_pad", "irregular_dampers")
 # The three characterisation results of a track: data results/.../<name>.nc, figure <name>.png.
 CHARACTERISATION = ["track_receptance", "moving_receptance", "track_decay_rate"]
 # Suffixes of the outputs a report shows (figures, CSV exports, markdown and HTML tables).
@@ -82,25 +80,68 @@ def speed_label(v) -> str:
 
 def fleet_speed_label(v) -> str:
     """A fleet class's speed in a file name, exact: float(label) == v (40.0 -> '40', 33.6 -> '33.6').
-    The classes of a distribution need not be round numbers, and a table must be at the class's speed."""
+    The classes of a distribution need not be round numbers, and a table must be at the class's speed.
+
+    Parameters
+    ----------
+    v : float
+        Speed [m/s].
+
+    Returns
+    -------
+    str
+    """
     text = repr(float(v))
     return text[:-2] if text.endswith(".0") else text
 
 
 def wear_frequency_label(f) -> str:
-    """Excitation frequency in a file name: 533.333 -> '533'."""
+    """Excitation frequency in a file name: 533.333 -> '533'.
+
+    Parameters
+    ----------
+    f : float
+        Excitation frequency [Hz].
+
+    Returns
+    -------
+    str
+    """
     return f"{float(f):.0f}"
 
 
 def closure_label(s) -> str:
-    """Closure value in a file name: 0.01 -> '0.01'."""
+    """Closure value in a file name: 0.01 -> '0.01'.
+
+    Parameters
+    ----------
+    s : float
+        Closure value [-] (contact.closure_scale).
+
+    Returns
+    -------
+    str
+    """
     return f"{float(s):g}"
 
 
 def config_part(keys, cfg: dict) -> dict:
     """The part of a configuration under the dotted keys, nested as there: what a job is handed as
     params.cfg (params are a rerun trigger, and each result records the configuration it read). A key of
-    rail.setup.build.OPTIONAL_KEYS (the wheelset) is left out where the configuration does not have it."""
+    rail.setup.build.OPTIONAL_KEYS (the wheelset) is left out where the configuration does not have it.
+
+    Parameters
+    ----------
+    keys : iterable of str
+        Dotted keys ('track', 'numerics.track', 'figures.wear.speed').
+    cfg : dict
+        A configuration as the physics reads it (read_part).
+
+    Returns
+    -------
+    dict
+        A new nested mapping of those keys' values.
+    """
     out = {}
     for key in keys:
         if key in OPTIONAL_KEYS and key not in cfg:
@@ -115,14 +156,36 @@ def config_part(keys, cfg: dict) -> dict:
 
 def physics_part(cfg: dict) -> dict:
     """A configuration without the figure settings, site measurements and half-space quadrature (which
-    no growth computation reads: the contact damping has its own, Fig. 6)."""
+    no growth computation reads: the contact damping has its own, Fig. 6).
+
+    Parameters
+    ----------
+    cfg : dict
+        A configuration as the physics reads it (read_part).
+
+    Returns
+    -------
+    dict
+        A new mapping (the values shared with ``cfg``).
+    """
     out = {k: v for k, v in cfg.items() if k not in ("figures", "measured", "numerics")}
     return {**out, "numerics": {k: v for k, v in cfg["numerics"].items() if k != "halfspace"}}
 
 
 def track_part(cfg: dict) -> dict:
     """The track and track numerics of a configuration: all a receptance table depends on (the keys
-    of the rail head's longitudinal flexibility, RAIL_HEAD_KEYS, left out: no table reads them)."""
+    of the rail head's longitudinal flexibility, RAIL_HEAD_KEYS, left out: no table reads them).
+
+    Parameters
+    ----------
+    cfg : dict
+        A configuration as the physics reads it (read_part).
+
+    Returns
+    -------
+    dict
+        {"track": ..., "numerics": {"track": ...}}, a new mapping.
+    """
     track = copy.deepcopy(cfg["track"])
     for key in RAIL_HEAD_KEYS:
         _drop(track, key.split(".")[1:])

@@ -86,7 +86,9 @@ def readable_count(x: float, digits: int = 3) -> str:
     Parameters
     ----------
     x : float
+        The count [-] (passages, axles, years or MGT: in the unit the caller writes beside it).
     digits : int
+        Significant figures.
 
     Returns
     -------
@@ -651,7 +653,19 @@ def band_csv_text(ds) -> str:
 
 
 def write_band_csv(ds, path) -> None:
-    """Write band_csv_text(ds) to ``path``."""
+    """Write band_csv_text(ds) to ``path``.
+
+    Parameters
+    ----------
+    ds : xr.Dataset
+        A band dataset (rail.studies.bands).
+    path : str or Path
+        The CSV file.
+
+    Returns
+    -------
+    None
+    """
     with open(path, "w") as f:
         f.write(band_csv_text(ds))
 

@@ -39,6 +39,23 @@ def track_receptance(track: Track, name: str = "default", f_min: float = 10.0, f
     frequencies themselves, so the plotted peaks reach their maxima.  The characteristic
     frequencies (``rail.track.characteristic_frequencies``, from the receptance's maxima) and the
     closed-form pinned-pinned frequency of a Timoshenko span L are attributes, Hz.
+
+    Parameters
+    ----------
+    track : Track
+    name : str
+        The track's name (its scenario), in the attributes.
+    f_min, f_max : float
+        Frequency range [Hz].
+    points : int
+        Log-spaced frequencies [-].
+    rtol : float
+        Relative tolerance of the receptance integrals [-].
+
+    Returns
+    -------
+    xr.Dataset
+        Receptance above a sleeper and at mid-span [m/N] over frequency [Hz].
     """
     fc = T.characteristic_frequencies(track)
     extra = [v for v in fc.values() if np.isfinite(v) and f_min <= v <= f_max]
@@ -88,6 +105,27 @@ def moving_receptance(
     frequency.  As V -> 0 it tends to the bay average (1/L) int_0^L alpha(x0, x0) dx0, taken here
     as the mean over ``bay_points`` equally spaced load positions (periodic trapezoidal rule).
     Excitation frequency f = Omega / 2 pi: ``points`` log-spaced from f_min to f_max (Hz).
+
+    Parameters
+    ----------
+    track : Track
+    speeds : array_like
+        Load speeds V [m/s].
+    name : str
+        The track's name (its scenario), in the attributes.
+    f_min, f_max : float
+        Excitation frequency range [Hz].
+    points : int
+        Log-spaced frequencies [-].
+    bay_points : int
+        Load positions of the bay average [-].
+    rtol : float
+        Relative tolerance of the moving-load integrals [-].
+
+    Returns
+    -------
+    xr.Dataset
+        a_0 [m/N] over speed [m/s] and frequency [Hz], beside the stationary bay average [m/N].
     """
     speeds = np.atleast_1d(np.asarray(speeds, dtype=float))
     f = np.geomspace(f_min, f_max, points)
@@ -136,6 +174,19 @@ def track_decay_rate(track: Track, name: str = "default", **kwargs) -> xr.Datase
     in the bay, as measured); ``decay_rate_bay_sampled`` the positions that sample the whole bay.
     Their difference shows how much the estimator depends on where in the bay the far positions
     lie.
+
+    Parameters
+    ----------
+    track : Track
+    name : str
+        The track's name (its scenario), in the attributes.
+    **kwargs
+        Passed to rail.decay.track_decay_rate (bands, positions, tolerance).
+
+    Returns
+    -------
+    xr.Dataset
+        Decay rates [dB/m] per band centre [Hz] and excitation position, the response positions [m].
     """
     r = decay.track_decay_rate(track, **kwargs)
     exc, band, pos = "excitation_position", "band_centre", "position"
@@ -189,7 +240,18 @@ def track_decay_rate(track: Track, name: str = "default", **kwargs) -> xr.Datase
 
 def measured_decay_rate(measured: decay.MeasuredDecayRate) -> xr.Dataset:
     """A measured decay rate (``rail.decay.read_measured_decay_rate``) as a dataset on its own
-    band coordinate, ready to merge beside the computed one."""
+    band coordinate, ready to merge beside the computed one.
+
+    Parameters
+    ----------
+    measured : rail.decay.MeasuredDecayRate
+        Band centres [Hz] and decay rates [dB/m] of a measurement, and its file.
+
+    Returns
+    -------
+    xr.Dataset
+        measured_decay_rate [dB/m] on measured_band_centre [Hz].
+    """
     return xr.Dataset(
         {"measured_decay_rate": data_var("measured_band_centre", measured.decay_rate, "dB/m", "measured vertical track decay rate",
                                          source_file=measured.source)},

@@ -15,12 +15,32 @@ def closure_study(runs: dict, soft: dict, four: dict, wear_cases: dict, wellpose
                   pinned_pinned_Hz: float, k_max_rad_per_m: float = 525.0) -> xr.Dataset:
     """The closure sensitivity study (contact.closure_scale s) in one dataset.
 
-    runs : {(s, speed): growth dataset} single wheel, default track;
-    soft, four : {s: growth dataset} softer railpad and four wheels at the higher speed;
-    wear_cases : {(s, frequency_Hz): wear-case dataset} one passage over a harmonic roughness;
-    wellposed : growth_per_transit(closure_scale, nodes) from rail.contact.perturbation_growth.
     A closure value whose perturbations grow (growth per transit >= 1 on any grid) is marked
     well_posed = 0 and its conclusions are not decided (conclusion_holds = -1).
+
+    Parameters
+    ----------
+    runs : dict
+        {(s, speed [m/s]): growth dataset} single wheel, default track.
+    soft, four : dict
+        {s: growth dataset} softer railpad and four wheels at the higher speed.
+    wear_cases : dict
+        {(s, frequency [Hz]): wear-case dataset} one passage over a harmonic roughness.
+    wellposed : xr.Dataset
+        growth_per_transit(closure_scale, nodes) [-] from rail.contact.perturbation_growth.
+    L : float
+        Sleeper spacing [m].
+    pinned_pinned_Hz : float
+        The track's pinned-pinned frequency [Hz].
+    k_max_rad_per_m : float
+        Largest wavenumber of the wear spectra [rad/m].
+
+    Returns
+    -------
+    xr.Dataset
+        Per closure value: levels [dB re 1 µm] over speed and passage, overall levels, the
+        short-wavelength ratio [-], wear amplitude [-] and rate [-] per frequency, well_posed, and each
+        conclusion's verdict and evidence.
     """
     S = sorted({s for s, _ in runs})
     V = sorted({v for _, v in runs})

@@ -32,7 +32,18 @@ CONCLUSIONS = {
 
 def overall_level_dB(Z) -> float:
     """Overall rms roughness level of all harmonics k >= 1, dB re 1 um (rms of a component pair
-    Z_k, Z_{-k} is sqrt(2) abs(Z_k))."""
+    Z_k, Z_{-k} is sqrt(2) abs(Z_k)).
+
+    Parameters
+    ----------
+    Z : array_like of complex, shape (..., 2K + 1)
+        Roughness coefficients Z_k, k = -K..K [m].
+
+    Returns
+    -------
+    float
+        The level [dB re 1 µm].
+    """
     Z = np.asarray(Z)
     K = (Z.shape[-1] - 1) // 2
     return float(20 * np.log10(np.sqrt(2 * np.sum(np.abs(Z[..., K + 1 :]) ** 2, axis=-1)) / 1e-6))
@@ -41,7 +52,24 @@ def overall_level_dB(Z) -> float:
 def short_wavelength_ratio(Z, L: float, k_min: int = 5, points: int = 601) -> float:
     """rms of the roughness with wavelengths <= L / k_min over the first third of the bay (just
     after a sleeper, in the direction of travel) divided by its rms over the middle third
-    (mid-span). Above 1: the short-wavelength roughness sits after the sleepers."""
+    (mid-span). Above 1: the short-wavelength roughness sits after the sleepers.
+
+    Parameters
+    ----------
+    Z : array_like of complex, shape (2K + 1,)
+        Roughness coefficients Z_k, k = -K..K [m].
+    L : float
+        Sleeper spacing [m].
+    k_min : int
+        Shortest harmonic counted: wavelengths <= L / k_min [-].
+    points : int
+        Positions over the bay [-].
+
+    Returns
+    -------
+    float
+        The ratio [-].
+    """
     Z = np.asarray(Z)
     K = (len(Z) - 1) // 2
     k = np.arange(-K, K + 1)
@@ -57,10 +85,24 @@ def short_wavelength_ratio(Z, L: float, k_min: int = 5, points: int = 601) -> fl
 def wear_at_roughness(wear_Z, roughness_Z, harmonic: int, mean_wear: float):
     """Wear of one passage at the harmonic of a harmonic roughness: (amplitude, rate).
 
-    amplitude : 2 abs(Delta Z_m) / mean wear depth, - (how strongly the wear varies at the roughness
-                wavelength);
-    rate      : -Re(Delta Z_m / Z_m), - per passage: the in-phase part, > 0 when the wear makes the
-                roughness grow (Z_m - Delta Z_m is larger), < 0 when it wears it away.
+    Parameters
+    ----------
+    wear_Z : array_like of complex, shape (2K + 1,)
+        Wear spectrum Delta Z_k, k = -K..K [m].
+    roughness_Z : array_like of complex, shape (2K + 1,)
+        The roughness Z_k [m].
+    harmonic : int
+        The roughness's harmonic m [-].
+    mean_wear : float
+        Mean wear depth of the passage [m].
+
+    Returns
+    -------
+    amplitude : float
+        2 abs(Delta Z_m) / mean wear depth [-] (how strongly the wear varies at the roughness wavelength).
+    rate : float
+        -Re(Delta Z_m / Z_m) [-] per passage: the in-phase part, > 0 when the wear makes the roughness grow
+        (Z_m - Delta Z_m is larger), < 0 when it wears it away.
     """
     K = (len(wear_Z) - 1) // 2
     dz, z = wear_Z[K + harmonic], roughness_Z[K + harmonic]
@@ -71,16 +113,31 @@ def evaluate(*, levels_first, levels_final, argmax_harmonic, wear_amplitude, wea
              overall_default, overall_soft, overall_single, overall_four, pinned_pinned_Hz):
     """Decide each conclusion from its numbers; returns {id: (holds, evidence text)}.
 
-    levels_first, levels_final : level (dB re 1 um) of harmonic 1 at the first save and at the end;
-    argmax_harmonic : harmonic with the highest final level (1-based);
-    wear_amplitude, wear_rate : {frequency_Hz: value} from wear_at_roughness;
-    ratio_slow, ratio_fast : short_wavelength_ratio at the lower and the higher speed;
-    overall_* : overall levels, dB re 1 um.
-    Rules (the same as tests/test_growth.py): 1 holds when the level of harmonic 1 grows past
-    -40 dB and the strongest harmonic is one of the first three; 2 when the wear amplitude at the
-    highest frequency is at least 5 times that at the lowest; 2b when the largest wear amplitude
-    is at the frequency nearest pinned-pinned; 2c when the in-phase rate there is positive; 3 when ratio_slow > 3 and ratio_fast <
+    Rules (the same as tests/test_growth.py): 1 holds when the level of harmonic 1 grows past -40 dB and
+    the strongest harmonic is one of the first three; 2 when the wear amplitude at the highest frequency is
+    at least 5 times that at the lowest; 2b when the largest wear amplitude is at the frequency nearest
+    pinned-pinned; 2c when the in-phase rate there is positive; 3 when ratio_slow > 3 and ratio_fast <
     0.6 ratio_slow; 4 and 5 when the level is lower.
+
+    Parameters
+    ----------
+    levels_first, levels_final : float
+        Level of harmonic 1 at the first save and at the end [dB re 1 µm].
+    argmax_harmonic : int
+        Harmonic with the highest final level (1-based) [-].
+    wear_amplitude, wear_rate : dict
+        {frequency [Hz]: value [-]} from wear_at_roughness.
+    ratio_slow, ratio_fast : float
+        short_wavelength_ratio at the lower and the higher speed [-].
+    overall_default, overall_soft, overall_single, overall_four : float
+        Overall levels [dB re 1 µm]: default and softer railpad, single wheel and four wheels.
+    pinned_pinned_Hz : float
+        The track's pinned-pinned frequency [Hz].
+
+    Returns
+    -------
+    dict
+        {conclusion id: (holds: bool, evidence: str)}.
     """
     f = sorted(wear_amplitude)
     out = {}
@@ -103,7 +160,18 @@ def closure_table(ds) -> list[list[str]]:
     """Rows of the closure study's conclusions table: conclusion, verdict over the well-posed
     closure values, then one cell per closure value with its number. The verdict is 'holds for
     every s', 'fails for every s' or 'depends on s'; closure values that are not well-posed are
-    marked and left out of the verdict."""
+    marked and left out of the verdict.
+
+    Parameters
+    ----------
+    ds : xr.Dataset
+        The closure study's dataset (rail.studies.closure.closure_study).
+
+    Returns
+    -------
+    list of list of str
+        The header first.
+    """
     S = ds["closure_scale"].values
     ok = ds["well_posed"].values.astype(bool)
     header = ["conclusion (report section 7)", "verdict"] + [f"s = {s:g}" + ("" if w else " (not well-posed)") for s, w in zip(S, ok)]
@@ -119,14 +187,36 @@ def closure_table(ds) -> list[list[str]]:
 
 
 def markdown_table(rows) -> str:
-    """A markdown table from rows (the first is the header)."""
+    """A markdown table from rows (the first is the header).
+
+    Parameters
+    ----------
+    rows : list of list of str
+        The table's rows, the header first.
+
+    Returns
+    -------
+    str
+    """
     out = ["| " + " | ".join(rows[0]) + " |", "|" + "---|" * len(rows[0])]
     out += ["| " + " | ".join(r) + " |" for r in rows[1:]]
     return "\n".join(out) + "\n"
 
 
 def html_table(rows, title: str) -> str:
-    """A self-contained HTML page with the table (for the snakemake report)."""
+    """A self-contained HTML page with the table (for the snakemake report).
+
+    Parameters
+    ----------
+    rows : list of list of str
+        The table's rows, the header first.
+    title : str
+        The page's title and heading.
+
+    Returns
+    -------
+    str
+    """
     from html import escape
 
     head = "".join(f"<th>{escape(c)}</th>" for c in rows[0])
@@ -138,7 +228,23 @@ def html_table(rows, title: str) -> str:
 
 def write_tables(rows, markdown_path, html_path, title: str, note: str = "") -> None:
     """Write a table (rows, header first) as markdown and as an HTML page, with an optional note
-    above it."""
+    above it.
+
+    Parameters
+    ----------
+    rows : list of list of str
+        The table's rows, the header first.
+    markdown_path, html_path : str or Path
+        The files written.
+    title : str
+        The HTML page's title.
+    note : str
+        Text above the table (markdown), or nothing.
+
+    Returns
+    -------
+    None
+    """
     with open(markdown_path, "w") as f:
         f.write((note + "\n\n" if note else "") + markdown_table(rows))
     with open(html_path, "w") as f:

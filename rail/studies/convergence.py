@@ -41,7 +41,21 @@ WITHIN_DB = 40.0  # harmonics within this many dB of the largest are judged
 
 def force_quantity(scn: Scenario, speed: float, points: int = 601):
     """Force [N] on a smooth rail at ``points`` positions over the bay for one wheel, and the CPU time
-    [s] of the receptance table (scn.track_numerics) and the force solution."""
+    [s] of the receptance table (scn.track_numerics) and the force solution.
+
+    Parameters
+    ----------
+    scn : Scenario
+    speed : float
+        Train speed [m/s].
+    points : int
+        Positions over the bay [-].
+
+    Returns
+    -------
+    tuple of (ndarray, float)
+        The force [N] at the positions, and the CPU time [s].
+    """
     t0 = time.process_time()
     one = chain.single_wheel(scn)
     tab = chain.receptance_table(one, speed)
@@ -54,7 +68,23 @@ def force_quantity(scn: Scenario, speed: float, points: int = 601):
 def wear_quantity(scn: Scenario, table, frequency: float, amplitude: float):
     """Wear spectrum Delta Z_k (k = -K..K) [m] of one passage of one wheel over a harmonic roughness
     of ``amplitude`` [m] at ``frequency`` [Hz], its mean wear depth [m], and the CPU time [s] of the
-    forces, contact and wear (scn.contact_numerics)."""
+    forces, contact and wear (scn.contact_numerics).
+
+    Parameters
+    ----------
+    scn : Scenario
+    table : rail.moving.ReceptanceTable
+        The track's table at the speed.
+    frequency : float
+        Excitation frequency [Hz].
+    amplitude : float
+        Roughness amplitude [m].
+
+    Returns
+    -------
+    tuple of (ndarray, float, float)
+        Delta Z_k [m], the mean wear depth [m] and the CPU time [s].
+    """
     t0 = time.process_time()
     one = chain.single_wheel(scn)
     rough = Roughness.harmonic(amplitude, table.speed / frequency, scn.L, table.harmonics)
@@ -63,7 +93,19 @@ def wear_quantity(scn: Scenario, table, frequency: float, amplitude: float):
 
 
 def growth_quantity(scn: Scenario, table):
-    """Roughness Z_k [m] after scn.growth.passages from a smooth rail, and the CPU time [s]."""
+    """Roughness Z_k [m] after scn.growth.passages from a smooth rail, and the CPU time [s].
+
+    Parameters
+    ----------
+    scn : Scenario
+    table : rail.moving.ReceptanceTable
+        The track's table at the speed.
+
+    Returns
+    -------
+    tuple of (ndarray, float)
+        Z_k, k = -K..K [m], and the CPU time [s].
+    """
     t0 = time.process_time()
     h = chain.grow(scn, table, Roughness.smooth(table.harmonics), progress=io.StringIO())
     return h.Z[-1], time.process_time() - t0
@@ -72,7 +114,20 @@ def growth_quantity(scn: Scenario, table):
 def with_setting(scn: Scenario, setting: str, value: float) -> Scenario:
     """The scenario with one numerical setting of the convergence study changed: 'harmonics', 'rtol'
     (receptance table), 'nodes', 'nodes_growth' (contact grid) or 'passages_per_update' (the growth
-    step, saving only at the end)."""
+    step, saving only at the end).
+
+    Parameters
+    ----------
+    scn : Scenario
+    setting : str
+        One of harmonics, rtol, nodes, nodes_growth, passages_per_update.
+    value : float
+        Its value [-] (a count, or the relative tolerance).
+
+    Returns
+    -------
+    Scenario
+    """
     if setting in ("harmonics", "rtol"):
         tn = scn.track_numerics
         tn = dataclasses.replace(tn, harmonics=int(value)) if setting == "harmonics" else dataclasses.replace(tn, rtol=float(value))
@@ -86,13 +141,34 @@ def with_setting(scn: Scenario, setting: str, value: float) -> Scenario:
 
 
 def default_settings(scn: Scenario) -> dict:
-    """The default value of every setting of the convergence study."""
+    """The default value of every setting of the convergence study.
+
+    Parameters
+    ----------
+    scn : Scenario
+
+    Returns
+    -------
+    dict
+        {setting: value [-]}.
+    """
     return {"rtol": scn.track_numerics.rtol, "harmonics": scn.track_numerics.harmonics, "nodes": scn.contact_numerics.nodes,
             "nodes_growth": scn.contact_numerics.nodes, "passages_per_update": scn.growth.passages_per_update}
 
 
 def force_error(P, P_ref) -> float:
-    """max abs(P - P_ref) over the fluctuation of P_ref, -."""
+    """max abs(P - P_ref) over the fluctuation of P_ref, -.
+
+    Parameters
+    ----------
+    P, P_ref : array_like
+        Forces at the same positions [N].
+
+    Returns
+    -------
+    float
+        The error [-].
+    """
     return float(np.max(np.abs(np.asarray(P) - P_ref)) / np.ptp(P_ref))
 
 
@@ -103,6 +179,20 @@ def harmonic_error(Z, Z_ref, within_dB: float = WITHIN_DB, k_max: int | None = N
     abs(Z / Z_ref - 1) bounds both the relative amplitude error and the phase error (in radians, for
     small errors). Z, Z_ref : coefficients k = -K..K (the spectra may have different K; the common
     harmonics k <= min(K, K_ref) are compared).
+
+    Parameters
+    ----------
+    Z, Z_ref : array_like of complex
+        Coefficients k = -K..K [m] (or wear spectra [m]).
+    within_dB : float
+        Harmonics compared: within this of the largest reference amplitude [dB].
+    k_max : int, optional
+        Highest harmonic compared [-].
+
+    Returns
+    -------
+    float
+        The error [-].
     """
     K, Kr = (len(Z) - 1) // 2, (len(Z_ref) - 1) // 2
     n = min(K, Kr) if k_max is None else min(K, Kr, k_max)
@@ -114,7 +204,22 @@ def harmonic_error(Z, Z_ref, within_dB: float = WITHIN_DB, k_max: int | None = N
 
 def level_error_dB(Z, Z_ref, k_max: int | None = None, within_dB: float = WITHIN_DB) -> float:
     """Largest level difference (dB) over the harmonics k <= k_max whose reference level is within
-    ``within_dB`` of the highest reference level."""
+    ``within_dB`` of the highest reference level.
+
+    Parameters
+    ----------
+    Z, Z_ref : array_like of complex
+        Coefficients k = -K..K [m].
+    k_max : int, optional
+        Highest harmonic compared [-].
+    within_dB : float
+        Harmonics compared: within this of the highest reference level [dB].
+
+    Returns
+    -------
+    float
+        The largest difference [dB].
+    """
     K = (len(Z_ref) - 1) // 2
     k_max = K if k_max is None else min(k_max, K)
     ref = levels_dB(Z_ref)[:k_max]
@@ -124,7 +229,19 @@ def level_error_dB(Z, Z_ref, k_max: int | None = None, within_dB: float = WITHIN
 
 
 def pareto_front(times, errors) -> np.ndarray:
-    """True for each point that no other point beats in both CPU time and error (ties allowed)."""
+    """True for each point that no other point beats in both CPU time and error (ties allowed).
+
+    Parameters
+    ----------
+    times : array_like
+        CPU time of each point [s].
+    errors : array_like
+        Its error [-].
+
+    Returns
+    -------
+    ndarray of bool
+    """
     t, e = np.asarray(times, float), np.asarray(errors, float)
     out = np.ones(len(t), dtype=bool)
     for i in range(len(t)):
@@ -140,11 +257,25 @@ def _cz(ds, re_name, im_name):
 def convergence_dataset(points: dict, study: dict, defaults: dict) -> xr.Dataset:
     """Errors of the convergence study against each setting's reference (rail.studies.convergence).
 
-    points : {(setting, value): point dataset}; study : config/convergence.yaml;
-    defaults : {setting: default value}. One entry per non-reference point, dimension 'point'.
-    For wear and growth points, error is the largest error of a harmonic against itself
-    (harmonic_error, harmonics within 40 dB of the largest; for wear points the
-    largest over the wear frequencies) and, for growth, error_dB the level error within 40 dB.
+    One entry per non-reference point, dimension 'point'. For wear and growth points, error is the
+    largest error of a harmonic against itself (harmonic_error, harmonics within 40 dB of the largest;
+    for wear points the largest over the wear frequencies) and, for growth, error_dB the level error
+    within 40 dB.
+
+    Parameters
+    ----------
+    points : dict
+        {(setting, value): point dataset}.
+    study : dict
+        config/convergence.yaml.
+    defaults : dict
+        {setting: default value}.
+
+    Returns
+    -------
+    xr.Dataset
+        Per point: setting, value, error [-], error_dB [dB], CPU time [s], reference CPU time [s], whether
+        it is the default and on the Pareto front.
     """
     rows = []
     for name, s in study["settings"].items():
@@ -195,7 +326,18 @@ def convergence_dataset(points: dict, study: dict, defaults: dict) -> xr.Dataset
 
 def convergence_rows(ds: xr.Dataset) -> list[list[str]]:
     """Rows (header first) of the convergence summary: each setting's default, its error and time,
-    the reference, and whether the default is on the Pareto front."""
+    the reference, and whether the default is on the Pareto front.
+
+    Parameters
+    ----------
+    ds : xr.Dataset
+        The study's dataset (convergence_dataset).
+
+    Returns
+    -------
+    list of list of str
+        The header first.
+    """
     rows = [["setting", "quantity", "default", "error of the default", "CPU time (s)", "reference (CPU s)", "on the Pareto front",
              "all values: value -> error"]]
     for name in dict.fromkeys(ds["setting"].values):

@@ -36,7 +36,22 @@ def _wavenumber_attrs(omega, material):
 
 
 def fig02(material: ElasticMaterial, fig: HalfSpaceFigureSettings, points: int = 600) -> xr.Dataset:
-    """Fig. 2: real and imaginary parts of the folded integrand of eq (14), 0 < beta < beta_R."""
+    """Fig. 2: real and imaginary parts of the folded integrand of eq (14), 0 < beta < beta_R.
+
+    Parameters
+    ----------
+    material : ElasticMaterial
+        Young's modulus [Pa], Poisson's ratio [-], density [kg/m^3].
+    fig : HalfSpaceFigureSettings
+        The figure's frequency [Hz] and radii [m] (figures.halfspace).
+    points : int
+        Wavenumbers [-].
+
+    Returns
+    -------
+    xr.Dataset
+        The integrand's real and imaginary parts over beta / beta_R [-].
+    """
     omega = 2 * np.pi * fig.frequency
     _, _, bR = halfspace.wavenumbers(omega, material)
     beta = (np.arange(points) + 0.5) / points * bR  # midpoints: beta = 0 and beta_R excluded
@@ -52,7 +67,24 @@ def fig02(material: ElasticMaterial, fig: HalfSpaceFigureSettings, points: int =
 
 
 def fig03(material: ElasticMaterial, fig: HalfSpaceFigureSettings, points: int = 400, upper: float = 20.0) -> xr.Dataset:
-    """Fig. 3: beta G(beta, omega) for 2 beta_R <= beta <= ``upper`` beta_R and its limit, eq (15)."""
+    """Fig. 3: beta G(beta, omega) for 2 beta_R <= beta <= ``upper`` beta_R and its limit, eq (15).
+
+    Parameters
+    ----------
+    material : ElasticMaterial
+        Young's modulus [Pa], Poisson's ratio [-], density [kg/m^3].
+    fig : HalfSpaceFigureSettings
+        The figure's frequency [Hz] and radii [m] (figures.halfspace).
+    points : int
+        Wavenumbers [-].
+    upper : float
+        Largest beta / beta_R [-].
+
+    Returns
+    -------
+    xr.Dataset
+        beta G and its limit over beta / beta_R [-].
+    """
     omega = 2 * np.pi * fig.frequency
     _, _, bR = halfspace.wavenumbers(omega, material)
     beta = np.linspace(2 * bR, upper * bR, points)
@@ -69,7 +101,22 @@ def fig03(material: ElasticMaterial, fig: HalfSpaceFigureSettings, points: int =
 
 
 def fig04(material: ElasticMaterial, fig: HalfSpaceFigureSettings, numerics: HalfSpaceNumerics) -> xr.Dataset:
-    """Fig. 4: displacement under a unit harmonic load from eq (16) and Boussinesq's eq (17)."""
+    """Fig. 4: displacement under a unit harmonic load from eq (16) and Boussinesq's eq (17).
+
+    Parameters
+    ----------
+    material : ElasticMaterial
+        Young's modulus [Pa], Poisson's ratio [-], density [kg/m^3].
+    fig : HalfSpaceFigureSettings
+        The figure's frequency [Hz] and radii [m] (figures.halfspace).
+    numerics : HalfSpaceNumerics
+        Quadrature tolerance [-] and subdivision limit.
+
+    Returns
+    -------
+    xr.Dataset
+        Real and imaginary displacement [m] per unit load [N] over radius [m], and Boussinesq's.
+    """
     omega = 2 * np.pi * fig.frequency
     w = halfspace.surface_displacement(fig.radii, omega, material, 1.0, numerics)
     return xr.Dataset(
@@ -86,7 +133,22 @@ def fig04(material: ElasticMaterial, fig: HalfSpaceFigureSettings, numerics: Hal
 
 
 def radiation(material: ElasticMaterial, fig: HalfSpaceFigureSettings, numerics: HalfSpaceNumerics) -> xr.Dataset:
-    """Im w0(0), radiated power per unit load and the contact loss factor over frequency."""
+    """Im w0(0), radiated power per unit load and the contact loss factor over frequency.
+
+    Parameters
+    ----------
+    material : ElasticMaterial
+        Young's modulus [Pa], Poisson's ratio [-], density [kg/m^3].
+    fig : HalfSpaceFigureSettings
+        Frequencies [Hz], contact radius [m] and contact stiffness [N/m] (figures.halfspace).
+    numerics : HalfSpaceNumerics
+        Quadrature tolerance [-] and subdivision limit.
+
+    Returns
+    -------
+    xr.Dataset
+        Im w0(0) [m/N], radiated power [W] and loss factor [-] over frequency [Hz].
+    """
     f = fig.frequencies
     omega = 2 * np.pi * f
     im = halfspace.point_receptance_imag(omega, material, numerics)  # the quadrature, once for the three
@@ -104,17 +166,52 @@ def radiation(material: ElasticMaterial, fig: HalfSpaceFigureSettings, numerics:
 
 
 def fig05(rad: xr.Dataset) -> xr.Dataset:
-    """Fig. 5: radiated power for a unit load against frequency."""
+    """Fig. 5: radiated power for a unit load against frequency.
+
+    Parameters
+    ----------
+    rad : xr.Dataset
+        radiation's dataset.
+
+    Returns
+    -------
+    xr.Dataset
+        radiated_power [W] over frequency [Hz].
+    """
     return rad[["radiated_power"]].assign_attrs(load_N=rad.attrs["load_N"])
 
 
 def fig06(rad: xr.Dataset) -> xr.Dataset:
-    """Fig. 6: contact-spring loss factor against frequency."""
+    """Fig. 6: contact-spring loss factor against frequency.
+
+    Parameters
+    ----------
+    rad : xr.Dataset
+        radiation's dataset.
+
+    Returns
+    -------
+    xr.Dataset
+        loss_factor [-] over frequency [Hz].
+    """
     return rad[["loss_factor"]].assign_attrs(hertz_stiffness_N_per_m=rad.attrs["hertz_stiffness_N_per_m"])
 
 
 def receptance_table(tab, track) -> xr.Dataset:
-    """Moving-load receptance matrices A_d[p, k] = a_{p-k}(k Omega_0, d) of rail.moving.receptance_table."""
+    """Moving-load receptance matrices A_d[p, k] = a_{p-k}(k Omega_0, d) of rail.moving.receptance_table.
+
+    Parameters
+    ----------
+    tab : rail.moving.MovingReceptance
+        The table (speed [m/s], harmonics K, wheel offsets d [m]).
+    track : Track
+        Its track (attributes: sleeper spacing [m], ...).
+
+    Returns
+    -------
+    xr.Dataset
+        A_real and A_imag [m/N] over offset, harmonic p and harmonic k.
+    """
     K = tab.harmonics
     h = np.arange(-K, K + 1)
     dims = ("offset", "response_harmonic", "force_harmonic")
@@ -155,7 +252,19 @@ def receptance_table(tab, track) -> xr.Dataset:
 def bloch_tables(tabs, track) -> xr.Dataset:
     """The receptance tables of a roughness periodic over N bays (rail.moving.bloch_tables) in one
     dataset, along the dimension 'fraction' (nu = r / N); the tables with nu > 0 have no harmonic K
-    (their entries there are NaN)."""
+    (their entries there are NaN).
+
+    Parameters
+    ----------
+    tabs : sequence of rail.moving.MovingReceptance
+        The N tables, nu = r / N for r = 0..N-1.
+    track : Track
+
+    Returns
+    -------
+    xr.Dataset
+        As receptance_table, along 'fraction' [-] too.
+    """
     K = tabs[0].harmonics
     shape = (len(tabs), len(tabs[0].offsets), 2 * K + 1, 2 * K + 1)
     A = np.full(shape, np.nan + 0j)
@@ -183,7 +292,17 @@ def bloch_tables(tabs, track) -> xr.Dataset:
 
 def read_receptance_table(ds: xr.Dataset):
     """The MovingReceptance stored by receptance_table, or the tuple of them stored by bloch_tables
-    (inverse of them)."""
+    (inverse of them).
+
+    Parameters
+    ----------
+    ds : xr.Dataset
+        A dataset written by receptance_table or bloch_tables.
+
+    Returns
+    -------
+    MovingReceptance or tuple of MovingReceptance
+    """
     if "fraction" in ds.dims:
         out = []
         K = (ds.sizes["response_harmonic"] - 1) // 2
@@ -214,7 +333,25 @@ def _force_history_vars(results, track, x, labels):
 
 
 def fig08(result, track, roughness, settings: dict, points: int = 601) -> xr.Dataset:
-    """Fig. 8: normal contact force of one wheel over a bay with harmonic roughness, and that roughness."""
+    """Fig. 8: normal contact force of one wheel over a bay with harmonic roughness, and that roughness.
+
+    Parameters
+    ----------
+    result : rail.chain.ForceResult
+        The forces of the passage.
+    track : Track
+    roughness : Roughness
+        The harmonic roughness Z_k [m].
+    settings : dict
+        figures.fig08: speed [m/s], frequency [Hz], amplitude [m].
+    points : int
+        Positions over the bay [-].
+
+    Returns
+    -------
+    xr.Dataset
+        Normal contact force [N] and roughness [m] over position [m].
+    """
     x = np.linspace(0.0, track.L, points)
     data = _force_history_vars([(result, "normal contact force")], track, x, ["force"])
     data["dynamic_force"] = data_var("position", data["force"][1] - result.P[0, result.harmonics].real,
@@ -229,7 +366,21 @@ def fig08(result, track, roughness, settings: dict, points: int = 601) -> xr.Dat
 
 
 def fig22(results: dict, track, points: int = 601) -> xr.Dataset:
-    """Fig. 22: normal contact force of one wheel over a smooth rail, one variable per speed."""
+    """Fig. 22: normal contact force of one wheel over a smooth rail, one variable per speed.
+
+    Parameters
+    ----------
+    results : dict
+        {speed [m/s]: the forces of the passage}.
+    track : Track
+    points : int
+        Positions over the bay [-].
+
+    Returns
+    -------
+    xr.Dataset
+        Normal contact force [N] per speed over position [m].
+    """
     x = np.linspace(0.0, track.L, points)
     data = {}
     for V, res in results.items():
@@ -242,7 +393,27 @@ def fig22(results: dict, track, points: int = 601) -> xr.Dataset:
 
 
 def wear_case(result, forces, roughness, track, settings: dict, frequency: float) -> xr.Dataset:
-    """One wheel passage over a harmonic roughness: contact and wear along the bay (Figs 9-19)."""
+    """One wheel passage over a harmonic roughness: contact and wear along the bay (Figs 9-19).
+
+    Parameters
+    ----------
+    result : rail.chain.PassageWear
+        Contact and wear of the passage along the bay.
+    forces : rail.chain.ForceResult
+        Its forces.
+    roughness : Roughness
+        The harmonic roughness Z_k [m].
+    track : Track
+    settings : dict
+        figures.wear: speed [m/s], amplitude [m].
+    frequency : float
+        The roughness's excitation frequency [Hz] (its wavelength: speed / frequency).
+
+    Returns
+    -------
+    xr.Dataset
+        Forces [N], traction [Pa], slip velocity [m/s], wear depth [m] and its spectrum [m] along the bay [m].
+    """
     x = result.x
     K = roughness.harmonics
     k = np.arange(1, K + 1)
@@ -284,12 +455,38 @@ def _attrs(ds):
 
 
 def fig09(case: xr.Dataset) -> xr.Dataset:
-    """Fig. 9: tangential contact force against wheel position."""
+    """Fig. 9: tangential contact force against wheel position.
+
+    Parameters
+    ----------
+    case : xr.Dataset
+        A wear case (wear_case).
+
+    Returns
+    -------
+    xr.Dataset
+        Tangential and normal force [N] over position [m].
+    """
     return case[["tangential_force", "normal_force"]].assign_attrs(_attrs(case))
 
 
 def fig10_11(case: xr.Dataset, variable: str, instants_s=(0.0, 0.25e-3, 0.5e-3, 0.75e-3, 1.0e-3)) -> xr.Dataset:
-    """Figs 10 and 11: traction or slip velocity across the patch at instants of one excitation period."""
+    """Figs 10 and 11: traction or slip velocity across the patch at instants of one excitation period.
+
+    Parameters
+    ----------
+    case : xr.Dataset
+        A wear case (wear_case).
+    variable : str
+        'traction' or 'slip_velocity'.
+    instants_s : sequence of float
+        Times within the excitation period [s].
+
+    Returns
+    -------
+    xr.Dataset
+        The variable across the patch [m] at each instant [s].
+    """
     V = case.attrs["speed_m_per_s"]
     x = case["position"].values
     out = {}
@@ -303,12 +500,36 @@ def fig10_11(case: xr.Dataset, variable: str, instants_s=(0.0, 0.25e-3, 0.5e-3, 
 
 
 def fig_wear(case: xr.Dataset) -> xr.Dataset:
-    """Figs 12, 14, 16, 18: wear after one passage with the initial roughness and the dynamic force."""
+    """Figs 12, 14, 16, 18: wear after one passage with the initial roughness and the dynamic force.
+
+    Parameters
+    ----------
+    case : xr.Dataset
+        A wear case (wear_case).
+
+    Returns
+    -------
+    xr.Dataset
+        Wear depth [m], roughness [m] and dynamic normal force [N] over position [m].
+    """
     return case[["wear_depth", "roughness", "dynamic_normal_force"]].assign_attrs(_attrs(case))
 
 
 def fig_wear_spectrum(case: xr.Dataset, k_max: float) -> xr.Dataset:
-    """Figs 13, 15, 17, 19: amplitude spectrum of the wear up to k_max rad/m."""
+    """Figs 13, 15, 17, 19: amplitude spectrum of the wear up to k_max rad/m.
+
+    Parameters
+    ----------
+    case : xr.Dataset
+        A wear case (wear_case).
+    k_max : float
+        Largest wavenumber shown [rad/m].
+
+    Returns
+    -------
+    xr.Dataset
+        wear_spectrum [m] over wavenumber [rad/m].
+    """
     sel = case["wavenumber"].values <= k_max + 1e-9
     return case[["wear_spectrum"]].isel(harmonic=np.where(sel)[0]).assign_attrs(_attrs(case))
 
@@ -318,7 +539,31 @@ def growth(history, track, speed: float, n_wheels: int, points: int = 601, bays:
     roughness periodic over N = bays bays the harmonics are j = 1..N K at the wavenumbers
     2 pi j / (N L) and the profiles span the N bays. force : optional function of the roughness
     coefficients Z giving every wheel's contact force [N] at the profile positions, shape
-    (wheels, positions); stored per saved passage count."""
+    (wheels, positions); stored per saved passage count.
+
+    Parameters
+    ----------
+    history : rail.growth.GrowthHistory
+        Z at every saved passage count [m].
+    track : Track
+    speed : float
+        Train speed [m/s].
+    n_wheels : int
+        Wheels of the train [-].
+    points : int
+        Profile positions over the period [-].
+    bays : int
+        Roughness period N [-].
+    force : callable, optional
+        Z -> contact force [N], shape (wheels, positions).
+
+    Returns
+    -------
+    xr.Dataset
+        Level per harmonic [dB re 1 µm], Z [m], profiles [m] over position [m], growth rates [-] per passage,
+        [µm per 100000 axle passages] and [dB per 100000 axle passages] and, with ``force``, the force [N] at
+        every save.
+    """
 
     Z = history.Z
     K = (Z.shape[1] - 1) // 2  # J = N K for a roughness periodic over N bays
@@ -388,7 +633,24 @@ def with_contact_shift(ds: xr.Dataset, shifts, limit: float, modelled: bool = Fa
     centre, contact.wear_path: wheel) and its sweep error exceeds ``limit`` [-], the attribute
     ``contact_shift_warning`` (docs/contact.md, "The move of the contact centre"). ``modelled``: the
     wear is on the patch's true path (contact.wear_path: patch), the move is in the model: reported,
-    not flagged."""
+    not flagged.
+
+    Parameters
+    ----------
+    ds : xr.Dataset
+        A growth dataset (growth).
+    shifts : sequence of rail.chain.ContactShift
+        The move of the contact centre [m] and its ratio [-] at each saved state.
+    limit : float
+        Sweep error above which it is flagged [-].
+    modelled : bool
+        The move is in the model (contact.wear_path: patch).
+
+    Returns
+    -------
+    xr.Dataset
+        ``ds`` with contact_shift [m] and contact_shift_ratio [-] per save.
+    """
     c = np.array([s.shift for s in shifts])
     ratio = np.array([s.ratio for s in shifts])
     sweep = np.array([s.sweep for s in shifts])
@@ -445,7 +707,22 @@ def growth_figure(runs: dict, kind: str, k_max_rad_per_m: float = 525.0) -> xr.D
     """Data of Figs 20-27 from growth datasets: kind 'profiles' (every save of one run),
     'spectra' (final levels of each run) or 'final_profiles' (final profile of each run). Every
     dataset states its wear path and normal contact as values (the runs' wear_path, normal_contact,
-    and on each variable its own run's where several runs are drawn)."""
+    and on each variable its own run's where several runs are drawn).
+
+    Parameters
+    ----------
+    runs : dict
+        {label: growth dataset}.
+    kind : str
+        'profiles', 'spectra' or 'final_profiles'.
+    k_max_rad_per_m : float
+        Largest wavenumber of the spectra [rad/m].
+
+    Returns
+    -------
+    xr.Dataset
+        Profiles [m] over position [m], or levels [dB re 1 µm] over wavenumber [rad/m].
+    """
     first = next(iter(runs.values()))
     if kind == "profiles":
         ds = first
@@ -501,7 +778,27 @@ def sweep_coords(keys, values, units) -> tuple[tuple, dict]:
 
 def sweep(runs, keys, values, indices, units) -> xr.Dataset:
     """A sweep study: growth results on the grid of swept keys (one dimension per key, in the units
-    of ``units``, one per key)."""
+    of ``units``, one per key).
+
+    Parameters
+    ----------
+    runs : sequence of xr.Dataset
+        The points' growth datasets, in grid order.
+    keys : list of str
+        The swept keys.
+    values : list of list
+        Their values, in each key's unit.
+    indices : list of list of int
+        Each point's grid index.
+    units : list of str
+        Each key's unit (rail.setup.config.schema_unit).
+
+    Returns
+    -------
+    xr.Dataset
+        Final levels per harmonic and overall [dB re 1 µm], the fastest amplitude growth [µm per 100000 axle
+        passages] and its wavelength [m] on the grid.
+    """
     dims, coords = sweep_coords(keys, values, units)
     shape = tuple(len(v) for v in values)
     first = runs[0]

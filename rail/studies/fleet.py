@@ -71,6 +71,8 @@ def spectrum_from_arrays(arrays) -> "RateSpectrum":
     Parameters
     ----------
     arrays : mapping of name to ndarray
+        As spectrum_arrays writes them: the RateSpectrum's fields by name (its wavelengths [m], rates per train
+        passage [-], ...).
 
     Returns
     -------

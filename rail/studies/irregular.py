@@ -1,7 +1,7 @@
 """The irregular-track study (issue 34, named target irregular_track): each kind of support beside the
 uniform track, and what the pinned-pinned band does as the irregularity grows.
 
-Per case (a scenario file config/scenarios/irregular_<kind>.yaml with a track cell): the point
+Per case (a case of config/studies/irregular_track.yaml with a track cell): the point
 receptance above each support of the cell and of the uniform track; the contact force of one wheel
 over the smooth rail along the cell; the roughness grown after the run's passages; the growth-rate
 spectrum.  Over the cases and the random-track ensemble: the level of the one-third-octave band that
@@ -26,7 +26,18 @@ FREQUENCIES_HZ = np.geomspace(50.0, 3000.0, 80)
 
 def support_differences(cell: TrackCell) -> list[str]:
     """How each support differs from the nominal one, "" for a nominal support ("ballast ×0.001" for a
-    voided sleeper, "pad ×2, sleeper ×0.5", ...)."""
+    voided sleeper, "pad ×2, sleeper ×0.5", ...).
+
+    Parameters
+    ----------
+    cell : TrackCell
+        The track's cell of N bays (rail.cell).
+
+    Returns
+    -------
+    list of str
+        One per support, in the cell's order.
+    """
     tr = cell.track
     out = []
     for s in cell.supports:
@@ -42,7 +53,18 @@ def support_differences(cell: TrackCell) -> list[str]:
 
 
 def support_labels(cell: TrackCell) -> list[str]:
-    """A short label per support: its position and how it differs from the nominal support."""
+    """A short label per support: its position and how it differs from the nominal support.
+
+    Parameters
+    ----------
+    cell : TrackCell
+        The track's cell of N bays (rail.cell).
+
+    Returns
+    -------
+    list of str
+        One per support: its position [m] and difference.
+    """
     return [f"support {j} at {s.position:.3f} m" + (f" ({d})" if d else "")
             for j, (s, d) in enumerate(zip(cell.supports, support_differences(cell)))]
 
@@ -50,7 +72,18 @@ def support_labels(cell: TrackCell) -> list[str]:
 def support_marks(cell: TrackCell) -> list[tuple[float, str]]:
     """The supports over one period of the cell for a figure along the rail (rail.plotting.axes.mark_supports):
     (position [m], how it differs from the nominal support, "" if it does not) per support, and the
-    first support again at the period's end."""
+    first support again at the period's end.
+
+    Parameters
+    ----------
+    cell : TrackCell
+        The track's cell of N bays (rail.cell).
+
+    Returns
+    -------
+    list of tuple of (float, str)
+        (position [m], difference) per support, and the period's end.
+    """
     diff = support_differences(cell)
     return [(float(s.position), d) for s, d in zip(cell.supports, diff)] + [(float(cell.period), diff[0])]
 

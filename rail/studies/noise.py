@@ -86,7 +86,25 @@ def _rail_dB(ms):
 
 def trip_text(trip, label: str, traffic, speed: float, unit: str) -> str:
     """A criterion's trip in words: when (axle passages, years, MGT), whether extrapolated and by what
-    factor, and the band that drives it; or why it is not reached or not assessed."""
+    factor, and the band that drives it; or why it is not reached or not assessed.
+
+    Parameters
+    ----------
+    trip : rail.noise.grinding.Trip
+        The criterion's trip (its status, passages [-], threshold, extrapolation factor [-], note).
+    label : str
+        The criterion in words.
+    traffic : rail.noise.Traffic or None
+        Converts axle passages to years and MGT (None: no traffic given).
+    speed : float
+        Train speed [m/s].
+    unit : str
+        The threshold's unit (dB(A), um rms).
+
+    Returns
+    -------
+    str
+    """
     if trip.status == "not assessed":
         return f"{label}: not assessed ({trip.note})"
     if trip.status == "not reached":
@@ -113,7 +131,17 @@ def _driver_text(trip, speed: float, fbands, wbands, limits) -> str:
 
 def change_line(ds) -> str:
     """One line: the A-weighted line sound power at the start and the last save and its change, and
-    the first noise criterion that trips (the run summary of railgrowth run and the growth_noise log)."""
+    the first noise criterion that trips (the run summary of railgrowth run and the growth_noise log).
+
+    Parameters
+    ----------
+    ds : xr.Dataset
+        The noise over traffic (rail.studies.noise): line_sound_power_A [dB(A) re 1 pW] per passage, the criteria's attributes.
+
+    Returns
+    -------
+    str
+    """
     n, L = ds["passage"].values, ds["line_sound_power_A"].values
     tripped = sorted((ds.attrs[f"grinding_noise_{c}_passages"], ds.attrs[f"grinding_noise_{c}_text"]) for c in CRITERIA
                      if ds.attrs.get(f"grinding_noise_{c}_status") in ("at the start", "within the run", "extrapolated"))
@@ -357,7 +385,20 @@ def noise_csv_text(ds, name: str) -> str:
     """The noise export: '#' header lines (method, speed, vehicle, track, traffic, the grinding criteria
     in words), one row per save with its axle passages, years and MGT, the A-weighted levels, their
     change, the cycle average, the band rms per range and the line sound power per frequency band;
-    every column name carries its unit. An empty cell: no value (a range not assessed; no traffic)."""
+    every column name carries its unit. An empty cell: no value (a range not assessed; no traffic).
+
+    Parameters
+    ----------
+    ds : xr.Dataset
+        The noise over traffic (rail.studies.noise).
+    name : str
+        The scenario's name.
+
+    Returns
+    -------
+    str
+        The CSV text.
+    """
     a = ds.attrs
     head = [f"# rolling noise by CNOSSOS-EU at every save of the growth run of scenario {name} (rail.studies.noise; docs/noise.md)",
             f"# speed {a['speed_m_per_s']:g} m/s; {a['vehicles_per_hour']:.4g} vehicles/h of {a['axles_per_vehicle']} axles, wheel "

@@ -25,7 +25,24 @@ def spectrum_with_settings(scn, tables, settings: dict, progress=None) -> RateSp
     tables' speed, on the lines and with the probe and grids of ``settings`` (the keys of
     figures.rate_spectrum: shortest, longest, per_octave, eps, grid_phases; and a band {low, high,
     spacing} in Hz resolved at the settings' speeds, rail.growth_spectrum.settings_lines); ``progress`` as for
-    rail.growth_spectrum.rate_spectrum."""
+    rail.growth_spectrum.rate_spectrum.
+
+    Parameters
+    ----------
+    scn : Scenario
+        A spectrum scenario (rail.setup.build.spectrum_scenario).
+    tables : MovingReceptance or tuple of MovingReceptance
+        The receptance (Bloch) tables at the speed.
+    settings : dict
+        figures.rate_spectrum: shortest, longest [m], per_octave [-], eps [-], grid_phases [-], band [Hz].
+    progress : file, optional
+        Where progress lines go.
+
+    Returns
+    -------
+    RateSpectrum
+        Per line: wavelength [m] and complex rate per train passage [-].
+    """
     s = settings
     lines = settings_lines(scn.L, scn.roughness.bays, scn.harmonics, s)
     return rate_spectrum(scn, tables, lines, eps=float(s["eps"]), grid_phases=int(s["grid_phases"]), progress=progress)
@@ -223,7 +240,18 @@ def growing_bands(wavelength, growth_rate):
 
 def summary_markdown(ds: xr.Dataset) -> str:
     """Where the rate is positive, per speed, and the fastest-growing wavelength (a Markdown table),
-    then the result's validity (rail.studies.validity) in one line."""
+    then the result's validity (rail.studies.validity) in one line.
+
+    Parameters
+    ----------
+    ds : xr.Dataset
+        A spectrum dataset over speed (rate_spectrum_map).
+
+    Returns
+    -------
+    str
+        Markdown text.
+    """
     rows = ["| speed (m/s) | wavelengths that grow (mm) | fastest (mm) | its growth (dB per 100,000 train passages) "
             "| its growth (dB per 100,000 axle passages) |",
             "|---|---|---|---|---|"]

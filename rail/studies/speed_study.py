@@ -66,7 +66,17 @@ def mechanism_label(cfg: dict) -> str:
 
 
 def track_label(cfg: dict) -> str:
-    """The track in words: its pad's vertical stiffness ("pad 1e+09 N/m")."""
+    """The track in words: its pad's vertical stiffness ("pad 1e+09 N/m").
+
+    Parameters
+    ----------
+    cfg : dict
+        A case's resolved configuration.
+
+    Returns
+    -------
+    str
+    """
     k = float(cfg["track"]["pad"]["stiffness"])
     return f"pad {k:.3g} N/m"
 
@@ -185,7 +195,18 @@ def verdict(case: xr.Dataset) -> str:
 
 def summary_table(ds: xr.Dataset) -> str:
     """A markdown table of study_dataset: per case and speed the fastest line, the pinned-pinned line
-    and the number of growing lines, and per case the verdict."""
+    and the number of growing lines, and per case the verdict.
+
+    Parameters
+    ----------
+    ds : xr.Dataset
+        The study's dataset (study_dataset).
+
+    Returns
+    -------
+    str
+        Markdown text.
+    """
     out = ["| mechanism | track | speed (m/s) | fastest line | its rate (dB per 1e5 axles) | near pinned-pinned | its rate | growing lines |",
            "|---|---|---|---|---|---|---|---|"]
     for i in range(ds.sizes["case"]):

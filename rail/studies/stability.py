@@ -95,8 +95,24 @@ def _checks(scn: Scenario, tab, forces, rough, w, hist):
 def run_case(defaults: dict, schema: dict, name: str, case: dict, numerics: dict | None = None) -> dict:
     """Run one stability case; returns a record (JSON-friendly dict).
 
-    case : {'description', 'overrides' (config keys), 'speed' (m/s), 'passages', 'passages_per_update'}.
-    numerics : optional overrides of ``numerics`` (reduced resolution for the test suite).
+    Parameters
+    ----------
+    defaults : dict
+        The validated default configuration the case's overrides are merged onto.
+    schema : dict
+        config/schema/config.schema.yaml.
+    name : str
+        The case's name.
+    case : dict
+        {'description', 'overrides' (config keys), 'speed' [m/s], 'passages', 'passages_per_update'}.
+    numerics : dict, optional
+        Overrides of ``numerics`` (reduced resolution for the test suite).
+
+    Returns
+    -------
+    dict
+        case, description, status ('ok' or 'failed'), stage reached, error_type and message, the checks
+        (name, value, limit, passed), full_slip [-] and cpu_s [s].
     """
     rec = {"case": name, "description": case.get("description", ""), "status": "failed", "stage": "config",
            "error_type": "", "message": "", "checks": [], "full_slip": 0.0, "cpu_s": 0.0}
@@ -137,17 +153,42 @@ def run_case(defaults: dict, schema: dict, name: str, case: dict, numerics: dict
 
 
 def outcome_matches(rec: dict, expect) -> bool:
-    """Whether a case's record is what config/stability.yaml expects: 'ok', or {'error': regex}."""
+    """Whether a case's record is what config/stability.yaml expects: 'ok', or {'error': regex}.
+
+    Parameters
+    ----------
+    rec : dict
+        A case's record (run_case).
+    expect : str or dict
+        'ok', or {'error': regex}.
+
+    Returns
+    -------
+    bool
+    """
     if expect == "ok":
         return rec["status"] == "ok"
     return rec["status"] == "error" and re.search(expect["error"], rec["message"]) is not None
 
 
 def stability_dataset(records: list[dict], expect: dict, critical_speed: float) -> xr.Dataset:
-    """Outcomes of the stability suite, one entry per case (rail.studies.stability.run_case records).
+    """Outcomes of the stability suite, one entry per case (rail.studies.stability.run_case records);
+    as_expected is 1 when the outcome is the expected one.
 
-    expect : {case: 'ok' or {'error': regex}} from config/stability.yaml; as_expected is 1 when
-    the outcome is the expected one. critical_speed : m/s, of the default track.
+    Parameters
+    ----------
+    records : list of dict
+        run_case's records.
+    expect : dict
+        {case: 'ok' or {'error': regex}} from config/stability.yaml.
+    critical_speed : float
+        The default track's critical speed [m/s].
+
+    Returns
+    -------
+    xr.Dataset
+        Per case: description, status, error type, message, stage, checks, the expected outcome,
+        as_expected, full slip [-] and CPU time [s].
     """
     names = [r["case"] for r in records]
 
@@ -178,7 +219,18 @@ def stability_dataset(records: list[dict], expect: dict, critical_speed: float) 
 
 
 def stability_rows(ds: xr.Dataset) -> list[list[str]]:
-    """Rows (header first) of the stability outcome table."""
+    """Rows (header first) of the stability outcome table.
+
+    Parameters
+    ----------
+    ds : xr.Dataset
+        stability_dataset's.
+
+    Returns
+    -------
+    list of list of str
+        The header first.
+    """
     rows = [["case", "what", "outcome", "as expected", "evidence (checks or error message)", "CPU (s)"]]
     for i, c in enumerate(ds["case"].values):
         ev = str(ds["checks"].values[i]) if str(ds["status"].values[i]) == "ok" else f"{ds['error_type'].values[i]}: {ds['message'].values[i]}"

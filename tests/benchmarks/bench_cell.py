@@ -1,12 +1,13 @@
 """Benchmark (not a test): an irregular track periodic over 8 bays at 40 m/s (issue 34).
 
 The receptance table over the cell and 100,000 passages of one wheel from the smooth rail, for the
-stiff-pad case (config/scenarios/irregular_stiff_pad.yaml, K = 36 per bay, non-Hertzian contact) and
+stiff-pad case (irregular_stiff_pad of config/studies/irregular_track.yaml, K = 36 per bay, non-Hertzian contact) and
 a random track of the ensemble, with their CPU time and peak resident memory; and, for scale, the
 uniform track's table at the same K and the uniform cell of 8 bays.
 Run:  OMP_NUM_THREADS=1 OPENBLAS_NUM_THREADS=1 python tests/benchmarks/bench_cell.py
 """
 
+import copy
 import io
 import resource
 import time
@@ -15,6 +16,7 @@ from pathlib import Path
 from rail import chain, moving
 from rail.cell import TrackCell
 from rail.setup import build, config
+from rail.setup.study_files import study_cases
 
 ROOT = Path(__file__).resolve().parents[2]
 
@@ -26,7 +28,7 @@ def _peak_mb():
 def _scenario(name, **extra):
     cfg = config.load_yaml(ROOT / "config/config.yaml")
     schema = config.load_yaml(ROOT / "config/schema/config.schema.yaml")
-    scen = config.load_yaml(ROOT / f"config/scenarios/{name}.yaml")
+    scen = copy.deepcopy(study_cases(ROOT)[name][1])  # a case of config/studies/irregular_track.yaml
     scen.pop("sweep", None)
     scen = config.deep_merge(scen, extra)
     return build.scenario(config.resolve(cfg, schema, scen, name), name)

@@ -29,10 +29,14 @@ ROOT = Path(__file__).resolve().parents[2]
 
 
 def scenario(name: str):
-    """The spectrum's Scenario and figures.rate_spectrum settings of a scenario file, as the workflow resolves it."""
+    """The spectrum's Scenario and figures.rate_spectrum settings of a scenario file or a study file's case, as the
+    workflow resolves it."""
+    from rail.setup.study_files import study_cases
+
     cfg = config.load_yaml(ROOT / "config/config.yaml")
     schema = config.load_yaml(ROOT / "config/schema/config.schema.yaml")
-    scen = config.load_yaml(ROOT / f"config/scenarios/{name}.yaml")
+    path = ROOT / f"config/scenarios/{name}.yaml"
+    scen = config.load_yaml(path) if path.exists() else dict(study_cases(ROOT)[name][1])
     scen.pop("sweep", None)
     res = config.resolve_scenario_file(cfg, schema, scen, name)
     return build.spectrum_scenario(res, name), dict(res["figures"]["rate_spectrum"])

@@ -40,7 +40,7 @@ use rule track_receptance as track_receptance_scenario with:
             subcategory="{track}",
         ),
     wildcard_constraints:
-        track=characterised_track_pattern(),
+        track=PLAN.characterised_track_pattern(),
     log:
         "logs/characterisation/{track}/track_receptance.log",
     benchmark:
@@ -83,7 +83,7 @@ use rule moving_receptance as moving_receptance_scenario with:
             subcategory="{track}",
         ),
     wildcard_constraints:
-        track=characterised_track_pattern(),
+        track=PLAN.characterised_track_pattern(),
     log:
         "logs/characterisation/{track}/moving_receptance.log",
     benchmark:
@@ -127,7 +127,7 @@ use rule track_decay_rate as track_decay_rate_scenario with:
             subcategory="{track}",
         ),
     wildcard_constraints:
-        track=characterised_track_pattern(),
+        track=PLAN.characterised_track_pattern(),
     log:
         "logs/characterisation/{track}/track_decay_rate.log",
     benchmark:

@@ -1,6 +1,6 @@
 # How much the corrugation prediction depends on the tangential contact closure (docs/contact.md):
-# named target closure_study (README). The growth runs come from the sweep files
-# config/scenarios/closure*.yaml.
+# named target closure_study (README; the loop over config/studies/ in spectrum.smk). The growth runs are
+# the points of the sweeps of config/studies/closure_study.yaml (Plan.closure_studies).
 
 
 rule closure_wear:
@@ -71,9 +71,3 @@ rule closure_aggregate:
         "benchmarks/closure/aggregate.tsv"
     script:
         "../scripts/closure_aggregate.py"
-
-
-rule closure_study:
-    """Named target: the closure sensitivity study."""
-    input:
-        PLAN.closure_targets(),

@@ -207,13 +207,6 @@ def sweep_units(wildcards):
 
 # Track characterisation (workflow/rules/characterisation.smk).
 
-def characterised_track_pattern():
-    """Wildcard constraint for 'track' of the scenario characterisation rules (never matches if none)."""
-    import re
-
-    return "|".join(re.escape(name) for name in PLAN.characterised_tracks()) or "(?!)"
-
-
 def characterisation_track(wildcards):
     """Name of the characterised track: the wildcard 'track', 'default' where there is none."""
     return wildcards.get("track", "default")

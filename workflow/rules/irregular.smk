@@ -1,8 +1,12 @@
 # Irregular track (issue 34): supports that vary over a cell of N bays (rail/cell.py, docs/track.md
-# "A cell of N bays"). Named target irregular_track (README): the cases config/scenarios/irregular_<kind>.yaml
-# each beside the uniform track (irregular_uniform.yaml), and the random-track ensemble (irregular_random.yaml).
+# "A cell of N bays"). Named target irregular_track (README; the loop over config/studies/ in spectrum.smk):
+# the cases of config/studies/irregular_track.yaml each beside its uniform track, and the random-track ensemble
+# (the roles of its summary: Plan.irregular_study).
+
+import re
 
 IRREGULAR_CASES = PLAN.irregular_cases()  # speed: rail.setup.plan.IRREGULAR_SPEED
+IRREGULAR_UNIFORM = PLAN.irregular_study().get("uniform")
 
 
 rule irregular_case:
@@ -10,18 +14,18 @@ rule irregular_case:
     cell over the smooth rail, roughness after the run, growth-rate spectrum."""
     input:
         growth=f"results/growth/{{case}}/V{IRREGULAR_SPEED}.nc",
-        growth_uniform=f"results/growth/irregular_uniform/V{IRREGULAR_SPEED}.nc",
+        growth_uniform=f"results/growth/{IRREGULAR_UNIFORM}/V{IRREGULAR_SPEED}.nc",
         spectrum=f"results/spectrum/{{case}}/V{IRREGULAR_SPEED}.nc",
-        spectrum_uniform=f"results/spectrum/irregular_uniform/V{IRREGULAR_SPEED}.nc",
+        spectrum_uniform=f"results/spectrum/{IRREGULAR_UNIFORM}/V{IRREGULAR_SPEED}.nc",
     output:
         data="results/irregular/{case}.nc",
         figure=report("results/irregular/{case}.png", caption="../report/irregular_case.rst", category="Irregular track"),
     wildcard_constraints:
-        case="irregular_[a-z_]+",
+        case="|".join(map(re.escape, IRREGULAR_CASES)) or "(?!)",  # the study file's cases, not a name prefix
     params:
         code=code("irregular_case.py"),
         cfg=lambda w: {"case": config_part(("track",), SCENARIOS[w.case]),
-                       "uniform": config_part(("track", "numerics.track"), SCENARIOS["irregular_uniform"])},
+                       "uniform": config_part(("track", "numerics.track"), SCENARIOS[IRREGULAR_UNIFORM])},
         speed=float(IRREGULAR_SPEED),
     log:
         "logs/irregular/{case}.log",
@@ -40,7 +44,7 @@ rule irregular_summary:
     priority: PRIORITY_KERNELS  # a short drawing or summing job: not queued behind long jobs (issue 57)
     input:
         cases=expand(f"results/growth/{{case}}/V{IRREGULAR_SPEED}.nc", case=IRREGULAR_CASES),
-        uniform=f"results/growth/irregular_uniform/V{IRREGULAR_SPEED}.nc",
+        uniform=f"results/growth/{IRREGULAR_UNIFORM}/V{IRREGULAR_SPEED}.nc",
         random=[f"results/growth/{name}/V{IRREGULAR_SPEED}.nc" for name in PLAN.irregular_random_points()],
     output:
         data="results/irregular/summary.nc",
@@ -50,7 +54,7 @@ rule irregular_summary:
         code=code("irregular_summary.py"),
         cfg={name: config_part(("track",), SCENARIOS[name]) for name in PLAN.irregular_random_points()},
         case_cfg={c: config_part(("track",), SCENARIOS[c]) for c in IRREGULAR_CASES},
-        uniform_cfg=lambda w: config_part(("track", "numerics.track"), SCENARIOS["irregular_uniform"]),
+        uniform_cfg=lambda w: config_part(("track", "numerics.track"), SCENARIOS[IRREGULAR_UNIFORM]),
         spreads={name: SCENARIOS[name]["track"]["cell"]["random"].get("spacing", 0.0) for name in PLAN.irregular_random_points()},
         speed=float(IRREGULAR_SPEED),
     log:
@@ -62,9 +66,3 @@ rule irregular_summary:
         runtime=5,
     script:
         "../scripts/irregular_summary.py"
-
-
-rule irregular_track:
-    """Named target: the irregular-track study (issue 34)."""
-    input:
-        PLAN.irregular_targets(),

@@ -98,14 +98,6 @@ rule rate_spectrum_sweeps:
         PLAN.rate_spectrum_sweep_targets(),
 
 
-rule short_wave:
-    """Named target (issue 31): roughness shorter than the contact patch. The growth-rate spectrum of
-    the default track with the non-Hertzian normal contact from L / K to 0.6 m at every speed, and the
-    broadband study from a limit-like spectrum with both normal-contact models."""
-    input:
-        PLAN.short_wave_targets(),
-
-
 rule speed_study:
     """The dynamic-creepage study over speed in one dataset, figure and table: per mechanism, track and speed
     the fastest line and its frequency, the line nearest the pinned-pinned frequency, and whether the
@@ -133,9 +125,11 @@ rule speed_study:
         "../scripts/speed_study.py"
 
 
-# The studies of config/studies/<name>.yaml (issue 57, item 9): a named target each, the growth-rate spectrum of
-# every case (dynamic_creepage, dynamic_creepage_speeds with the speed study's summary, rail_flexibility; issue 43,
-# docs/dynamic-creepage.md). A study file that is not valid stops its own target alone.
+# The studies of config/studies/<name>.yaml (issue 57, item 9): a named target each, what the file builds of each
+# case (its growth-rate spectrum, its study_<case> outputs) and the study's summary: dynamic_creepage,
+# dynamic_creepage_speeds with the speed study's summary, rail_flexibility (issue 43, docs/dynamic-creepage.md),
+# short_wave (issue 31), closure_study (workflow/rules/closure.smk) and irregular_track (workflow/rules/irregular.smk).
+# A study file that is not valid stops its own target alone.
 for _study in sorted({*PLAN.studies, *PLAN.broken_studies}):
 
     rule:
