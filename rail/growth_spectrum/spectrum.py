@@ -133,7 +133,9 @@ def _checked_arguments(scn: Scenario, lines, eps: float, grid_phases: int, metho
     if method not in ("linear", "probe"):
         raise ValueError(f"method = {method!r} is not allowed: it must be 'linear' or 'probe'.")
     forced = ""
-    if method == "linear" and (why := linear_unsupported(scn.material)):
+    # every wheel's contact (its own wheelset's modes under a fleet: chain.wheel_material), not only the scenario's
+    why = " or ".join(dict.fromkeys(w for l in range(len(scn.wheels.positions)) if (w := linear_unsupported(chain.wheel_material(scn, l)))))
+    if method == "linear" and why:
         method, forced = "probe", f" (the tangent march has no {why})"
     return lines, method, forced
 
