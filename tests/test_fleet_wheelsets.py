@@ -317,7 +317,7 @@ def test_check_states_each_vehicles_wheelsets_and_the_old_single_section_on_ever
 
 
 # class keys of an old-style fleet (test_fleet.py's FLEET of a two-axle locomotive and coach at 36, 40 and 44 m/s,
-# config.resolve onto config/config.yaml), recorded at 3c3fde9, before per-axle wheelsets: without a wheelset section,
+# config.resolve onto config/config.yaml), recorded at 3c3fde9 and b638796, before per-axle wheelsets: without a wheelset section,
 # and with one motored section for every vehicle. A change to config/config.yaml's physics changes them too: then
 # record them again from the commit before the change.
 OLD_FLEET = {"vehicles": [{"name": "loco", "positions": [0.0, 3.3], "static_load": 1.0e5, "unsprung_mass": 1350.0,
