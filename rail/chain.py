@@ -237,8 +237,9 @@ def passage_wear(scn: Scenario, forces: ForceResult, roughness: Roughness, wheel
 
 
 def wheel_material(scn: Scenario, wheel: int):
-    """The contact parameters of one wheel: the scenario's, with the wheel's own creepage where the
-    wheels carry one per axle (rail.interaction.Wheels.creepage, rail.fleet).
+    """The contact parameters of one wheel: the scenario's, with the wheel's own creepage and its own
+    wheelset's modes where the wheels carry them per axle (rail.interaction.Wheels.creepage and
+    Wheels.wheelsets, rail.fleet). The rail's flexibility and the friction law are the scenario's.
 
     Parameters
     ----------
@@ -249,12 +250,16 @@ def wheel_material(scn: Scenario, wheel: int):
     Returns
     -------
     rail.contact.ContactMaterial
-        With creepage gamma_1 [-] of the wheel.
+        With creepage gamma_1 [-] and the wheelset's modes (``longitudinal``; None: the fixed creepage) of the wheel;
+        the scenario's own object where the wheel has nothing of its own.
     """
-    c = scn.wheels.creepage
-    if c is None or c[wheel] == scn.material.creepage:
-        return scn.material
-    return dataclasses.replace(scn.material, creepage=float(c[wheel]))
+    m, c, ws = scn.material, scn.wheels.creepage, scn.wheels.wheelsets
+    own = {}
+    if c is not None and c[wheel] != m.creepage:
+        own["creepage"] = float(c[wheel])
+    if ws is not None and ws[wheel] is not m.longitudinal:
+        own["longitudinal"] = ws[wheel]
+    return dataclasses.replace(m, **own) if own else m
 
 
 def train_wear(scn: Scenario, table: MovingReceptance, Z, grid_phase: float = 0.0, warm: dict | None = None):

@@ -24,6 +24,13 @@ Conventions
   k_H = dP/d delta is proportional to P^(1/3)), P_0 the load ``contact.hertz_stiffness`` is given
   for (``wheels.static_load``); the half-space loss slope of the spring is proportional to k_H
   (rail.halfspace.contact_loss_factor), a constant loss factor is kept.
+- A vehicle that names the wheelset of each axle (``fleet.vehicles[*].wheelsets``: motored or trailer,
+  a rail.wheelset.Wheelset each) runs each axle's contact with that wheelset's modes
+  (rail.interaction.Wheels.wheelsets, read by rail.chain.wheel_material); a vehicle that names none
+  runs the scenario's (the ``wheelset`` section: every axle the same, or the report's fixed creepage
+  without it). The other wheel's choice (``wheelset.other_wheel``) and the rail's flexibility are the
+  scenario's for every vehicle. A wheelset defined once and named by several axles or vehicles is one
+  object, and its modes are computed once (Fleet.classes).
 """
 
 from __future__ import annotations
@@ -35,6 +42,7 @@ import numpy as np
 
 from .interaction import ContactSpring, Wheels
 from .scenario import Scenario
+from .wheelset import wheelset_modes
 
 __all__ = ["GRAVITY", "SUM_TOLERANCE", "Vehicle", "SpeedClasses", "speed_classes", "normal_classes", "uniform_classes",
            "FleetClass", "Fleet", "vehicle_spring"]
@@ -66,6 +74,10 @@ class Vehicle:
     unsprung_mass : kg, > 0, unsprung mass per wheel
     creepage      : -, one signed creepage per axle (eq 25; < 0 driven, > 0 braked, 0 trailing)
     share         : -, in [0, 1], the vehicle's share of the trains
+    wheelsets     : one rail.wheelset.Wheelset per axle (motored or trailer), or None: every axle the
+                    scenario's (the ``wheelset`` section, or the report's fixed creepage)
+    wheelset_names: one name per axle, the key of ``fleet.wheelsets`` it refers to, or '' for a wheelset
+                    given in place (None with ``wheelsets`` None)
     """
 
     name: str
@@ -74,6 +86,8 @@ class Vehicle:
     unsprung_mass: float
     creepage: tuple
     share: float
+    wheelsets: tuple | None = None
+    wheelset_names: tuple | None = None
 
     def __post_init__(self):
         if len(self.positions) < 1 or len(set(self.positions)) != len(self.positions):
@@ -91,6 +105,12 @@ class Vehicle:
                              "finite number in (-1, 1).")
         if not (np.isfinite(self.share) and 0 <= self.share <= 1):
             raise ValueError(f"fleet vehicle '{self.name}': share = {self.share!r} is not allowed: it must lie in [0, 1].")
+        if self.wheelsets is not None and len(self.wheelsets) != len(self.positions):
+            raise ValueError(f"fleet vehicle '{self.name}': wheelsets has {len(self.wheelsets)} entries: it needs one per axle "
+                             f"(positions has {len(self.positions)}).")
+        if (self.wheelset_names is None) != (self.wheelsets is None) or (
+                self.wheelsets is not None and len(self.wheelset_names) != len(self.wheelsets)):
+            raise ValueError(f"fleet vehicle '{self.name}': wheelset_names must give one name per entry of wheelsets.")
 
     @property
     def axles(self) -> int:
@@ -101,6 +121,13 @@ class Vehicle:
     def axle_load(self) -> float:
         """Axle load [t]: two wheels per axle, 2 static_load / g / 1000."""
         return 2 * self.static_load / GRAVITY / 1000
+
+    def wheelsets_text(self) -> str:
+        """', wheelsets [<name or 'own'> (motored|trailer), ...]' per axle, or '' for a vehicle on the scenario's wheelset."""
+        if self.wheelsets is None:
+            return ""
+        axles = ", ".join(f"{n or 'own'} ({'motored' if ws.driven else 'trailer'})" for n, ws in zip(self.wheelset_names, self.wheelsets))
+        return f", wheelsets [{axles}]"
 
 
 @dataclass(frozen=True)
@@ -319,16 +346,25 @@ class Fleet:
             Classes of zero weight are left out.
         """
         P0 = base.wheels.static_load if reference_load is None else reference_load
-        out = []
+        out, modes = [], {}
         for v in self.vehicles:
+            own = None
+            if v.wheelsets is not None:  # each axle's modes; a wheelset named by several axles or vehicles computed once
+                for ws in v.wheelsets:
+                    if id(ws) not in modes:
+                        modes[id(ws)] = wheelset_modes(ws)
+                own = tuple(modes[id(ws)] for ws in v.wheelsets)
             wheels = Wheels(v.unsprung_mass, base.wheels.radius, v.static_load, tuple(float(a) for a in v.positions),
-                            tuple(float(c) for c in v.creepage))
+                            tuple(float(c) for c in v.creepage), own)
             spring = vehicle_spring(base.spring, P0, v.static_load)
+            # a vehicle with its own wheelsets reads none of the scenario's (the ``wheelset`` section): left out of its
+            # material, so that nothing reads it as the class's and the class keys do not hash it
+            material = base.material if own is None else dataclasses.replace(base.material, longitudinal=None)
             for speed, ws in zip(self.speeds.speeds, self.speeds.weights):
                 w = v.share * ws
                 if w > 0:
                     scn = dataclasses.replace(base, name=f"{base.name}:{v.name}@{speed:.6g}", wheels=wheels, spring=spring,
-                                              speeds=(float(speed),))
+                                              material=material, speeds=(float(speed),))
                     out.append(FleetClass(v.name, float(speed), float(w), scn))
         return tuple(out)
 
@@ -337,7 +373,7 @@ class Fleet:
         return {
             "fleet_vehicles": "; ".join(f"{v.name}: share {v.share:g}, {v.axles} axles at {list(v.positions)} m, wheel load "
                                         f"{v.static_load:g} N, unsprung mass {v.unsprung_mass:g} kg, creepage "
-                                        f"{list(v.creepage)}" for v in self.vehicles),
+                                        f"{list(v.creepage)}{v.wheelsets_text()}" for v in self.vehicles),
             "fleet_speeds": f"{list(self.speeds.speeds)} m/s with weights {list(self.speeds.weights)} ({self.speeds.rule})",
             "fleet_passage": "one train drawn from the traffic (vehicle v with probability share_v, speed class s with "
                              "probability weight_s): the wear per fleet passage is sum_c w_c dZ_c, w_c = share_v weight_s",

@@ -22,6 +22,7 @@ P_j0 = the static load, are the parametric excitation by the supports.  The whee
 
 from __future__ import annotations
 
+import dataclasses
 import functools
 from dataclasses import dataclass
 
@@ -58,6 +59,10 @@ class Wheels:
     positions : m, positions a_l along the train (the first wheel passes a support at t = 0)
     creepage : -, one signed creepage per wheel (eq 25; rail.fleet), or None for the contact's
                   creepage on every wheel (rail.contact.ContactMaterial.creepage)
+    wheelsets : one wheelset's modes per wheel (rail.contact.creep.LongitudinalModes, or None for the
+                  report's fixed creepage; rail.wheelset.wheelset_modes, rail.fleet), or None for the
+                  contact's on every wheel (rail.contact.ContactMaterial.longitudinal); read only by the
+                  contact of each wheel (rail.chain.wheel_material), not by the vertical forces
     """
 
     mass: float
@@ -65,6 +70,7 @@ class Wheels:
     static_load: float
     positions: tuple
     creepage: tuple | None = None
+    wheelsets: tuple | None = None
 
     def __post_init__(self):
         for name in ("mass", "radius", "static_load"):
@@ -77,6 +83,15 @@ class Wheels:
             raise ValueError(f"wheels.positions = {list(self.positions)} is not allowed: two wheels at one position.")
         if self.creepage is not None and len(self.creepage) != len(self.positions):
             raise ValueError(f"wheels.creepage has {len(self.creepage)} values: it needs one per wheel ({len(self.positions)}).")
+        if self.wheelsets is not None and len(self.wheelsets) != len(self.positions):
+            raise ValueError(f"wheels.wheelsets has {len(self.wheelsets)} entries: it needs one per wheel ({len(self.positions)}).")
+
+    def __repr__(self):
+        # the dataclass's own form, with ``wheelsets`` only where the wheels carry their own: wheels without them
+        # keep the text they had before it existed, and with it the class keys hashed from that text
+        # (rail.setup.study_files.class_key; issue 55: old fleet files plan identically)
+        shown = [f for f in dataclasses.fields(self) if f.name != "wheelsets" or self.wheelsets is not None]
+        return f"{type(self).__qualname__}({', '.join(f'{f.name}={getattr(self, f.name)!r}' for f in shown)})"
 
     def receptance(self, omega):
         """The wheel's vertical point receptance at the contact alpha_W(omega) [m/N] at omega != 0 [rad/s]: the

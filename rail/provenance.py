@@ -172,7 +172,10 @@ def _defaults_of_text(text: str) -> bytes:
             for name, child in node.get("properties", {}).items():
                 walk(child, f"{key}.{name}" if key else name)
 
-    walk(yaml.safe_load(text), "")
+    schema = yaml.safe_load(text)
+    walk(schema, "")
+    for name, child in ((schema or {}).get("$defs") or {}).items():  # a shared definition's defaults (fleet_wheelset.model)
+        walk(child, f"$defs.{name}")
     return "\n".join(sorted(out)).encode()
 
 

@@ -506,7 +506,7 @@ def fleet_spectrum(study: Study, *, shortest: float | None = None, longest: floa
     for c in classes:
         inputs.check_speed(cfg, c.speed, f"{study.name}: fleet spectrum")
     fs = fleet_rate_spectrum(classes, chain.fleet_tables(classes), lines, eps=float(s["eps"]), grid_phases=int(s["grid_phases"]))
-    ds = fleet_study.fleet_spectrum_dataset(fs, fl)
+    ds = fleet_study.fleet_spectrum_dataset(fs, fl, classes)
     return io.finalize(ds, cfg, title="Growth-rate spectrum under the fleet", source="rail.app.api.fleet_spectrum",
                        scenario=study.name)
 

@@ -32,6 +32,7 @@ Exit status by cause (docs/usage.md), every failure one line on stderr, never a 
 from __future__ import annotations
 
 import argparse
+import dataclasses
 import os
 import sys
 from pathlib import Path
@@ -99,7 +100,8 @@ def _what_runs(study) -> str:
     scn = study.scenario
     rest = (f"roughness period {scn.roughness.bays} bay(s), normal contact {scn.contact_numerics.normal}, "
             f"wear path {scn.contact_numerics.path}")
-    creep = creepage_model_text(scn.material)  # the wheelset's modes, the rail head, the friction law, as results say
+    # the wheelset's modes, the rail head, the friction law, as results say; a fleet's wheelsets are stated per vehicle below
+    creep = creepage_model_text(scn.material if "fleet" not in study.config else dataclasses.replace(scn.material, longitudinal=None))
     if creep:
         rest += f"; {creep}"
     if "fleet" not in study.config:
@@ -107,13 +109,27 @@ def _what_runs(study) -> str:
                 f"{rest}).")
     from ..setup.build import fleet_classes
 
+    from ..setup.build import fleet
+    from ..setup.config import setting
+    from ..studies.fleet import wheelset_lines
+
     classes = fleet_classes(study.config, scn)
     vehicles = study.config["fleet"]["vehicles"]
     speeds = sorted({c.speed for c in classes})
     kinds = ", ".join(f"{v['name']} ({len(v['positions'])} axles, share {v['share']:g})" for v in vehicles)
-    return (f"ok: scenario '{study.name}' is valid: a fleet of {len(vehicles)} vehicle type(s), {kinds}, at {len(speeds)} speed(s) "
-            f"({', '.join(f'{v:.4g}' for v in speeds)} m/s): {len(classes)} (vehicle, speed) classes, {rest}; the one-train "
-            "keys speeds, wheels and contact.creepage are not used.")
+    cfg = study.config
+    # which wheelset each vehicle's axles run (issue 55): named per axle, or the wheelset section's on every axle
+    motored = cfg.get("wheelset") is not None and setting(cfg, "wheelset.model") != "fixed_creepage" and setting(cfg, "wheelset.motor_inertia") > 0
+    lines = [f"  wheelsets of {line}" for line in wheelset_lines(classes, fleet(cfg), motored)]
+    named = cfg["fleet"].get("wheelsets") or {}
+    used = {w for v in vehicles for w in ([v["wheelsets"]] if isinstance(v.get("wheelsets"), str) else v.get("wheelsets") or [])
+            if isinstance(w, str)}
+    lines += [f"  note: fleet.wheelsets.{n} is defined but no vehicle names it." for n in named if n not in used]
+    if cfg.get("wheelset") is not None and all(v.get("wheelsets") is not None for v in vehicles):
+        lines.append("  note: every vehicle names its wheelsets: of the wheelset section only wheelset.other_wheel is used.")
+    return "\n".join([f"ok: scenario '{study.name}' is valid: a fleet of {len(vehicles)} vehicle type(s), {kinds}, at {len(speeds)} "
+                      f"speed(s) ({', '.join(f'{v:.4g}' for v in speeds)} m/s): {len(classes)} (vehicle, speed) classes, {rest}; the "
+                      "one-train keys speeds, wheels and contact.creepage are not used.", *lines])
 
 
 def _os_line(e: OSError) -> str:

@@ -134,8 +134,13 @@ def _checked_arguments(scn: Scenario, lines, eps: float, grid_phases: int, metho
     if method not in ("linear", "probe"):
         raise ValueError(f"method = {method!r} is not allowed: it must be 'linear' or 'probe'.")
     forced = ""
-    if method == "linear" and getattr(scn, "cell", None) is not None and (why := linear_unsupported(scn.material)):
-        method, forced = "probe", f" (the tangent march of a track cell has no {why})"
+    # a track cell's tangent lacks the mechanisms: every wheel's contact counts (its own wheelset's modes under a
+    # fleet: chain.wheel_material), not only the scenario's
+    if method == "linear" and getattr(scn, "cell", None) is not None:
+        why = " or ".join(dict.fromkeys(w for l in range(len(scn.wheels.positions))
+                                        if (w := linear_unsupported(chain.wheel_material(scn, l)))))
+        if why:
+            method, forced = "probe", f" (the tangent march of a track cell has no {why})"
     return lines, method, forced
 
 

@@ -30,7 +30,7 @@ from ..longitudinal import RailHead
 from ..wheelset import Wheelset, hz_text, wheelset_modes
 from ..contact.hertz import hertz_half_length
 from ..contact.numerics import rolling_grid
-from .config import ConfigError, configured_speeds, setting
+from .config import ConfigError, configured_speeds, project_schema, schema_default, setting
 
 MAX_ROUGHNESS_BAYS = 64  # the schema's bound on roughness.bays (config/schema: roughness.bays.maximum)
 
@@ -436,29 +436,50 @@ def dynamic_creepage_problems(cfg: dict, source: str) -> list[str]:
     except ValueError as e:
         return [f"{source}: {e}"]
     speeds = configured_speeds(cfg)
-    if modes is None or not speeds:
+    if not speeds:
         return []
     try:
         m = _material_unchecked({**cfg, "wheelset": None})
     except ValueError:
         return []  # the material's own problem is named where it is built
     vehicles = (cfg.get("fleet") or {}).get("vehicles", [])
-    loads = [float(cfg["wheels"]["static_load"])] + [float(v["static_load"]) for v in vehicles]
-    a = float(hertz_half_length(max(loads), m.wheel_radius, m))
-    nodes = int(cfg["numerics"]["contact"]["nodes"])
-    delta = rolling_grid(1.02 * a, _cell_track(cfg).L, nodes)[0]
-    V = min(speeds)
+    out = []
+    # the wheelset section: run by the one train and by every vehicle that names no wheelsets of its own
+    if modes is not None and not (vehicles and all(v.get("wheelsets") is not None for v in vehicles)):
+        loads = [float(cfg["wheels"]["static_load"])] + [float(v["static_load"]) for v in vehicles]
+        out += _unresolved_modes(cfg, m, modes, max(loads), min(speeds), "wheelset", "wheelset.", source)
+    if vehicles:
+        try:
+            fl = fleet(cfg)
+        except ConfigError as e:
+            return out + [str(e).replace("invalid configuration:\n  ", f"{source}: ")]
+        V = min(fl.speeds.speeds)
+        for i, v in enumerate(fl.vehicles):
+            seen = set()
+            for j, (name, ws) in enumerate(zip(v.wheelset_names or (), v.wheelsets or ())):
+                if id(ws) in seen or (fm := wheelset_modes(ws)) is None:
+                    continue
+                seen.add(id(ws))
+                key = f"fleet.wheelsets.{name}" if name else f"fleet.vehicles[{i}] ({v.name}).wheelsets[{j}]"
+                out += _unresolved_modes(cfg, m, fm, v.static_load, V, f"{key} (vehicle {v.name})", f"{key}.", source)
+    return out
+
+
+def _unresolved_modes(cfg: dict, m: ContactMaterial, modes, load: float, V: float, what: str, prefix: str, source: str) -> list[str]:
+    """One line naming the wheelset (``what``, its keys by ``prefix``) whose modes lie above the contact march's Nyquist
+    frequency at the wheel load ``load`` [N] and the slowest speed ``V`` [m/s] (dynamic_creepage_problems), or []."""
+    a = float(hertz_half_length(load, m.wheel_radius, m))
+    delta = rolling_grid(1.02 * a, _cell_track(cfg).L, int(cfg["numerics"]["contact"]["nodes"]))[0]
     nyquist = V / (2 * delta)
     above = [float(om) / (2 * np.pi) for om in modes.omega if float(om) / (2 * np.pi) > nyquist]
     if not above:
         return []
-    return [f"{source}: wheelset: the {modes.label} has mode(s) at {', '.join(hz_text(f) for f in above)} Hz, "
-            f"above the {hz_text(nyquist)} Hz the contact march resolves at V = {V:g} m/s (its step's Nyquist "
-            f"frequency V / (2 Delta), grid spacing Delta = {delta * 1e3:.3g} mm from numerics.contact.nodes = {nodes}): such a "
-            "mode is aliased and its force, held over a step, drives it unstably; raise wheelset.wheel_inertia or "
-            "wheelset.centre_inertia (or wheelset.motor_inertia), or lower wheelset.axle_stiffness or "
-            "wheelset.coupling_stiffness, to bring it below (the torsional modes of real wheelsets lie at tens to "
-            "hundreds of hertz)."]
+    return [f"{source}: {what}: the {modes.label} has mode(s) at {', '.join(hz_text(f) for f in above)} Hz, above the "
+            f"{hz_text(nyquist)} Hz the contact march resolves at V = {V:g} m/s (its step's Nyquist frequency V / (2 Delta), "
+            f"grid spacing Delta = {delta * 1e3:.3g} mm from numerics.contact.nodes = {int(cfg['numerics']['contact']['nodes'])}): "
+            f"such a mode is aliased and its force, held over a step, drives it unstably; raise {prefix}wheel_inertia or "
+            f"{prefix}centre_inertia (or {prefix}motor_inertia), or lower {prefix}axle_stiffness or {prefix}coupling_stiffness, "
+            "to bring it below (the torsional modes of real wheelsets lie at tens to hundreds of hertz)."]
 
 
 def model_notes(scn: Scenario) -> list[str]:
@@ -626,12 +647,52 @@ def fleet(cfg: dict) -> Fleet | None:
     if f is None:
         return None
     try:
+        named = {str(n): _fleet_wheelset(cfg, w, f"fleet.wheelsets.{n}") for n, w in (f.get("wheelsets") or {}).items()}
         vehicles = tuple(Vehicle(str(v["name"]), tuple(float(a) for a in v["positions"]), float(v["static_load"]),
-                                 float(v["unsprung_mass"]), tuple(float(c) for c in v["creepage"]), float(v["share"]))
-                         for v in f["vehicles"])
+                                 float(v["unsprung_mass"]), tuple(float(c) for c in v["creepage"]), float(v["share"]),
+                                 *_vehicle_wheelsets(cfg, v, named, f"fleet.vehicles[{i}] ({v['name']}).wheelsets"))
+                         for i, v in enumerate(f["vehicles"]))
         return Fleet(vehicles, speed_classes(f["speeds"]), float(cfg["traffic"]["axles_per_day"]))
     except ValueError as e:
         raise ConfigError(f"invalid configuration:\n  {e}") from None
+
+
+FLEET_WHEELSET_KEYS = ("wheel_inertia", "centre_inertia", "axle_stiffness", "motor_inertia", "coupling_stiffness", "damping")
+
+
+def _fleet_wheelset(cfg: dict, spec: dict, key: str) -> Wheelset:
+    """One wheelset of a fleet (the schema's $defs fleet_wheelset): its model and chain from its keys, each left out
+    at the schema's default of the wheelset section's key (not the section's value in the file); a trailer without
+    a drive; the radius wheels.radius and the other wheel wheelset.other_wheel, as for one train. A value the
+    Wheelset refuses (the schema has refused it first) is named by ``key``."""
+    schema = project_schema()
+    params = {k: float(spec[k]) if k in spec else float(schema_default(schema, f"wheelset.{k}")) for k in FLEET_WHEELSET_KEYS}
+    if spec["drive"] == "trailer":
+        params["motor_inertia"] = 0.0
+    model = str(spec.get("model", schema["$defs"]["fleet_wheelset"]["properties"]["model"]["default"]))
+    try:
+        return Wheelset(model=model, radius=float(cfg["wheels"]["radius"]), other_wheel=str(setting(cfg, "wheelset.other_wheel")),
+                        **params)
+    except ValueError as e:
+        text = str(e)
+        raise ValueError(text if text.startswith("wheels.") else text.replace("wheelset.", f"{key}.", 1)) from None
+
+
+def _vehicle_wheelsets(cfg: dict, v: dict, named: dict, key: str) -> tuple:
+    """(wheelsets, wheelset_names) of a vehicle (rail.fleet.Vehicle): one Wheelset per axle, a named one the object of
+    ``named`` (so two axles or vehicles naming it hold one object), one given in place built once for the axles it
+    serves; (None, None) where the vehicle names none (every axle the wheelset section's)."""
+    given = v.get("wheelsets")
+    if given is None:
+        return None, None
+    n = len(v["positions"])
+    entries = given if isinstance(given, list) else [given] * n
+    built = {}
+    for j, w in enumerate(entries):
+        if not isinstance(w, str) and id(w) not in built:
+            built[id(w)] = _fleet_wheelset(cfg, w, f"{key}[{j}]" if isinstance(given, list) else key)
+    return (tuple(named[w] if isinstance(w, str) else built[id(w)] for w in entries),
+            tuple(w if isinstance(w, str) else "" for w in entries))
 
 
 def fleet_classes(cfg: dict, scn: Scenario) -> tuple:

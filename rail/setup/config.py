@@ -273,6 +273,7 @@ def _fleet_checks(fleet: dict, source: str) -> list[str]:
                        f"{key}.positions has {len(v['positions'])}.")
         if len(set(v["positions"])) != len(v["positions"]):
             out.append(f"{source}: {key}.positions = {_short(v['positions'])} m is not allowed: two axles at one position.")
+    out += _fleet_wheelset_checks(fleet, source)
     names = [v["name"] for v in vehicles]
     if len(set(names)) != len(names):
         out.append(f"{source}: fleet.vehicles names {names} are not all different: give each vehicle type its own name.")
@@ -314,6 +315,45 @@ def _fleet_checks(fleet: dict, source: str) -> list[str]:
         except ValueError as e:
             out.append(f"{source}: {e}")
     return out
+
+
+def _fleet_wheelset_checks(fleet: dict, source: str) -> list[str]:
+    """The fleet's wheelsets between keys (docs/traffic.md): one per axle where a vehicle gives a list, every
+    name defined in fleet.wheelsets, a motored wheelset with its motor, a trailer without one."""
+    out = []
+    named = fleet.get("wheelsets") or {}
+    for name, ws in named.items():
+        out += _drive_problems(ws, f"fleet.wheelsets.{name}", source)
+    for i, v in enumerate(fleet["vehicles"]):
+        given = v.get("wheelsets")
+        if given is None:
+            continue
+        key = f"fleet.vehicles[{i}] ({v['name']}).wheelsets"
+        if isinstance(given, list) and len(given) != len(v["positions"]):
+            out.append(f"{source}: {key} has {len(given)} entries: it needs one per axle, fleet.vehicles[{i}] ({v['name']}).positions "
+                       f"has {len(v['positions'])} (or give one name or wheelset for every axle).")
+        for j, w in enumerate(given if isinstance(given, list) else [given]):
+            where = f"{key}[{j}]" if isinstance(given, list) else key
+            if isinstance(w, str) and w not in named:
+                defined = f"the names defined there are {', '.join(named)}" if named else "the file defines none"
+                out.append(f"{source}: {where} = {w!r} is not allowed: it must name a wheelset of fleet.wheelsets ({defined}), "
+                           "or give the wheelset in place (a mapping with drive).")
+            elif isinstance(w, dict):
+                out += _drive_problems(w, where, source)
+    return out
+
+
+def _drive_problems(ws: dict, key: str, source: str) -> list[str]:
+    """A motored wheelset needs motor_inertia > 0; a trailer has no drive (motor_inertia, coupling_stiffness not given)."""
+    if ws["drive"] == "motored" and not ws.get("motor_inertia", 0) > 0:
+        return [f"{source}: {key}.drive = 'motored' needs {key}.motor_inertia > 0 kg m^2 (the motor's and gear's inertia reflected "
+                f"to the axle, now {ws.get('motor_inertia', 'not given')}); or make it drive: trailer."]
+    if ws["drive"] == "trailer":
+        drive = [k for k in ("motor_inertia", "coupling_stiffness") if k in ws and not (k == "motor_inertia" and ws[k] == 0)]
+        if drive:
+            return [f"{source}: {key}.{drive[0]} = {ws[drive[0]]!r} is not allowed with {key}.drive = 'trailer': a trailer has no "
+                    "drive; leave it out, or make it drive: motored."]
+    return []
 
 
 def _non_finite(node, source: str, path: str = "") -> list[str]:

@@ -17,10 +17,11 @@ from ..growth_spectrum import FleetRateSpectrum, RateSpectrum
 from ..traffic import Traffic
 from . import datasets
 from ..setup.io import data_var
+from ..wheelset import hz_text
 from .rate_spectrum import PASSAGES_PER_DB
 
 __all__ = ["fleet_spectrum_dataset", "fleet_growth_dataset", "tables_by_speed", "spectrum_arrays", "spectrum_from_arrays",
-           "DB_PER_NEPER"]
+           "DB_PER_NEPER", "wheelset_lines"]
 
 DB_PER_NEPER = 20 * np.log10(np.e)  # dB of amplitude per unit of ln(amplitude)
 
@@ -46,6 +47,73 @@ def tables_by_speed(tables, speeds) -> dict:
         if chain.table_speed(tab) != v:
             raise ValueError(f"a table at {chain.table_speed(tab)!r} m/s was given for the class speed {v!r} m/s.")
     return dict(zip(speeds, tables))
+
+
+def _modes_text(modes) -> str:
+    """A wheelset's modes as results name them: its label and natural frequencies [Hz], or the report's fixed creepage."""
+    if modes is None:
+        return "the report's fixed creepage (no wheelset modes)"
+    return f"{modes.label or 'wheelset'}, modes at {', '.join(hz_text(o / (2 * np.pi)) for o in modes.omega)} Hz"
+
+
+def _chain_text(ws) -> str:
+    """A wheelset's stated inertias [kg m^2], stiffnesses [N m/rad] and damping [-]."""
+    drive = (f", J_m {ws.motor_inertia:g} kg m^2, k_c {ws.coupling_stiffness:g} N m/rad" if ws.driven else "")
+    return (f"{ws.model}, J_w {ws.wheel_inertia:g} kg m^2, J_c {ws.centre_inertia:g} kg m^2, k_a {ws.axle_stiffness:g} N m/rad{drive}, "
+            f"damping {ws.damping:g}")
+
+
+def wheelset_lines(classes, fleet: Fleet, section_motored: bool = False) -> list[str]:
+    """Which wheelset each vehicle's axles run, one line per vehicle, read from what its class's contacts run
+    (rail.chain.wheel_material of each axle): the name of fleet.wheelsets it refers to (or 'its own' for one given
+    in place), motored or trailer, the modes and the stated chain; or, for a vehicle that names none, the
+    wheelset section's modes on every axle (or the report's fixed creepage), as before per-axle wheelsets.
+
+    Parameters
+    ----------
+    classes : sequence of rail.fleet.FleetClass
+        The fleet's classes (Fleet.classes); a vehicle's first class is read.
+    fleet : rail.fleet.Fleet
+    section_motored : bool
+        Whether the wheelset section has a drive (wheelset.motor_inertia > 0): a vehicle that names no wheelsets
+        then runs the motor on every axle, which its line says.
+
+    Returns
+    -------
+    list of str
+        '<vehicle>: <axles> <wheelset>; ...' [-].
+    """
+    first = {}
+    for c in classes:
+        first.setdefault(c.vehicle, c)
+    out = []
+    for v in fleet.vehicles:
+        if v.name not in first:
+            out.append(f"{v.name}: no class (share 0)")
+            continue
+        scn = first[v.name].scenario
+        groups = {}  # one entry per wheelset object the axles run, in axle order
+        for l in range(v.axles):
+            ws = None if v.wheelsets is None else v.wheelsets[l]
+            modes = chain.wheel_material(scn, l).longitudinal
+            groups.setdefault((id(ws), id(modes)), (ws, modes, v.wheelset_names[l] if v.wheelset_names else "", []))[3].append(l)
+        parts = []
+        for ws, modes, name, axles in groups.values():
+            which = (f"every axle ({v.axles})" if len(axles) == v.axles else
+                     f"axle{'s' if len(axles) > 1 else ''} {', '.join(str(l + 1) for l in axles)} "
+                     f"(at {', '.join(f'{v.positions[l]:g}' for l in axles)} m)")
+            if ws is None:
+                what = (f"the wheelset section's: {_modes_text(modes)}" if modes is not None else
+                        "the report's fixed creepage (no wheelset section)")
+                if modes is not None and section_motored:
+                    what += (" (the section's motor on every axle of this vehicle: where some are trailers, name them in "
+                             "fleet.vehicles[*].wheelsets)")
+            else:
+                label = f"wheelset '{name}'" if name else "its own wheelset"
+                what = f"{label}, {'motored' if ws.driven else 'trailer'}: {_modes_text(modes)} ({_chain_text(ws)})"
+            parts.append(f"{which} {what}")
+        out.append(f"{v.name}: " + "; ".join(parts))
+    return out
 
 
 def spectrum_arrays(sp) -> dict:
@@ -90,7 +158,7 @@ def spectrum_from_arrays(arrays) -> "RateSpectrum":
     return RateSpectrum(**kw)
 
 
-def fleet_spectrum_dataset(fs: FleetRateSpectrum, fleet: Fleet) -> xr.Dataset:
+def fleet_spectrum_dataset(fs: FleetRateSpectrum, fleet: Fleet, classes=None) -> xr.Dataset:
     """The growth-rate spectrum under a fleet, per fleet passage and per year, with each class kept.
 
     Parameters
@@ -98,6 +166,9 @@ def fleet_spectrum_dataset(fs: FleetRateSpectrum, fleet: Fleet) -> xr.Dataset:
     fs : rail.growth_spectrum.FleetRateSpectrum
     fleet : rail.fleet.Fleet
         Its traffic (axles per day, axles per train) converts per-passage rates to per-year rates.
+    classes : sequence of rail.fleet.FleetClass, optional
+        The classes of ``fs``: the attribute ``fleet_wheelsets`` states which wheelset each vehicle's axles ran
+        (wheelset_lines); left out without them.
 
     Returns
     -------
@@ -154,7 +225,7 @@ def fleet_spectrum_dataset(fs: FleetRateSpectrum, fleet: Fleet) -> xr.Dataset:
         attrs={"eps_m": t.eps, "bays": t.bays, "grid_phases": t.grid_phases, "method": t.method,
                "passages": "per fleet passage: one train drawn from the traffic (docs/traffic.md)",
                "years": f"per year: x {trains_per_year:.6g} fleet passages a year (axles_per_day x 365 / axles_per_train)",
-               **fleet.attributes()},
+               **fleet.attributes(), **({} if classes is None else {"fleet_wheelsets": " | ".join(wheelset_lines(classes, fleet))})},
     )
 
 
@@ -197,8 +268,9 @@ def fleet_growth_dataset(classes, tables: dict, history, fleet: Fleet) -> xr.Dat
                                      modelled=scn.contact_numerics.path == "patch")
     ds.attrs.update({**fleet.attributes(), "force_class": main.label, "speed_m_per_s": fleet.speeds.mean,
                      "wheels": chain.fleet_wheels(classes), "normal_contact": scn.contact_numerics.normal.name})
-    if creepage_model_text(scn.material):  # every class shares the wheelset and the friction law
+    if creepage_model_text(scn.material):  # the rail's flexibility and the friction law, shared by every class
         ds.attrs["creepage_model"] = creepage_model_text(scn.material)
+    ds.attrs["fleet_wheelsets"] = " | ".join(wheelset_lines(classes, fleet))  # each vehicle's axles (rail.chain.wheel_material)
     if history.stopped:
         ds.attrs["stopped"] = history.stopped
     return ds

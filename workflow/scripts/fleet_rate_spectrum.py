@@ -23,7 +23,7 @@ def main(config, name, class_paths, data_path, figure_path, log):
     for c, path in zip(classes, class_paths, strict=True):  # which hash-named class file holds which class
         print(f"class {c.label}, weight {c.weight:.4g}: {path}", file=log, flush=True)
     fs = fleet_spectrum_of(classes, spectra)
-    ds = fleet_study.fleet_spectrum_dataset(fs, fl)
+    ds = fleet_study.fleet_spectrum_dataset(fs, fl, classes)
     f_pp = pinned_pinned_frequency(scn.track)
     ds.attrs.update({"pinned_pinned_frequency_Hz": f_pp, "mean_speed_m_per_s": fl.speeds.mean,
                      "pinned_pinned_wavelength_m": fl.speeds.mean / f_pp})
