@@ -31,10 +31,15 @@ def test_a_period_too_short_for_the_spacing_names_the_bays_needed():
     band_lines(L, 9, K, [80.0], 900.0, 1400.0, 15.0)
 
 
-def test_a_band_beyond_the_shortest_wavelength_is_refused():
-    # 1,400 Hz at 20 m/s is 14.3 mm; with K = 16 the tables reach L / K = 37.5 mm only
-    with pytest.raises(ValueError, match="numerics.track.harmonics"):
-        band_lines(L, 24, 16, [20.0], 900.0, 1400.0, 15.0)
+def test_a_band_beyond_the_shortest_wavelength_is_cut_at_l_over_k():
+    # 1,400 Hz at 40 m/s is 28.6 mm; with K = 18 the tables reach L / K = 33.3 mm: K V / L = 1,200 Hz. The band is
+    # resolved up to there (a user's scenario with fewer harmonics is not broken by the scenario files' default band)
+    lines = band_lines(L, 24, 18, [40.0], 900.0, 1400.0, 15.0)
+    f = 40.0 * lines / (24 * L)
+    assert lines.max() == 24 * 18 and f.max() == pytest.approx(1200.0)
+    assert np.max(np.diff(f)) <= 15.0 + 1e-9
+    # at 20 m/s (K V / L = 600 Hz) no line of the band exists: none is added
+    assert band_lines(L, 24, 18, [20.0], 900.0, 1400.0, 15.0).size == 0
 
 
 @pytest.mark.parametrize("bad", [dict(low=0.0), dict(high=800.0), dict(spacing=float("nan")), dict(low=float("inf"))])

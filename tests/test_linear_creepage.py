@@ -2,7 +2,7 @@
 the probes of the nonlinear march with u_bar (rail.wear.march_with_creepage), and with every mechanism
 off bit for bit the tangent march as it was (tests/reference/tangent_fixed_creepage.py).
 
-The mechanisms are those of config/scenarios/dynspeed_*.yaml (the trailer and the motored wheelset of
+The mechanisms are those of the dynspeed_* cases of config/studies/dynamic_creepage_speeds.yaml (the trailer and the motored wheelset of
 dyn_trailer.yaml and dyn_driven.yaml, the rail head's rod and bending of dyn_rail.yaml, Polach's
 dry-rail falling friction), on the tests' track (tests/test_growth.py) with reduced numerics.
 """

@@ -55,7 +55,18 @@ REFERENCE_STEPS = 60
 
 
 def has_creepage(material) -> bool:
-    """Whether the material carries a source of u_bar (the wheelset's modes or the rail head's flexibility)."""
+    """Whether the material carries a source of u_bar (the wheelset's modes or the rail head's flexibility).
+
+    Parameters
+    ----------
+    material : rail.contact.ContactMaterial
+        A wheel's contact parameters [SI] (rail.chain.wheel_material).
+
+    Returns
+    -------
+    bool
+        True with material.longitudinal or material.rail_flexibility [-].
+    """
     return material.longitudinal is not None or material.rail_flexibility is not None
 
 
@@ -84,8 +95,31 @@ class CreepageReference:
 def creepage_reference(mi, material, speed: float, numerics, harmonics: int) -> CreepageReference:
     """The smooth rail's u_bar_0 over its one-bay march inputs mi (march_with_creepage to REFERENCE_TOL).
 
-    Raises GridMismatch where the smooth rail's step times are not uniform (the harmonic basis's
-    response of the modes assumes it; rate_spectrum then takes the probes)."""
+    Parameters
+    ----------
+    mi : rail.contact.passage.MarchInputs
+        The smooth rail's inputs over one bay: force [N], half-length [m], grid, step times [s].
+    material : rail.contact.ContactMaterial
+        The wheel's contact parameters, with its sources of u_bar [SI].
+    speed : float
+        V [m/s].
+    numerics : rail.contact.ContactNumerics
+        The closure.
+    harmonics : int
+        K, the force table's harmonics per bay [-] (the rail head's operator).
+
+    Returns
+    -------
+    CreepageReference
+        u_bar_0 at every step [m], v_bar_0 [m/s], Q at the bay's steps [N], Q_ref [N], the step [s] and
+        the mean load [N].
+
+    Raises
+    ------
+    GridMismatch
+        Where the smooth rail's step times are not uniform (the harmonic basis's response of the modes
+        assumes it; rate_spectrum then takes the probes).
+    """
     sol, info = march_with_creepage(mi, material, speed, numerics, tol=REFERENCE_TOL, max_iter=REFERENCE_STEPS, harmonics=harmonics)
     steps = mi.P.size
     dt_all = np.full(steps, mi.delta / speed) if mi.dt is None else np.asarray(mi.dt, dtype=float)
@@ -110,7 +144,24 @@ def _free_transition(om: float, ze: float, T: float):
 
 def discrete_mode_response(modes, dt: float, q, n: int):
     """H_d(q) [m/N]: the modes' periodic response at the end of each step to the force exp(2 pi i q k / n) held
-    over step k (rail.contact.creep.periodic_response with uniform steps of dt [s], exactly), q != 0 mod n."""
+    over step k (rail.contact.creep.periodic_response with uniform steps of dt [s], exactly), q != 0 mod n.
+
+    Parameters
+    ----------
+    modes : rail.contact.creep.LongitudinalModes
+        omega [rad/s], zeta [-] and participation [1/kg] of each mode.
+    dt : float
+        The uniform step [s].
+    q : array_like of int
+        The harmonics of the period of n steps [-].
+    n : int
+        Steps in the period [-].
+
+    Returns
+    -------
+    ndarray, complex
+        H_d(q) [m/N], the shape of q.
+    """
     z = np.exp(2j * np.pi * np.asarray(q, dtype=float) / n)
     out = np.zeros(z.shape, dtype=complex)
     for om, ze, c in zip(modes.omega, modes.zeta, modes.participation):
@@ -218,7 +269,24 @@ def periodic_response_dt(F, dt, modes, ddt):
     """The tangent of rail.contact.creep.periodic_response(F, dt, modes)[0] along step-time directions ddt
     (n, nc), complex allowed, with F fixed [m per unit of the direction] (up to a constant per column):
     the wheelset's part of the step times' change; the free rotation's force is F less its time mean
-    sum(F dt) / T, which the step times change too."""
+    sum(F dt) / T, which the step times change too.
+
+    Parameters
+    ----------
+    F : ndarray, (n,)
+        The force held over each step [N].
+    dt : ndarray, (n,)
+        The steps [s].
+    modes : rail.contact.creep.LongitudinalModes
+        omega [rad/s], zeta [-] and participation [1/kg] of each mode.
+    ddt : ndarray, (n, nc)
+        The step times' directions [s per unit of the column].
+
+    Returns
+    -------
+    ndarray, complex, (n, nc)
+        The response's derivative at the end of each step [m per unit of the column].
+    """
     F = np.ascontiguousarray(F, dtype=float)
     dt = np.ascontiguousarray(dt, dtype=float)
     ddt = np.ascontiguousarray(ddt, dtype=complex)

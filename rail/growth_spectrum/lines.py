@@ -129,8 +129,14 @@ def band_lines(L: float, bays: int, harmonics: int, speeds, low: float, high: fl
     Raises
     ------
     ValueError
-        If an argument is out of range, if the period is too short (V / (N L) > spacing at some speed:
-        the error names the bays needed) or the band reaches beyond the shortest wavelength L / K.
+        If an argument is out of range, or if the period is too short (V / (N L) > spacing at some speed:
+        the error names the bays needed).
+
+    Notes
+    -----
+    The band is resolved where the receptance tables reach: up to the shortest wavelength L / K, the
+    frequency K V / L at each speed (a band beyond it at a low speed is cut there, and a speed whose
+    K V / L lies below the band adds no line); the spectrum's lines, stored in its result, show it.
     """
     bays, harmonics = (_whole_number(name, value) for name, value in (("bays", bays), ("harmonics", harmonics)))
     if not (np.isfinite(L) and L > 0):
@@ -152,10 +158,9 @@ def band_lines(L: float, bays: int, harmonics: int, speeds, low: float, high: fl
                              f"the band's {spacing:g} Hz: use at least {int(np.ceil(v / (spacing * L)))} bays.")
         step = max(1, int(np.floor(spacing / df * (1 + 1e-12))))
         j_lo, j_hi = int(np.floor(low / df * (1 + 1e-12))), int(np.ceil(high / df * (1 - 1e-12)))
-        j_lo = max(j_lo, 1)
-        if j_hi > bays * harmonics:
-            raise ValueError(f"the band up to {high:g} Hz at {v:g} m/s reaches wavelength {v / high * 1e3:.3g} mm, below "
-                             f"L / K = {L / harmonics * 1e3:.3g} mm (raise numerics.track.harmonics).")
+        j_lo, j_hi = max(j_lo, 1), min(j_hi, bays * harmonics)  # the tables reach L / K: K V / L at this speed
+        if j_lo > j_hi:
+            continue
         js = list(range(j_lo, j_hi + 1, step))
         if js[-1] != j_hi:
             js.append(j_hi)

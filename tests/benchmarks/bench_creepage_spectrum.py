@@ -1,5 +1,5 @@
 """Benchmark (not a test): the linear growth-rate spectrum with every mechanism of dynamic creepage
-(config/scenarios/dynspeed_together.yaml: the motored wheelset, the rail's longitudinal flexibility and
+(config/studies/dynamic_creepage_speeds.yaml, case dynspeed_together: the motored wheelset, the rail's longitudinal flexibility and
 falling friction) against the fixed-creepage linear spectrum (dynspeed_fixed.yaml) on the same lines.
 
 Target (issue 54): at most 1.5 times. Both on the scenarios' own settings (2 bays, 20-120 mm at five per
