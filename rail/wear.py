@@ -339,6 +339,8 @@ def march_with_creepage(mi: MarchInputs, material: ContactMaterial, speed: float
         ('iterations'), the last step's size ('residual', of abs(gamma) V), Q_ref [N] ('reference_force') and
         the periodic state reached ('state', a CreepageState; with ``lagged``, one step beyond the march).
     """
+    if lagged is not None and not lagged > 0:  # NaN too
+        raise ValueError(f"lagged = {lagged!r} is not allowed: it must be a number > 0 (of the creep velocity) or None.")
     modes = material.longitudinal
     head = material.rail_flexibility
     kw = dict(closure=numerics.closure, closure_scale=numerics.closure_scale, shape=mi.shape, dt=mi.dt)
