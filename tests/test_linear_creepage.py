@@ -114,6 +114,7 @@ def test_linear_method_with_dynamic_creepage_on_free_lines_of_a_four_bay_period(
 
 
 @pytest.mark.slow
+@pytest.mark.matrix  # 20 cases of converged probes (1-7 min each): run on demand, python -m pytest -m matrix -n 2
 @pytest.mark.parametrize("mechanism", MECHANISMS)
 @pytest.mark.parametrize("pad", [3.5e8, 1e9])
 @pytest.mark.parametrize("speed", [40.0, 60.0])
