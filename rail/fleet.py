@@ -74,10 +74,10 @@ class Vehicle:
     unsprung_mass : kg, > 0, unsprung mass per wheel
     creepage      : -, one signed creepage per axle (eq 25; < 0 driven, > 0 braked, 0 trailing)
     share         : -, in [0, 1], the vehicle's share of the trains
-    wheelsets     : one rail.wheelset.Wheelset per axle (motored or trailer), or None: every axle the
-                    scenario's (the ``wheelset`` section, or the report's fixed creepage)
-    wheelset_names: one name per axle, the key of ``fleet.wheelsets`` it refers to, or '' for a wheelset
-                    given in place (None with ``wheelsets`` None)
+    wheelsets     : one rail.wheelset.Wheelset per axle (motored or trailer), or None (every axle the scenario's)
+    wheelset_names: one name per axle (a key of ``fleet.wheelsets``, or '' given in place), None with no wheelsets
+
+    Without wheelsets every axle runs the scenario's ``wheelset`` section, or the report's fixed creepage.
     """
 
     name: str

@@ -17,7 +17,7 @@ linear_rates finds them) and through them and through delta u_bar the force Q. T
 (rail.contact.tangent.work_tangent, with u_bar as an input direction, the force's derivative
 returned, the falling friction's slope) gives delta Q and the wear's derivative along the input
 directions and along a basis of delta u_bar: the harmonics exp(2 pi i q k / n), k = i - spin the
-step, of the class (q = m N + r, the head table's m, |q| <= N K; q = 0 left out: a constant u_bar
+step, of the class (q = m N + r, the head table's m, abs(q) <= N K; q = 0 left out: a constant u_bar
 does not enter the slip), and for class 0 with a free rotation the slip rate (delta v_bar t). In
 those harmonics the loop is a small linear solve per class:
 
@@ -31,7 +31,7 @@ torque balance adds delta v_bar and the row: the time mean of delta F (with delt
 load's change) is 0. The wear's derivative is then the inputs' plus the basis' weighted by c.
 
 Left out: the wheelset's response above the head's harmonics N K (delta u_bar is taken in the
-harmonics |q| <= N K; the modes' receptance falls as 1 / omega^2 there); the reference's u_bar is
+harmonics abs(q) <= N K; the modes' receptance falls as 1 / omega^2 there); the reference's u_bar is
 converged to 1e-8 of the creep velocity (march_with_creepage's tol), the probes' to 1e-5.
 """
 

@@ -6,18 +6,18 @@ The standard rolling-noise theory (Thompson, *Railway Noise and Vibration*, 2009
 interaction, ch. 6 track vibration and radiation, ch. 9 the whole model; TWINS), per frequency f
 and per unit rms roughness r at one wheel/rail contact:
 
-* contact force through the receptances at the contact, |F| = |r| / |alpha_W + alpha_R + alpha_C|
+* contact force through the receptances at the contact, abs(F) = abs(r) / abs(alpha_W + alpha_R + alpha_C)
   (rail.interaction's eq. 21 for one wheel on a track without parametric excitation);
 * the rail's velocity at the contact, v_0 = i omega alpha_R F;
-* the rail's vibration decays away from the contact at Delta dB/m, |v(x)|^2 = |v_0|^2 exp(-2 beta |x|),
+* the rail's vibration decays away from the contact at Delta dB/m, abs(v(x))^2 = abs(v_0)^2 exp(-2 beta abs(x)),
   beta = Delta / (20 lg e) = Delta / 8.686 Np/m; both directions together,
-  int exp(-2 beta |x|) dx = 1 / beta (decay_length). With the EN 15461 decay rate the integral is
-  the estimator's own sum, 8.686 / Delta = 2 sum_n |A(x_n)|^2 / |A(x_0)|^2 dx_n (rail.decay), the
+  int exp(-2 beta abs(x)) dx = 1 / beta (decay_length). With the EN 15461 decay rate the integral is
+  the estimator's own sum, 8.686 / Delta = 2 sum_n abs(A(x_n))^2 / abs(A(x_0))^2 dx_n (rail.decay), the
   near field included;
 * the rail radiates as a line source, per metre W' = rho c (2 b) sigma(f) <v^2>, <v^2> the rail's
   mean-square vertical velocity; over the decay length
-  W_rail = rho c (2 b) sigma <v_0^2> / beta = rho c (2 b) sigma |v_0|^2 / (2 beta) for an amplitude v_0
-  (<v_0^2> = |v_0|^2 / 2; with the rms roughness of a band level, v_0 is an rms and <v_0^2> = |v_0|^2);
+  W_rail = rho c (2 b) sigma <v_0^2> / beta = rho c (2 b) sigma abs(v_0)^2 / (2 beta) for an amplitude v_0
+  (<v_0^2> = abs(v_0)^2 / 2; with the rms roughness of a band level, v_0 is an rms and <v_0^2> = abs(v_0)^2);
 * two rails per axle, each excited by its own wheel with the same roughness, incoherent:
   W_axle = 2 W_rail; the level per axle for a roughness of 0 dB re 1 um is the own transfer,
   L_H,TR,own = 10 lg(W_axle(r = 1 um rms) / 1 pW), so that L_W,0,TR = L_R,TOT + L_H,TR,own + 10 lg N_a
@@ -42,7 +42,7 @@ Model choices (stated, not fitted)
   and its loss factor model, rail.interaction.ContactSpring). The contact filter is not
   applied again: L_R,TOT already holds A_3 (eq. 2.3.7).
 * Radiation efficiency of the rail, vertical motion: a rigid circular cylinder oscillating
-  transversely (a 2D line dipole) in free field, sigma(ka) = 2 / (pi ka |H_1'(ka)|^2)
+  transversely (a 2D line dipole) in free field, sigma(ka) = 2 / (pi ka abs(H_1'(ka))^2)
   (cylinder_radiation_ratio; Morse & Ingard, *Theoretical Acoustics*, 1968, sec. 7.3), with the
   radius a = 2 b / pi that gives the rail's high-frequency limit: every face radiates plane waves
   of its normal velocity, sum of v_n^2 dS over the section = v^2 (2 b) per metre, b the foot width
@@ -86,13 +86,13 @@ PER_BAND = 4  # frequencies per band of the own transfer's receptances and decay
 
 
 def decay_length(decay_rate):
-    """The rail's radiating length: int over x of exp(-2 beta |x|) dx = 1 / beta, both directions from
+    """The rail's radiating length: int over x of exp(-2 beta abs(x)) dx = 1 / beta, both directions from
     the contact, beta = Delta / 8.686 Np/m.
 
     Parameters
     ----------
     decay_rate : array-like
-        Track decay rate Delta [dB/m], > 0 (of the amplitude: |v(x)| falls by Delta dB per metre).
+        Track decay rate Delta [dB/m], > 0 (of the amplitude: abs(v(x)) falls by Delta dB per metre).
 
     Returns
     -------
@@ -112,7 +112,7 @@ def decay_length(decay_rate):
 
 def cylinder_radiation_ratio(ka):
     """Radiation ratio of a rigid circular cylinder oscillating transversely (a 2D line dipole) in free
-    field, sigma = 2 / (pi ka |H_1'(ka)|^2), normalised by the mean-square normal velocity over its
+    field, sigma = 2 / (pi ka abs(H_1'(ka))^2), normalised by the mean-square normal velocity over its
     surface: (pi / 2)(ka)^3 for ka << 1, 1 for ka >> 1 (Morse & Ingard 1968, sec. 7.3).
 
     Parameters
@@ -132,7 +132,7 @@ def cylinder_radiation_ratio(ka):
 def rail_radiation_efficiency(frequency, foot_width: float = UIC60_FOOT_WIDTH, sound_speed: float = SOUND_SPEED):
     """Radiation ratio of the rail's vertical vibration per metre, W' = rho c (2 b) sigma <v^2>: the
     oscillating cylinder of cylinder_radiation_ratio with the radius a = 2 b / pi whose high-frequency
-    limit, rho c (pi a / 2) |v|^2 = rho c (2 b) <v^2>, is the rail section's (module docstring).
+    limit, rho c (pi a / 2) abs(v)^2 = rho c (2 b) <v^2>, is the rail section's (module docstring).
 
     Parameters
     ----------
@@ -173,13 +173,13 @@ def rigid_wheel_receptance(omega, mass: float):
 
 def contact_force(roughness, alpha_wheel, alpha_rail, alpha_contact):
     """Contact force amplitude from a roughness through the receptances at the contact,
-    |F| = |r| / |alpha_W + alpha_R + alpha_C| (rail.interaction's eq. 21 for one wheel, no parametric
+    abs(F) = abs(r) / abs(alpha_W + alpha_R + alpha_C) (rail.interaction's eq. 21 for one wheel, no parametric
     excitation; Thompson 2009, ch. 5).
 
     Parameters
     ----------
     roughness : array-like
-        |r|, roughness amplitude or rms [m].
+        abs(r), roughness amplitude or rms [m].
     alpha_wheel : array-like
         Wheel receptance at the contact [m/N].
     alpha_rail : array-like
@@ -190,7 +190,7 @@ def contact_force(roughness, alpha_wheel, alpha_rail, alpha_contact):
     Returns
     -------
     ndarray
-        |F| [N] (an amplitude for an amplitude, an rms for an rms).
+        abs(F) [N] (an amplitude for an amplitude, an rms for an rms).
     """
     return np.abs(np.asarray(roughness, dtype=float)) / np.abs(np.asarray(alpha_wheel) + np.asarray(alpha_rail)
                                                                + np.asarray(alpha_contact))
@@ -204,8 +204,8 @@ def rail_sound_power(velocity_mean_square, decay_rate, sigma, foot_width: float 
     Parameters
     ----------
     velocity_mean_square : array-like
-        <v_0^2>, the rail's mean-square vertical velocity at the contact [m^2/s^2] (|v_0|^2 / 2 for an
-        amplitude v_0; |v_0|^2 for an rms).
+        <v_0^2>, the rail's mean-square vertical velocity at the contact [m^2/s^2] (abs(v_0)^2 / 2 for an
+        amplitude v_0; abs(v_0)^2 for an rms).
     decay_rate : array-like
         Delta [dB/m], > 0.
     sigma : array-like
@@ -233,8 +233,8 @@ class OwnTrackTransfer:
     transfer      : L_H,TR,own [dB re 1 pW per axle for 0 dB re 1 um], per band
     excitation    : the contact positions x_0 [m] from a support (above a sleeper, mid-span)
     decay_rate    : Delta [dB/m], (excitation, band), EN 15461 with the bay-sampled positions
-    mobility_dB   : band mean of |i omega alpha_R|^2 at x_0 [dB re 1 (m/s/N)^2], (excitation, band)
-    force_dB      : band mean of |F|^2 for 1 um rms [dB re 1 N^2], (excitation, band)
+    mobility_dB   : band mean of abs(i omega alpha_R)^2 at x_0 [dB re 1 (m/s/N)^2], (excitation, band)
+    force_dB      : band mean of abs(F)^2 for 1 um rms [dB re 1 N^2], (excitation, band)
     velocity_dB   : band mean of <v_0^2> for 1 um rms [dB re 1 (m/s)^2], (excitation, band)
     sigma         : band mean of the rail's radiation ratio [-], per band
     power_rail_dB : W_rail at each x_0 for 1 um rms [dB re 1 pW], (excitation, band)

@@ -28,9 +28,10 @@ class Track:
 
     sleeper : "monoblock", "biblock", "wooden" or "direct" (direct fastening on bridges)
     pad     : "soft", "medium", "hard" for concrete sleepers (pad_class from the stiffness), None else
-    own     : the track's own transfer L_H,TR,own per band, 24 levels [dB re 1 pW per axle for 0 dB
-              re 1 um] (rail.noise.own_track), in place of Table G-3a's; None: Table G-3a's of the
-              sleeper and pad (which are then not read)
+    own     : the track's own transfer L_H,TR,own per band (rail.noise.own_track), 24 levels, or None
+
+    ``own`` is in dB re 1 pW per axle for 0 dB re 1 um and replaces Table G-3a's; with None, Table G-3a's
+    of the sleeper and pad is taken (otherwise they are not read).
     """
 
     sleeper: str = "monoblock"

@@ -68,8 +68,7 @@ class NoiseSettings:
     wheel              : brake type of Table G-1a's wheel roughness ("disc", "composite", "cast_iron")
     sleeper            : "monoblock", "biblock", "wooden", "direct" (Table G-3a)
     pad_class          : "soft", "medium", "hard", or None (from track.pad.stiffness for concrete sleepers)
-    track_transfer     : "cnossos" (Table G-3a's L_H,TR) or "own" (the scenario's rail receptance and decay rate,
-                         rail.noise.own_track)
+    track_transfer     : "cnossos" (Table G-3a's L_H,TR) or "own" (the scenario's rail receptance and decay rate, rail.noise.own_track)
     rule               : wavelength-to-frequency rule, "energy" or "level"
     fill               : Table G-1b class for the bands the run does not resolve ("M", "E") or None
     rise_dB            : criterion (a) [dB], > 0
