@@ -68,4 +68,6 @@ def test_the_heads_receptances_at_a_position_agree_with_the_direct_solution(f):
         ph = np.exp(1j * n * TRACK.beta0 * x0)
         ours = complex(np.sum(m["psiF"][:, HARMONICS] * ph))
         ref = direct.stationary_beam(x0, om, TRACK, n=150)[0]
-        assert abs(ours) < 1e-3 * abs(quarter_psiF) and abs(ref) < 1e-9 * abs(quarter_psiF), (f, where, ours, ref)
+        # ours within 1e-3 of the quarter-span value (measured below 6e-5); the direct solution's zero is rounding
+        # of its dense solve (measured 2e-9 at mid-span at 900 Hz, 1e-15 at 1,100 Hz)
+        assert abs(ours) < 1e-3 * abs(quarter_psiF) and abs(ref) < 1e-6 * abs(quarter_psiF), (f, where, ours, ref)

@@ -214,7 +214,24 @@ def _fleet_growth(study: Study, scn: Scenario, checkpoint, progress) -> xr.Datas
 def _spectrum_settings(study: Study, door: str, **given) -> tuple[dict, dict]:
     """The spectrum settings (figures.rate_spectrum) of a study with the arguments given, and the
     configuration holding them, checked as the schema checks the configured ones (ranges, e.g. bays
-    in [2, 256]), before anything is computed; a ConfigError names the argument, its value and range."""
+    in [2, 256]), before anything is computed; a ConfigError names the argument, its value and range. A period
+    given (bays) takes the log-spaced lines of that period without the band of figures.rate_spectrum.band,
+    as a scenario file that sets its own period does (rail.setup.config.resolve_scenario_file).
+
+    Parameters
+    ----------
+    study : Study
+        The study whose settings are taken.
+    door : str
+        The function called, named in messages ("spectrum", "fleet_spectrum").
+    **given
+        shortest, longest [m], per_octave, bays, grid_phases [-]: None keeps the study's.
+
+    Returns
+    -------
+    (dict, dict)
+        The settings [SI] and the configuration holding them.
+    """
     for name in ("per_octave", "bays", "grid_phases"):
         if given[name] is not None:
             _count(name, given[name])
@@ -224,6 +241,8 @@ def _spectrum_settings(study: Study, door: str, **given) -> tuple[dict, dict]:
             raise config.ConfigError(f"{name} = {value!r} is not allowed: it must be a wavelength in m.")
     s = dict(study.config["figures"]["rate_spectrum"])
     s.update({k: v for k, v in given.items() if v is not None})
+    if given.get("bays") is not None:  # a period given here keeps its own lines, as a scenario file's own period does
+        s["band"] = None
     cfg = config.deep_merge(study.config, {"figures": {"rate_spectrum": s}})
     try:
         config.validate_config(cfg, config.project_schema(), source=f"{door}(...) of {study.name}")
