@@ -240,8 +240,8 @@ def test_track_characterisation_runs_only_the_track_jobs(root, tmp_path):
     # one scenario on the default track (no jobs of its own), one with its own track; a measured
     # decay rate for the default track only
     shutil.copytree(root / "config", tmp_path / "config")
-    for path in (tmp_path / "config/scenarios").glob("*.yaml"):
-        path.unlink()
+    for path in [*(tmp_path / "config/scenarios").glob("*.yaml"), *(tmp_path / "config/studies").glob("*.yaml")]:
+        path.unlink()  # the study files hold scenarios too
     (tmp_path / "config/scenarios/fast.yaml").write_text("speeds: [30.0]\n")
     (tmp_path / "config/scenarios/soft.yaml").write_text("track:\n  pad:\n    stiffness: 7.0e+7\n")
     (tmp_path / "config/measured").mkdir(exist_ok=True)
