@@ -263,18 +263,24 @@ def _write_band_view(b, data_path: Path) -> None:
     print(f"grinding interval: {b.data.attrs['grinding_interval_text']}")
 
 
-def _bands(api, study, args) -> int:
-    """railgrowth bands: the band view of a growth file."""
+def _view_of_growth_file(view, study, path: Path):
+    """``view(study, growth)`` (api.bands or api.noise) of the growth file at ``path``, read and never moved;
+    a file grown for another scenario or configuration is refused naming the file and what differs."""
     import xarray as xr
 
-    if not args.growth.is_file():
-        raise ConfigError(f"{args.growth}: no such growth file.")
-    with xr.open_dataset(args.growth) as g:  # the user's file: read, never moved
+    if not path.is_file():
+        raise ConfigError(f"{path}: no such growth file.")
+    with xr.open_dataset(path) as g:
         growth = g.load()
     try:
-        view = api.bands(study, growth)  # refuses a file grown for another scenario or configuration, naming what differs
+        return view(study, growth)
     except ConfigError as e:
-        raise ConfigError(f"{args.growth}: {str(e).removeprefix('the growth result ')}") from None
+        raise ConfigError(f"{path}: {str(e).removeprefix('the growth result ')}") from None
+
+
+def _bands(api, study, args) -> int:
+    """railgrowth bands: the band view of a growth file."""
+    view = _view_of_growth_file(api.bands, study, args.growth)
     _write_band_view(view, args.out or args.growth.with_name(args.growth.stem + "_bands.nc"))
     return 0
 
@@ -297,19 +303,10 @@ def _noise_line(api, study, ds) -> None:
 
 def _noise(api, study, args) -> int:
     """railgrowth noise: the noise over traffic of a growth file (dataset, CSV, figure)."""
-    import xarray as xr
-
     from ..plotting.noise import noise_over_traffic
     from ..studies.noise import change_line
 
-    if not args.growth.is_file():
-        raise ConfigError(f"{args.growth}: no such growth file.")
-    with xr.open_dataset(args.growth) as g:  # the user's file: read, never moved
-        growth = g.load()
-    try:
-        out = api.noise(study, growth)  # refuses a file grown for another scenario or configuration, naming what differs
-    except ConfigError as e:
-        raise ConfigError(f"{args.growth}: {str(e).removeprefix('the growth result ')}") from None
+    out = _view_of_growth_file(api.noise, study, args.growth)
     data_path = args.out or args.growth.with_name(args.growth.stem + "_noise.nc")
     stem = data_path.with_suffix("")
     files = {"data": data_path, "csv": stem.with_name(stem.name + ".csv"), "figure": stem.with_name(stem.name + ".png")}
