@@ -435,7 +435,11 @@ def test_fuzzed_fleets_and_track_cells_run_or_are_refused_in_one_line_per_proble
     out, err = capsys.readouterr()
     assert code in (0, 2), (code, err)
     if code == 0:
-        assert out.startswith("ok: scenario 'fuzz' is valid") and out.count("\n") == 1, out
+        # one ok line; a fleet then states each vehicle's wheelsets, a line per vehicle (issue 55)
+        lines = out.splitlines()
+        vehicles = [v["name"] for v in scen["fleet"]["vehicles"]] if isinstance(scen.get("fleet"), dict) else []
+        assert lines[0].startswith("ok: scenario 'fuzz' is valid") and len(lines) == 1 + len(vehicles), out
+        assert [ln.split(":")[0] for ln in lines[1:]] == [f"  wheelsets of {v}" for v in vehicles], out
     else:
         assert err.startswith("railgrowth: ") and "Traceback" not in err, err
         lines = err.rstrip("\n").split("\n")
