@@ -533,8 +533,9 @@ def fleet_spectrum(study: Study, *, shortest: float | None = None, longest: floa
 def noise(study: Study, growth: xr.Dataset, *, vehicles_per_hour: float | None = None, axles: int | None = None,
           brake: str | None = None, sleeper: str | None = None, pad: str | None = None, rule: str | None = None,
           fill: str | None = "config") -> noise_study.NoiseOutputs:
-    """Rolling noise by CNOSSOS-EU (rail.noise, docs/noise.md) at every save of a one-train growth run
-    of the study, its change since the start and grinding by noise (rail.studies.noise.noise_outputs,
+    """Rolling noise by CNOSSOS-EU (rail.noise, docs/noise.md) at every save of a growth run of the
+    study (one train, or its fleet: one traffic class per vehicle type and speed, the line's levels their
+    energy sum), its change since the start and grinding by noise (rail.studies.noise.noise_outputs,
     the one code path of the workflow's growth_noise and `railgrowth noise`): the rail roughness on
     CNOSSOS-EU's 35 wavelength bands (lines of the periodic profile summed per band, as the
     rolling-noise export), the total effective roughness, the sound power per vehicle and per metre of
@@ -551,14 +552,18 @@ def noise(study: Study, growth: xr.Dataset, *, vehicles_per_hour: float | None =
     study : Study
         The study the run was grown from.
     growth : xr.Dataset
-        The result of growth at one speed (or a growth file, opened): Z_real, Z_imag per passage.
+        The result of growth at one speed or under the study's fleet (or a growth file, opened): Z_real,
+        Z_imag per passage.
     vehicles_per_hour : float, optional
         Q [1/h] of the vehicle class (default figures.noise.vehicles_per_hour, else traffic.axles_per_day
-        / (24 h x axles)).
+        / (24 h x axles)); of a fleet, its trains per hour in all (default: its trains per day / 24 h),
+        shared among the classes by their weights.
     axles : int, optional
-        Axles per vehicle N_a [-] (figures.noise.axles_per_vehicle).
+        Axles per vehicle N_a [-] (figures.noise.axles_per_vehicle); refused for a fleet (its vehicles'
+        positions).
     brake : str, optional
-        "cast_iron", "composite" or "disc" (Table G-1a; figures.noise.wheel).
+        "cast_iron", "composite" or "disc" (Table G-1a; figures.noise.wheel; of a fleet, for the
+        vehicles without their own fleet.vehicles[*].brake).
     sleeper : str, optional
         "monoblock", "biblock", "wooden" or "direct" (figures.noise.sleeper).
     pad : str, optional
@@ -583,7 +588,7 @@ def noise(study: Study, growth: xr.Dataset, *, vehicles_per_hour: float | None =
     Raises
     ------
     rail.setup.config.ConfigError
-        If growth is not a growth result, a fleet run, or one computed for another scenario or
+        If growth is not a growth result, axles for a fleet, or one computed for another scenario or
         configuration (grown_for, naming what differs), or an argument is outside figures.noise's
         schema (naming it); ValueError from rail.noise for a speed outside 7.94 .. 100 m/s, a pad
         stiffness without a class, no traffic (naming it).
@@ -591,9 +596,9 @@ def noise(study: Study, growth: xr.Dataset, *, vehicles_per_hour: float | None =
     if not isinstance(growth, xr.Dataset) or not {"Z_real", "Z_imag", "passage"} <= set(growth.variables):
         raise config.ConfigError("growth is not a growth result: give the dataset api.growth returns "
                                  "(or a growth file, opened).")
-    if "fleet_speeds" in growth.attrs or "speed_m_per_s" not in growth.attrs:
-        raise config.ConfigError("noise takes a one-train growth run (one speed); a fleet's noise is not "
-                                 "implemented yet.")
+    if "speed_m_per_s" not in growth.attrs:
+        raise config.ConfigError("growth is not a growth result (no attribute speed_m_per_s): give the dataset api.growth "
+                                 "returns (or a growth file, opened).")
     differ = grown_for(study, growth)
     if differ:
         more = f"; and {len(differ) - 5} more" if len(differ) > 5 else ""
@@ -614,9 +619,13 @@ def noise(study: Study, growth: xr.Dataset, *, vehicles_per_hour: float | None =
             config.validate_config(cfg, config.project_schema(), source=f"noise(...) of {study.name}")
         except config.ConfigError as e:  # the schema names the key figures.noise.<key>
             raise config.ConfigError(str(e).replace("figures.noise.", "argument ")) from None
+    fl = build.fleet(cfg)
+    if fl is not None and axles is not None:
+        raise config.ConfigError(f"argument axles = {axles!r} is not allowed for the fleet of {study.name}: each vehicle's axles are "
+                                 "its positions (fleet.vehicles[*].positions).")
     b = inputs.band_inputs(cfg, study.scenario)
     out = noise_study.noise_outputs(growth, cfg, study.scenario, study.name, build.noise_settings(cfg),
-                                    initial_spectrum=b["initial_spectrum"], traffic=b["traffic"])
+                                    initial_spectrum=b["initial_spectrum"], traffic=b["traffic"], fleet=fl)
     data = io.finalize(out.data, cfg, title=f"CNOSSOS-EU rolling noise, scenario {study.name}", source="rail.app.api.noise",
                        scenario=study.name)
     return dataclasses.replace(out, data=data)

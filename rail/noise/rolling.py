@@ -19,7 +19,7 @@ from .cnossos import (check_speed, cnossos_frequency_bands, contact_filter, cont
                       wavelength_to_frequency, wheel_roughness)
 from .weighting import energy_sum, overall_level
 
-__all__ = ["RollingNoise", "Track", "TrafficClass", "Vehicle", "rolling_noise"]
+__all__ = ["RollingNoise", "Track", "TrafficClass", "Vehicle", "fleet_traffic", "rolling_noise"]
 
 
 @dataclass(frozen=True, slots=True)
@@ -193,3 +193,57 @@ def rolling_noise(rail, track: Track, traffic, rule: str = "energy", phi: float 
                         line_power_class_A=np.asarray(overall_level(line, nominal)),
                         power_A=np.asarray(overall_level(np.array(ptot), nominal)), contact_columns=tuple(cols),
                         diameters=tuple(dias), rule=rule, notes=notes)
+
+
+def fleet_traffic(fleet, brakes, wheel_diameter: float, vehicles_per_hour: float | None = None) -> tuple:
+    """A fleet's CNOSSOS-EU traffic classes: one per (vehicle type, speed class) of non-zero weight, in
+    the fleet's order (vehicle-major, as rail.fleet.Fleet.classes).
+
+    Class c = (vehicle v, speed s) runs at the speed v_s with N_a = the vehicle's axles (its positions),
+    the wheel diameter ``wheel_diameter`` (every vehicle's: the growth model's wheels.radius), the wheel
+    load its static_load, the wheel roughness of its brake, and Q_c = Q w_c vehicles per hour,
+    w_c = share_v weight_s / (sum of shares x sum of weights) (the sums are 1 to rail.fleet.SUM_TOLERANCE;
+    normalised so that sum_c w_c = 1 exactly). Q is the fleet's trains per hour, axles_per_day / 24 h /
+    (mean axles per train), unless ``vehicles_per_hour`` is given; then sum_c Q_c N_a,c =
+    axles_per_day / 24 h, the axles per hour of the growth run.
+
+    Parameters
+    ----------
+    fleet : rail.fleet.Fleet
+        The vehicle types (name, positions, static_load [N], share [-]) and speed classes (speeds [m/s], weights [-]).
+    brakes : sequence of str
+        The wheel roughness of each vehicle type, a Table G-1a brake type ("cast_iron", "composite", "disc").
+    wheel_diameter : float
+        Wheel diameter [m], > 0 (Table G-3b's diameter and, with the load, Table G-2's column).
+    vehicles_per_hour : float, optional
+        Trains per hour Q [1/h] of the whole fleet (default: the fleet's trains_per_day / 24).
+
+    Returns
+    -------
+    classes : tuple of TrafficClass
+        Each vehicle named '<vehicle> at <speed> m/s' (the rail.fleet.FleetClass label); Q_c [1/h], speed [m/s].
+    shares : tuple of float
+        w_c [-], summing to 1.
+
+    Raises
+    ------
+    ValueError
+        A class speed outside CNOSSOS-EU's 7.94 .. 100 m/s (naming fleet.speeds, the vehicle and the
+        range); a brake per vehicle missing; a bad brake or load (naming it).
+    """
+    brakes = tuple(brakes)
+    if len(brakes) != len(fleet.vehicles):
+        raise ValueError(f"brakes holds {len(brakes)} names for {len(fleet.vehicles)} vehicle types: give one per vehicle.")
+    total = sum(v.share for v in fleet.vehicles) * sum(fleet.speeds.weights)
+    q = fleet.trains_per_day / 24.0 if vehicles_per_hour is None else float(vehicles_per_hour)
+    classes, shares = [], []
+    for v, brake in zip(fleet.vehicles, brakes):
+        for speed, ws in zip(fleet.speeds.speeds, fleet.speeds.weights):
+            w = v.share * ws / total
+            if w > 0:
+                check_speed(float(speed), f"fleet.speeds: the class speed of {v.name}")
+                veh = Vehicle(f"{v.name} at {speed:.4g} m/s", axles=v.axles, brake=brake, wheel_diameter=float(wheel_diameter),
+                              wheel_load=float(v.static_load))
+                classes.append(TrafficClass(veh, float(q * w), float(speed)))
+                shares.append(float(w))
+    return tuple(classes), tuple(shares)

@@ -75,6 +75,7 @@ class NoiseSettings:
     average_target_dBA : criterion (b) [dB(A) re 1 pW/m], or None (not assessed)
     band_rms           : criterion (c) on (Grassie, Saxon & Smith 1999)
     extrapolation_max  : the criteria followed up to this many times the run's passages [-], >= 1
+    fleet_brakes       : a fleet's wheel roughness per vehicle type (fleet.vehicles[*].brake, default wheel), or None
     """
 
     vehicles_per_hour: float | None
@@ -89,6 +90,7 @@ class NoiseSettings:
     band_rms: bool
     extrapolation_max: float
     track_transfer: str = "cnossos"
+    fleet_brakes: tuple | None = None
 
 
 def noise_settings(cfg: dict) -> NoiseSettings:
@@ -112,7 +114,9 @@ def noise_settings(cfg: dict) -> NoiseSettings:
                          wheel=str(get("wheel")), sleeper=str(get("sleeper")), pad_class=get("pad_class"), rule=str(get("rule")),
                          fill=get("fill"), rise_dB=float(get("rise_dB")),
                          average_target_dBA=None if target is None else float(target), band_rms=bool(get("band_rms")),
-                         extrapolation_max=float(get("extrapolation_max")), track_transfer=str(get("track_transfer")))
+                         extrapolation_max=float(get("extrapolation_max")), track_transfer=str(get("track_transfer")),
+                         fleet_brakes=None if cfg.get("fleet") is None else
+                         tuple(str(v.get("brake") or get("wheel")) for v in cfg["fleet"]["vehicles"]))
 
 
 def elastic(cfg: dict) -> ElasticMaterial:

@@ -264,9 +264,10 @@ def band_inputs(cfg: dict, scn: Scenario) -> dict:
     }
 
 
-def noise_problem(cfg: dict, speed: float) -> str | None:
-    """Why the noise of a one-train growth run of this configuration at ``speed`` [m/s] cannot be
-    computed (rail.studies.noise), or None: a fleet (not implemented), a speed outside CNOSSOS-EU's
+def noise_problem(cfg: dict, speed: float | None = None) -> str | None:
+    """Why the noise of a growth run of this configuration at ``speed`` [m/s] (a fleet: its class
+    speeds, ``speed`` not read) cannot be computed (rail.studies.noise), or None: a speed (a fleet's
+    class speed, naming fleet.speeds) outside CNOSSOS-EU's
     7.94 .. 100 m/s, a concrete sleeper's pad stiffness without a pad class and none named
     (figures.noise.pad_class; not asked with figures.noise.track_transfer: own), no traffic. The
     workflow leaves such a run out of study_<name>'s noise and the named target noise
@@ -276,8 +277,8 @@ def noise_problem(cfg: dict, speed: float) -> str | None:
     ----------
     cfg : dict
         The resolved configuration.
-    speed : float
-        Train speed [m/s].
+    speed : float or None
+        Train speed [m/s] of a one-train run (a fleet's classes carry their own).
 
     Returns
     -------
@@ -285,13 +286,15 @@ def noise_problem(cfg: dict, speed: float) -> str | None:
     """
     from ..noise.cnossos import check_speed as noise_speed
     from ..noise.cnossos import pad_class
-    from .build import noise_settings
+    from .build import fleet, noise_settings
 
-    if "fleet" in cfg:
-        return "a fleet's noise is not implemented (one traffic class per vehicle and speed would be needed)"
     s = noise_settings(cfg)
     try:
-        noise_speed(float(speed), "growth speed")
+        if "fleet" in cfg:
+            from ..noise.rolling import fleet_traffic
+            fleet_traffic(fleet(cfg), s.fleet_brakes, 2 * float(cfg["wheels"]["radius"]), s.vehicles_per_hour)  # each class's speed
+        else:
+            noise_speed(float(speed), "growth speed")
         if s.sleeper in ("monoblock", "biblock") and s.pad_class is None and s.track_transfer == "cnossos":
             pad_class(cfg["track"]["pad"]["stiffness"])  # the own track transfer needs no pad class
     except ValueError as e:

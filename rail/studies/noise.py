@@ -57,15 +57,9 @@ class NoiseOutputs:
     trips: dict
 
 
-def _vehicle_traffic(cfg: dict, settings, speed: float, own=None):
-    """The track, vehicle class and its flow of a scenario's noise, and how the pad class was chosen
-    (own: the track's own transfer, rail.noise.own_track.OwnTrackTransfer, in place of Table G-3a's)."""
-    per_day = (cfg.get("traffic") or {}).get("axles_per_day")
-    q = settings.vehicles_per_hour
-    if q is None:
-        if not per_day:
-            raise ValueError("no traffic: give traffic.axles_per_day or figures.noise.vehicles_per_hour.")
-        q = float(per_day) / 24.0 / settings.axles_per_vehicle
+def _pad(cfg: dict, settings, own):
+    """The track of a scenario's noise and how its pad class was chosen (own: the track's own transfer,
+    rail.noise.own_track.OwnTrackTransfer, in place of Table G-3a's)."""
     pad, pad_rule = settings.pad_class, "figures.noise.pad_class"
     if own is not None:
         pad, pad_rule = None, "not used: the track's own transfer (figures.noise.track_transfer: own)"
@@ -74,9 +68,20 @@ def _vehicle_traffic(cfg: dict, settings, speed: float, own=None):
     elif settings.sleeper not in ("monoblock", "biblock"):
         pad, pad_rule = None, f"none ({settings.sleeper})"
     track = rn.Track(settings.sleeper, pad) if own is None else rn.Track(settings.sleeper, None, own=tuple(own.transfer))
+    return track, pad_rule
+
+
+def _vehicle_traffic(cfg: dict, settings, speed: float):
+    """The one vehicle class of a one-train run and its flow: (classes, shares)."""
+    per_day = (cfg.get("traffic") or {}).get("axles_per_day")
+    q = settings.vehicles_per_hour
+    if q is None:
+        if not per_day:
+            raise ValueError("no traffic: give traffic.axles_per_day or figures.noise.vehicles_per_hour.")
+        q = float(per_day) / 24.0 / settings.axles_per_vehicle
     vehicle = rn.Vehicle("vehicle", axles=settings.axles_per_vehicle, brake=settings.wheel,
                          wheel_diameter=2 * float(cfg["wheels"]["radius"]), wheel_load=float(cfg["wheels"]["static_load"]))
-    return track, rn.TrafficClass(vehicle, float(q), speed), pad_rule
+    return (rn.TrafficClass(vehicle, float(q), speed),), (1.0,)
 
 
 def _rail_dB(ms):
@@ -116,7 +121,7 @@ def trip_text(trip, label: str, traffic, speed: float, unit: str) -> str:
     return f"{label} {trip.threshold:g} {unit}: tripped after {readable_count(trip.passages)} axle passages{when}, {how}; {trip.note}"
 
 
-def _driver_text(trip, speed: float, fbands, wbands, limits) -> str:
+def _driver_text(trip, speed: float, fbands, wbands, limits, at: str = "") -> str:
     if trip.band_index < 0:
         return ""
     if trip.criterion == "band_rms":
@@ -126,7 +131,7 @@ def _driver_text(trip, speed: float, fbands, wbands, limits) -> str:
     f = float(fbands.nominal[trip.band_index])
     why = "the loudest A-weighted band at the start" if trip.status == "at the start" else "its A-weighted power rose most"
     return (f"driven by the {f:g} Hz band ({why}; wavelength {1e3 * speed / fbands.centre[trip.band_index]:.3g} mm "
-            f"at {speed:g} m/s)")
+            f"at {at}{speed:g} m/s)")
 
 
 def change_line(ds) -> str:
@@ -146,8 +151,15 @@ def change_line(ds) -> str:
     tripped = sorted((ds.attrs[f"grinding_noise_{c}_passages"], ds.attrs[f"grinding_noise_{c}_text"]) for c in CRITERIA
                      if ds.attrs.get(f"grinding_noise_{c}_status") in ("at the start", "within the run", "extrapolated"))
     first = f"first to trip: {tripped[0][1]}" if tripped else "no noise criterion trips"
-    return (f"noise (CNOSSOS-EU, {ds.attrs['speed_m_per_s']:g} m/s): L'_W,A {L[0]:.1f} dB(A) re 1 pW/m at the start, {L[-1]:.1f} at "
+    where = (f"fleet of {ds.sizes['traffic_class']} classes at {_speeds_text(ds)} m/s" if "fleet_speeds" in ds.attrs
+             else f"{ds.attrs['speed_m_per_s']:g} m/s")
+    return (f"noise (CNOSSOS-EU, {where}): L'_W,A {L[0]:.1f} dB(A) re 1 pW/m at the start, {L[-1]:.1f} at "
             f"{readable_count(n[-1])} axle passages, change {L[-1] - L[0]:+.2f} dB; {first}")
+
+
+def _speeds_text(ds) -> str:
+    v = sorted({float(x) for x in ds["class_speed"].values})
+    return f"{v[0]:g}" if len(v) == 1 else f"{v[0]:g}-{v[-1]:g}"
 
 
 def _cnossos_transfer(cfg: dict, settings):
@@ -162,13 +174,14 @@ def _cnossos_transfer(cfg: dict, settings):
 
 
 def noise_outputs(growth, cfg: dict, scn, name: str, settings, *, initial_spectrum=None, traffic=None,
-                  own_transfer=None) -> NoiseOutputs:
-    """The noise over traffic of a one-train growth run (module docstring).
+                  own_transfer=None, fleet=None) -> NoiseOutputs:
+    """The noise over traffic of a one-train or a fleet's growth run (module docstring).
 
     Parameters
     ----------
     growth : xarray.Dataset
-        A growth result: Z_real, Z_imag per saved passage count; attributes speed_m_per_s, bays.
+        A growth result: Z_real, Z_imag per saved passage count; attributes speed_m_per_s, bays (a
+        fleet's run: fleet_speeds as well, and speed_m_per_s its mean speed).
     cfg : dict
         The scenario's resolved configuration (wheels, track.pad, traffic, figures.bands.min_lines).
     scn : rail.scenario.Scenario
@@ -183,6 +196,10 @@ def noise_outputs(growth, cfg: dict, scn, name: str, settings, *, initial_spectr
     own_transfer : rail.noise.own_track.OwnTrackTransfer, optional
         With figures.noise.track_transfer: own, the track's own transfer on the 24 bands (computed
         from scn's track, wheels.mass and contact spring if not given: about 4 minutes, the decay rate).
+    fleet : rail.fleet.Fleet, optional
+        The fleet of a fleet's growth run (rail.setup.build.fleet of cfg; required for one, refused for
+        a one-train run): each (vehicle, speed) class a traffic class (rail.noise.rolling.fleet_traffic), the line's
+        L'_W,eq,line the energy sum over them (Annex II 2.3.2), the grinding criteria on that total.
 
     Returns
     -------
@@ -191,25 +208,33 @@ def noise_outputs(growth, cfg: dict, scn, name: str, settings, *, initial_spectr
     Raises
     ------
     ValueError
-        A fleet run; a speed outside CNOSSOS-EU's 7.94 .. 100 m/s; a pad stiffness without a class;
-        no traffic; a band the speed reads with no level (naming it).
+        A fleet run without its fleet; a speed (a fleet's class speed) outside CNOSSOS-EU's 7.94 .. 100 m/s;
+        a pad stiffness without a class; no traffic; a band the speed reads with no level (naming it).
     """
     import xarray as xr
 
     from ..setup.io import data_var
     from .exports import spectrum_on_bands
 
-    if "fleet_speeds" in growth.attrs or "speed_m_per_s" not in growth.attrs:
-        raise ValueError("the noise is computed for a one-train growth run (one speed); a fleet's noise is not implemented "
-                         "(its classes' speeds and vehicles would each need their own traffic class).")
-    speed = cn.check_speed(float(growth.attrs["speed_m_per_s"]), "growth speed")
+    if "speed_m_per_s" not in growth.attrs:
+        raise ValueError("the growth result has no attribute speed_m_per_s: give the dataset a growth run writes.")
+    is_fleet = "fleet_speeds" in growth.attrs
+    if is_fleet != (fleet is not None):
+        raise ValueError("the growth result is a fleet's run but no fleet was given (rail.setup.build.fleet of its configuration)"
+                         if is_fleet else "a fleet was given but the growth result is a one-train run (no attribute fleet_speeds).")
+    if is_fleet:
+        classes, shares = rn.fleet_traffic(fleet, settings.fleet_brakes, 2 * float(cfg["wheels"]["radius"]), settings.vehicles_per_hour)
+        speed = float(growth.attrs["speed_m_per_s"])  # the fleet's mean speed: named in the texts only
+    else:
+        speed = cn.check_speed(float(growth.attrs["speed_m_per_s"]), "growth speed")
+        classes, shares = _vehicle_traffic(cfg, settings, speed)
     own = None
     if settings.track_transfer == "own":
         own = own_transfer if own_transfer is not None else own_track.own_track_transfer(scn.track, scn.wheels.mass, scn.spring)
         if own.transfer.shape != (24,):
             raise ValueError(f"own_transfer holds {own.transfer.size} bands: the track's own transfer must cover the 24 bands "
                              "50 Hz .. 10 kHz (rail.noise.own_track.own_track_transfer's default range).")
-    track, traffic_class, pad_rule = _vehicle_traffic(cfg, settings, speed, own)
+    track, pad_rule = _pad(cfg, settings, own)
     wbands, fbands = cn.cnossos_wavelength_bands(), cn.cnossos_frequency_bands()
     period = int(growth.attrs.get("bays", 1)) * scn.L
     Z = growth["Z_real"].values + 1j * growth["Z_imag"].values
@@ -229,10 +254,10 @@ def noise_outputs(growth, cfg: dict, scn, name: str, settings, *, initial_spectr
     weight = a_weighting(nominal)
 
     def level_of(m):
-        r = rn.rolling_noise(_rail_dB(m), track, traffic_class, rule=settings.rule)
+        r = rn.rolling_noise(_rail_dB(m), track, classes, rule=settings.rule)
         return r.line_power_A, r.line_power_total + weight
 
-    results = [rn.rolling_noise(_rail_dB(trend.mean_square(x)), track, traffic_class, rule=settings.rule) for x in n]
+    results = [rn.rolling_noise(_rail_dB(trend.mean_square(x)), track, classes, rule=settings.rule) for x in n]
     rail = np.array([_rail_dB(trend.mean_square(x)) for x in n])
     curve = gr.noise_curve(trend, level_of, settings.extrapolation_max)
     trips = {"rise": gr.trip_rise(trend, curve, level_of, settings.rise_dB)}
@@ -241,8 +266,10 @@ def noise_outputs(growth, cfg: dict, scn, name: str, settings, *, initial_spectr
     if settings.band_rms:
         trips["band_rms"] = gr.trip_band_rms(trend, curve, wbands.centre)
 
-    def stack(field):
-        return np.array([getattr(x, field)[0] for x in results])
+    def stack(field):  # per vehicle: (passage, frequency) for one train, (passage, traffic_class, frequency) for a fleet
+        return np.array([getattr(x, field) if is_fleet else getattr(x, field)[0] for x in results])
+
+    per_vehicle = ("passage", "traffic_class", "frequency") if is_fleet else ("passage", "frequency")
 
     line_A = np.array([x.line_power_A for x in results])
     limits = gr.GRASSIE_1999
@@ -260,7 +287,7 @@ def noise_outputs(growth, cfg: dict, scn, name: str, settings, *, initial_spectr
             why = {"average": "no figures.noise.average_target_dBA given", "band_rms": "figures.noise.band_rms is false"}[c]
             t = gr.Trip(c, math.nan, math.nan, "not assessed", math.nan, -1, note=why)
             trips[c] = t
-        drv = _driver_text(t, speed, fbands, wbands, limits)
+        drv = _driver_text(t, speed, fbands, wbands, limits, "the fleet's mean speed " if is_fleet else "")
         t_note = "; ".join(x for x in (drv, t.note) if x)
         shown = gr.Trip(t.criterion, t.threshold * (1e6 if c == "band_rms" else 1), t.passages, t.status, t.extrapolation_factor,
                         t.band_index, t.range_index, t_note)
@@ -311,18 +338,24 @@ def noise_outputs(growth, cfg: dict, scn, name: str, settings, *, initial_spectr
                                        "rail roughness level per CNOSSOS-EU wavelength band (NaN: no level; -inf: smooth)"),
             "rail_roughness_source": data_var("wavelength", source.astype(str), "",
                                               "where the band's rail roughness comes from ('model': the growth run)"),
-            "total_effective_roughness": data_var(("passage", "frequency"), stack("roughness_total"), "dB re 1 um",
+            "total_effective_roughness": data_var(per_vehicle, stack("roughness_total"), "dB re 1 um",
                                                   "total effective roughness L_R,TOT (2.3.7) per frequency band"),
-            "sound_power_track": data_var(("passage", "frequency"), stack("power_track"), "dB re 1 pW",
+            "sound_power_track": data_var(per_vehicle, stack("power_track"), "dB re 1 pW",
                                           "rolling-noise sound power of the track per vehicle L_W,0,TR (2.3.8)"),
-            "sound_power_vehicle": data_var(("passage", "frequency"), stack("power_vehicle"), "dB re 1 pW",
+            "sound_power_vehicle": data_var(per_vehicle, stack("power_vehicle"), "dB re 1 pW",
                                             "rolling-noise sound power of the vehicle per vehicle L_W,0,VEH (2.3.9)"),
-            "sound_power": data_var(("passage", "frequency"), stack("power"), "dB re 1 pW",
+            "sound_power": data_var(per_vehicle, stack("power"), "dB re 1 pW",
                                     "rolling-noise sound power per vehicle, track + vehicle, broadside"),
-            "line_sound_power": data_var(("passage", "frequency"), stack("line_power"), "dB re 1 pW/m",
-                                         "directional sound power per metre of line L'_W,eq,line (2.3.2), broadside"),
-            "sound_power_A": data_var("passage", np.array([x.power_A[0] for x in results]), "dB(A) re 1 pW",
-                                      "A-weighted rolling-noise sound power per vehicle"),
+            "line_sound_power": data_var(("passage", "frequency"), np.array([x.line_power_total for x in results]), "dB re 1 pW/m",
+                                         "directional sound power per metre of line L'_W,eq,line (2.3.2) of the traffic: the energy "
+                                         "sum over its classes, broadside"),
+            "sound_power_A": data_var(per_vehicle[:-1], np.array([x.power_A if is_fleet else x.power_A[0] for x in results]),
+                                      "dB(A) re 1 pW", "A-weighted rolling-noise sound power per vehicle"),
+            "line_sound_power_class": data_var(("passage", "traffic_class", "frequency"), np.array([x.line_power for x in results]),
+                                               "dB re 1 pW/m", "directional sound power per metre of line L'_W,eq,line of the class "
+                                               "(2.3.2), broadside"),
+            "line_sound_power_A_class": data_var(("passage", "traffic_class"), np.array([x.line_power_class_A for x in results]),
+                                                 "dB(A) re 1 pW/m", "A-weighted sound power per metre of line of the class"),
             "line_sound_power_A": data_var("passage", line_A, "dB(A) re 1 pW/m",
                                            "A-weighted sound power per metre of line of the traffic"),
             "line_sound_power_A_change": data_var("passage", line_A - line_A[0], "dB",
@@ -351,6 +384,7 @@ def noise_outputs(growth, cfg: dict, scn, name: str, settings, *, initial_spectr
             **({"contact_position": data_var("contact_position", own.excitation, "m",
                                              "contact position x_0 from a sleeper (0: above a sleeper, L/2: mid-span)")}
                if own is not None else {}),
+            **_class_coords(classes, shares),
             "rms_range_low": data_var("rms_range", np.array([lo for lo, _, _ in limits]), "m", "shortest wavelength of the range"),
             "rms_range_high": data_var("rms_range", np.array([hi for _, hi, _ in limits]), "m",
                                        "longest wavelength of the range (bands with exact centres in [low, high))"),
@@ -358,14 +392,16 @@ def noise_outputs(growth, cfg: dict, scn, name: str, settings, *, initial_spectr
         attrs={
             "method": "CNOSSOS-EU railway rolling noise, Directive 2002/49/EC Annex II 2.3 (2015/996, corrigendum 2018, "
                       "Delegated Directive (EU) 2021/1226); rail.noise, rail.studies.noise, docs/noise.md",
-            "speed_m_per_s": speed, "vehicles_per_hour": float(traffic_class.vehicles_per_hour),
-            "axles_per_vehicle": int(settings.axles_per_vehicle), "brake": settings.wheel, "sleeper": settings.sleeper,
+            "speed_m_per_s": speed, "vehicles_per_hour": float(sum(c.vehicles_per_hour for c in classes)),
+            **(_fleet_attrs(growth, classes) if is_fleet else {"axles_per_vehicle": int(settings.axles_per_vehicle), "brake": settings.wheel}),
+            "sleeper": settings.sleeper,
             "pad_class": str(track.pad), "pad_class_rule": pad_rule,
             "track_transfer": settings.track_transfer,
             "track_transfer_model": (own.description + (f"; {own.per_band} frequencies per band; the scenario's nominal track"
                                                         + (" (the cell's mean spacing)" if scn.cell is not None else ""))
                                      if own is not None else "cnossos: Table G-3a's L_H,TR of the sleeper and pad class"),
-            "contact_filter_column_kN_mm": str(results[0].contact_columns[0]),
+            "contact_filter_column_kN_mm": " | ".join(str(x) for x in results[0].contact_columns) if is_fleet
+            else str(results[0].contact_columns[0]),
             "vehicle_transfer_diameter_mm": float(results[0].diameters[0]),
             "interpolation_rule": settings.rule, "directivity": "broadside (phi = 90 deg, psi = 0): 0 dB",
             "fill": fill_source or "none", "notes": results[0].notes, "bays": int(growth.attrs.get("bays", 1)),
@@ -375,6 +411,39 @@ def noise_outputs(growth, cfg: dict, scn, name: str, settings, *, initial_spectr
         },
     )
     return NoiseOutputs(ds, noise_csv_text(ds, name), trips)
+
+
+def _class_coords(classes, shares) -> dict:
+    """The traffic classes' coordinates: vehicle, speed, flow, axles, wheel roughness, wheel load, share."""
+    from ..setup.io import data_var
+
+    def brake(c):
+        return c.vehicle.brake if isinstance(c.vehicle.brake, str) else "spectrum"
+
+    return {"traffic_class": data_var("traffic_class", np.arange(len(classes)), "1", "traffic class (vehicle type at a speed)"),
+            "class_name": data_var("traffic_class", np.array([c.vehicle.name for c in classes]), "", "the class: vehicle type at speed"),
+            "class_speed": data_var("traffic_class", np.array([c.speed for c in classes]), "m/s", "speed of the class"),
+            "class_vehicles_per_hour": data_var("traffic_class", np.array([c.vehicles_per_hour for c in classes]), "1/h",
+                                                "vehicles per hour Q of the class (2.3.2)"),
+            "class_axles": data_var("traffic_class", np.array([c.vehicle.axles for c in classes]), "1", "axles per vehicle N_a"),
+            "class_wheel_roughness": data_var("traffic_class", np.array([brake(c) for c in classes]), "",
+                                              "wheel roughness L_r,VEH of the class (Table G-1a by brake type)"),
+            "class_wheel_load": data_var("traffic_class", np.array([c.vehicle.wheel_load for c in classes]), "N",
+                                         "static wheel load of the class (Table G-2's column with the diameter)"),
+            "class_share": data_var("traffic_class", np.array(shares), "1", "share of the trains that are the class")}
+
+
+def _fleet_attrs(growth, classes) -> dict:
+    """A fleet's noise attributes: its definitions (the growth file's) and its classes in words."""
+    return {"fleet_vehicles": growth.attrs.get("fleet_vehicles", ""), "fleet_speeds": growth.attrs["fleet_speeds"],
+            "fleet_classes": " | ".join(f"{c.vehicle.name}: {c.vehicles_per_hour:.4g} vehicles/h of {c.vehicle.axles} axles, wheel "
+                                        f"{c.vehicle.brake}, wheel load {c.vehicle.wheel_load:g} N" for c in classes),
+            "axles_per_vehicle": "per class (fleet_classes: each vehicle's positions)",
+            "brake": ", ".join(dict.fromkeys(str(c.vehicle.brake) for c in classes)) + " (per vehicle: fleet_classes)",
+            "fleet_noise_definition": "each (vehicle, speed) class of the fleet a CNOSSOS-EU traffic class with its own speed, "
+                                      "vehicles per hour, axles, wheel load and wheel roughness on the one rail roughness; "
+                                      "L'_W,eq,line of the line the energy sum over the classes (Annex II 2.3.2); the grinding "
+                                      "criteria on that total (rail.noise.rolling.fleet_traffic)"}
 
 
 def _cell(v, fmt=".3f") -> str:
@@ -400,11 +469,23 @@ def noise_csv_text(ds, name: str) -> str:
         The CSV text.
     """
     a = ds.attrs
+    fleet = "fleet_speeds" in a
+    if fleet:
+        cols_kN_mm = a["contact_filter_column_kN_mm"].split(" | ")
+        what = [f"# a fleet: {ds.sizes['traffic_class']} traffic classes (vehicle type at a speed), the line's levels their energy sum "
+                f"(CNOSSOS-EU Annex II 2.3.2); fleet speeds {a['fleet_speeds']}; {a['vehicles_per_hour']:.4g} vehicles/h in all, "
+                f"vehicle transfer {a['vehicle_transfer_diameter_mm']:g} mm"]
+        what += [f"# class {i}: {ds['class_name'].values[i]}, share {float(ds['class_share'].values[i]):.4g}, "
+                 f"{float(ds['class_vehicles_per_hour'].values[i]):.4g} vehicles/h of {int(ds['class_axles'].values[i])} axles, "
+                 f"wheel roughness {ds['class_wheel_roughness'].values[i]}, wheel load {float(ds['class_wheel_load'].values[i]):g} N, "
+                 f"contact filter column {cols_kN_mm[i]} (kN, mm)" for i in range(ds.sizes["traffic_class"])]
+        what.append("# every class on the one rail roughness and track")
+    else:
+        what = [f"# speed {a['speed_m_per_s']:g} m/s; {a['vehicles_per_hour']:.4g} vehicles/h of {a['axles_per_vehicle']} axles, wheel "
+                f"roughness {a['brake']}, contact filter column {a['contact_filter_column_kN_mm']} (kN, mm), vehicle transfer "
+                f"{a['vehicle_transfer_diameter_mm']:g} mm"]
     head = [f"# rolling noise by CNOSSOS-EU at every save of the growth run of scenario {name} (rail.studies.noise; docs/noise.md)",
-            f"# speed {a['speed_m_per_s']:g} m/s; {a['vehicles_per_hour']:.4g} vehicles/h of {a['axles_per_vehicle']} axles, wheel "
-            f"roughness {a['brake']}, contact filter column {a['contact_filter_column_kN_mm']} (kN, mm), vehicle transfer "
-            f"{a['vehicle_transfer_diameter_mm']:g} mm; "
-            + (f"track {a['sleeper']}, pad {a['pad_class']} ({a['pad_class_rule']})" if a.get("track_transfer", "cnossos") == "cnossos"
+            *what[:-1], what[-1] + "; " + (f"track {a['sleeper']}, pad {a['pad_class']} ({a['pad_class_rule']})" if a.get("track_transfer", "cnossos") == "cnossos"
                else "track transfer: the track's own (rail receptance and EN 15461 decay rate, rail.noise.own_track)"),
             f"# rule {a['interpolation_rule']}; bands the run does not resolve: {a['fill']}; {a['directivity']}; {a['notes']}",
             "# levels: sound power dB re 1 pW, line sound power dB re 1 pW/m, A-weighted dB(A); passages are axle passages"
@@ -412,15 +493,23 @@ def noise_csv_text(ds, name: str) -> str:
     head += [f"# grinding by noise: {a[f'grinding_noise_{c}_text']}" for c in CRITERIA]
     f = ds["frequency"].values
     lo, hi = ds["rms_range_low"].values, ds["rms_range_high"].values
+    k = range(ds.sizes["traffic_class"]) if fleet else ()
     cols = ["axle_passages", "years", "MGT", "line_sound_power_A_dBA_re_1pW_per_m", "line_sound_power_A_change_dB",
-            "line_sound_power_A_cycle_average_dBA_re_1pW_per_m", "sound_power_A_per_vehicle_dBA_re_1pW"]
+            "line_sound_power_A_cycle_average_dBA_re_1pW_per_m"]
+    cols += ([f"line_sound_power_A_class{i}_dBA_re_1pW_per_m" for i in k] + [f"sound_power_A_per_vehicle_class{i}_dBA_re_1pW" for i in k]
+             if fleet else ["sound_power_A_per_vehicle_dBA_re_1pW"])
     cols += [f"band_rms_{1e3 * a_:g}_{1e3 * b_:g}mm_um" for a_, b_ in zip(lo, hi)]
     cols += [f"line_sound_power_{x:g}Hz_dB_re_1pW_per_m" for x in f]
     rows = [",".join(cols)]
     for i, p in enumerate(ds["passage"].values):
         cells = [f"{p:.0f}", _cell(float(ds["years"].values[i]), ".6g"), _cell(float(ds["mgt"].values[i]), ".6g"),
                  _cell(float(ds["line_sound_power_A"].values[i])), _cell(float(ds["line_sound_power_A_change"].values[i])),
-                 _cell(float(ds["line_sound_power_A_cycle_average"].values[i])), _cell(float(ds["sound_power_A"].values[i]))]
+                 _cell(float(ds["line_sound_power_A_cycle_average"].values[i]))]
+        if fleet:
+            cells += [_cell(float(v)) for v in ds["line_sound_power_A_class"].values[i]]
+            cells += [_cell(float(v)) for v in ds["sound_power_A"].values[i]]
+        else:
+            cells.append(_cell(float(ds["sound_power_A"].values[i])))
         cells += [_cell(float(v), ".4g") for v in ds["band_rms"].values[i]]
         cells += [_cell(float(v)) for v in ds["line_sound_power"].values[i]]
         rows.append(",".join(cells))
