@@ -577,13 +577,13 @@ def test_api_noise_follows_the_growing_band_and_labels_every_band():
         assert ds[name].attrs["units"] is not None and ds[name].attrs["long_name"]
 
 
-def test_api_noise_refuses_a_fleet_run_and_a_speed_out_of_range():
+def test_api_noise_refuses_a_fleet_run_for_a_scenario_without_its_fleet_and_a_speed_out_of_range():
     from rail.app import api
     from rail.setup.config import ConfigError
     study = api.load("default")
     g = _growth_run([1e-6])
     g.attrs["fleet_speeds"] = "30, 40"
-    with pytest.raises(ConfigError, match="one-train growth run"):
+    with pytest.raises(ConfigError, match="a fleet's run and default has no fleet"):
         api.noise(study, g)
     with pytest.raises(ValueError, match=r"growth speed = 5.0 m/s is not allowed"):
         api.noise(study, _growth_run([1e-6], V=5.0))

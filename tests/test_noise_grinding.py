@@ -237,11 +237,11 @@ def test_the_noise_of_another_scenarios_growth_file_is_refused_naming_what_diffe
     assert list(tmp_path.glob("growth_noise*")) == []
 
 
-def test_a_fleet_growth_and_a_speed_outside_cnossos_are_refused_before_computing():
+def test_a_fleet_growth_without_its_fleet_and_a_speed_outside_cnossos_are_refused_before_computing():
     study = api.load("default")
     g = _growth(study)
     g.attrs["fleet_speeds"] = "[40.0] m/s"
-    with pytest.raises(ConfigError, match="a fleet's noise is not implemented"):
+    with pytest.raises(ConfigError, match="the growth result is a fleet's run and default has no fleet"):
         api.noise(study, g)
     from rail.setup.inputs import noise_problem
     assert "growth speed = 120.0 m/s is not allowed" in noise_problem(study.config, 120.0)

@@ -620,6 +620,10 @@ def noise(study: Study, growth: xr.Dataset, *, vehicles_per_hour: float | None =
         except config.ConfigError as e:  # the schema names the key figures.noise.<key>
             raise config.ConfigError(str(e).replace("figures.noise.", "argument ")) from None
     fl = build.fleet(cfg)
+    if ("fleet_speeds" in growth.attrs) != (fl is not None):
+        raise config.ConfigError(f"the growth result is a fleet's run and {study.name} has no fleet: give the fleet's scenario"
+                                 if fl is None else f"the growth result is a one-train run and {study.name} has a fleet: give "
+                                 f"its fleet's growth (results/fleet/{study.name}/growth.nc, railgrowth run without --speed)")
     if fl is not None and axles is not None:
         raise config.ConfigError(f"argument axles = {axles!r} is not allowed for the fleet of {study.name}: each vehicle's axles are "
                                  "its positions (fleet.vehicles[*].positions).")

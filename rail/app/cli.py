@@ -5,6 +5,7 @@
     railgrowth run my_fleet --bands                   grow under the fleet (no --speed), with the band view
     railgrowth bands soft_pad soft_pad_V40.nc         the band view of a growth file written before
     railgrowth noise soft_pad soft_pad_V40.nc         its rolling noise (CNOSSOS-EU) and grinding by noise
+    railgrowth noise my_fleet my_fleet_fleet.nc       a fleet's: one traffic class per vehicle and speed
     railgrowth spectrum default --speed 40            the growth-rate spectrum; default_spectrum.nc
 
 A problem with the input is one line per problem naming file, key, value and valid range, and exit
@@ -15,7 +16,7 @@ any passage count, 0 included) writes what it computed and exits with 3, with --
 growth file is written before any view of it (--bands), so no view loses it; the file is written whole
 or not at all: an existing file at --out survives a failed write (rail.setup.io.write_netcdf), and a
 failed checkpoint leaves no temporary file. ``bands`` and ``noise`` refuse a growth file grown for another
-scenario or configuration, naming what differs (rail.app.api.grown_for). ``run`` of one train ends with one
+scenario or configuration, naming what differs (rail.app.api.grown_for). ``run`` (one train or a fleet) ends with one
 line stating the noise change over the run (rail.studies.noise.change_line) where the noise can be
 computed (rail.setup.inputs.noise_problem), else the reason.
 
@@ -66,8 +67,8 @@ def _parser() -> argparse.ArgumentParser:
     b.add_argument("scenario", help="the scenario the growth file was grown from")
     b.add_argument("growth", type=Path, help="a growth file (railgrowth run, or the workflow's)")
     b.add_argument("--out", type=Path, default=None, help="band dataset (default: <growth>_bands.nc; the CSVs beside it)")
-    z = sub.add_parser("noise", help="rolling noise (CNOSSOS-EU) at every save of a one-train growth file of a scenario, its change "
-                                     "and grinding by noise (figures.noise)")
+    z = sub.add_parser("noise", help="rolling noise (CNOSSOS-EU) at every save of a growth file of a scenario (one train, or its "
+                                     "fleet: a traffic class per vehicle and speed), its change and grinding by noise (figures.noise)")
     z.add_argument("scenario", help="the scenario the growth file was grown from")
     z.add_argument("growth", type=Path, help="a growth file (railgrowth run, or the workflow's)")
     z.add_argument("--out", type=Path, default=None, help="noise dataset (default: <growth>_noise.nc; the CSV and figure beside it)")
@@ -216,7 +217,7 @@ def main(argv=None) -> int:
     stopped = bool(ds.attrs.get("stopped"))
     print(f"wrote {out} (partial: {ds.attrs['stopped']})" if stopped else f"wrote {out}")
     done = EXIT_PARTIAL if stopped else 0
-    if args.command == "run" and args.speed is not None:
+    if args.command == "run":
         _noise_line(api, study, ds)
     if args.command == "run" and args.bands:
         return _bands_after_run(api, study, ds, out, done)
@@ -286,12 +287,12 @@ def _bands(api, study, args) -> int:
 
 
 def _noise_line(api, study, ds) -> None:
-    """run of one train: one line with the noise change over the run, or why there is none (cheap:
-    the CNOSSOS-EU chain on the bands of each save)."""
+    """run (one train or a fleet): one line with the noise change over the run, or why there is none
+    (cheap: the CNOSSOS-EU chain on the bands of each save)."""
     from ..setup.inputs import noise_problem
     from ..studies.noise import change_line
 
-    why = noise_problem(study.config, float(ds.attrs["speed_m_per_s"]))
+    why = noise_problem(study.config, float(ds.attrs["speed_m_per_s"]))  # a fleet: its class speeds
     if why is None:
         try:
             print(change_line(api.noise(study, ds).data))

@@ -71,7 +71,9 @@ def noise_over_traffic(ds, name: str = ""):
     a2.set_ylabel("line sound power L'_W,eq,line\n(dB re 1 pW/m)")
     a2.set_title("spectrum at the saves (axle passages)", fontsize=9)
     a2.legend(fontsize=7, title="axle passages", title_fontsize=7, loc="best")
-    fig.suptitle(f"Rolling noise by CNOSSOS-EU{', scenario ' + name if name else ''}: {a['speed_m_per_s']:g} m/s, "
+    speed = (f"a fleet of {ds.sizes['traffic_class']} classes, mean speed {a['speed_m_per_s']:g} m/s" if "fleet_speeds" in a
+             else f"{a['speed_m_per_s']:g} m/s")
+    fig.suptitle(f"Rolling noise by CNOSSOS-EU{', scenario ' + name if name else ''}: {speed}, "
                  f"{a['vehicles_per_hour']:.4g} vehicles/h, {a['sleeper']} sleepers, pad {a['pad_class']}, wheel {a['brake']}",
                  fontsize=9)
     notes = "\n".join(textwrap.fill(str(a[f"grinding_noise_{c}_text"]).replace(" um", " µm"), 170)

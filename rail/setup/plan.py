@@ -33,7 +33,7 @@ from ..chain import wheel_offsets
 from ..roughness import RoughnessInputWarning
 from .build import fleet_classes, model_notes, scenario, spectrum_scenario
 from .config import ConfigError, check_scenario_names, expand_sweep, load_yaml, resolve_scenario_file, scenario_files, schema_unit
-from .inputs import check_inputs, check_speed, fleet_checked, noise_files
+from .inputs import check_inputs, check_speed, fleet_checked, noise_files, noise_problem
 from .study_files import (SPEED_STUDY, check_convergence_study, class_estimate, class_key, read_studies, study_summary, traffic_cases,
                           uncertainty_study)
 from .tables import table_key
@@ -270,10 +270,11 @@ class Plan:
     def study_targets(self, name: str) -> list[str]:
         """What study_<name> builds: per speed of the scenario (or per point of the sweep), the growth
         run's overview, band view and 3-D plot; for a sweep also its dataset and maps; for a fleet its
-        growth, growth-rate spectrum, overview and band view (issue 45: the outputs of a one-train run)."""
-        if name in self.fleet_classes:
+        growth, growth-rate spectrum, overview, band view (issue 45: the outputs of a one-train run) and noise."""
+        if name in self.fleet_classes:  # and its noise where it can be computed (issue 56: rule fleet_noise)
+            noise = [f"results/fleet/{name}/growth_noise.{x}" for x in ("png", "csv")] if noise_problem(self.scenarios[name]) is None else []
             return [f"results/fleet/{name}/growth.nc", f"results/fleet/{name}/rate_spectrum.nc", f"results/fleet/{name}/rate_spectrum.png",
-                    f"results/fleet/{name}/overview.png", f"results/fleet/{name}/bands.png", f"results/fleet/{name}/bands.csv"]
+                    f"results/fleet/{name}/overview.png", f"results/fleet/{name}/bands.png", f"results/fleet/{name}/bands.csv", *noise]
         if name in self.sweeps:
             runs = [(p.name, p.speed) for p in self.sweeps[name].points]
             extra = [f"results/sweeps/{name}.nc", f"results/sweeps/{name}.png"]

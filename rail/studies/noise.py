@@ -484,9 +484,10 @@ def noise_csv_text(ds, name: str) -> str:
         what = [f"# speed {a['speed_m_per_s']:g} m/s; {a['vehicles_per_hour']:.4g} vehicles/h of {a['axles_per_vehicle']} axles, wheel "
                 f"roughness {a['brake']}, contact filter column {a['contact_filter_column_kN_mm']} (kN, mm), vehicle transfer "
                 f"{a['vehicle_transfer_diameter_mm']:g} mm"]
+    track = (f"track {a['sleeper']}, pad {a['pad_class']} ({a['pad_class_rule']})" if a.get("track_transfer", "cnossos") == "cnossos"
+             else "track transfer: the track's own (rail receptance and EN 15461 decay rate, rail.noise.own_track)")
     head = [f"# rolling noise by CNOSSOS-EU at every save of the growth run of scenario {name} (rail.studies.noise; docs/noise.md)",
-            *what[:-1], what[-1] + "; " + (f"track {a['sleeper']}, pad {a['pad_class']} ({a['pad_class_rule']})" if a.get("track_transfer", "cnossos") == "cnossos"
-               else "track transfer: the track's own (rail receptance and EN 15461 decay rate, rail.noise.own_track)"),
+            *what[:-1], what[-1] + "; " + track,
             f"# rule {a['interpolation_rule']}; bands the run does not resolve: {a['fill']}; {a['directivity']}; {a['notes']}",
             "# levels: sound power dB re 1 pW, line sound power dB re 1 pW/m, A-weighted dB(A); passages are axle passages"
             + (f"; traffic {a['axles_per_day']:g} axles/day, axle load {a['axle_load_t']:.4g} t" if "axle_load_t" in a else "; no traffic")]

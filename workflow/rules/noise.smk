@@ -36,3 +36,49 @@ rule noise:
     whose noise can be computed (rail.setup.inputs.noise_problem)."""
     input:
         PLAN.noise_targets(),
+
+
+def fleet_noise_growth(wildcards):
+    """The growth file of a fleet's noise; a scenario without a fleet, or a fleet whose noise cannot be
+    computed (rail.setup.inputs.noise_problem: a class speed outside CNOSSOS-EU's range, naming fleet.speeds),
+    stops the run at start-up when, and only when, the target is asked for."""
+    from rail.setup.config import ConfigError
+    from rail.setup.inputs import noise_problem
+
+    name = wildcards.scenario
+    if name not in PLAN.fleet_classes:
+        raise ConfigError(f"scenario '{name}' has no fleet: its noise is results/growth/{name}/V<speed>_noise.nc per speed.")
+    why = noise_problem(SCENARIOS[name])
+    if why is not None:
+        raise ConfigError(f"scenario '{name}': its fleet's noise cannot be computed: {why}")
+    return f"results/fleet/{name}/growth.nc"
+
+
+rule fleet_noise:
+    """Rolling noise by CNOSSOS-EU at every save of a fleet's growth run: one traffic class per
+    (vehicle, speed) of the fleet, the line's sound power per metre their energy sum, per class and
+    total, and when each noise criterion of figures.noise trips on the total (rail.studies.noise; the
+    script, API and `railgrowth noise` of the one-train noise alike)."""
+    localrule: True
+    input:
+        fleet_noise_growth,
+        band_limit_file,
+    output:
+        data="results/fleet/{scenario}/growth_noise.nc",
+        csv=report("results/fleet/{scenario}/growth_noise.csv", caption="../report/fleet_noise.rst", category="Traffic (fleet)",
+                   subcategory="{scenario}"),
+        figure=report("results/fleet/{scenario}/growth_noise.png", caption="../report/fleet_noise.rst", category="Traffic (fleet)",
+                      subcategory="{scenario}"),
+    priority: PRIORITY_KERNELS  # a cheap view: not queued behind long jobs (issue 45, item 14)
+    params:
+        code=code("noise.py"),
+        cfg=scenario_config,
+    resources:
+        mem_mb=400,
+        runtime=15,
+    log:
+        "logs/fleet/{scenario}/growth_noise.log",
+    benchmark:
+        "benchmarks/fleet/{scenario}/growth_noise.tsv"
+    script:
+        "../scripts/noise.py"

@@ -1,5 +1,6 @@
-"""Rolling noise over traffic of a one-train growth run: dataset, CSV, figure and the one-line change
-in the log (rail.studies.noise.noise_outputs, as the API and the command line)."""
+"""Rolling noise over traffic of a growth run (one train, or a fleet: rules growth_noise, fleet_noise):
+dataset, CSV, figure and the one-line change in the log (rail.studies.noise.noise_outputs, as the API
+and the command line)."""
 
 import sys
 
@@ -14,7 +15,7 @@ def main(config, name, growth_path, out, log=sys.stderr):
         growth = g.load()
     b = inputs.band_inputs(config, scn)
     o = noise.noise_outputs(growth, config, scn, name, build.noise_settings(config), initial_spectrum=b["initial_spectrum"],
-                            traffic=b["traffic"])
+                            traffic=b["traffic"], fleet=build.fleet(config))
     data = io.finalize(o.data, config, title=f"CNOSSOS-EU rolling noise, scenario {name}", source="rail.studies.noise", scenario=name)
     io.write_netcdf(data, out["data"])
     with open(out["csv"], "w") as f:
