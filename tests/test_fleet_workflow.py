@@ -52,6 +52,7 @@ def test_a_fleet_study_computes_one_table_per_speed_shared_by_its_vehicles_and_n
     assert job_counts(out.stdout) == {"fleet_receptance": 5, "fleet_receptance_bloch": 5, "fleet_growth": 2,
                                       "fleet_class_spectrum": 8, "fleet_rate_spectrum": 2, "compile_kernels": 2,
                                       "fleet_bands": 2, "fleet_overview": 2,  # issue 45: a fleet's band view and overview
+                                      "fleet_noise": 2,  # issue 56: a fleet's rolling noise
                                       "study_mix": 1, "study_other": 1}  # classes: 2 vehicles x 3 speeds, 1 x 2
     for v in ["37.333333333333336", "40", "42.666666666666664"]:  # the union of the fleet's vehicles' axle offsets
         assert re.search(rf"fleet receptance table: track [0-9a-f]{{10}}, V = {v} m/s, offsets 0\.0 -2\.6 2\.6 -3\.3 3\.3 m", out.stdout), v
@@ -91,6 +92,20 @@ def test_a_one_train_target_of_a_fleet_scenario_is_refused_in_one_line(root, wor
     out = snakemake(root, "-n", "results/growth/mix/V40.nc", cwd=workdir)
     assert_stops_at_start_up(out, r"scenario 'mix' has a fleet: its growth per speed would run one train and leave the fleet "
                                   r"out; build results/fleet/mix/growth\.nc", workdir)
+
+
+def test_a_fleets_noise_is_planned_by_rule_fleet_noise_and_a_class_speed_outside_cnossos_stops_it_at_start_up(root, workdir):
+    # issue 56: study_mix holds the fleet's noise; a class at 120 m/s (a valid growth speed, outside
+    # CNOSSOS-EU's 7.94 .. 100 m/s) leaves it out of study_fast and stops the target asked for by name
+    _fleets(workdir, mix=MIX, fast=MIX.replace("{distribution: uniform, low: 36.0, high: 44.0, classes: 3}",
+                                               "{values: [40.0, 120.0], weights: [0.5, 0.5]}"))
+    out = snakemake(root, "-n", "results/fleet/mix/growth_noise.csv", "study_fast", cwd=workdir)
+    assert out.returncode == 0, out.stderr[-2000:]
+    assert job_counts(out.stdout)["fleet_noise"] == 1 and "results/fleet/mix/growth_noise.png" in out.stdout  # mix's, not fast's
+    assert job_counts(out.stdout)["fleet_bands"] == 1 and "results/fleet/fast/bands.png" in out.stdout
+    out = snakemake(root, "-n", "results/fleet/fast/growth_noise.csv", cwd=workdir)
+    assert_stops_at_start_up(out, r"scenario 'fast': its fleet's noise cannot be computed: fleet\.speeds: the class speed of loco = "
+                                  r"120\.0 m/s is not allowed: CNOSSOS-EU rolling noise is computed here for 7\.94 \.\. 100 m/s", workdir)
 
 
 def test_a_fleet_roughness_tied_to_one_speed_is_refused_at_start_up(root, workdir):
