@@ -1,6 +1,7 @@
-"""Rolling noise over traffic: the CNOSSOS-EU noise at every save of a one-train growth run, its
-change since the start, and grinding by noise (issue 56; docs/noise.md). The one code path of the
-workflow (rule growth_noise), the command line (railgrowth noise) and the API (rail.app.api.noise).
+"""Rolling noise over traffic: the CNOSSOS-EU noise at every save of a growth run (one train or a
+fleet), its change since the start, and grinding by noise (issue 56; docs/noise.md). The one code path
+of the workflow (rules growth_noise and fleet_noise), the command line (railgrowth noise) and the API
+(rail.app.api.noise).
 
 Conventions
 -----------
@@ -8,8 +9,11 @@ Conventions
   (rail.studies.bands.band_mean_square, as the rolling-noise export); a band the run does not
   resolve is filled (the input spectrum of a kind: spectrum start, else Table G-1b's ``fill``
   class), a resolved band where the rail is smooth is silence (-inf dB), never filled.
-* The traffic is one vehicle class: the scenario's wheel (diameter 2 x wheels.radius, load
-  wheels.static_load), figures.noise's axles, wheel roughness and flow, at the run's speed; the track
+* The traffic of a one-train run is one vehicle class: the scenario's wheel (diameter 2 x
+  wheels.radius, load wheels.static_load), figures.noise's axles, wheel roughness and flow, at the
+  run's speed. A fleet's is one class per (vehicle type, speed class), rail.noise.rolling.fleet_traffic:
+  its own speed, flow, axles, wheel load and brake; the line's levels are the energy sum over the
+  classes (Annex II 2.3.2), per class and total in the dataset, the criteria on the total. The track
   is figures.noise's sleeper with the pad class of track.pad.stiffness (or the one named).
 * Levels: roughness dB re 1 um, sound power dB re 1 pW, line sound power dB re 1 pW/m; the
   A-weighted totals in dB(A); changes in dB. Passages are axle (wheel) passages on the rail; years
