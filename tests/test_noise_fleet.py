@@ -210,3 +210,17 @@ def test_a_fleets_noise_comes_alike_through_the_api_the_command_line_and_the_wor
     # the fleet's grown for another scenario is refused, naming what differs
     assert cli.main(["noise", "default", str(gpath)]) == cli.EXIT_INPUT
     assert "fleet: given / not given" in capsys.readouterr().err
+
+
+def test_run_of_a_fleet_ends_with_the_noise_change_of_the_line_in_one_line(tmp_path, monkeypatch, capsys):
+    scen = tmp_path / "mix.yaml"
+    scen.write_text(yaml.safe_dump({"fleet": {"vehicles": [_vehicle("loco", 4, 1.0e5, 0.4), _vehicle("coach", 2, 6.0e4, 0.6)],
+                                              "speeds": {"values": [40.0], "weights": [1.0]}}}))
+    study = api.load(scen)
+    grown = _growth(study)
+    monkeypatch.setattr(api, "growth", lambda *a, **k: grown)  # the fleet's run itself is tested elsewhere (tests/test_fleet.py)
+    assert cli.main(["run", str(scen), "--out", str(tmp_path / "x.nc")]) == 0
+    lines = [x for x in capsys.readouterr().out.splitlines() if x.startswith("noise")]
+    L = api.noise(study, grown).data["line_sound_power_A"].values
+    assert len(lines) == 1 and lines[0].startswith("noise (CNOSSOS-EU, fleet of 2 classes at 40 m/s)"), lines
+    assert f"change {L[-1] - L[0]:+.2f} dB" in lines[0]
