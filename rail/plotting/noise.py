@@ -78,5 +78,9 @@ def noise_over_traffic(ds, name: str = ""):
                  fontsize=9)
     notes = "\n".join(textwrap.fill(str(a[f"grinding_noise_{c}_text"]).replace(" um", " µm"), 170)
                       for c in ("rise", "average", "band_rms") if f"grinding_noise_{c}_text" in a)
+    if "fleet_speeds" in a:  # each class's A-weighted line sound power, start -> last save
+        L = ds["line_sound_power_A_class"].values
+        notes += "\n" + textwrap.fill("per class, L'_W,A at the start -> the last save, dB(A) re 1 pW/m: " + "; ".join(
+            f"{n} {L[0, k]:.1f} -> {L[-1, k]:.1f} ({L[-1, k] - L[0, k]:+.1f} dB)" for k, n in enumerate(ds["class_name"].values)), 170)
     fig.text(0.01, -0.01, notes, fontsize=6.5, va="top", ha="left")
     return fig
