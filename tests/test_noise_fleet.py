@@ -150,6 +150,8 @@ def test_bad_fleet_inputs_for_noise_are_refused_before_computing_naming_key_valu
 
     with pytest.raises(ConfigError, match=r"fleet\.vehicles\.0\.brake = 'steel'.*(disc|composite|cast_iron)"):
         _fleet([_vehicle("loco", brake="steel")])
+    with pytest.raises(ConfigError, match=r"figures\.noise\.axles_per_vehicle = 2 is not used by a fleet: each vehicle's axles"):
+        _fleet([_vehicle("loco")], axles_per_vehicle=2)  # it would be silently unused
     fast = _fleet([_vehicle("loco")], speeds=(40.0, 120.0), weights=(0.5, 0.5))
     why = noise_problem(fast.config)
     assert why.startswith("fleet.speeds: the class speed of loco = 120.0 m/s is not allowed") and "7.94 .. 100 m/s" in why, why
@@ -157,7 +159,7 @@ def test_bad_fleet_inputs_for_noise_are_refused_before_computing_naming_key_valu
         api.noise(fast, _growth(fast))
     ok = _fleet([_vehicle("loco")])
     assert noise_problem(ok.config) is None
-    with pytest.raises(ConfigError, match=r"argument axles = 2 is not allowed for the fleet of default"):
+    with pytest.raises(ConfigError, match=r"argument axles_per_vehicle = 2 is not used by a fleet"):
         api.noise(ok, _growth(ok), axles=2)
     with pytest.raises(ConfigError, match=r"the growth result is a one-train run and default has a fleet"):
         api.noise(ok, _growth(ok, fleet=False))

@@ -559,8 +559,8 @@ def noise(study: Study, growth: xr.Dataset, *, vehicles_per_hour: float | None =
         / (24 h x axles)); of a fleet, its trains per hour in all (default: its trains per day / 24 h),
         shared among the classes by their weights.
     axles : int, optional
-        Axles per vehicle N_a [-] (figures.noise.axles_per_vehicle); refused for a fleet (its vehicles'
-        positions).
+        Axles per vehicle N_a [-] (figures.noise.axles_per_vehicle); refused for a fleet, as that key is
+        (its vehicles' positions: rail.setup.config's cross-checks).
     brake : str, optional
         "cast_iron", "composite" or "disc" (Table G-1a; figures.noise.wheel; of a fleet, for the
         vehicles without their own fleet.vehicles[*].brake).
@@ -624,9 +624,6 @@ def noise(study: Study, growth: xr.Dataset, *, vehicles_per_hour: float | None =
         raise config.ConfigError(f"the growth result is a fleet's run and {study.name} has no fleet: give the fleet's scenario"
                                  if fl is None else f"the growth result is a one-train run and {study.name} has a fleet: give "
                                  f"its fleet's growth (results/fleet/{study.name}/growth.nc, railgrowth run without --speed)")
-    if fl is not None and axles is not None:
-        raise config.ConfigError(f"argument axles = {axles!r} is not allowed for the fleet of {study.name}: each vehicle's axles are "
-                                 "its positions (fleet.vehicles[*].positions).")
     b = inputs.band_inputs(cfg, study.scenario)
     out = noise_study.noise_outputs(growth, cfg, study.scenario, study.name, build.noise_settings(cfg),
                                     initial_spectrum=b["initial_spectrum"], traffic=b["traffic"], fleet=fl)

@@ -242,6 +242,9 @@ def _cross_checks(cfg: dict, source: str) -> list[str]:
     if nz.get("pad_class") is not None and nz.get("sleeper") in ("wooden", "direct"):
         out.append(f"{source}: figures.noise.pad_class = {nz['pad_class']!r} is not allowed with figures.noise.sleeper = "
                    f"{nz['sleeper']!r}: Table G-3a has one track transfer for it; leave pad_class out (null).")
+    if "fleet" in cfg and nz.get("axles_per_vehicle") is not None:  # issue 56: a fleet's classes take each vehicle's axles
+        out.append(f"{source}: figures.noise.axles_per_vehicle = {nz['axles_per_vehicle']!r} is not used by a fleet: each vehicle's "
+                   "axles in its noise are its positions (fleet.vehicles[*].positions); leave it out.")
     if "fleet" in cfg:
         out += _fleet_checks(cfg["fleet"], source)
     return out
