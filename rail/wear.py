@@ -152,9 +152,10 @@ def apply_wear(roughness: Roughness, dZ, passages: float = 1.0) -> Roughness:
 # the lagged coupling's threshold (march_with_creepage's ``lagged``, bay_wear's creepage_lag): a growth update
 # whose first Newton step from the last update's (extrapolated) state is below this, of abs(gamma) V, takes that
 # one march; a larger step (a sudden change of the roughness, a new speed) runs more Newton steps, until one is
-# below it. Measured (docs/dynamic-creepage.md, "The lagged coupling"): the first steps of the default growth with
-# the trailer and the rail's flexibility are 0.4-2.4e-4, and the worst wear harmonic within 40 dB is 0.84 %
-# (40 m/s) and 0.58 % (60 m/s) off the loop converged to 1e-8
+# below it; the first update, from rest (REST_STATE), too. Measured (docs/dynamic-creepage.md, "The lagged
+# coupling"): the first steps of the default growth with the trailer and the rail's flexibility are 0.4-2.4e-4,
+# and the worst wear harmonic within 40 dB is 1.2 % (40 m/s) and 0.45 % (60 m/s) off the loop converged to 1e-8
+# (0.84 % and 0.58 % with the first update's Newton steps to 1e-5, two marches more)
 LAGGED_STEP = 3e-4
 
 
