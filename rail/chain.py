@@ -279,9 +279,14 @@ def train_wear(scn: Scenario, table: MovingReceptance, Z, grid_phase: float = 0.
     warm : dict, optional
         {wheel index: rail.wear.CreepageState}: where each wheel's dynamic creepage starts its Newton
         steps, updated in place with the state reached (a growth run hands the same dict to every
-        update). Unused for the report's fixed creepage. The answer is the same to the Newton
-        tolerance (rail.wear.march_with_creepage), in fewer marches. The growth-rate spectrum's probes
-        start cold instead: a probe's own small change of u_bar must not be left below the tolerance.
+        update); a wheel not in it starts from rest (rail.wear.REST_STATE). Unused for the report's fixed
+        creepage. With a start, rail.wear.bay_wear takes the lagged coupling (creepage_lag): the Newton
+        steps stop at the first below rail.wear.LAGGED_STEP, one march per update from the last update's
+        state, and the first update's from rest at that threshold too (3 marches, not 5 to the tolerance);
+        its cost and its error per wear harmonic against the Newton steps to 1e-8 are measured by
+        tests/benchmarks/bench_growth_creepage.py (docs/dynamic-creepage.md, "The lagged coupling").
+        None: no start, the Newton steps to the tolerance (rail.wear.march_with_creepage); the growth-rate
+        spectrum's probes start so: a probe's own small change of u_bar must not be left below the tolerance.
 
     Returns
     -------
@@ -295,7 +300,7 @@ def train_wear(scn: Scenario, table: MovingReceptance, Z, grid_phase: float = 0.
     dZ = np.zeros_like(rough.Z, dtype=complex)
     current, slip = rough, 0.0
     for l in np.argsort(scn.wheels.positions)[::-1]:
-        w = passage_wear(scn, forces, current, int(l), grid_phase, None if warm is None else warm.get(int(l)))
+        w = passage_wear(scn, forces, current, int(l), grid_phase, None if warm is None else warm.get(int(l), wear.REST_STATE))
         if warm is not None and w.creepage_state is not None:
             warm[int(l)] = w.creepage_state
         dZ += w.Z

@@ -31,7 +31,7 @@ from .interaction import ForceResult, Roughness
 from .longitudinal import head_operator
 
 __all__ = ["WearLaw", "WearResult", "CreepageState", "march_with_creepage", "steady_material", "MarchInputs",
-           "march_inputs", "bay_wear", "LAGGED_STEP", "wear_spectrum", "apply_wear", "roughness_slope", "SPIN_UP_TRANSITS"]
+           "march_inputs", "bay_wear", "LAGGED_STEP", "REST_STATE", "wear_spectrum", "apply_wear", "roughness_slope", "SPIN_UP_TRANSITS"]
 
 
 
@@ -152,9 +152,10 @@ def apply_wear(roughness: Roughness, dZ, passages: float = 1.0) -> Roughness:
 # the lagged coupling's threshold (march_with_creepage's ``lagged``, bay_wear's creepage_lag): a growth update
 # whose first Newton step from the last update's (extrapolated) state is below this, of abs(gamma) V, takes that
 # one march; a larger step (a sudden change of the roughness, a new speed) runs more Newton steps, until one is
-# below it. Measured (docs/dynamic-creepage.md, "The lagged coupling"): the first steps of the default growth with
-# the trailer and the rail's flexibility are 0.4-2.4e-4, and the worst wear harmonic within 40 dB is 0.84 %
-# (40 m/s) and 0.58 % (60 m/s) off the loop converged to 1e-8
+# below it; the first update, from rest (REST_STATE), too. Measured (docs/dynamic-creepage.md, "The lagged
+# coupling"): the first steps of the default growth with the trailer and the rail's flexibility are 0.4-2.4e-4,
+# and the worst wear harmonic within 40 dB is 1.2 % (40 m/s) and 0.45 % (60 m/s) off the loop converged to 1e-8
+# (0.84 % and 0.58 % with the first update's Newton steps to 1e-5, two marches more)
 LAGGED_STEP = 3e-4
 
 
@@ -195,7 +196,7 @@ def bay_wear(forces: ForceResult, wheel_index: int, roughness: Roughness, materi
         With ``creepage_start``: march_with_creepage's ``lagged`` (the lagged coupling of a growth run, one
         march per update while the first Newton step stays below it, of abs(gamma) V); None: Newton steps to
         the tolerance. Without a start (a cold passage, a probe of the growth-rate spectrum) the Newton steps
-        always go to the tolerance.
+        always go to the tolerance; a growth run's first update starts from REST_STATE (u_bar = 0) to take the lag.
 
     Returns
     -------
@@ -284,6 +285,13 @@ class CreepageState:
         if self.drift is None:
             return np.zeros(np.shape(phase))
         return np.interp(np.asarray(phase, dtype=float), self.phase, self.drift, period=1.0)
+
+
+# u_bar = 0 as a start (CreepageState over the whole period, no drift, no grid): march_with_creepage's Newton steps
+# from it are those from no start, but a start takes bay_wear's creepage_lag. rail.chain.train_wear hands it to a
+# growth run's first update, which then stops at the lagged threshold too (3 marches from rest, not 5 to 1e-5;
+# docs/dynamic-creepage.md, "The lagged coupling")
+REST_STATE = CreepageState(np.zeros(1), np.zeros(1), 0.0)
 
 
 def march_with_creepage(mi: MarchInputs, material: ContactMaterial, speed: float, numerics: ContactNumerics,

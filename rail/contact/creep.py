@@ -224,7 +224,11 @@ def periodic_response(force, dt, modes: LongitudinalModes):
     return out, Fm
 
 
+@njit(cache=True)
 def _march_mode(x, v, om, ze, c, F, dt):
+    """The modes' displacement x[0] [m] at the end of each step under the force F [N] held over each step of dt [s],
+    from (x, v) (advanced in place); compiled, as _advance_modes: a growth update calls it for every mode and Newton
+    step, over every step of the period (in Python 10 % of the growth loop's time, tests/benchmarks/bench_growth_creepage.py)."""
     xs = np.empty(F.size)
     for i in range(F.size):
         _advance_modes(x, v, om, ze, c, F[i], dt[i])

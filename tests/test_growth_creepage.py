@@ -1,0 +1,95 @@
+"""The growth loop with the dynamic creepage u_bar (rail.chain.grow, rail.wear.bay_wear's lagged coupling, issue 54)
+against the same loop with the Newton steps on u_bar converged to 1e-8 at every update, per wear harmonic.
+
+On the tests' track (tests/test_growth.py) with reduced numerics (K = 24, 31 contact nodes), the trailer wheelset of
+tests/test_linear_creepage.py and the rail's flexibility, 40,000 passages from the smooth rail in updates of 10,000
+(about 4 s CPU once the march is compiled).
+"""
+
+import dataclasses
+import functools
+import io
+
+import numpy as np
+import pytest
+from model import scenario
+from test_growth import MATERIAL, contact_spring, track
+
+from rail import chain, growth, moving, wear
+from rail.interaction import Roughness
+from rail.longitudinal import RailHead
+from rail.wheelset import Wheelset, wheelset_modes
+
+K, NODES, V = 24, 31, 40.0
+TRAILER = Wheelset("torsional", MATERIAL.wheel_radius, wheel_inertia=45.0, centre_inertia=14.0, axle_stiffness=5.5e6, damping=0.01)
+
+
+@pytest.fixture(scope="module")
+def loops():
+    """{label: (history, marches of each wear evaluation)} of the growth loop as it runs ('lagged'), with the
+    Newton steps to 1e-8 at every update ('reference'), with the first update's start at rest taking one
+    march and no Newton step ('first update one march': the lag with no threshold), and without u_bar."""
+    tr = track()
+    coupled = dataclasses.replace(MATERIAL, longitudinal=wheelset_modes(TRAILER), rail_flexibility=RailHead(tr))
+    scn = scenario(tr, coupled, contact_spring(), K=K, nodes=NODES, passages=40000, step=10000)
+    # the wrong first update changes the wear so much from the first update to the next that the update-error
+    # check stops the run (rail.growth); off here, to measure how far it ends from the reference
+    unchecked = dataclasses.replace(scn, growth=dataclasses.replace(scn.growth, step_tolerance=1e9))
+    bare = dataclasses.replace(scn, material=MATERIAL)
+    tab = moving.receptance_table(tr, V, K)
+    bay, march = wear.bay_wear, wear.march_with_creepage
+
+    def one_march_first(*args, creepage_start=None, creepage_lag=wear.LAGGED_STEP, **kwargs):
+        lag = np.inf if creepage_start is wear.REST_STATE else creepage_lag
+        return bay(*args, creepage_start=creepage_start, creepage_lag=lag, **kwargs)
+
+    runs = {"lagged": (scn, {}),
+            "reference": (scn, {"bay_wear": functools.partial(bay, creepage_lag=None),
+                                "march_with_creepage": functools.partial(march, tol=1e-8, max_iter=60)}),
+            "first update one march": (unchecked, {"bay_wear": one_march_first}),
+            "without u_bar": (bare, {})}
+    out = {}
+    with pytest.MonkeyPatch.context() as mp:
+        for label, (s, patches) in runs.items():
+            marches = []
+
+            def counted(*args, _march=patches.get("march_with_creepage", march), **kwargs):
+                sol, info = _march(*args, **kwargs)
+                marches.append(0 if info is None else info["iterations"])
+                return sol, info
+
+            mp.setattr(wear, "bay_wear", patches.get("bay_wear", bay))
+            mp.setattr(wear, "march_with_creepage", counted)
+            out[label] = chain.grow(s, tab, Roughness.smooth(K), progress=io.StringIO()), marches
+    return out
+
+
+def _errors(hist, ref, window):
+    """abs(dZ_j / dZ_j,ref - 1) of the roughness's change over the run for the harmonics j within ``window`` dB of
+    the largest at the end (the reference's), and those j."""
+    L = growth.levels_dB(ref.Z[-1])
+    j = np.flatnonzero(L >= L.max() - window)
+    d, d_ref = ((h.Z[-1] - h.Z[0])[K + 1:] for h in (hist, ref))
+    return np.abs(d[j] / d_ref[j] - 1), j + 1
+
+
+def test_the_lagged_growth_loop_starts_from_rest_at_the_lag_and_keeps_each_wear_harmonic_near_the_converged_loop(loops):
+    # The growth loop as it runs (rail.chain.train_wear hands the first update rail.wear.REST_STATE, so its Newton
+    # steps from rest stop at the lagged threshold too: 3 marches, not 5 to 1e-5; then one march per update from the
+    # last update's state, 2 where the grid changes) against the loop converged to 1e-8 at every update, each wear
+    # harmonic of the run's change against itself. Measured: within 20 dB of the largest (j = 1-6) at most
+    # 7.1e-3; within 40 dB (j = 1-18, down to -58 dB) at most 4.6e-2, at the weak j = 15 and 17, as with the first
+    # update to 1e-5 (2.9e-2, 4.4e-2: the later updates' lag, not the first's). The coupling wrong shows: the first
+    # update's start at rest marched once (u_bar = 0 in its wear) 0.23-0.57 within 20 dB, u_bar left out 0.94-2.2.
+    hist, marches = loops["lagged"]
+    ref, _ = loops["reference"]
+    assert len(hist.full_slip) == len(ref.full_slip) == 4
+    assert marches[0] == 3 and max(marches[1:]) <= 2 and sum(marches[1:]) <= 6, marches
+    near, j_near = _errors(hist, ref, 20)
+    wide, j_wide = _errors(hist, ref, 40)
+    assert len(j_near) >= 4 and len(j_wide) >= 12, (j_near, j_wide)
+    assert np.all(near < 0.01), dict(zip(j_near, near))
+    assert np.all(wide < 0.06), dict(zip(j_wide, wide))
+    for wrong in ("first update one march", "without u_bar"):
+        err, _ = _errors(loops[wrong][0], ref, 20)
+        assert np.all(err > 0.1), (wrong, dict(zip(j_near, err)))
