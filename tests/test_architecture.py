@@ -223,7 +223,8 @@ PHYSICS_ORDER = [
      "head's longitudinal receptances under moving loads (the same Bloch method, on the track alone)"),
     ({"roughness", "interaction"}, "roughness over N bays; wheel/rail forces on it (4.3), through the moving receptances"),
     ({"contact"}, "normal and tangential contact (4.4), along the force histories"),
-    ({"wheelset", "wear", "growth"}, "the wheelset's modes in the slip; frictional-work wear (4.5); growth over passages (4.6)"),
+    ({"wheelset", "wear", "growth", "creepage_sources"}, "the wheelset's modes in the slip; frictional-work wear (4.5); growth over "
+     "passages (4.6); the sources of dynamic creepage as model choices"),
     ({"scenario"}, "one scenario: every input of the chain as one frozen object"),
     ({"chain"}, "the model chain, written once"),
     ({"growth_spectrum"}, "growth rate over wavelength, each line a run of the chain"),
@@ -278,7 +279,7 @@ def test_contact_nodes_are_bounded_in_one_place():
     nodes = schema["properties"]["numerics"]["properties"]["contact"]["properties"]["nodes"]
     assert nodes["minimum"] == contact.MIN_NODES
     with pytest.raises(ValueError, match=rf"numerics\.contact\.nodes = 10 is not allowed: it must be an integer >= {contact.MIN_NODES}"):
-        contact.ContactNumerics(10, "default", 1.0)
+        contact.ContactNumerics(10, "default", 1.0, "report", "wheel")
 
 
 def test_every_rule_with_a_script_hashes_that_scripts_imports():

@@ -63,18 +63,15 @@ class ContactMaterial:
         return f"ContactMaterial({base}{extra})"
 
     @property
-    def friction_law(self) -> str:
-        """The friction law in words, for results' headers and start-up notes: the report's step from
-        mu_s to mu_d, friction falling with the slip velocity (friction_decay > 0), or, with mu_s = mu_d,
-        constant friction: mu(s) = mu_d + (mu_s - mu_d) exp(-abs(s) / s_0) is then flat and s_0 changes
-        nothing (the result is the step law's), which a header must not call falling."""
-        s0, mus, mud = self.friction_decay, self.friction_static, self.friction_dynamic
-        if s0 == 0:
-            return f"friction stepping from mu_s = {mus:g} in stick to mu_d = {mud:g} in slip (the report's)"
-        if mus > mud:
-            return f"friction falling with slip, s_0 = {s0:g} m/s"
-        return (f"friction constant, mu = {mud:g} (contact.friction_decay = {s0:g} m/s has no effect: "
-                "contact.friction_static = contact.friction_dynamic, so the falling law is flat)")
+    def friction_law(self):
+        """The friction law (rail.contact.models.FrictionLaw): the report's step from mu_s to mu_d
+        ('step'), friction falling with the slip velocity ('falling', friction_decay > 0), or, with
+        mu_s = mu_d, constant friction ('constant': mu(s) = mu_d + (mu_s - mu_d) exp(-abs(s) / s_0) is
+        then flat and s_0 changes nothing, the result is the step law's, which a header must not call
+        falling); its description for results' headers and start-up notes."""
+        from .models import friction_law_of
+
+        return friction_law_of(self)
 
     def __post_init__(self):
         if not (np.isfinite(self.friction_decay) and 0 <= self.friction_decay <= 100):

@@ -146,7 +146,10 @@ def validity_notes(attrs) -> list:
     warning = attrs.get("contact_shift_warning")
     if warning:
         return [("\n".join(textwrap.wrap("outside validity: " + " ".join(str(warning).split()), 150)), "firebrick")]
-    if str(attrs.get("wear_path", "")).startswith("patch"):
+    from ..studies.validity import stated_wear_path  # the value, looked up: never a sentence parsed back
+
+    path = stated_wear_path(attrs)
+    if path is not None and path.modelled_shift:
         return [("wear on the contact patch's true path (docs/contact.md)", "0.4")]
     return []
 
