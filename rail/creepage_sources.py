@@ -177,7 +177,7 @@ def wheelset_model_of(modes) -> WheelsetModel:
     Returns
     -------
     WheelsetModel
-        'modes' (GIVEN_MODES) for modes built without a wheelset.
+        Its name [-]; 'modes' (GIVEN_MODES) for modes built without a wheelset.
     """
     if modes is None:
         return _WHEELSETS["fixed_creepage"]
@@ -195,6 +195,7 @@ def rail_flexibility_of(head) -> RailFlexibility:
     Returns
     -------
     RailFlexibility
+        Its name [-], from the head's bending flag.
     """
     if head is None:
         return _FLEXIBILITIES["none"]

@@ -186,16 +186,17 @@ class ModelChoices:
 
     def attributes(self) -> dict:
         """The choices as a result's attributes: each value beside its description (``wear_path = "patch"``
-        and ``wear_path_description``; normal_contact, wheelset_model, rail_flexibility, friction_law), read
-        back by value (rail.contact.wear_path, rail.creepage_sources.wheelset_model, ...), never parsed.
+        and ``wear_path_description``, with the flag contact_shift_modelled; normal_contact, wheelset_model,
+        rail_flexibility, friction_law), read back by value (rail.contact.wear_path,
+        rail.creepage_sources.wheelset_model, ...), never parsed.
 
         Returns
         -------
         dict
             Attribute name -> str [-].
         """
-        out = {}
-        for key, choice in (("normal_contact", self.normal_contact), ("wear_path", self.wear_path), ("wheelset_model", self.wheelset),
+        out = self.wear_path.attributes()  # with its flag contact_shift_modelled
+        for key, choice in (("normal_contact", self.normal_contact), ("wheelset_model", self.wheelset),
                             ("rail_flexibility", self.rail_flexibility), ("friction_law", self.friction_law)):
             out[key] = choice.name
             out[f"{key}_description"] = choice.description

@@ -1,6 +1,6 @@
 """The contact's model choices as objects: the normal-contact models, which know their filter and
 their patch (config key ``contact.normal``), the wear path (``contact.wear_path``) and the friction
-law (``contact.friction_decay`` with ``friction_static`` and ``friction_dynamic``).
+law's name (rail.contact.hertz.FrictionLaw, held by the material: ContactMaterial.friction_law).
 
 * ``ReportNormal`` ('report', sec. 4.2-4.3, eqs 22-24): a point spring on the roughness at the wheel
   centre (the force sees the roughness unfiltered) and a Hertz patch whose radius follows the local
@@ -12,8 +12,8 @@ law (``contact.friction_decay`` with ``friction_static`` and ``friction_dynamic`
 
 The wear path (``WearPath``: ``WheelPath`` 'wheel', ``PatchPath`` 'patch') says whether the patch's
 true path is marched (``modelled_shift``, rail.contact.passage) and, as ``validity``, what a result
-leaves out; the friction law (``FrictionLaw``, ``friction_law_of``: 'step', 'falling' or
-'constant') is read from the material's friction coefficients. Each choice has ``name`` (the
+leaves out; the friction law (rail.contact.hertz.FrictionLaw: 'step', 'falling' or 'constant') is
+read from the material's friction coefficients. Each choice has ``name`` (the
 configuration's value, which results store as a value) and ``description`` (stored beside it, never
 parsed back); ``wear_path(name)`` looks a stored value up again.
 
@@ -38,8 +38,7 @@ from .._lazyjit import njit
 from .hertz import ContactError, ContactMaterial, equivalent_radius, hertz_half_length
 
 __all__ = ["NormalContact", "ReportNormal", "NonHertzianNormal", "Patches", "NORMAL_MODELS", "normal_contact",
-           "WearPath", "WheelPath", "PatchPath", "WEAR_PATHS", "wear_path", "FrictionLaw", "FRICTION_LAWS", "friction_law_of", "friction_law",
-           "roughness_slope", "curvature_on_grid"]
+           "WearPath", "WheelPath", "PatchPath", "WEAR_PATHS", "wear_path", "roughness_slope", "curvature_on_grid"]
 
 
 def roughness_slope(roughness, period: float):
@@ -330,6 +329,18 @@ class WearPath:
     def __str__(self) -> str:
         return self.name
 
+    def attributes(self) -> dict:
+        """The wear path as a result's attributes: ``wear_path`` (the value) beside ``wear_path_description``,
+        and ``contact_shift_modelled`` (1 where the move of the contact centre is in the model, else 0), the
+        flag a figure's note reads from the dataset alone.
+
+        Returns
+        -------
+        dict
+            Attribute name -> str or int [-].
+        """
+        return {"wear_path": self.name, "wear_path_description": self.description, "contact_shift_modelled": int(self.modelled_shift)}
+
 
 @dataclass(frozen=True)
 class WheelPath(WearPath):
@@ -372,81 +383,3 @@ def wear_path(path) -> WearPath:
     if not isinstance(path, str) or path not in _PATHS:
         raise ValueError(f"contact.wear_path = {path!r} is not allowed: it must be one of {list(WEAR_PATHS)}.")
     return _PATHS[path]()
-
-
-@dataclass(frozen=True)
-class FrictionLaw:
-    """The friction law of a contact material (config keys contact.friction_decay, friction_static,
-    friction_dynamic; rail.contact.creep).
-
-    Attributes
-    ----------
-    name : 'step' (the report's: mu_s in stick, mu_d in slip; friction_decay = 0), 'falling'
-        (mu(s) = mu_d + (mu_s - mu_d) exp(-abs(s) / s_0), friction_decay > 0 and mu_s > mu_d) or
-        'constant' (friction_decay > 0 with mu_s = mu_d: the falling law is flat and runs the step
-        law's result)
-    description : the law with its coefficients, in words (a result's friction_law_description)
-    """
-
-    name: str
-    description: str
-
-    def __post_init__(self):
-        if self.name not in FRICTION_LAWS:
-            raise ValueError(f"friction law {self.name!r} is not allowed: it must be one of {list(FRICTION_LAWS)}.")
-
-    def __str__(self) -> str:
-        return self.name
-
-    @property
-    def falling(self) -> bool:
-        """Whether the friction falls with the slip velocity (a dynamic-creepage mechanism of its own)."""
-        return self.name == "falling"
-
-    @property
-    def flat(self) -> bool:
-        """Whether contact.friction_decay is set but changes nothing (mu_s = mu_d), which a valid scenario says at start-up."""
-        return self.name == "constant"
-
-
-FRICTION_LAWS = ("step", "falling", "constant")
-
-
-def friction_law_of(material: ContactMaterial) -> FrictionLaw:
-    """The friction law of a contact material, named and described.
-
-    Parameters
-    ----------
-    material : ContactMaterial
-        Its friction_decay s_0 [m/s], friction_static mu_s and friction_dynamic mu_d [-].
-
-    Returns
-    -------
-    FrictionLaw
-    """
-    return friction_law(material.friction_decay, material.friction_static, material.friction_dynamic)
-
-
-def friction_law(friction_decay: float, friction_static: float, friction_dynamic: float) -> FrictionLaw:
-    """The friction law of the coefficients (config keys contact.friction_decay, friction_static, friction_dynamic).
-
-    Parameters
-    ----------
-    friction_decay : float
-        s_0 [m/s], >= 0 (0: the report's step).
-    friction_static : float
-        mu_s [-].
-    friction_dynamic : float
-        mu_d [-].
-
-    Returns
-    -------
-    FrictionLaw
-    """
-    s0, mus, mud = float(friction_decay), float(friction_static), float(friction_dynamic)
-    if s0 == 0:
-        return FrictionLaw("step", f"friction stepping from mu_s = {mus:g} in stick to mu_d = {mud:g} in slip (the report's)")
-    if mus > mud:
-        return FrictionLaw("falling", f"friction falling with slip, s_0 = {s0:g} m/s (mu_s = {mus:g}, mu_d = {mud:g})")
-    return FrictionLaw("constant", f"friction constant, mu = {mud:g} (contact.friction_decay = {s0:g} m/s has no effect: "
-                                   "contact.friction_static = contact.friction_dynamic, so the falling law is flat)")

@@ -663,7 +663,7 @@ def with_contact_shift(ds: xr.Dataset, shifts, limit: float, path) -> xr.Dataset
                                  "leaves out, relative to the mean wear (beta |c| for a harmonic)"),
     )
     path = _wear_path(path)
-    ds.attrs.update(wear_path=path.name, wear_path_description=path.description)
+    ds.attrs.update(path.attributes())
     if path.modelled_shift:
         for name in ("contact_shift", "contact_shift_ratio", "contact_shift_sweep"):
             ds[name].attrs["long_name"] = ds[name].attrs["long_name"].replace("the neglected move", "the move") + (
@@ -699,8 +699,11 @@ def _figure_models(runs: dict) -> dict:
     """The model attributes of a figure drawn from several runs: each run's where they all agree, else
     'mixed' (each variable then states its own run's)."""
     each = [_run_models(ds) for ds in runs.values()]
-    return {k: each[0][k] if all(e[k] == each[0][k] for e in each) else "mixed: see the attribute of each variable"
-            for k in _MODEL_ATTRS}
+    out = {k: each[0][k] if all(e[k] == each[0][k] for e in each) else "mixed: see the attribute of each variable"
+           for k in _MODEL_ATTRS}
+    # the figure's note on the patch's true path (rail.plotting.text.validity_notes) where every run has it
+    out["contact_shift_modelled"] = int(all(int(ds.attrs.get("contact_shift_modelled", 0)) for ds in runs.values()))
+    return out
 
 
 def growth_figure(runs: dict, kind: str, k_max_rad_per_m: float = 525.0) -> xr.Dataset:

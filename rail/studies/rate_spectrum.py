@@ -146,8 +146,7 @@ def rate_spectrum_dataset(spectra: dict[float, RateSpectrum], L: float, wheels: 
                **({"contact_length_m": float(contact_length)} if contact_length else {}),
                **({"normal_contact": normal_contact(normal).name, "normal_contact_description": normal_contact(normal).description}
                   if normal is not None else {}),
-               **({"wear_path": contact_wear_path(wear_path).name, "wear_path_description": contact_wear_path(wear_path).description}
-                  if wear_path else {}),
+               **(contact_wear_path(wear_path).attributes() if wear_path else {}),
                **({"report_model_valid_above_m": REPORT_VALID_PATCH_LENGTHS * float(contact_length),
                    "validity": f"the report's normal contact (point spring, local-curvature Hertz patch) holds for wavelengths above "
                                f"about {REPORT_VALID_PATCH_LENGTHS} patch lengths ({1e3 * REPORT_VALID_PATCH_LENGTHS * contact_length:.0f} mm); "

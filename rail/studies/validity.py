@@ -10,7 +10,8 @@ from ..wheelset import hz_text
 
 __all__ = ["VALIDITY_ATTRS", "NOT_USED", "NO_WEAR", "model_attributes", "stated_wear_path", "validity_text", "creepage_model_text"]
 
-VALIDITY_ATTRS = ("wear_path", "wear_path_description", "contact_shift_warning", "normal_contact", "validity", "creepage_model")
+VALIDITY_ATTRS = ("wear_path", "wear_path_description", "contact_shift_modelled", "contact_shift_warning", "normal_contact",
+                  "normal_contact_description", "validity", "creepage_model")
 NOT_USED = "none"  # the value of wear_path or normal_contact where a result uses no wear or no wheel/rail contact model
 # the attribute wear_path_description of a result that computes no wear (wear_path = NOT_USED)
 NO_WEAR = "none: no wear is computed for this result"
@@ -34,11 +35,11 @@ def model_attributes(wear_path, normal) -> dict:
     Returns
     -------
     dict
-        The four attributes.
+        The five attributes.
     """
     path = None if str(wear_path) == NOT_USED else contact.wear_path(wear_path)
     model = None if str(normal) == NOT_USED else contact.normal_contact(normal)
-    return {"wear_path": NOT_USED if path is None else path.name, "wear_path_description": NO_WEAR if path is None else path.description,
+    return {**({"wear_path": NOT_USED, "wear_path_description": NO_WEAR, "contact_shift_modelled": 0} if path is None else path.attributes()),
             "normal_contact": NOT_USED if model is None else model.name,
             "normal_contact_description": NO_CONTACT if model is None else model.description}
 
