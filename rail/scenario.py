@@ -193,7 +193,7 @@ class ModelChoices:
         Returns
         -------
         dict
-            Attribute name -> str [-].
+            Attribute name -> str [-] (contact_shift_modelled: int 0 or 1).
         """
         out = self.wear_path.attributes()  # with its flag contact_shift_modelled
         for key, choice in (("normal_contact", self.normal_contact), ("wheelset_model", self.wheelset),
