@@ -28,7 +28,8 @@ CLOSURES = ("default", "report")
 @dataclass(frozen=True)
 class ContactNumerics:
     """How the contact is modelled, discretised and closed (config keys ``numerics.contact`` and
-    ``contact.closure``, ``contact.closure_scale``, ``contact.normal``).
+    ``contact.closure``, ``contact.closure_scale``, ``contact.normal``, ``contact.wear_path``). Every field is
+    given: the defaults are the configuration's alone (config/config.yaml and its schema).
 
     Attributes
     ----------
@@ -44,8 +45,6 @@ class ContactNumerics:
                     (given by its name, it is looked up): 'wheel' (the report's: the patch under the
                     wheel centre, moving at V) or 'patch' (its true path, centred c(x_w) ahead of the
                     wheel: rail.contact.passage, docs/contact.md)
-
-    Both model choices are given: their defaults are the configuration's (config/config.yaml, the schema).
     """
 
     nodes: int
