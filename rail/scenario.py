@@ -11,7 +11,8 @@ from dataclasses import dataclass
 
 import numpy as np
 
-from .contact import ContactMaterial, ContactNumerics
+from .contact import ContactMaterial, ContactNumerics, FrictionLaw, NormalContact, WearPath
+from .creepage_sources import RailFlexibility, WheelsetModel, rail_flexibility_of, wheelset_model_of
 from .growth import GrowthSettings
 from .halfspace import ElasticMaterial
 from .interaction import ContactSpring, Roughness, Wheels, read_roughness_coefficients
@@ -20,7 +21,7 @@ from .roughness import (RECORD_MODES, SPIKE_THRESHOLD, process_profile, profile_
 from .track import Track
 from .wear import WearLaw
 
-__all__ = ["TrackNumerics", "InitialRoughness", "Scenario"]
+__all__ = ["TrackNumerics", "InitialRoughness", "ModelChoices", "Scenario"]
 
 ROUGHNESS_KINDS = ("smooth", "harmonic", "file", "profile", "spectrum")
 
@@ -164,6 +165,45 @@ class InitialRoughness:
 
 
 @dataclass(frozen=True)
+class ModelChoices:
+    """A scenario's model choices, each an object with ``name`` (the configuration's value) and
+    ``description`` (Scenario.models; issue 54: no module outside a model's package compares a name).
+
+    Attributes
+    ----------
+    normal_contact : rail.contact.NormalContact (contact.normal)
+    wear_path : rail.contact.WearPath (contact.wear_path)
+    wheelset : rail.creepage_sources.WheelsetModel (wheelset.model)
+    rail_flexibility : rail.creepage_sources.RailFlexibility (rail_flexibility.model)
+    friction_law : rail.contact.FrictionLaw (contact.friction_decay, friction_static, friction_dynamic)
+    """
+
+    normal_contact: NormalContact
+    wear_path: WearPath
+    wheelset: WheelsetModel
+    rail_flexibility: RailFlexibility
+    friction_law: FrictionLaw
+
+    def attributes(self) -> dict:
+        """The choices as a result's attributes: each value beside its description (``wear_path = "patch"``
+        and ``wear_path_description``, with the flag contact_shift_modelled; normal_contact, wheelset_model,
+        rail_flexibility, friction_law), read back by value (rail.contact.wear_path,
+        rail.creepage_sources.wheelset_model, ...), never parsed.
+
+        Returns
+        -------
+        dict
+            Attribute name -> str [-] (contact_shift_modelled: int 0 or 1).
+        """
+        out = self.wear_path.attributes()  # with its flag contact_shift_modelled
+        for key, choice in (("normal_contact", self.normal_contact), ("wheelset_model", self.wheelset),
+                            ("rail_flexibility", self.rail_flexibility), ("friction_law", self.friction_law)):
+            out[key] = choice.name
+            out[f"{key}_description"] = choice.description
+        return out
+
+
+@dataclass(frozen=True)
 class Scenario:
     """Everything the model chain computes from (rail.chain), for one scenario.
 
@@ -201,6 +241,15 @@ class Scenario:
     speeds: tuple
     axles_per_day: float
     cell: object = None
+
+    @property
+    def models(self) -> ModelChoices:
+        """The scenario's model choices as objects, read from what the chain runs (the contact numerics'
+        normal contact and wear path, the material's wheelset modes, rail head and friction), so that a
+        scenario with another material or contact numerics (dataclasses.replace) names its own."""
+        m = self.material
+        return ModelChoices(self.contact_numerics.normal, self.contact_numerics.path, wheelset_model_of(m.longitudinal),
+                            rail_flexibility_of(m.rail_flexibility), m.friction_law)
 
     @property
     def L(self) -> float:

@@ -175,14 +175,15 @@ def wheelset_modes(ws: Wheelset, reference_force: float | None = None) -> Longit
     s = 1.0 if ws.other_wheel == "in_phase" else 0.0
     J, K = ws.matrices()
     if ws.model == "rigid":
-        return LongitudinalModes((0.0,), (0.0,), (R2 * (1 + s) / float(np.trace(J)),), reference_force, "rigid wheelset")
+        return LongitudinalModes((0.0,), (0.0,), (R2 * (1 + s) / float(np.trace(J)),), reference_force, "rigid wheelset",
+                                  model=ws.model)
     om, phi = chain_modes(ws)
     c = np.clip(R2 * phi[0] * (phi[0] + s * phi[2]), 0.0, None)
     keep = c > 1e-12 * c.max()
     zeta = np.where(om > 0, ws.damping, 0.0)
     label = f"torsional wheelset ({'driven' if ws.driven else 'trailer'}, other wheel {ws.other_wheel})"
     return LongitudinalModes(tuple(om[keep]), tuple(zeta[keep]), tuple(c[keep]), reference_force, label,
-                             tuple(float(w) / (2 * np.pi) for w in om[~keep]))
+                             tuple(float(w) / (2 * np.pi) for w in om[~keep]), model=ws.model)
 
 
 def hz_text(f: float) -> str:

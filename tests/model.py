@@ -18,7 +18,7 @@ def scenario(track, material, spring, *, positions=(0.0,), K=48, nodes=41, passa
     return S.Scenario(
         name="test", track=track, track_numerics=S.TrackNumerics(K, 1e-4),
         wheels=I.Wheels(1350.0, 0.575, 1e5, tuple(positions)), spring=spring, material=material, elastic=STEEL,
-        wear_law=WEAR, contact_numerics=C.ContactNumerics(nodes, "default", closure_scale),
+        wear_law=WEAR, contact_numerics=C.ContactNumerics(nodes, "default", closure_scale, "report", "wheel"),
         growth=G.GrowthSettings(passages, step, step if save_every is None else save_every, vary_grid, tol),
         roughness=S.InitialRoughness("smooth", 0.0, 0.0, None, None), speeds=(40.0,), axles_per_day=20000.0,
     )

@@ -223,7 +223,8 @@ PHYSICS_ORDER = [
      "head's longitudinal receptances under moving loads (the same Bloch method, on the track alone)"),
     ({"roughness", "interaction"}, "roughness over N bays; wheel/rail forces on it (4.3), through the moving receptances"),
     ({"contact"}, "normal and tangential contact (4.4), along the force histories"),
-    ({"wheelset", "wear", "growth"}, "the wheelset's modes in the slip; frictional-work wear (4.5); growth over passages (4.6)"),
+    ({"wheelset", "wear", "growth", "creepage_sources"}, "the wheelset's modes in the slip; frictional-work wear (4.5); growth over "
+     "passages (4.6); the sources of dynamic creepage as model choices"),
     ({"scenario"}, "one scenario: every input of the chain as one frozen object"),
     ({"chain"}, "the model chain, written once"),
     ({"growth_spectrum"}, "growth rate over wavelength, each line a run of the chain"),
@@ -278,7 +279,7 @@ def test_contact_nodes_are_bounded_in_one_place():
     nodes = schema["properties"]["numerics"]["properties"]["contact"]["properties"]["nodes"]
     assert nodes["minimum"] == contact.MIN_NODES
     with pytest.raises(ValueError, match=rf"numerics\.contact\.nodes = 10 is not allowed: it must be an integer >= {contact.MIN_NODES}"):
-        contact.ContactNumerics(10, "default", 1.0)
+        contact.ContactNumerics(10, "default", 1.0, "report", "wheel")
 
 
 def test_every_rule_with_a_script_hashes_that_scripts_imports():
@@ -501,3 +502,91 @@ def test_report_alone_is_told_from_a_run_that_reports_after():
     assert not reporting_only(["snakemake", "--report", "report.html", "--report-after-run"])
     assert not reporting_only(["snakemake", "-j2", "--report-stylesheet", "s.css"])
     assert not reporting_only(["snakemake", "-j2"])
+
+
+# Each model choice's family (issue 54: one home): its names, the configuration's values (the schema's
+# enum, or rail.contact.FRICTION_LAWS for the friction law, which no key names), and its home, the only
+# files that may compare them. Elsewhere a module asks the choice's object (rail.scenario.ModelChoices:
+# ``path.modelled_shift``, ``wheelset.modelled``, ``flexibility.bending``, ``law.falling``) or looks a stored
+# value up (rail.contact.wear_path, rail.creepage_sources.wheelset_model), never compares the name.
+# The dynamic-creepage family's homes are listed file by file until it is gathered into one package.
+MODEL_FAMILIES = {
+    "contact.normal": ("contact/",),
+    "contact.wear_path": ("contact/",),
+    "wheelset.model": ("wheelset.py", "creepage_sources.py", "contact/creep.py"),
+    "rail_flexibility.model": ("longitudinal.py", "creepage_sources.py"),
+    "friction law": ("contact/",),
+}
+# a comparison is of a family's name only where its other side speaks of that choice (not, say,
+# contact.closure == 'report', a roughness kind or contact.loss_factor_model == 'constant')
+_CHOICE_WORDS = {"contact.normal": re.compile(r"normal"), "contact.wear_path": re.compile(r"path|wear"),
+                 "wheelset.model": re.compile(r"wheelset|model|\bws\b"), "rail_flexibility.model": re.compile(r"flex|model|\brf\b|head"),
+                 "friction law": re.compile(r"friction|law")}
+
+
+def _model_names(schema: dict) -> dict:
+    """family -> the set of its names, from the schema's enums (and the friction laws from rail.contact)."""
+    props = schema["properties"]
+    names = {key: set(props[key.split(".")[0]]["properties"][key.split(".")[1]]["enum"]) for key in MODEL_FAMILIES if "." in key}
+    names["friction law"] = set(contact.FRICTION_LAWS)
+    return names
+
+
+def _strings(node) -> list:
+    """The string constants of a node: itself, or the items of a tuple, list or set of them."""
+    if isinstance(node, ast.Constant) and isinstance(node.value, str):
+        return [node.value]
+    if isinstance(node, (ast.Tuple, ast.List, ast.Set)):
+        return [v for e in node.elts for v in _strings(e)]
+    return []
+
+
+def _model_name_comparisons(root: Path, names: dict, homes: dict = MODEL_FAMILIES) -> list[str]:
+    """Every comparison (==, !=, in, not in, startswith) of a model choice's name outside its family's home,
+    in rail/ and workflow/scripts/ under ``root``, as 'path:line: family: code'."""
+    files = sorted(p for p in (root / "rail").rglob("*.py") if "__pycache__" not in p.parts)
+    files += sorted((root / "workflow/scripts").glob("*.py"))
+    out = []
+    for f in files:
+        rel = f.relative_to(root).as_posix()
+        inside = rel[len("rail/"):] if rel.startswith("rail/") else None
+        for n in ast.walk(ast.parse(f.read_text())):
+            if isinstance(n, ast.Compare) and all(isinstance(op, (ast.Eq, ast.NotEq, ast.In, ast.NotIn)) for op in n.ops):
+                sides = [n.left, *n.comparators]
+            elif isinstance(n, ast.Call) and isinstance(n.func, ast.Attribute) and n.func.attr == "startswith":
+                sides = [n.func.value, *n.args]
+            else:
+                continue
+            consts = {v for s in sides for v in _strings(s)}
+            other = " ".join(ast.unparse(s) for s in sides if not _strings(s))
+            for family, home in homes.items():
+                if (consts & names[family] and _CHOICE_WORDS[family].search(other)
+                        and not (inside is not None and inside.startswith(home))):
+                    out.append(f"{rel}:{n.lineno}: {family}: {ast.unparse(n)}")
+    return out
+
+
+def test_no_module_outside_a_models_package_compares_its_name():
+    # issue 54: the wear path, the normal contact, the creepage sources and the friction law are objects
+    # that know their behaviour; their names are compared in their own package only
+    names = _model_names(load_yaml(ROOT / "config/schema/config.schema.yaml"))
+    offenders = _model_name_comparisons(ROOT, names)
+    assert not offenders, "model names compared outside their package:\n" + "\n".join(offenders)
+
+
+def test_the_model_name_check_finds_a_comparison_of_each_kind(tmp_path):
+    # the check can fail: a wear path compared by ==, a rail flexibility by `in`, a stored value by startswith
+    # and a wheelset model by != in a script; a closure 'report' and the same names inside their home pass
+    names = _model_names(load_yaml(ROOT / "config/schema/config.schema.yaml"))
+    (tmp_path / "rail/studies").mkdir(parents=True)
+    (tmp_path / "rail/contact").mkdir()
+    (tmp_path / "workflow/scripts").mkdir(parents=True)
+    (tmp_path / "rail/studies/a.py").write_text(
+        'ok = scn.contact_numerics.path == "patch"\nrod = flex in ("rod", "rod_and_bending")\n'
+        'old = str(attrs["wear_path"]).startswith("wheel")\nclosure = c.closure == "report"\n')
+    (tmp_path / "rail/contact/passage.py").write_text('own = numerics.path == "patch"\n')
+    (tmp_path / "workflow/scripts/s.py").write_text('motored = cfg["wheelset"]["model"] != "fixed_creepage"\n')
+    found = _model_name_comparisons(tmp_path, names)
+    assert [line.split(": ")[0] + ": " + line.split(": ")[1] for line in found] == [
+        "rail/studies/a.py:1: contact.wear_path", "rail/studies/a.py:2: rail_flexibility.model", "rail/studies/a.py:3: contact.wear_path",
+        "workflow/scripts/s.py:1: wheelset.model"]

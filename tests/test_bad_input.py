@@ -329,7 +329,7 @@ def test_wear_refuses_a_roughness_with_other_harmonics_than_the_forces():
     tab = moving.receptance_table(tr, 40.0, 8)
     F = I.solve_forces(tab, I.Wheels(1350.0, 0.575, 1e5, (0.0,)), I.ContactSpring(1.4e9), I.Roughness.smooth(4), tr.L)
     with pytest.raises(ValueError, match=r"the roughness has 4 harmonics and the forces 8"):
-        W.bay_wear(F, 0, I.Roughness.smooth(4), MATERIAL, W.WearLaw(7850.0, 2.5e-9), C.ContactNumerics(41, "default", 1.0))
+        W.bay_wear(F, 0, I.Roughness.smooth(4), MATERIAL, W.WearLaw(7850.0, 2.5e-9), C.ContactNumerics(41, "default", 1.0, "report", "wheel"))
 
 
 @pytest.mark.slow

@@ -59,7 +59,7 @@ def test_one_bay_periodic_roughness_gives_the_same_forces_and_wear_with_any_n(tr
     x = np.linspace(0.0, 4 * tr.L, 997)
     P1, P4 = I.force_history(F1, x)[0], I.force_history(F4, x)[0]
     assert np.abs(P1 - P4).max() < 1e-12 * np.ptp(P1)
-    num, law = C.ContactNumerics(41, "default", 1.0), W.WearLaw(7850.0, 2.5e-9)
+    num, law = C.ContactNumerics(41, "default", 1.0, "report", "wheel"), W.WearLaw(7850.0, 2.5e-9)
     w1 = W.bay_wear(F1, 0, r1, MATERIAL, law, num)
     w4 = W.bay_wear(F4, 0, r4, MATERIAL, law, num)
     J = 4 * K

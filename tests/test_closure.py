@@ -177,7 +177,7 @@ def _in_phase_rates(nodes, phases):
     F = I.solve_forces(tab, I.Wheels(1350.0, 0.575, 1e5, (0.0,)), contact_spring(), rough, tr.L)
     out = {}
     for s in sweep_values():
-        rates = [-np.real(W.bay_wear(F, 0, rough, MATERIAL, W.WearLaw(7850.0, 2.5e-9), C.ContactNumerics(nodes, "default", s),
+        rates = [-np.real(W.bay_wear(F, 0, rough, MATERIAL, W.WearLaw(7850.0, 2.5e-9), C.ContactNumerics(nodes, "default", s, "report", "wheel"),
                                      grid_phase=(j + 0.5) / phases).Z[K + m] / rough.Z[K + m]) for j in range(phases)]
         out[s] = float(np.mean(rates))
     return out

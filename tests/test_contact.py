@@ -206,7 +206,7 @@ def test_wear_law_integrates_the_frictional_power(bay):
     m = material()
     work, creep = [], []
     for nodes in (41, 81, 161):
-        w = W.bay_wear(F, 0, rough, m, W.WearLaw(7850.0, 2.5e-9), C.ContactNumerics(nodes, "default", 1.0))
+        w = W.bay_wear(F, 0, rough, m, W.WearLaw(7850.0, 2.5e-9), C.ContactNumerics(nodes, "default", 1.0, "report", "wheel"))
         delta = w.x[1] - w.x[0]
         work.append(np.sum(w.depth) * 7850.0 / 2.5e-9 * delta)
         creep.append(np.sum(np.abs(w.Q * m.creepage * V)) / (2 * m.half_width) * delta / V)
@@ -226,8 +226,8 @@ def test_wear_spectrum_converges_in_the_contact_grid(bay):
     # hat basis: 0.34 %, 0.14 %, 0.21 %).
     tr, F, rough = bay
     m = material()
-    w41 = W.bay_wear(F, 0, rough, m, W.WearLaw(7850.0, 2.5e-9), C.ContactNumerics(41, "default", 1.0))
-    w81 = W.bay_wear(F, 0, rough, m, W.WearLaw(7850.0, 2.5e-9), C.ContactNumerics(81, "default", 1.0))
+    w41 = W.bay_wear(F, 0, rough, m, W.WearLaw(7850.0, 2.5e-9), C.ContactNumerics(41, "default", 1.0, "report", "wheel"))
+    w81 = W.bay_wear(F, 0, rough, m, W.WearLaw(7850.0, 2.5e-9), C.ContactNumerics(81, "default", 1.0, "report", "wheel"))
     mean = w81.depth.mean()
     assert np.abs(w41.Z - w81.Z).max() * 2 < 3e-3 * mean
     K = rough.harmonics
@@ -238,7 +238,7 @@ def test_wear_spectrum_converges_in_the_contact_grid(bay):
 def test_wear_spectrum_converges_towards_a_fine_grid(bay):
     tr, F, rough = bay
     m = material()
-    res = {n: W.bay_wear(F, 0, rough, m, W.WearLaw(7850.0, 2.5e-9), C.ContactNumerics(n, "default", 1.0)) for n in (41, 81, 161)}
+    res = {n: W.bay_wear(F, 0, rough, m, W.WearLaw(7850.0, 2.5e-9), C.ContactNumerics(n, "default", 1.0, "report", "wheel")) for n in (41, 81, 161)}
     mean = res[161].depth.mean()
     e41 = 2 * np.abs(res[41].Z - res[161].Z).max() / mean
     e81 = 2 * np.abs(res[81].Z - res[161].Z).max() / mean

@@ -18,18 +18,18 @@ MATERIAL = C.ContactMaterial(2.1e11, 0.3, 0.008, 0.46, 0.3, 0.3, -0.001)
 
 
 def test_normal_contact_given_by_name_is_held_as_its_model_object():
-    assert isinstance(C.ContactNumerics(41, "default", 1.0).normal, C.ReportNormal)
-    nums = C.ContactNumerics(41, "default", 1.0, "nonhertzian")
+    assert isinstance(C.ContactNumerics(41, "default", 1.0, "report", "wheel").normal, C.ReportNormal)
+    nums = C.ContactNumerics(41, "default", 1.0, "nonhertzian", "wheel")
     assert isinstance(nums.normal, C.NonHertzianNormal) and nums.normal.name == str(nums.normal) == "nonhertzian"
     # replacing by name (as the tests and studies do) looks the model up again
     assert isinstance(dataclasses.replace(nums, normal="report").normal, C.ReportNormal)
-    assert C.ContactNumerics(41, "default", 1.0, C.NonHertzianNormal()) == nums
+    assert C.ContactNumerics(41, "default", 1.0, C.NonHertzianNormal(), C.WheelPath()) == nums
 
 
 @pytest.mark.parametrize("bad", ["hertz", "", None, ["report"], float("nan")])
 def test_an_unknown_normal_contact_is_refused_naming_the_key_and_the_choices(bad):
     with pytest.raises(ValueError, match=r"contact\.normal = .* is not allowed: it must be one of \['report', 'nonhertzian'\]"):
-        C.ContactNumerics(41, "default", 1.0, bad)
+        C.ContactNumerics(41, "default", 1.0, bad, "wheel")
 
 
 def test_the_report_model_sees_the_roughness_unfiltered_and_the_nonhertzian_through_J0():

@@ -379,11 +379,11 @@ def test_every_export_states_the_wear_path_and_a_raised_validity_flag_in_its_hea
     # and spectrum CSVs carry the wear path (and, on the wheel's path, the contact-centre flag when raised)
     from rail.growth_spectrum import RateSpectrum
     from rail.studies.rate_spectrum import rate_spectrum_dataset
-    from rail.studies.validity import WEAR_PATH_TEXT, validity_text
+    from rail.studies.validity import model_attributes, validity_text
 
     n = np.arange(0, 50001, 10000)
     g = _growth(n, {12: 1e-7 * n / 1e4})
-    g.attrs["wear_path"] = WEAR_PATH_TEXT[path]
+    g.attrs.update(model_attributes(path, "nonhertzian"))  # the values, as a growth run writes them
     flag = "the neglected move of the contact centre leaves out 5.7 % of the mean wear from 0 passages on"
     if path == "wheel":
         g.attrs["contact_shift_warning"] = flag

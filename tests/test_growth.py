@@ -97,7 +97,7 @@ def test_conclusion_2_growth_depends_strongly_on_excitation_frequency():
     for m in (8, 15, 18, 24):
         rough = I.Roughness.harmonic(1e-5, tr.L / m, tr.L, K)
         F = I.solve_forces(tab, I.Wheels(1350.0, 0.575, 1e5, (0.0,)), contact_spring(), rough, tr.L)
-        w = W.bay_wear(F, 0, rough, MATERIAL, W.WearLaw(7850.0, 2.5e-9), C.ContactNumerics(NODES, "default", 1.0))
+        w = W.bay_wear(F, 0, rough, MATERIAL, W.WearLaw(7850.0, 2.5e-9), C.ContactNumerics(NODES, "default", 1.0, "report", "wheel"))
         amplitude[m] = 2 * abs(w.Z[K + m]) / w.depth.mean()
         rate[m] = -np.real(w.Z[K + m] / rough.Z[K + m])
     assert amplitude[24] > 5 * amplitude[8]
@@ -266,7 +266,8 @@ def test_varying_the_grid_spacing_averages_the_grid_tied_wear_error():
     F = I.solve_forces(tab, I.Wheels(1350.0, 0.575, 1e5, (0.0,)), contact_spring(), rough, tr.L)
 
     def harmonics(phase):
-        return W.bay_wear(F, 0, rough, MATERIAL, W.WearLaw(7850.0, 2.5e-9), C.ContactNumerics(81, "default", 1.0), grid_phase=phase).Z[K + 1 : K + 11]
+        return W.bay_wear(F, 0, rough, MATERIAL, W.WearLaw(7850.0, 2.5e-9), C.ContactNumerics(81, "default", 1.0, "report", "wheel"),
+                          grid_phase=phase).Z[K + 1 : K + 11]
 
     single = np.array([harmonics((j + 0.5) / 8) for j in range(8)])
     mean = single.mean(axis=0)

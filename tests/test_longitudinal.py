@@ -148,7 +148,7 @@ def test_the_coupled_march_closes_the_loop_of_its_own_transfers():
     K = 8
     head = lg.RailHead(TRACK)
     mi = _inputs()
-    num = C.ContactNumerics(21, "default", 1.0)
+    num = C.ContactNumerics(21, "default", 1.0, "report", "wheel")
     mat = dataclasses.replace(M0, rail_flexibility=head)
     sol, info = wear.march_with_creepage(mi, mat, V, num, tol=1e-9, harmonics=K)
     period = slice(mi.spin, mi.spin + mi.Nx)
@@ -184,7 +184,7 @@ def test_the_coupled_march_closes_the_loop_of_its_own_transfers():
 
 def test_without_the_rail_the_march_and_the_material_are_unchanged():
     mi = _inputs()
-    num = C.ContactNumerics(21, "default", 1.0)
+    num = C.ContactNumerics(21, "default", 1.0, "report", "wheel")
     a, info = wear.march_with_creepage(mi, M0, V, num)
     b = C.solve_tangential(mi.P, mi.a, M0, V, mi.delta, mi.M)
     assert info is None and np.array_equal(a.work, b.work)
@@ -195,7 +195,7 @@ def test_without_the_rail_the_march_and_the_material_are_unchanged():
 def test_the_march_needs_the_harmonics_with_the_rail():
     mat = dataclasses.replace(M0, rail_flexibility=lg.RailHead(TRACK))
     with pytest.raises(ValueError, match="needs harmonics"):
-        wear.march_with_creepage(_inputs(), mat, V, C.ContactNumerics(21, "default", 1.0))
+        wear.march_with_creepage(_inputs(), mat, V, C.ContactNumerics(21, "default", 1.0, "report", "wheel"))
 
 
 @pytest.mark.parametrize("key,value,match", [

@@ -86,10 +86,10 @@ def test_saturated_creepage_gives_full_slip_reported_and_mu_P():
     rough = I.Roughness.smooth(16)
     F = I.solve_forces(tab, I.Wheels(1350.0, 0.575, 1e5, (0.0,)), I.ContactSpring(1.4e9, 0.0), rough, tr.L)
     m = C.ContactMaterial(2.1e11, 0.3, 0.008, 0.575, 0.3, 0.3, -0.01)
-    w = W.bay_wear(F, 0, rough, m, W.WearLaw(7850.0, 2.5e-9), C.ContactNumerics(41, "default", 1.0))
+    w = W.bay_wear(F, 0, rough, m, W.WearLaw(7850.0, 2.5e-9), C.ContactNumerics(41, "default", 1.0, "report", "wheel"))
     assert w.full_slip == 1.0
     assert np.abs(w.Q / (0.3 * w.P) - 1).max() < 5e-3
-    w0 = W.bay_wear(F, 0, rough, MATERIAL, W.WearLaw(7850.0, 2.5e-9), C.ContactNumerics(41, "default", 1.0))
+    w0 = W.bay_wear(F, 0, rough, MATERIAL, W.WearLaw(7850.0, 2.5e-9), C.ContactNumerics(41, "default", 1.0, "report", "wheel"))
     assert w0.full_slip == 0.0
 
 

@@ -269,14 +269,14 @@ def _study_figures():
     with the notes they can carry (a missing default, the wear path)."""
     from rail.traffic import Traffic
 
-    run = growth_run(saved=6, smooth=True, K=24, bays=2).assign_attrs(wear_path="patch: on the patch")
+    run = growth_run(saved=6, smooth=True, K=24, bays=2).assign_attrs(wear_path="patch", contact_shift_modelled=1)
     note = "no default run at 45 m/s (the default scenario runs at 20, 40, 60, 80 m/s): no comparison with the default"
     return {
         "overview, no default": report.scenario_overview(run, None, "x45", note),
         "overview, default": report.scenario_overview(run, growth_run(), "x40", "", [(0.0, ""), (0.6, "ballast ×0.001"), (1.2, "")]),
         "3-D": report.growth_3d(run, "wavelength", "x45"),
         "narrow band": report.growth_narrowband(run),
-        "bands": report.band_spectra(_bands(traffic=Traffic(20_000.0, 22.5)).assign_attrs(wear_path="patch: on the patch")),
+        "bands": report.band_spectra(_bands(traffic=Traffic(20_000.0, 22.5)).assign_attrs(wear_path="patch", contact_shift_modelled=1)),
         "spectrum, one speed": study_plots.rate_spectrum_figure(_rate_spectrum_with_traffic([50.0])),
         "spectrum, two speeds": study_plots.rate_spectrum_figure(_rate_spectrum_with_traffic([40.0, 50.0])),
     }
@@ -592,7 +592,6 @@ def test_a_narrow_spectrum_near_pinned_pinned_has_tick_labels_markers_and_names_
     assert line.get_marker() == "o"
     assert "track: pad 3.5×10⁸ N/m, sleeper spacing 0.6 m" in ax.get_title()
     notes = " ".join(" ".join(_texts(fig)).split())  # the note is wrapped over lines
-    for said in ("normal contact report", "wear path wheel", "wheelset none: fixed creepage", "rail flexibility none",
-                 "friction step, the report's (mu_s = 0.3, mu_d = 0.3)"):
+    for said in ("normal contact report", "wear path wheel", "wheelset fixed_creepage", "rail flexibility none", "friction step"):
         assert said in notes, said
     fig.savefig(tmp_path / "rate_spectrum.png", dpi=150)

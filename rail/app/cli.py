@@ -110,6 +110,7 @@ def _what_runs(study) -> str:
                 f"{rest}).")
     from ..setup.build import fleet_classes
 
+    from ..creepage_sources import wheelset_model
     from ..setup.build import fleet
     from ..setup.config import setting
     from ..studies.fleet import wheelset_lines
@@ -120,7 +121,7 @@ def _what_runs(study) -> str:
     kinds = ", ".join(f"{v['name']} ({len(v['positions'])} axles, share {v['share']:g})" for v in vehicles)
     cfg = study.config
     # which wheelset each vehicle's axles run (issue 55): named per axle, or the wheelset section's on every axle
-    motored = cfg.get("wheelset") is not None and setting(cfg, "wheelset.model") != "fixed_creepage" and setting(cfg, "wheelset.motor_inertia") > 0
+    motored = wheelset_model(setting(cfg, "wheelset.model")).modelled and setting(cfg, "wheelset.motor_inertia") > 0
     lines = [f"  wheelsets of {line}" for line in wheelset_lines(classes, fleet(cfg), motored)]
     named = cfg["fleet"].get("wheelsets") or {}
     used = {w for v in vehicles for w in ([v["wheelsets"]] if isinstance(v.get("wheelsets"), str) else v.get("wheelsets") or [])

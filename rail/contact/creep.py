@@ -68,6 +68,8 @@ class LongitudinalModes:
     label : what the modes are (for results and messages)
     unexcited : the natural frequencies [Hz] of the modes left out (their participation at the contact
         below 1e-12 of the largest), named in results' headers
+    model : the wheelset model the modes are of (config key wheelset.model, rail.creepage_sources), or ''
+        for modes given directly
     """
 
     omega: tuple
@@ -78,6 +80,9 @@ class LongitudinalModes:
     # the frequencies [Hz] of the modes left out as not excited at the contact, for results' headers; out of
     # the repr (hashed into the keys of class spectra) and of comparisons: what the march runs is unchanged
     unexcited: tuple = field(default=(), repr=False, compare=False)
+    # the model's name (rail.wheelset.wheelset_modes sets it), for results' wheelset_model: out of the repr and
+    # of comparisons as ``unexcited`` is
+    model: str = field(default="", repr=False, compare=False)
 
     def __post_init__(self):
         om = _finite_tuple("wheelset mode frequency (rad/s)", self.omega, low=0.0)

@@ -17,7 +17,8 @@ from dataclasses import dataclass
 
 import numpy as np
 
-__all__ = ["ContactError", "ContactMaterial", "composite_modulus", "compliance", "report_rigid_compliance",
+__all__ = ["ContactError", "ContactMaterial", "FrictionLaw", "FRICTION_LAWS", "friction_law", "friction_law_of", "composite_modulus",
+           "compliance", "report_rigid_compliance",
            "equivalent_radius", "hertz_half_length", "hertz_pressure"]
 
 
@@ -63,18 +64,13 @@ class ContactMaterial:
         return f"ContactMaterial({base}{extra})"
 
     @property
-    def friction_law(self) -> str:
-        """The friction law in words, for results' headers and start-up notes: the report's step from
-        mu_s to mu_d, friction falling with the slip velocity (friction_decay > 0), or, with mu_s = mu_d,
-        constant friction: mu(s) = mu_d + (mu_s - mu_d) exp(-abs(s) / s_0) is then flat and s_0 changes
-        nothing (the result is the step law's), which a header must not call falling."""
-        s0, mus, mud = self.friction_decay, self.friction_static, self.friction_dynamic
-        if s0 == 0:
-            return f"friction stepping from mu_s = {mus:g} in stick to mu_d = {mud:g} in slip (the report's)"
-        if mus > mud:
-            return f"friction falling with slip, s_0 = {s0:g} m/s"
-        return (f"friction constant, mu = {mud:g} (contact.friction_decay = {s0:g} m/s has no effect: "
-                "contact.friction_static = contact.friction_dynamic, so the falling law is flat)")
+    def friction_law(self):
+        """The friction law (FrictionLaw): the report's step from mu_s to mu_d
+        ('step'), friction falling with the slip velocity ('falling', friction_decay > 0), or, with
+        mu_s = mu_d, constant friction ('constant': mu(s) = mu_d + (mu_s - mu_d) exp(-abs(s) / s_0) is
+        then flat and s_0 changes nothing, the result is the step law's, which a header must not call
+        falling); its description for results' headers and start-up notes."""
+        return friction_law_of(self)
 
     def __post_init__(self):
         if not (np.isfinite(self.friction_decay) and 0 <= self.friction_decay <= 100):
@@ -248,3 +244,81 @@ def hertz_pressure(xi, P, a, m: ContactMaterial):
     xi = np.asarray(xi, dtype=float)
     r = np.clip(1 - (xi / a) ** 2, 0, None)
     return P / (np.pi * a * m.half_width) * np.sqrt(r)
+
+
+@dataclass(frozen=True)
+class FrictionLaw:
+    """The friction law of a contact material (config keys contact.friction_decay, friction_static,
+    friction_dynamic; rail.contact.creep).
+
+    Attributes
+    ----------
+    name : 'step' (the report's: mu_s in stick, mu_d in slip; friction_decay = 0), 'falling'
+        (mu(s) = mu_d + (mu_s - mu_d) exp(-abs(s) / s_0), friction_decay > 0 and mu_s > mu_d) or
+        'constant' (friction_decay > 0 with mu_s = mu_d: the falling law is flat and runs the step
+        law's result)
+    description : the law with its coefficients, in words (a result's friction_law_description)
+    """
+
+    name: str
+    description: str
+
+    def __post_init__(self):
+        if self.name not in FRICTION_LAWS:
+            raise ValueError(f"friction law {self.name!r} is not allowed: it must be one of {list(FRICTION_LAWS)}.")
+
+    def __str__(self) -> str:
+        return self.name
+
+    @property
+    def falling(self) -> bool:
+        """Whether the friction falls with the slip velocity (a dynamic-creepage mechanism of its own)."""
+        return self.name == "falling"
+
+    @property
+    def flat(self) -> bool:
+        """Whether contact.friction_decay is set but changes nothing (mu_s = mu_d), which a valid scenario says at start-up."""
+        return self.name == "constant"
+
+
+FRICTION_LAWS = ("step", "falling", "constant")
+
+
+def friction_law_of(material: ContactMaterial) -> FrictionLaw:
+    """The friction law of a contact material, named and described.
+
+    Parameters
+    ----------
+    material : ContactMaterial
+        Its friction_decay s_0 [m/s], friction_static mu_s and friction_dynamic mu_d [-].
+
+    Returns
+    -------
+    FrictionLaw
+    """
+    return friction_law(material.friction_decay, material.friction_static, material.friction_dynamic)
+
+
+def friction_law(friction_decay: float, friction_static: float, friction_dynamic: float) -> FrictionLaw:
+    """The friction law of the coefficients (config keys contact.friction_decay, friction_static, friction_dynamic).
+
+    Parameters
+    ----------
+    friction_decay : float
+        s_0 [m/s], >= 0 (0: the report's step).
+    friction_static : float
+        mu_s [-].
+    friction_dynamic : float
+        mu_d [-].
+
+    Returns
+    -------
+    FrictionLaw
+    """
+    s0, mus, mud = float(friction_decay), float(friction_static), float(friction_dynamic)
+    if s0 == 0:
+        return FrictionLaw("step", f"friction stepping from mu_s = {mus:g} in stick to mu_d = {mud:g} in slip (the report's)")
+    if mus > mud:
+        return FrictionLaw("falling", f"friction falling with slip, s_0 = {s0:g} m/s (mu_s = {mus:g}, mu_d = {mud:g})")
+    return FrictionLaw("constant", f"friction constant, mu = {mud:g} (contact.friction_decay = {s0:g} m/s has no effect: "
+                                   "contact.friction_static = contact.friction_dynamic, so the falling law is flat)")

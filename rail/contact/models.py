@@ -1,5 +1,6 @@
-"""The normal-contact models, as objects that know their filter and their patch (config key
-``contact.normal``).
+"""The contact's model choices as objects: the normal-contact models, which know their filter and
+their patch (config key ``contact.normal``), the wear path (``contact.wear_path``) and the friction
+law's name (rail.contact.hertz.FrictionLaw, held by the material: ContactMaterial.friction_law).
 
 * ``ReportNormal`` ('report', sec. 4.2-4.3, eqs 22-24): a point spring on the roughness at the wheel
   centre (the force sees the roughness unfiltered) and a Hertz patch whose radius follows the local
@@ -8,6 +9,13 @@
   force sees the roughness through the contact filter J0(beta a_0); the patch is the exact
   single-zone 2D solution (or several zones by the brute force where one does not hold), its
   pressure the Hertz ellipse times a shape factor.
+
+The wear path (``WearPath``: ``WheelPath`` 'wheel', ``PatchPath`` 'patch') says whether the patch's
+true path is marched (``modelled_shift``, rail.contact.passage) and, as ``validity``, what a result
+leaves out; the friction law (rail.contact.hertz.FrictionLaw: 'step', 'falling' or 'constant') is
+read from the material's friction coefficients. Each choice has ``name`` (the
+configuration's value, which results store as a value) and ``description`` (stored beside it, never
+parsed back); ``wear_path(name)`` looks a stored value up again.
 
 The rest of the package asks the model, never its name: ``filter`` (what the contact spring sees),
 ``half_lengths`` (the patch along the period, to size the grid), ``patches`` (half-length, pressure
@@ -30,7 +38,7 @@ from .._lazyjit import njit
 from .hertz import ContactError, ContactMaterial, equivalent_radius, hertz_half_length
 
 __all__ = ["NormalContact", "ReportNormal", "NonHertzianNormal", "Patches", "NORMAL_MODELS", "normal_contact",
-           "roughness_slope", "curvature_on_grid"]
+           "WearPath", "WheelPath", "PatchPath", "WEAR_PATHS", "wear_path", "roughness_slope", "curvature_on_grid"]
 
 
 def roughness_slope(roughness, period: float):
@@ -184,9 +192,11 @@ class Patches:
 
 
 class NormalContact:
-    """A normal-contact model (a frozen dataclass in each subclass). ``name`` is its config value."""
+    """A normal-contact model (a frozen dataclass in each subclass). ``name`` is its config value,
+    ``description`` what it is, in words (a result's attribute normal_contact_description)."""
 
     name: ClassVar[str] = ""
+    description: ClassVar[str] = ""
     # the model holds for wavelengths above this many static patch lengths 2 a_0 (0: no such limit)
     valid_patch_lengths: ClassVar[float] = 0
 
@@ -219,6 +229,8 @@ class ReportNormal(NormalContact):
     a Hertz patch with the local curvature. Valid for wavelengths much longer than the patch."""
 
     name: ClassVar[str] = "report"
+    description: ClassVar[str] = ("report: the report's point spring on the roughness at the wheel centre and a Hertz patch with the "
+                                  "local rail curvature (eqs 22-24); valid for wavelengths above about ten patch lengths")
     # above ten patch lengths its filter 1 is within 0.22 dB of the 2D patch's J0(beta a_0) (docs/contact.md)
     valid_patch_lengths: ClassVar[float] = 10
 
@@ -248,6 +260,8 @@ class NonHertzianNormal(NormalContact):
     exact single-zone 2D pressure, several zones by the brute force where one does not hold."""
 
     name: ClassVar[str] = "nonhertzian"
+    description: ClassVar[str] = ("nonhertzian: the roughness under the patch, the force through the contact filter J0(beta a_0), "
+                                  "the exact single-zone 2D pressure (several zones by the brute force; docs/contact.md)")
 
     def filter(self, beta, a0):
         from .normal import approach_filter
@@ -296,3 +310,76 @@ def normal_contact(model) -> NormalContact:
     if not isinstance(model, str) or model not in _MODELS:
         raise ValueError(f"contact.normal = {model!r} is not allowed: it must be one of {list(NORMAL_MODELS)}.")
     return _MODELS[model]()
+
+
+class WearPath:
+    """Where the wear is deposited (config key contact.wear_path; a frozen dataclass in each subclass).
+
+    ``name`` is its config value, ``description`` the result attribute wear_path_description,
+    ``modelled_shift`` whether the move of the contact centre c(x_w) is in the model (the patch's true
+    path is marched, rail.contact.passage.true_path), and ``validity`` what a result's validity line
+    says of it (rail.studies.validity.validity_text).
+    """
+
+    name: ClassVar[str] = ""
+    description: ClassVar[str] = ""
+    modelled_shift: ClassVar[bool] = False
+    validity: ClassVar[str] = ""
+
+    def __str__(self) -> str:
+        return self.name
+
+    def attributes(self) -> dict:
+        """The wear path as a result's attributes: ``wear_path`` (the value) beside ``wear_path_description``,
+        and ``contact_shift_modelled`` (1 where the move of the contact centre is in the model, else 0), the
+        flag a figure's note reads from the dataset alone.
+
+        Returns
+        -------
+        dict
+            Attribute name -> str or int [-].
+        """
+        return {"wear_path": self.name, "wear_path_description": self.description, "contact_shift_modelled": int(self.modelled_shift)}
+
+
+@dataclass(frozen=True)
+class WheelPath(WearPath):
+    """The report's wear under the wheel centre: the patch centred under the wheel, moving at its speed V."""
+
+    name: ClassVar[str] = "wheel"
+    description: ClassVar[str] = "wheel: the wear under the wheel centre (the report's); the move of the contact centre is neglected"
+    validity: ClassVar[str] = ("wear under the wheel centre (the report's model): the contact centre's move, a wear term of about "
+                               "1.8 w R_w beta^2 per unit roughness for long waves, is left out (contact.wear_path: patch models it)")
+
+
+@dataclass(frozen=True)
+class PatchPath(WearPath):
+    """The patch's true path: centred c(x_w) from the wheel, sweeping the rail at V (1 + dc/dx) (docs/contact.md)."""
+
+    name: ClassVar[str] = "patch"
+    description: ClassVar[str] = "patch: the wear where the contact patch is, its centre c(x_w) from the wheel (docs/contact.md)"
+    modelled_shift: ClassVar[bool] = True
+    validity: ClassVar[str] = "wear on the contact patch's true path (its centre's move modelled)"
+
+
+_PATHS = {cls.name: cls for cls in (WheelPath, PatchPath)}
+WEAR_PATHS = tuple(_PATHS)
+
+
+def wear_path(path) -> WearPath:
+    """The wear path named ``path`` (config key contact.wear_path, or a result's attribute wear_path), or ``path`` itself.
+
+    Parameters
+    ----------
+    path : str or WearPath
+        'wheel' or 'patch' [-].
+
+    Returns
+    -------
+    WearPath
+    """
+    if isinstance(path, WearPath):
+        return path
+    if not isinstance(path, str) or path not in _PATHS:
+        raise ValueError(f"contact.wear_path = {path!r} is not allowed: it must be one of {list(WEAR_PATHS)}.")
+    return _PATHS[path]()

@@ -1,6 +1,6 @@
 """How the contact is discretised and closed: the rolling grid, the closures and the normal-contact
-model chosen (config keys ``numerics.contact``, ``contact.closure``, ``contact.closure_scale``,
-``contact.normal``)."""
+model and wear path chosen (config keys ``numerics.contact``, ``contact.closure``, ``contact.closure_scale``,
+``contact.normal``, ``contact.wear_path``)."""
 
 from __future__ import annotations
 
@@ -8,7 +8,7 @@ from dataclasses import dataclass
 
 import numpy as np
 
-from .models import NORMAL_MODELS, NormalContact, normal_contact
+from .models import NORMAL_MODELS, WEAR_PATHS, NormalContact, WearPath, normal_contact, wear_path
 
 __all__ = ["ContactNumerics", "MIN_NODES", "CLOSURES", "NORMAL_MODELS", "WEAR_PATHS", "THETA_EDGE", "rolling_grid"]
 
@@ -23,16 +23,13 @@ __all__ = ["ContactNumerics", "MIN_NODES", "CLOSURES", "NORMAL_MODELS", "WEAR_PA
 THETA_EDGE = 1e-10
 MIN_NODES = 11  # fewest grid nodes across the patch (the schema's bound on numerics.contact.nodes; tested equal)
 CLOSURES = ("default", "report")
-# where the wear is deposited: 'wheel' (the report's: the patch centred under the wheel, moving at its
-# speed V) or 'patch' (the patch's true path: centred c(x_w) from the wheel, sweeping the rail at
-# V (1 + dc/dx); rail.contact.passage, docs/contact.md)
-WEAR_PATHS = ("wheel", "patch")
 
 
 @dataclass(frozen=True)
 class ContactNumerics:
     """How the contact is modelled, discretised and closed (config keys ``numerics.contact`` and
-    ``contact.closure``, ``contact.closure_scale``, ``contact.normal``).
+    ``contact.closure``, ``contact.closure_scale``, ``contact.normal``, ``contact.wear_path``). Every field is
+    given: the defaults are the configuration's alone (config/config.yaml and its schema).
 
     Attributes
     ----------
@@ -44,16 +41,17 @@ class ContactNumerics:
                     patch with the local rail curvature, eqs 22-24) or 'nonhertzian' (the roughness
                     under the patch: the force through the contact filter J0(beta a), the exact
                     single-zone 2D pressure; rail.contact.normal, docs/contact.md)
-    path : where the wear is deposited (config key contact.wear_path): 'wheel' (the report's: the
-                    patch under the wheel centre, moving at V) or 'patch' (its true path, centred
-                    c(x_w) ahead of the wheel: rail.contact.passage, docs/contact.md)
+    path : where the wear is deposited (config key contact.wear_path), a rail.contact.models.WearPath
+                    (given by its name, it is looked up): 'wheel' (the report's: the patch under the
+                    wheel centre, moving at V) or 'patch' (its true path, centred c(x_w) ahead of the
+                    wheel: rail.contact.passage, docs/contact.md)
     """
 
     nodes: int
     closure: str
     closure_scale: float
-    normal: NormalContact | str = "report"
-    path: str = "wheel"
+    normal: NormalContact | str
+    path: WearPath | str
 
     def __post_init__(self):
         if not isinstance(self.nodes, (int, np.integer)) or self.nodes < MIN_NODES:
@@ -62,9 +60,14 @@ class ContactNumerics:
             raise ValueError(f"contact.closure = {self.closure!r} is not allowed: it must be one of {list(CLOSURES)}.")
         if not (np.isfinite(self.closure_scale) and self.closure_scale > 0):
             raise ValueError(f"contact.closure_scale = {self.closure_scale!r} is not allowed: it must be > 0.")
-        if not isinstance(self.path, str) or self.path not in WEAR_PATHS:
-            raise ValueError(f"contact.wear_path = {self.path!r} is not allowed: it must be one of {list(WEAR_PATHS)}.")
-        object.__setattr__(self, "normal", normal_contact(self.normal))  # the model object (a name is looked up)
+        object.__setattr__(self, "path", wear_path(self.path))  # the model objects (a name is looked up)
+        object.__setattr__(self, "normal", normal_contact(self.normal))
+
+    def __repr__(self):
+        # the wear path by its name, as when it was a string: the repr is hashed into the keys of class
+        # spectra (rail.setup.study_files.class_key), which stay those of every earlier run
+        return (f"ContactNumerics(nodes={self.nodes!r}, closure={self.closure!r}, closure_scale={self.closure_scale!r}, "
+                f"normal={self.normal!r}, path={self.path.name!r})")
 
 
 def rolling_grid(a_max: float, L: float, nodes: int):

@@ -103,7 +103,7 @@ def march_inputs(forces: ForceResult, wheel_index: int, roughness: Roughness, ma
         xi = (np.arange(2 * M + 1) - M) * delta
         patch = model.patches(P, x_wheel, on_grid, Nx, roughness, L, material, xi)
         dt = None
-        if numerics.path == "patch":
+        if numerics.path.modelled_shift:
             P, x_wheel, patch, dt = true_path(forces, wheel_index, roughness, material, model, x_wheel, on_grid, Nx, P, patch, xi)
         a = patch.a
         if a_max is not None or grid is not None or float(np.max(a)) < (M - 0.5) * delta:

@@ -237,7 +237,7 @@ def _mechanisms_text(attrs) -> str:
         return str(attrs.get(key, "not stated"))
 
     line = (f"model: normal contact {value('normal_contact')}; wear path {value('wear_path')}; wheelset {value('wheelset_model')}; "
-            f"rail flexibility {value('rail_flexibility_model')}; friction {value('friction_law')}")
+            f"rail flexibility {value('rail_flexibility')}; friction {value('friction_law')}")
     return "\n".join(textwrap.wrap(line, 110))
 
 

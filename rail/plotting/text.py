@@ -136,7 +136,7 @@ def validity_notes(attrs) -> list:
     Parameters
     ----------
     attrs : mapping
-        The plotted dataset's attributes (wear_path, contact_shift_warning).
+        The plotted dataset's attributes (contact_shift_modelled, contact_shift_warning).
 
     Returns
     -------
@@ -146,7 +146,7 @@ def validity_notes(attrs) -> list:
     warning = attrs.get("contact_shift_warning")
     if warning:
         return [("\n".join(textwrap.wrap("outside validity: " + " ".join(str(warning).split()), 150)), "firebrick")]
-    if str(attrs.get("wear_path", "")).startswith("patch"):
+    if attrs.get("contact_shift_modelled"):  # the wear path's flag (rail.contact.WearPath.attributes), never its sentence parsed
         return [("wear on the contact patch's true path (docs/contact.md)", "0.4")]
     return []
 

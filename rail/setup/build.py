@@ -28,6 +28,7 @@ from ..track import Ballast, Pad, Rail, Sleeper, Track, damping_problem, min_har
 from ..wear import WearLaw
 from ..longitudinal import RailHead
 from ..wheelset import Wheelset, hz_text, wheelset_modes
+from ..creepage_sources import rail_flexibility, wheelset_model
 from ..contact.hertz import hertz_half_length
 from ..contact.numerics import rolling_grid
 from .config import ConfigError, configured_speeds, project_schema, schema_default, setting
@@ -302,22 +303,24 @@ def _material_unchecked(cfg: dict) -> ContactMaterial:
 
 
 def _rail_flexibility(cfg: dict):
-    """The rail head's longitudinal flexibility (rail.longitudinal.RailHead), None without it (the report's)."""
-    model = setting(cfg, "rail_flexibility.model")
-    if model == "none":
+    """The rail head's longitudinal flexibility (rail.longitudinal.RailHead), None without it (the report's):
+    rail_flexibility.model (rail.creepage_sources.RailFlexibility), absent at the schema's default."""
+    choice = rail_flexibility(setting(cfg, "rail_flexibility.model"))
+    if not choice.modelled:
         return None
     keys = {"longitudinal_stiffness": "track.pad.longitudinal_stiffness", "longitudinal_loss_factor": "track.pad.longitudinal_loss_factor",
             "longitudinal_viscous_damping": "track.pad.longitudinal_viscous_damping", "head_height": "track.rail.head_height"}
-    return RailHead(_track(cfg), bending=model == "rod_and_bending", **{k: float(setting(cfg, v)) for k, v in keys.items()})
+    return RailHead(_track(cfg), bending=choice.bending, **{k: float(setting(cfg, v)) for k, v in keys.items()})
 
 
 def _longitudinal(cfg: dict):
-    """The wheelset's tread receptance in modal form (rail.wheelset), None for the report's fixed creepage."""
-    w = cfg.get("wheelset")
-    if not w or w["model"] == "fixed_creepage":
+    """The wheelset's tread receptance in modal form (rail.wheelset), None for the report's fixed creepage:
+    wheelset.model (rail.creepage_sources.WheelsetModel), an absent section at the schema's default."""
+    choice = wheelset_model(setting(cfg, "wheelset.model"))
+    if not choice.modelled:
         return None
     keys = ("wheel_inertia", "centre_inertia", "axle_stiffness", "motor_inertia", "coupling_stiffness", "damping")
-    ws = Wheelset(model=str(w["model"]), radius=float(cfg["wheels"]["radius"]), other_wheel=str(setting(cfg, "wheelset.other_wheel")),
+    ws = Wheelset(model=choice.name, radius=float(cfg["wheels"]["radius"]), other_wheel=str(setting(cfg, "wheelset.other_wheel")),
                   **{k: float(setting(cfg, f"wheelset.{k}")) for k in keys})  # every key: the schema holds the defaults
     return wheelset_modes(ws)
 
@@ -386,9 +389,9 @@ def physics_problems(cfg: dict, source: str) -> list[str]:
         for key in ("spacing", "pad", "ballast", "sleeper_mass"):
             if key in cell and len(cell[key]) != nb:
                 out.append(f"{source}: track.cell.{key} has {len(cell[key])} values: it needs one per bay, track.cell.bays = {nb}.")
-        flex = setting(cfg, "rail_flexibility.model")  # the schema's default where the key is absent, as _rail_flexibility reads it
-        if flex != "none":
-            out.append(f"{source}: rail_flexibility.model = {flex!r} is not allowed with track.cell: the rail head's "
+        flex = rail_flexibility(setting(cfg, "rail_flexibility.model"))  # the schema's default where absent, as _rail_flexibility reads it
+        if flex.modelled:
+            out.append(f"{source}: rail_flexibility.model = {flex.name!r} is not allowed with track.cell: the rail head's "
                        "longitudinal receptance (rail.longitudinal.RailHead) is that of the uniform track, so a cell's "
                        "supports and dampers would change the vertical forces but not the head's motion they drive; "
                        "use rail_flexibility.model = 'none' on a cell, or the rail's flexibility on a track without track.cell.")
@@ -499,10 +502,8 @@ def model_notes(scn: Scenario) -> list[str]:
     list of str
         One line each [-]; [] for most scenarios.
     """
-    m = scn.material
-    if m.friction_decay > 0 and not m.friction_static > m.friction_dynamic:
-        return [m.friction_law]
-    return []
+    law = scn.material.friction_law
+    return [law.description] if law.flat else []
 
 
 def spectrum_scenario(cfg: dict, name: str = "default", source: str = "config") -> Scenario:

@@ -25,8 +25,9 @@ import copy
 from collections.abc import Mapping
 from dataclasses import dataclass, field
 
+from ..creepage_sources import wheelset_model
 from .build import OPTIONAL_KEYS, PASSAGE_KEYS
-from .config import ConfigError, deep_merge, schema_default
+from .config import ConfigError, deep_merge, schema_default, setting
 
 __all__ = ["known_value", "speed_label", "fleet_speed_label", "wear_frequency_label", "closure_label", "config_part", "physics_part", "track_part",
            "read_part", "case_base", "RAIL_HEAD_KEYS", "KnownNames",
@@ -196,10 +197,6 @@ def track_part(cfg: dict) -> dict:
 # without it (rail_flexibility absent or model none), and never read by a receptance table.
 RAIL_HEAD_KEYS = ("track.pad.longitudinal_stiffness", "track.pad.longitudinal_loss_factor",
                   "track.pad.longitudinal_viscous_damping", "track.rail.head_height")
-# The wheelset's keys each model leaves unread (rail.wheelset.wheelset_modes): the rigid wheelset reads
-# only its inertias, a torsional one without a drive (motor_inertia 0) no coupling.
-_WHEELSET_UNREAD = {"rigid": ("axle_stiffness", "coupling_stiffness", "damping"),
-                    "torsional_trailer": ("coupling_stiffness",)}
 
 
 def _drop(node: dict, parts: list) -> None:
@@ -270,7 +267,8 @@ def read_part(cfg: dict, schema: dict, base: bool = False) -> dict:
     """
     out = _without_defaults(cfg, schema, schema.get("$defs", {}))
     ws = out.get("wheelset")
-    if ws is not None and ws.get("model") == "fixed_creepage" and (not base or set(ws) == {"model"}):
+    # a wheelset at the schema's default model (fixed_creepage, left out above) is read by nothing
+    if ws is not None and not wheelset_model(setting(out, "wheelset.model", schema)).modelled and (not base or set(ws) <= {"model"}):
         del out["wheelset"]
     if base:
         return out
@@ -281,8 +279,7 @@ def read_part(cfg: dict, schema: dict, base: bool = False) -> dict:
     ws = out.get("wheelset")
     if ws is not None:
         motor = float(ws.get("motor_inertia", schema_default(schema, "wheelset.motor_inertia")))
-        kind = "torsional_trailer" if ws["model"] == "torsional" and motor == 0 else ws["model"]
-        for key in _WHEELSET_UNREAD.get(kind, ()):
+        for key in wheelset_model(setting(out, "wheelset.model", schema)).unread_keys(motor > 0):
             ws.pop(key, None)
     return out
 

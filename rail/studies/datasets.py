@@ -18,7 +18,7 @@ from ..interaction import Roughness, force_history
 from ..moving import MovingReceptance
 from ..setup.build import HalfSpaceFigureSettings
 from ..setup.io import data_var
-from .validity import WEAR_PATH_TEXT
+from ..contact import wear_path as _wear_path
 
 __all__ = ["fig02", "fig03", "fig04", "radiation", "fig05", "fig06",
            "receptance_table", "read_receptance_table", "fig08", "fig22", "wear_case", "fig09", "fig10_11",
@@ -627,13 +627,13 @@ def growth(history, track, speed: float, n_wheels: int, points: int = 601, bays:
     )
 
 
-def with_contact_shift(ds: xr.Dataset, shifts, limit: float, modelled: bool = False) -> xr.Dataset:
+def with_contact_shift(ds: xr.Dataset, shifts, limit: float, path) -> xr.Dataset:
     """The growth dataset ``ds`` with the move of the contact centre at each saved state
-    (rail.chain.ContactShift, one per passage) and, where it is neglected (the wear under the wheel
-    centre, contact.wear_path: wheel) and its sweep error exceeds ``limit`` [-], the attribute
-    ``contact_shift_warning`` (docs/contact.md, "The move of the contact centre"). ``modelled``: the
-    wear is on the patch's true path (contact.wear_path: patch), the move is in the model: reported,
-    not flagged.
+    (rail.chain.ContactShift, one per passage), its wear path as a value (wear_path beside
+    wear_path_description) and, where the move is neglected (the wear under the wheel centre,
+    contact.wear_path: wheel) and its sweep error exceeds ``limit`` [-], the attribute
+    ``contact_shift_warning`` (docs/contact.md, "The move of the contact centre"). Where the path
+    models the move (contact.wear_path: patch, ``path.modelled_shift``) it is reported, not flagged.
 
     Parameters
     ----------
@@ -643,8 +643,8 @@ def with_contact_shift(ds: xr.Dataset, shifts, limit: float, modelled: bool = Fa
         The move of the contact centre [m] and its ratio [-] at each saved state.
     limit : float
         Sweep error above which it is flagged [-].
-    modelled : bool
-        The move is in the model (contact.wear_path: patch).
+    path : rail.contact.WearPath or str
+        The run's wear path (contact.wear_path), or its name.
 
     Returns
     -------
@@ -662,13 +662,13 @@ def with_contact_shift(ds: xr.Dataset, shifts, limit: float, modelled: bool = Fa
         contact_shift_sweep=data_var("passage", sweep, "1", "largest |dc/dx|: the wear depth the neglected move of the contact centre "
                                  "leaves out, relative to the mean wear (beta |c| for a harmonic)"),
     )
-    if modelled:
+    path = _wear_path(path)
+    ds.attrs.update(path.attributes())
+    if path.modelled_shift:
         for name in ("contact_shift", "contact_shift_ratio", "contact_shift_sweep"):
             ds[name].attrs["long_name"] = ds[name].attrs["long_name"].replace("the neglected move", "the move") + (
                 " (in the model: the wear on the patch's true path)")
-        ds.attrs.update(wear_path="patch", wear_path_description=WEAR_PATH_TEXT["patch"])
         return ds
-    ds.attrs.update(wear_path="wheel", wear_path_description=WEAR_PATH_TEXT["wheel"])
     ds.attrs["contact_shift_sweep_limit"] = float(limit)
     over = np.flatnonzero(sweep > limit)
     if over.size:
@@ -687,7 +687,7 @@ def _slug(prefix: str, label: str) -> str:
 
 
 # the model choices of a run that its figure's data states (rail.studies.validity.model_attributes)
-_MODEL_ATTRS = ("wear_path", "wear_path_description", "normal_contact")
+_MODEL_ATTRS = ("wear_path", "wear_path_description", "normal_contact", "normal_contact_description")
 
 
 def _run_models(ds) -> dict:
@@ -699,8 +699,11 @@ def _figure_models(runs: dict) -> dict:
     """The model attributes of a figure drawn from several runs: each run's where they all agree, else
     'mixed' (each variable then states its own run's)."""
     each = [_run_models(ds) for ds in runs.values()]
-    return {k: each[0][k] if all(e[k] == each[0][k] for e in each) else "mixed: see the attribute of each variable"
-            for k in _MODEL_ATTRS}
+    out = {k: each[0][k] if all(e[k] == each[0][k] for e in each) else "mixed: see the attribute of each variable"
+           for k in _MODEL_ATTRS}
+    # the figure's note on the patch's true path (rail.plotting.text.validity_notes) where every run has it
+    out["contact_shift_modelled"] = int(all(int(ds.attrs.get("contact_shift_modelled", 0)) for ds in runs.values()))
+    return out
 
 
 def growth_figure(runs: dict, kind: str, k_max_rad_per_m: float = 525.0) -> xr.Dataset:

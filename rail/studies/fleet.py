@@ -265,9 +265,9 @@ def fleet_growth_dataset(classes, tables: dict, history, fleet: Fleet) -> xr.Dat
     # the move of the contact centre, for the heaviest-weighted class: reported, and flagged where it is
     # neglected (contact.wear_path: wheel) beyond rail.chain.SWEEP_ERROR_LIMIT, as for one train
     ds = datasets.with_contact_shift(ds, [chain.contact_shift(scn, table, Z) for Z in history.Z], chain.SWEEP_ERROR_LIMIT,
-                                     modelled=scn.contact_numerics.path == "patch")
+                                     scn.contact_numerics.path)
     ds.attrs.update({**fleet.attributes(), "force_class": main.label, "speed_m_per_s": fleet.speeds.mean,
-                     "wheels": chain.fleet_wheels(classes), "normal_contact": scn.contact_numerics.normal.name})
+                     "wheels": chain.fleet_wheels(classes), **scn.models.attributes()})
     if creepage_model_text(scn.material):  # the rail's flexibility and the friction law, shared by every class
         ds.attrs["creepage_model"] = creepage_model_text(scn.material)
     ds.attrs["fleet_wheelsets"] = " | ".join(wheelset_lines(classes, fleet))  # each vehicle's axles (rail.chain.wheel_material)

@@ -6,10 +6,11 @@ import numpy as np
 import xarray as xr
 
 from ..contact import ReportNormal, hertz_half_length, normal_contact
+from ..contact import wear_path as contact_wear_path
 from ..growth_spectrum import RateSpectrum, rate_spectrum, settings_lines
 from ..setup.io import data_var
 from .datasets import sweep_coords
-from .validity import WEAR_PATH_TEXT, creepage_model_text, validity_text
+from .validity import creepage_model_text, validity_text
 
 __all__ = ["spectrum_with_settings", "rate_spectrum_dataset", "spectrum_dataset_of", "model_mechanisms",
            "REPORT_VALID_PATCH_LENGTHS", "sweep_rate_spectrum", "growing_bands", "summary_markdown", "PASSAGES_PER_DB"]
@@ -49,7 +50,7 @@ def spectrum_with_settings(scn, tables, settings: dict, progress=None) -> RateSp
 
 
 def rate_spectrum_dataset(spectra: dict[float, RateSpectrum], L: float, wheels: int, contact_length: float | None = None,
-                          normal=None, traffic=None, wear_path: str | None = None) -> xr.Dataset:
+                          normal=None, traffic=None, wear_path=None) -> xr.Dataset:
     """One dataset of the growth-rate spectra of one scenario at several speeds.
 
     Parameters
@@ -66,8 +67,9 @@ def rate_spectrum_dataset(spectra: dict[float, RateSpectrum], L: float, wheels: 
         The normal-contact model or its name (one with a validity limit in patch lengths, the
         report's: valid above about ten patch lengths, stated in the attributes and shaded in the
         figure below that).
-    wear_path : str, optional
-        Where the wear is deposited: 'wheel' or 'patch' (contact.wear_path), stated in the attributes.
+    wear_path : str or rail.contact.WearPath, optional
+        Where the wear is deposited: 'wheel' or 'patch' (contact.wear_path), stated in the attributes as a
+        value beside its description.
     traffic : rail.traffic.Traffic, optional
         For the growth per year and per MGT (growth_dB_per_year, growth_dB_per_MGT).
 
@@ -142,8 +144,9 @@ def rate_spectrum_dataset(spectra: dict[float, RateSpectrum], L: float, wheels: 
                            "growth_dB_per_1e5_axles: per 100,000 axle (wheel) passages",
                **(traffic.attributes() if traffic is not None else {}),
                **({"contact_length_m": float(contact_length)} if contact_length else {}),
-               **({"normal_contact": str(normal)} if normal is not None else {}),
-               **({"wear_path": wear_path, "wear_path_description": WEAR_PATH_TEXT[wear_path]} if wear_path else {}),
+               **({"normal_contact": normal_contact(normal).name, "normal_contact_description": normal_contact(normal).description}
+                  if normal is not None else {}),
+               **(contact_wear_path(wear_path).attributes() if wear_path else {}),
                **({"report_model_valid_above_m": REPORT_VALID_PATCH_LENGTHS * float(contact_length),
                    "validity": f"the report's normal contact (point spring, local-curvature Hertz patch) holds for wavelengths above "
                                f"about {REPORT_VALID_PATCH_LENGTHS} patch lengths ({1e3 * REPORT_VALID_PATCH_LENGTHS * contact_length:.0f} mm); "
@@ -183,9 +186,10 @@ def spectrum_dataset_of(spectra: dict[float, RateSpectrum], scn) -> xr.Dataset:
 
 
 def model_mechanisms(scn) -> dict:
-    """The track and the model's mechanisms of a spectrum, as values for its attributes and its figure
-    (issue 57, item 8: a figure names the track and the mechanisms): the pad stiffness [N/m], and the
-    wheelset, the rail's flexibility and the friction law in words ('none' or the report's where left out).
+    """The track and the model's choices of a spectrum, as values for its attributes and its figure
+    (issue 57, item 8: a figure names the track and the mechanisms; issue 54: each choice a value beside
+    its description): the pad stiffness [N/m] and rail.scenario.ModelChoices.attributes (normal_contact,
+    wear_path, wheelset_model, rail_flexibility, friction_law, each with ``_description``).
 
     Parameters
     ----------
@@ -194,21 +198,9 @@ def model_mechanisms(scn) -> dict:
     Returns
     -------
     dict
-        pad_stiffness_N_per_m, wheelset_model, rail_flexibility_model, friction_law.
+        pad_stiffness_N_per_m [N/m] and the model choices' values and descriptions [-].
     """
-    m = scn.material
-    if m.friction_decay > 0:
-        friction = (f"falling with slip (mu_s = {m.friction_static:g}, mu_d = {m.friction_dynamic:g}, s_0 = {m.friction_decay:g} m/s)"
-                    if m.friction_static > m.friction_dynamic else
-                    f"constant mu = {m.friction_dynamic:g} (friction_decay {m.friction_decay:g} m/s has no effect with mu_s = mu_d)")
-    else:
-        friction = f"step, the report's (mu_s = {m.friction_static:g}, mu_d = {m.friction_dynamic:g})"
-    return {"pad_stiffness_N_per_m": float(scn.track.pad.stiffness),
-            "wheelset_model": m.longitudinal.label if m.longitudinal is not None and m.longitudinal.label else
-            ("wheelset modes" if m.longitudinal is not None else "none: fixed creepage (the report's)"),
-            "rail_flexibility_model": m.rail_flexibility.label if m.rail_flexibility is not None else "none (the report's)",
-            "friction_law": friction}
-
+    return {"pad_stiffness_N_per_m": float(scn.track.pad.stiffness), **scn.models.attributes()}
 
 
 def growing_bands(wavelength, growth_rate):

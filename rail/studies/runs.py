@@ -49,10 +49,10 @@ def growth_dataset(scn: Scenario, table, history, speed: float, warn=None) -> xr
 
     ds = datasets.growth(history, scn.track, speed, len(scn.wheels.positions), bays=bays, force=force)
     ds = datasets.with_contact_shift(ds, [chain.contact_shift(scn, table, Z) for Z in history.Z], chain.SWEEP_ERROR_LIMIT,
-                                     modelled=scn.contact_numerics.path == "patch")
+                                     scn.contact_numerics.path)
     if "contact_shift_warning" in ds.attrs and warn is not None:
         print("warning: " + ds.attrs["contact_shift_warning"], file=warn, flush=True)
-    ds.attrs["normal_contact"] = scn.contact_numerics.normal.name
+    ds.attrs.update(scn.models.attributes())  # each model choice as a value beside its description
     if creepage_model_text(scn.material):
         ds.attrs["creepage_model"] = creepage_model_text(scn.material)
     stated = scn.roughness.statement(scn.L, scn.harmonics)  # what the initial roughness was read from, and how

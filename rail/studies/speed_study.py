@@ -28,12 +28,16 @@ import numpy as np
 import xarray as xr
 import yaml
 
+from ..contact import friction_law
+from ..creepage_sources import rail_flexibility, wheelset_model
+from ..setup.config import setting
 from ..setup.io import data_var
 
 __all__ = ["mechanism_label", "track_label", "study_dataset", "verdict", "summary_table"]
 
 def mechanism_label(cfg: dict) -> str:
-    """The mechanisms of ū(t) a resolved scenario configuration switches on, in words.
+    """The mechanisms of ū(t) a resolved scenario configuration switches on, in words, each asked of its
+    model choice (rail.creepage_sources, rail.contact.FrictionLaw), a key left out at the schema's default.
 
     Parameters
     ----------
@@ -48,20 +52,15 @@ def mechanism_label(cfg: dict) -> str:
         "rail flexibility" (rail_flexibility.model other than none), "falling friction"
         (contact.friction_decay > 0 with friction_dynamic below friction_static).
     """
-    parts = []
-    ws = cfg.get("wheelset") or {}
-    model = ws.get("model", "none")
-    if model == "torsional":
-        parts.append("motored wheelset" if float(ws.get("motor_inertia", 0.0) or 0.0) > 0 else "trailer wheelset")
-    elif model not in (None, "none"):
-        parts.append(f"{model} wheelset")
-    rf = (cfg.get("rail_flexibility") or {}).get("model", "none")
-    if rf not in (None, "none"):
+    wheelset = wheelset_model(setting(cfg, "wheelset.model"))
+    parts = [wheelset.mechanism(driven=float(setting(cfg, "wheelset.motor_inertia")) > 0)]
+    if rail_flexibility(setting(cfg, "rail_flexibility.model")).modelled:
         parts.append("rail flexibility")
     c = cfg.get("contact") or {}
-    if float(c.get("friction_decay", 0.0) or 0.0) > 0 and c.get("friction_dynamic") is not None \
-            and float(c["friction_dynamic"]) < float(c.get("friction_static", c["friction_dynamic"])):
+    if "friction_dynamic" in c and friction_law(setting(cfg, "contact.friction_decay"), c.get("friction_static", c["friction_dynamic"]),
+                                                c["friction_dynamic"]).falling:
         parts.append("falling friction")
+    parts = [p for p in parts if p]
     return " + ".join(parts) if parts else "fixed creepage"
 
 

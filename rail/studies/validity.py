@@ -5,40 +5,63 @@ from __future__ import annotations
 
 import numpy as np
 
+from .. import contact
 from ..wheelset import hz_text
 
-__all__ = ["VALIDITY_ATTRS", "WEAR_PATH_TEXT", "NOT_USED", "model_attributes", "validity_text", "creepage_model_text"]
+__all__ = ["VALIDITY_ATTRS", "NOT_USED", "NO_WEAR", "model_attributes", "stated_wear_path", "validity_text", "creepage_model_text"]
 
-VALIDITY_ATTRS = ("wear_path", "wear_path_description", "contact_shift_warning", "normal_contact", "validity", "creepage_model")
-# the attribute wear_path_description of every result, by its wear_path (contact.wear_path)
-WEAR_PATH_TEXT = {"patch": "patch: the wear where the contact patch is, its centre c(x_w) from the wheel (docs/contact.md)",
-                  "wheel": "wheel: the wear under the wheel centre (the report's); the move of the contact centre is neglected",
-                  "none": "none: no wear is computed for this result"}
+VALIDITY_ATTRS = ("wear_path", "wear_path_description", "contact_shift_modelled", "contact_shift_warning", "normal_contact",
+                  "normal_contact_description", "validity", "creepage_model")
 NOT_USED = "none"  # the value of wear_path or normal_contact where a result uses no wear or no wheel/rail contact model
+# the attribute wear_path_description of a result that computes no wear (wear_path = NOT_USED)
+NO_WEAR = "none: no wear is computed for this result"
+NO_CONTACT = "none: no wheel/rail contact is modelled for this result"
 
 
-def model_attributes(wear_path: str, normal) -> dict:
-    """The model choices of a result as values (issue 57, item 8): ``wear_path`` ('patch', 'wheel', or
-    'none' where no wear is computed) beside its description ``wear_path_description``, and
+def model_attributes(wear_path, normal) -> dict:
+    """The model choices of a result as values (issue 57, item 8; issue 54): ``wear_path`` ('patch',
+    'wheel', or 'none' where no wear is computed) beside its description ``wear_path_description``, and
     ``normal_contact`` (the model's config value, 'report' or 'nonhertzian', or 'none' where no
-    wheel/rail contact is modelled).
+    wheel/rail contact is modelled) beside ``normal_contact_description``; each from its model object
+    (rail.scenario.ModelChoices.attributes writes every choice of a scenario).
 
     Parameters
     ----------
-    wear_path : str
-        contact.wear_path, or NOT_USED.
+    wear_path : str or rail.contact.WearPath
+        contact.wear_path (the object or its name), or NOT_USED.
     normal : str or rail.contact.NormalContact
-        contact.normal (its name), or NOT_USED.
+        contact.normal (the object or its name), or NOT_USED.
 
     Returns
     -------
     dict
-        The three attributes.
+        The five attributes.
     """
-    path = str(wear_path)
-    if path not in WEAR_PATH_TEXT:
-        raise ValueError(f"wear_path = {path!r} is not allowed: it must be one of {list(WEAR_PATH_TEXT)}.")
-    return {"wear_path": path, "wear_path_description": WEAR_PATH_TEXT[path], "normal_contact": str(normal)}
+    path = None if str(wear_path) == NOT_USED else contact.wear_path(wear_path)
+    model = None if str(normal) == NOT_USED else contact.normal_contact(normal)
+    return {**({"wear_path": NOT_USED, "wear_path_description": NO_WEAR, "contact_shift_modelled": 0} if path is None else path.attributes()),
+            "normal_contact": NOT_USED if model is None else model.name,
+            "normal_contact_description": NO_CONTACT if model is None else model.description}
+
+
+def stated_wear_path(attrs):
+    """The wear path a result states (its attribute wear_path, a value), as its model object.
+
+    Parameters
+    ----------
+    attrs : mapping
+        A dataset's attributes.
+
+    Returns
+    -------
+    rail.contact.WearPath or None
+        None where the result states none, computes no wear ('none'), or predates the values (a
+        sentence such as 'patch: the wear ...' is not parsed back: 'not stated').
+    """
+    try:
+        return contact.wear_path(attrs.get("wear_path"))
+    except ValueError:
+        return None
 
 
 def validity_text(attrs) -> str:
@@ -58,12 +81,9 @@ def validity_text(attrs) -> str:
         '' where the attributes say nothing.
     """
     parts = []
-    path = str(attrs.get("wear_path", ""))
-    if path.startswith("patch"):
-        parts.append("wear on the contact patch's true path (its centre's move modelled)")
-    elif path.startswith("wheel"):
-        parts.append("wear under the wheel centre (the report's model): the contact centre's move, a wear term of about "
-                     "1.8 w R_w beta^2 per unit roughness for long waves, is left out (contact.wear_path: patch models it)")
+    path = stated_wear_path(attrs)
+    if path is not None:
+        parts.append(path.validity)
     if attrs.get("contact_shift_warning"):
         parts.append("OUTSIDE VALIDITY: " + str(attrs["contact_shift_warning"]))
     if attrs.get("creepage_model"):
@@ -100,7 +120,7 @@ def creepage_model_text(material) -> str:
         parts.append(f"dynamic creepage from the {modes.label or 'wheelset'} (modes at {freqs} Hz{idle}{rail})")
     if head is not None:
         parts.append(f"dynamic creepage from the {head.label} (rail.longitudinal)")
-    if material.friction_decay > 0:
-        parts.append(material.friction_law)
+    if material.friction_decay > 0:  # the falling law, or one made flat by mu_s = mu_d, said so
+        parts.append(material.friction_law.description)
     return "; ".join(parts)
 
