@@ -234,7 +234,7 @@ def _spectrum_settings(study: Study, door: str, **given) -> tuple[dict, dict]:
     """
     for name in ("per_octave", "bays", "grid_phases"):
         if given[name] is not None:
-            _count(name, given[name])
+            given[name] = _count(name, given[name])  # a whole float (40.0) is taken as the int it is
     for name in ("shortest", "longest"):
         value = given[name]
         if value is not None and (isinstance(value, bool) or not isinstance(value, numbers.Real)):
