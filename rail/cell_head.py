@@ -14,7 +14,7 @@ What is modelled
 * **The rail dampers act vertically only.** A tuned rail damper (masses in an elastomer clipped to
   the web and foot) is designed and characterised for the rail's vertical and lateral vibration
   (Thompson, Jones, Waters & Farrington, Applied Acoustics 68 (2007) 43-57; modelled vertically by
-  Croft, Jones & Thompson, J. Sound Vib. 323 (2009) 17-32); no longitudinal tuning or stiffness is
+  Croft, Jones & Thompson, J. Sound Vib. 323 (2009)); no longitudinal tuning or stiffness is
   published, so the damper adds no spring to the rod. It acts on the head through the bending: its
   vertical force K_D w (rail.cell.point_stiffness) is in the cell's Timoshenko solution whose rotation
   psi moves the head by e psi. Its force acts through the section (web): no moment on the rail.
