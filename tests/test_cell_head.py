@@ -22,8 +22,8 @@ DAMPER = {"mass": 4.0, "frequency": 1070.0, "loss_factor": 0.35, "viscous_dampin
 def test_a_cell_of_identical_bays_gives_the_uniform_tracks_head_tables_in_every_class():
     # The cell's one table over its harmonics q Omega_P holds the uniform track's class r = q mod N at (q, q') with
     # q = q' (mod N); every other entry vanishes. Both by their own adaptive rules (the uniform per class, the cell
-    # over beta_P = beta0 / N) at rtol 1e-5: measured (N = 2, K = 2, 40 m/s) within 5.2e-7 of each entry above 1e-3
-    # of its table's largest, and the other entries below 6e-16 of it (rounding).
+    # over beta_P = beta0 / N) at rtol 1e-5: measured (N = 3, K = 2, 40 m/s) within 2.0e-7 of each entry above 1e-3
+    # of its table's largest, and the other entries below 1.2e-14 of it (rounding).
     K, N, V, rtol = 2, 3, 40.0, 1e-5
     cell = CellHead(TrackCell.uniform(TRACK, N))
     tab = cell_head_table(cell, V, N * K, rtol)
