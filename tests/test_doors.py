@@ -459,3 +459,33 @@ def test_fuzzed_fleets_and_track_cells_run_or_are_refused_in_one_line_per_proble
             assert "bays" in str(e) and "Traceback" not in str(e), str(e)
     finally:
         api.chain.fleet_tables, api.chain.receptance_table = saved
+
+
+DAMPERS_FLEX = """track:
+  cell:
+    bays: 2
+    damper: {mass: 4.0, frequency: 1070.0, loss_factor: 0.35, position: 0.5}
+roughness:
+  bays: 2
+numerics:
+  track:
+    harmonics: 36
+figures:
+  rate_spectrum: {bays: 2, shortest: 0.02, longest: 0.07, per_octave: 12}
+rail_flexibility:
+  model: rod_and_bending
+"""
+
+
+def test_a_track_cell_with_rail_dampers_and_the_rails_flexibility_passes_check_and_the_api(tmp_path, capsys):
+    # issue 55: refused at start-up ("rail_flexibility.model ... is not allowed with track.cell") until the rail head
+    # had the track cell's own receptances (rail.cell_head); now one ok line, and the head on the cell's supports
+    from rail.cell_head import CellHead
+
+    path = tmp_path / "dampers.yaml"
+    path.write_text(DAMPERS_FLEX)
+    assert cli.main(["check", str(path)]) == 0
+    captured = capsys.readouterr()
+    assert "not allowed" not in captured.err and len(captured.out.splitlines()) == 1, captured
+    head = api.load(path).scenario.material.rail_flexibility
+    assert isinstance(head, CellHead) and len(head.cell.dampers) == 2 and head.bending
