@@ -200,7 +200,7 @@ def point_stiffness(cell: TrackCell, omega) -> np.ndarray:
     return np.stack(np.broadcast_arrays(*out), axis=-1)
 
 
-def cell_lattice_sum(beta, omega, x: float, period: float, track: Track):
+def cell_lattice_sum(beta, omega, x: float, period: float, track: Track, poles=None):
     """Phased lattice sum over the cell, S_x(beta) = sum_m H(beta + m beta_P, omega) exp(i (beta + m beta_P) x).
 
     Closed form per partial fraction of H (docs/track.md, "Lattice sums in closed form", with L -> P):
@@ -222,6 +222,10 @@ def cell_lattice_sum(beta, omega, x: float, period: float, track: Track):
         P [m].
     track : Track
         The rail (only its rail and damping model are used).
+    poles : (c, p), optional
+        The partial fractions H = sum_j c_j / (beta^2 - p_j^2) of another free receptance, c_j [1/N] and p_j
+        [rad/m] with Im p_j >= 0, each broadcast with beta (the axial rod's, rail.cell_head); default the
+        Timoshenko rail's (rail.track.free_receptance_poles).
 
     Returns
     -------
@@ -232,7 +236,7 @@ def cell_lattice_sum(beta, omega, x: float, period: float, track: Track):
     P = float(period)
     if not -P < x < P:
         raise ValueError(f"x = {x!r} m must lie in (-P, P) = ({-P}, {P}) m.")
-    c, p = free_receptance_poles(omega, track)
+    c, p = free_receptance_poles(omega, track) if poles is None else poles
     eBP = np.exp(1j * beta * P)
     out = 0j
     xr = x + P if x < 0 else x

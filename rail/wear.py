@@ -22,6 +22,7 @@ from dataclasses import dataclass
 
 import numpy as np
 
+from .cell_head import CellHead, cell_head_operator
 from .contact import ContactMaterial, ContactNumerics, carter, solve_tangential
 from .contact.creep import carter_creep_slope, periodic_response, precondition
 from .contact.hertz import ContactError
@@ -317,7 +318,7 @@ def march_with_creepage(mi: MarchInputs, material: ContactMaterial, speed: float
         The passage's inputs (march_inputs): force [N], half-length [m], grid, step times [s].
     material : ContactMaterial
         With ``longitudinal`` (rail.contact.creep.LongitudinalModes) or None, and ``rail_flexibility``
-        (rail.longitudinal.RailHead) or None.
+        (rail.longitudinal.RailHead, or rail.cell_head.CellHead on a track cell) or None.
     speed : float
         V [m/s].
     numerics : ContactNumerics
@@ -441,7 +442,8 @@ def steady_material(material: ContactMaterial, speed: float) -> ContactMaterial:
 
 def _rail_operator(head, speed: float, harmonics, mi: MarchInputs):
     """The rail head's operator over the march's period (rail.longitudinal.head_operator): N bays from
-    the grid, K from the force table."""
+    the grid, K from the force table; on a track cell (rail.cell_head.CellHead) the cell's one table over
+    the force table's harmonics J, the period the cell's."""
     if harmonics is None:
         raise ValueError("march_with_creepage needs harmonics (the force table's K) with material.rail_flexibility.")
     span = mi.Nx * mi.delta / head.track.L
@@ -449,6 +451,11 @@ def _rail_operator(head, speed: float, harmonics, mi: MarchInputs):
     if bays < 1 or abs(span - bays) > 1e-6 * span:
         raise ValueError(f"the march's period ({mi.Nx} x {mi.delta:g} m) is not a whole number of sleeper bays of "
                          f"{head.track.L:g} m: the rail's flexibility needs the period of the track.")
+    if isinstance(head, CellHead):
+        if bays != head.cell.bays:
+            raise ValueError(f"the march's period holds {bays} bays, the track cell {head.cell.bays}: the rail's flexibility "
+                             "on a cell needs the cell's period.")
+        return cell_head_operator(head, speed, int(harmonics))
     return head_operator(head, speed, int(harmonics), bays)
 
 

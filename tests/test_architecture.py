@@ -221,6 +221,7 @@ PHYSICS_ORDER = [
     ({"cell"}, "supports that vary over a cell of bays, built from track's parts"),
     ({"moving", "decay", "longitudinal"}, "moving-load receptances of a track cell; its EN 15461 decay rate; the rail "
      "head's longitudinal receptances under moving loads (the same Bloch method, on the track alone)"),
+    ({"cell_head"}, "the rail head's longitudinal receptances on a track cell (longitudinal's transfers on the cell's supports)"),
     ({"roughness", "interaction"}, "roughness over N bays; wheel/rail forces on it (4.3), through the moving receptances"),
     ({"contact"}, "normal and tangential contact (4.4), along the force histories"),
     ({"wheelset", "wear", "growth", "creepage_sources"}, "the wheelset's modes in the slip; frictional-work wear (4.5); growth over "

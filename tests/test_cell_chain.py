@@ -11,6 +11,7 @@ import pytest
 from rail import interaction as I
 from rail import moving
 from rail.cell import RandomSupports, TrackCell, cell_stationary_receptance, make_cell
+from rail.cell_head import CellHead
 from rail.setup import build, config
 from rail.setup.config import ConfigError
 
@@ -136,15 +137,21 @@ def test_cell_configuration_is_checked_at_start_up(cfg):
     bad = config.deep_merge(cfg, {"track": {"cell": {"bays": 4}}, "roughness": {"bays": 2}})
     with pytest.raises(ConfigError, match=r"roughness.bays = 2 is not allowed with track.cell.bays = 4"):
         build.scenario(bad)
-    # the rail head's longitudinal receptance is the uniform track's: a cell with the rail's flexibility is refused,
-    # in the run's and in the spectrum's scenario alike
+    # issue 55: a cell with the rail's flexibility (refused until the head had a cell of its own) builds the head on
+    # the cell's supports and dampers (rail.cell_head.CellHead), in the run's and in the spectrum's scenario alike
     flex = config.deep_merge(cfg, {"track": {"cell": {"bays": 2, "damper": {"mass": 4.0, "frequency": 1070.0}}},
                                    "roughness": {"bays": 2}, "figures": {"rate_spectrum": {"bays": 2}},
                                    "rail_flexibility": {"model": "rod_and_bending"}})
     for make in (build.scenario, build.spectrum_scenario):
-        with pytest.raises(ConfigError, match=r"rail_flexibility.model = 'rod_and_bending' is not allowed with track.cell"):
-            make(flex)
-    build.scenario(config.deep_merge(flex, {"rail_flexibility": {"model": "none"}}))
+        head = make(flex).material.rail_flexibility
+        assert isinstance(head, CellHead) and head.bending and head.cell == build.track_cell(flex)
+        assert len(head.cell.dampers) == 2 and "2 rail dampers act vertically only" in head.label
+    rod = build.scenario(config.deep_merge(flex, {"rail_flexibility": {"model": "rod"}})).material.rail_flexibility
+    assert isinstance(rod, CellHead) and not rod.bending
+    assert build.scenario(config.deep_merge(flex, {"rail_flexibility": {"model": "none"}})).material.rail_flexibility is None
+    # a bad value of the head's keys is still refused on a cell, naming the key
+    with pytest.raises(ConfigError, match=r"track.pad.longitudinal_stiffness"):
+        build.scenario(config.deep_merge(flex, {"track": {"pad": {"longitudinal_stiffness": 1.0}}}))
     good = config.deep_merge(cfg, {"track": {"cell": {"bays": 4, "spacing": [0.55, 0.65, 0.6, 0.6]}}, "roughness": {"bays": 4}})
     scn = build.scenario(good)
     assert scn.cell.bays == 4 and scn.track.L == pytest.approx(0.6)

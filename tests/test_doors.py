@@ -471,3 +471,33 @@ def test_a_whole_float_period_given_to_the_api_is_taken_as_the_int_it_is():
     assert s["bays"] == 4 and type(s["bays"]) is int
     with pytest.raises(ConfigError, match=r"bays = 4.5 is not allowed: it must be a whole number"):
         api._spectrum_settings(study, "spectrum", shortest=None, longest=None, per_octave=None, bays=4.5, grid_phases=None)
+
+
+DAMPERS_FLEX = """track:
+  cell:
+    bays: 2
+    damper: {mass: 4.0, frequency: 1070.0, loss_factor: 0.35, position: 0.5}
+roughness:
+  bays: 2
+numerics:
+  track:
+    harmonics: 36
+figures:
+  rate_spectrum: {bays: 2, shortest: 0.02, longest: 0.07, per_octave: 12}
+rail_flexibility:
+  model: rod_and_bending
+"""
+
+
+def test_a_track_cell_with_rail_dampers_and_the_rails_flexibility_passes_check_and_the_api(tmp_path, capsys):
+    # issue 55: refused at start-up ("rail_flexibility.model ... is not allowed with track.cell") until the rail head
+    # had the track cell's own receptances (rail.cell_head); now one ok line, and the head on the cell's supports
+    from rail.cell_head import CellHead
+
+    path = tmp_path / "dampers.yaml"
+    path.write_text(DAMPERS_FLEX)
+    assert cli.main(["check", str(path)]) == 0
+    captured = capsys.readouterr()
+    assert "not allowed" not in captured.err and len(captured.out.splitlines()) == 1, captured
+    head = api.load(path).scenario.material.rail_flexibility
+    assert isinstance(head, CellHead) and len(head.cell.dampers) == 2 and head.bending

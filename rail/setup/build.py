@@ -17,6 +17,7 @@ from dataclasses import dataclass
 import numpy as np
 
 from ..cell import RandomSupports, TrackCell, make_cell
+from ..cell_head import CellHead
 from ..contact import ContactMaterial, ContactNumerics
 from ..fleet import Fleet, Vehicle, speed_classes
 from ..growth import GrowthSettings
@@ -303,14 +304,19 @@ def _material_unchecked(cfg: dict) -> ContactMaterial:
 
 
 def _rail_flexibility(cfg: dict):
-    """The rail head's longitudinal flexibility (rail.longitudinal.RailHead), None without it (the report's):
-    rail_flexibility.model (rail.creepage_sources.RailFlexibility), absent at the schema's default."""
+    """The rail head's longitudinal flexibility (rail.longitudinal.RailHead; on a track cell rail.cell_head.CellHead,
+    the cell's supports and dampers), None without it (the report's): rail_flexibility.model
+    (rail.creepage_sources.RailFlexibility), absent at the schema's default."""
     choice = rail_flexibility(setting(cfg, "rail_flexibility.model"))
     if not choice.modelled:
         return None
     keys = {"longitudinal_stiffness": "track.pad.longitudinal_stiffness", "longitudinal_loss_factor": "track.pad.longitudinal_loss_factor",
             "longitudinal_viscous_damping": "track.pad.longitudinal_viscous_damping", "head_height": "track.rail.head_height"}
-    return RailHead(_track(cfg), bending=choice.bending, **{k: float(setting(cfg, v)) for k, v in keys.items()})
+    kw = {k: float(setting(cfg, v)) for k, v in keys.items()}
+    cell = track_cell(cfg)
+    if cell is not None:
+        return CellHead(cell, bending=choice.bending, **kw)
+    return RailHead(_track(cfg), bending=choice.bending, **kw)
 
 
 def _longitudinal(cfg: dict):
@@ -389,12 +395,6 @@ def physics_problems(cfg: dict, source: str) -> list[str]:
         for key in ("spacing", "pad", "ballast", "sleeper_mass"):
             if key in cell and len(cell[key]) != nb:
                 out.append(f"{source}: track.cell.{key} has {len(cell[key])} values: it needs one per bay, track.cell.bays = {nb}.")
-        flex = rail_flexibility(setting(cfg, "rail_flexibility.model"))  # the schema's default where absent, as _rail_flexibility reads it
-        if flex.modelled:
-            out.append(f"{source}: rail_flexibility.model = {flex.name!r} is not allowed with track.cell: the rail head's "
-                       "longitudinal receptance (rail.longitudinal.RailHead) is that of the uniform track, so a cell's "
-                       "supports and dampers would change the vertical forces but not the head's motion they drive; "
-                       "use rail_flexibility.model = 'none' on a cell, or the rail's flexibility on a track without track.cell.")
         if "spacing" in cell and len(cell["spacing"]) == nb:
             tr = dataclasses.replace(tr, sleeper=Sleeper(tr.sleeper.mass, float(np.mean(cell["spacing"]))))
     out += dynamic_creepage_problems(cfg, source)

@@ -119,7 +119,7 @@ def creepage_model_text(material) -> str:
         idle = f"; not excited at this wheel: {', '.join(hz_text(f) for f in idle)} Hz" if idle else ""
         parts.append(f"dynamic creepage from the {modes.label or 'wheelset'} (modes at {freqs} Hz{idle}{rail})")
     if head is not None:
-        parts.append(f"dynamic creepage from the {head.label} (rail.longitudinal)")
+        parts.append(f"dynamic creepage from the {head.label} ({'rail.cell_head' if hasattr(head, 'cell') else 'rail.longitudinal'})")
     if material.friction_decay > 0:  # the falling law, or one made flat by mu_s = mu_d, said so
         parts.append(material.friction_law.description)
     return "; ".join(parts)

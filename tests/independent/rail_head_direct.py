@@ -106,3 +106,53 @@ def stationary_rod(x0, omega, track, kx, eta_x, n=400):
     Aeq = np.eye(xs.size) / K + rod_green(xs[:, None] - xs[None, :], omega, track)
     R = np.linalg.solve(Aeq, rod_green(xs - x0, omega, track))
     return rod_green(0.0, omega, track) - rod_green(x0 - xs, omega, track) @ R
+
+
+# --------------------------------------------------------------------------------------------------
+# uneven supports: a finite row of a track cell's attachments (issue 55, rail.cell_head)
+
+
+def _spring(k0, eta, c, omega, damping):
+    return k0 * (1 + 1j * eta * np.sign(omega)) if damping == "hysteretic" else k0 + 1j * omega * c
+
+
+def cell_row(cell, omega, cells):
+    """Positions [m] and dynamic stiffnesses [N/m] of the cell's attachments over 2 cells + 1 periods: the
+    vertical ones (every support: pad in series with the sleeper on its ballast; every damper: its spring in
+    series with its mass) and the longitudinal ones of rail.cell_head's model written out here again (each
+    support's pad sheared, k_x scaled by the support's pad factor, the sleeper held; no damper)."""
+    d = cell.track.damping
+    vert_x, vert_k, sup_x, sup_f = [], [], [], []
+    for m in range(-cells, cells + 1):
+        for s in cell.supports:
+            kp = _spring(s.pad.stiffness, s.pad.loss_factor, s.pad.viscous_damping, omega, d)
+            kb = _spring(s.ballast.stiffness, s.ballast.loss_factor, s.ballast.viscous_damping, omega, d) - s.sleeper_mass * omega**2
+            vert_x.append(s.position + m * cell.period)
+            vert_k.append(kp * kb / (kp + kb))
+            sup_x.append(s.position + m * cell.period)
+            sup_f.append(s.pad.stiffness / cell.track.pad.stiffness)
+        for dm in cell.dampers:
+            kd = _spring(dm.stiffness, dm.loss_factor, dm.viscous_damping, omega, d)
+            vert_x.append(dm.position + m * cell.period)
+            vert_k.append(kd * (-dm.mass * omega**2) / (kd - dm.mass * omega**2))
+    return np.array(vert_x), np.array(vert_k), np.array(sup_x), np.array(sup_f)
+
+
+def stationary_beam_row(x0, omega, track, xs, Ks):
+    """(psi/F, psi/M) at the load point x0 [m] of the rail on point attachments at xs of stiffnesses Ks."""
+    G = beam_green(xs[:, None] - xs[None, :], omega, track)[0]
+    Aeq = np.diag(1 / Ks) + G
+    Gl = beam_green(np.array([0.0]), omega, track)
+    Gs = beam_green(x0 - xs, omega, track)
+    out = []
+    for load in (0, 1):  # F, M
+        R = np.linalg.solve(Aeq, beam_green(xs - x0, omega, track)[load])
+        out.append(Gl[2 + load][0] - Gs[2] @ R)
+    return tuple(out)
+
+
+def stationary_rod_row(x0, omega, track, xs, Kx):
+    """u at the load point x0 per unit longitudinal force, the rod on longitudinal springs Kx at xs."""
+    Aeq = np.diag(1 / Kx) + rod_green(xs[:, None] - xs[None, :], omega, track)
+    R = np.linalg.solve(Aeq, rod_green(xs - x0, omega, track))
+    return rod_green(0.0, omega, track) - rod_green(x0 - xs, omega, track) @ R
