@@ -13,7 +13,7 @@ import numpy as np
 from .. import chain, wear
 from ..contact.tangent import work_tangent
 from ..interaction import Roughness
-from .creepage import closed_loop_wear, has_creepage
+from .creepage import closed_loop_wear, creepage_reference, has_creepage
 from .probes import GridMismatch, batches
 
 __all__ = ["tangent_batches", "probe_roughness", "check_held_grid", "input_names", "column_chunk", "wear_tangent", "line_coefficient",
@@ -244,7 +244,7 @@ def cos_sin_column(D):
     return 2 * D.real, -2 * D.imag
 
 
-def linear_rates(scn, tabs, free, locked, eps, phase, max_columns=None, progress=None):
+def linear_rates(scn, tabs, free, locked, eps, phase, max_columns=None, progress=None, details=None):
     """R_j at the free lines (and their sideband ratios) and the 2 x 2 operators M at the locked lines
     (line, kind), by the tangent of the contact march about the smooth rail (method 'linear').
 
@@ -282,6 +282,14 @@ def linear_rates(scn, tabs, free, locked, eps, phase, max_columns=None, progress
         Most probe columns per tangent march [-] (column_chunk).
     progress : callable, optional
         progress(i, n) [-] as above.
+    details : dict, optional
+        Filled, if given, with what the spectrum's other parts take from the smooth rail's march over one bay
+        instead of marching it again: 'smooth_wear', the smooth rail's wear coefficients per train passage over
+        one bay (rail.chain.train_wear's, 2 K + 1) [m]; 'wheels', per wheel in rolling order (index, one-bay march
+        inputs, CreepageReference or None: its state with u_bar, converged to creepage.REFERENCE_TOL); and
+        'ubar', {(j, kind): per wheel the closed loop's delta u_bar per unit amplitude of the probe's complex
+        direction (closed_loop_wear's predictions) or None} (the probes' amplitude is eps; kind 'free': the direction
+        is twice the class's part over eps).
 
     Returns
     -------
@@ -303,14 +311,26 @@ def linear_rates(scn, tabs, free, locked, eps, phase, max_columns=None, progress
     Z01 = np.zeros(2 * K + 1, dtype=complex)
     f1 = chain.solve_forces(s1, tabs[0], Roughness(Z01, 1))
     order = [int(l) for l in np.argsort(scn.wheels.positions)[::-1]]
-    # the reference inputs of each wheel over one bay, and the smooth rail's wear before each wheel
-    ref, cur1, wear_before = [], Roughness(Z01, 1), []
+    # the reference inputs of each wheel over one bay, and the smooth rail's wear before each wheel; with u_bar the
+    # smooth rail's state converged once (creepage_reference), the tangent's reference and the smooth rail's wear
+    ref, cur1, wear_before, creep = [], Roughness(Z01, 1), [], []
+    W01 = np.zeros_like(Z01)
     for l in order:
-        mi = wear.march_inputs(f1, l, cur1, chain.wheel_material(scn, l), nums, phase)
+        mat = chain.wheel_material(scn, l)
+        mi = wear.march_inputs(f1, l, cur1, mat, nums, phase)
         ref.append(mi)
-        w = chain.passage_wear(s1, f1, cur1, l, phase)
+        if has_creepage(mat):
+            cr = creepage_reference(mi, mat, tabs[0].speed, nums, K)
+            depth = scn.wear_law.depth(cr.work)
+            if not np.all(np.isfinite(depth)):
+                raise FloatingPointError(f"the wear depth of wheel {l} is not finite (V = {tabs[0].speed:g} m/s).")
+            wZ = wear.wear_spectrum(depth, K)
+        else:
+            cr, wZ = None, chain.passage_wear(s1, f1, cur1, l, phase).Z
+        creep.append(cr)
         wear_before.append(cur1.Z.copy())
-        cur1 = wear.apply_wear(cur1, w.Z)
+        W01 += wZ
+        cur1 = wear.apply_wear(cur1, wZ)
     # the same on the N-bay period (the 1-bay coefficients k on the lines k N)
     def on_period(Z1):
         Z = np.zeros(2 * J + 1, dtype=complex)
@@ -363,6 +383,7 @@ def linear_rates(scn, tabs, free, locked, eps, phase, max_columns=None, progress
     # grids may hold a different number of points per bay (4131 and 4132 for two axles of one
     # locomotive at 40 m/s); wheels on grids of one size are summed there, each size transformed apart
     gws = {}
+    ubar = {(j, kind): [None] * len(order) for j, kind, imag in cols if not imag}
     if progress is not None:
         progress(0, len(order), "tangent marches")
     for w_i, l in enumerate(order):
@@ -374,7 +395,12 @@ def linear_rates(scn, tabs, free, locked, eps, phase, max_columns=None, progress
             d = {name: np.moveaxis(np.array(dirs[w_i][name]), 0, -1) for name in names}
             groups = [(j % N, c, c + 1 if kind == "free" else None) for c, (j, kind, imag) in enumerate(cols) if not imag]
             kd = scn.wear_law.coefficient / scn.wear_law.density
-            gw += kd * closed_loop_wear(scn, l, mi1, tabs[0].speed, d, groups, _bay_tangent(scn, mi1, tabs[0].speed, max_columns))
+            pred = {}
+            gw += kd * closed_loop_wear(scn, l, mi1, tabs[0].speed, d, groups, _bay_tangent(scn, mi1, tabs[0].speed, max_columns),
+                                        ref=creep[w_i], predictions=pred)
+            for c, (j, kind, imag) in enumerate(cols):
+                if not imag:
+                    ubar[(j, kind)][w_i] = pred[c]
             continue
         chunk = column_chunk(mi1, ncol, max_columns)
         for c0 in range(0, ncol, chunk):
@@ -397,4 +423,6 @@ def linear_rates(scn, tabs, free, locked, eps, phase, max_columns=None, progress
             Ms.setdefault(j, {})[kind] = cos_sin_column(line_coefficient(gws, c, j, N))
             c += 1
     Mout = {j: np.array([v["cos"], v["sin"]]).T for j, v in Ms.items()}
+    if details is not None:
+        details.update(smooth_wear=W01, wheels=[(l, ref[w_i], creep[w_i]) for w_i, l in enumerate(order)], ubar=ubar)
     return R, side, Mout
