@@ -45,12 +45,11 @@ from .._lazyjit import njit
 from ..contact.hertz import ContactError
 from ..contact.steady import carter
 from ..longitudinal import head_operator
-from ..interaction import Roughness
-from ..wear import CreepageState, apply_wear, march_inputs, march_with_creepage, steady_material, wear_spectrum
+from ..wear import CreepageState, march_with_creepage, steady_material
 from .probes import GridMismatch
 
 __all__ = ["has_creepage", "CreepageReference", "creepage_reference", "closed_loop_wear", "discrete_mode_response",
-           "periodic_response_dt", "warm_train_wear"]
+           "periodic_response_dt"]
 
 # the smooth rail's u_bar and the linearity check's probes (warm_train_wear): Newton steps down to this fraction of the
 # creep velocity. 1e-8 (until 2026-12-02) left the check's probes of 2 eps = 2 nm tolerance-bound (measured on the tests'
@@ -534,70 +533,3 @@ def closed_loop_wear(scn, wheel: int, mi1, speed: float, d: dict, groups, tangen
             if g[2] is not None:
                 out[:, g[2]] = dW[:, i].imag
     return out
-
-
-def warm_train_wear(scn, tabs, Z, grid_phase: float, refs, starts):
-    """The wear of one train passage over the roughness Z (as rail.chain.train_wear: the wheels in turn, each on the
-    profile the one before left), each wheel's march on its smooth rail's grid held and, with u_bar, its Newton
-    steps (march_with_creepage to REFERENCE_TOL) started from the smooth rail's u_bar_0 plus a given change (the
-    linear method's prediction): the linearity check of the linear method with dynamic creepage
-    (rail.growth_spectrum.spectrum). From the prediction the Newton steps have only the probe's nonlinear part
-    of u_bar left to find (one march where it is below REFERENCE_TOL; more where it is not), against five to ten
-    marches from u_bar = 0; the state reached is the same periodic state to REFERENCE_TOL.
-
-    Parameters
-    ----------
-    scn : Scenario
-        With roughness.bays = B, the period of Z [bays].
-    tabs : MovingReceptance or tuple of MovingReceptance
-        The receptance table(s) of the B-bay period at the speed [m/N].
-    Z : ndarray, complex, (2 B K + 1,)
-        The roughness coefficients [m].
-    grid_phase : float
-        Contact grid phase [-], in [0, 1).
-    refs : list of (int, rail.wear.MarchInputs, CreepageReference or None)
-        Per wheel in rolling order (leading first): its index, its smooth rail's one-bay march inputs (whose
-        grid is held) and its smooth rail's state with u_bar (None: the wheel has no u_bar).
-    starts : list of (ndarray, complex) or None
-        Per wheel: the change of u_bar's periodic part at the B N_x steps of the period from the bay's first
-        [m] (its real part is taken) and of v_bar [m/s] where the Newton steps start (None: at u_bar_0).
-
-    Returns
-    -------
-    ndarray, complex, (2 B K + 1,)
-        The wear coefficients summed over the wheels per train passage [m].
-
-    Raises
-    ------
-    GridMismatch
-        Where the roughness moves a wheel's contact grid off its smooth rail's.
-    """
-    from ..chain import solve_forces, wheel_material
-    from .linear import check_held_grid
-
-    B = scn.roughness.bays
-    rough = Roughness(np.asarray(Z, dtype=complex), B)
-    forces = solve_forces(scn, tabs, rough)
-    nums = scn.contact_numerics
-    dZ = np.zeros_like(rough.Z, dtype=complex)
-    current = rough
-    for (l, mi1, cr), st in zip(refs, starts):
-        mat = wheel_material(scn, l)
-        mi = march_inputs(forces, l, current, mat, nums, grid_phase, grid=(mi1.delta, mi1.Nx, mi1.M, mi1.spin))
-        check_held_grid(mi, mi1, B)
-        if cr is None:
-            sol, _ = march_with_creepage(mi, mat, forces.speed, nums, harmonics=forces.harmonics)
-        else:
-            dtp = (np.full(mi.Nx, mi.delta / forces.speed) if mi.dt is None else np.asarray(mi.dt, dtype=float)[mi.spin:mi.spin + mi.Nx])
-            phase = (np.cumsum(dtp) - dtp[0]) / float(np.sum(dtp))  # as march_with_creepage's: start.at(phase) is p
-            du, dv = (np.zeros(mi.Nx), 0.0) if st is None else st
-            start = CreepageState(phase, np.tile(cr.p, B) + np.real(du), cr.vbar + float(np.real(dv)), grid=mi.Nx)
-            sol, _ = march_with_creepage(mi, mat, forces.speed, nums, tol=REFERENCE_TOL, max_iter=REFERENCE_STEPS,
-                                         harmonics=forces.harmonics, start=start)
-        depth = scn.wear_law.depth(sol.work[mi.spin + mi.M + np.arange(mi.Nx)])
-        if not np.all(np.isfinite(depth)):
-            raise FloatingPointError(f"the wear depth of wheel {l} is not finite (V = {forces.speed:g} m/s).")
-        w = wear_spectrum(depth, rough.harmonics)
-        dZ += w
-        current = apply_wear(current, w)
-    return dZ

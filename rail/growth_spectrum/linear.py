@@ -13,11 +13,11 @@ import numpy as np
 from .. import chain, wear
 from ..contact.tangent import work_tangent
 from ..interaction import Roughness
-from .creepage import closed_loop_wear, creepage_reference, has_creepage
+from .creepage import REFERENCE_STEPS, REFERENCE_TOL, closed_loop_wear, creepage_reference, has_creepage
 from .probes import GridMismatch, batches
 
 __all__ = ["tangent_batches", "probe_roughness", "check_held_grid", "input_names", "column_chunk", "wear_tangent", "line_coefficient",
-           "cos_sin_column", "linear_rates"]
+           "cos_sin_column", "linear_rates", "warm_train_wear"]
 
 
 def tangent_batches(free, locked_probes, N: int):
@@ -426,3 +426,67 @@ def linear_rates(scn, tabs, free, locked, eps, phase, max_columns=None, progress
     if details is not None:
         details.update(smooth_wear=W01, wheels=[(l, ref[w_i], creep[w_i]) for w_i, l in enumerate(order)], ubar=ubar)
     return R, side, Mout
+
+
+def warm_train_wear(scn, tabs, Z, grid_phase: float, refs, starts):
+    """The wear of one train passage over the roughness Z (as rail.chain.train_wear: the wheels in turn, each on the
+    profile the one before left), each wheel's march on its smooth rail's grid held and, with u_bar, its Newton
+    steps (march_with_creepage to REFERENCE_TOL) started from the smooth rail's u_bar_0 plus a given change (the
+    linear method's prediction): the linearity check of the linear method with dynamic creepage
+    (rail.growth_spectrum.spectrum). From the prediction the Newton steps have only the probe's nonlinear part
+    of u_bar left to find (one march where it is below REFERENCE_TOL; more where it is not), against five to ten
+    marches from u_bar = 0; the state reached is the same periodic state to REFERENCE_TOL.
+
+    Parameters
+    ----------
+    scn : Scenario
+        With roughness.bays = B, the period of Z [bays].
+    tabs : MovingReceptance or tuple of MovingReceptance
+        The receptance table(s) of the B-bay period at the speed [m/N].
+    Z : ndarray, complex, (2 B K + 1,)
+        The roughness coefficients [m].
+    grid_phase : float
+        Contact grid phase [-], in [0, 1).
+    refs : list of (int, rail.wear.MarchInputs, CreepageReference or None)
+        Per wheel in rolling order (leading first): its index, its smooth rail's one-bay march inputs (whose
+        grid is held) and its smooth rail's state with u_bar (None: the wheel has no u_bar).
+    starts : list of (ndarray, complex) or None
+        Per wheel: the change of u_bar's periodic part at the B N_x steps of the period from the bay's first
+        [m] (its real part is taken) and of v_bar [m/s] where the Newton steps start (None: at u_bar_0).
+
+    Returns
+    -------
+    ndarray, complex, (2 B K + 1,)
+        The wear coefficients summed over the wheels per train passage [m].
+
+    Raises
+    ------
+    GridMismatch
+        Where the roughness moves a wheel's contact grid off its smooth rail's.
+    """
+    B = scn.roughness.bays
+    rough = Roughness(np.asarray(Z, dtype=complex), B)
+    forces = chain.solve_forces(scn, tabs, rough)
+    nums = scn.contact_numerics
+    dZ = np.zeros_like(rough.Z, dtype=complex)
+    current = rough
+    for (l, mi1, cr), st in zip(refs, starts):
+        mat = chain.wheel_material(scn, l)
+        mi = wear.march_inputs(forces, l, current, mat, nums, grid_phase, grid=(mi1.delta, mi1.Nx, mi1.M, mi1.spin))
+        check_held_grid(mi, mi1, B)
+        if cr is None:
+            sol, _ = wear.march_with_creepage(mi, mat, forces.speed, nums, harmonics=forces.harmonics)
+        else:
+            dtp = (np.full(mi.Nx, mi.delta / forces.speed) if mi.dt is None else np.asarray(mi.dt, dtype=float)[mi.spin:mi.spin + mi.Nx])
+            phase = (np.cumsum(dtp) - dtp[0]) / float(np.sum(dtp))  # as march_with_creepage's: start.at(phase) is p
+            du, dv = (np.zeros(mi.Nx), 0.0) if st is None else st
+            start = wear.CreepageState(phase, np.tile(cr.p, B) + np.real(du), cr.vbar + float(np.real(dv)), grid=mi.Nx)
+            sol, _ = wear.march_with_creepage(mi, mat, forces.speed, nums, tol=REFERENCE_TOL, max_iter=REFERENCE_STEPS,
+                                         harmonics=forces.harmonics, start=start)
+        depth = scn.wear_law.depth(sol.work[mi.spin + mi.M + np.arange(mi.Nx)])
+        if not np.all(np.isfinite(depth)):
+            raise FloatingPointError(f"the wear depth of wheel {l} is not finite (V = {forces.speed:g} m/s).")
+        w = wear.wear_spectrum(depth, rough.harmonics)
+        dZ += w
+        current = wear.apply_wear(current, w)
+    return dZ

@@ -11,8 +11,7 @@ from .. import chain
 from ..moving import MovingReceptance
 from ..scenario import Scenario
 from .cell import cell_rate_spectrum
-from .creepage import warm_train_wear
-from .linear import linear_rates, probe_roughness
+from .linear import linear_rates, probe_roughness, warm_train_wear
 from .probes import GridMismatch, RateSpectrum, batches, linear_unsupported, locked_matrix, probe_rates, smooth_roughness, sorted_eigenvalues
 
 __all__ = ["rate_spectrum", "locked_kinds"]

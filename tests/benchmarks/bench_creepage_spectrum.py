@@ -14,8 +14,9 @@ locked_matrix and probe_rates). The rest (rate_spectrum less those) is bookkeepi
 probes' spectrum too (method 'probe', minutes) and the largest difference over the largest rate. CPU time
 is time.process_time of this process.
 
-Measured (2026-12-02, this machine, other jobs running): 40 m/s 6.7 before issue 54's cost work (fixed
-2.0 s, every mechanism 13.6 s), after it see docs/performance.md.
+Measured (2026-12-02, this machine, load 15-20, the code before and after run in turn): 8.8 at 40 m/s and 13.7
+at 60 before the smooth rail's state was reused and the check's probes warm-started, 5.9 and 7.1 after
+(docs/performance.md, "The linear spectrum with dynamic creepage").
 
 Run:  OMP_NUM_THREADS=1 OPENBLAS_NUM_THREADS=1 python tests/benchmarks/bench_creepage_spectrum.py [--speed 40] [--probe]
 """
