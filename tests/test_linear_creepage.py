@@ -245,7 +245,7 @@ def _cold_check(scn, tabs, j, kind, eps, op, monkeypatch):
 
 
 def test_the_linearity_check_with_u_bar_measures_what_converged_probes_do_and_grows_with_the_amplitude(monkeypatch):
-    """With u_bar the check's probes of 2 eps start their Newton steps from the linear prediction (creepage.warm_train_wear,
+    """With u_bar the check's probes of 2 eps start their Newton steps from the linear prediction (linear.warm_train_wear,
     one or two marches against five to ten from u_bar = 0). At a half-comb line of the motored wheelset it measures what
     the check as it was measures with its Newton steps converged (1e-9): 1.4604e-5 against 1.4612e-5 at eps = 1 nm,
     7.44e-3 against 7.33e-3 at 30 um; it grows with the amplitude (a check that could not fail would not). The comb's

@@ -250,7 +250,7 @@ def _warm_check(scn: Scenario, tabs, lines, locked, eps: float, phase: float, de
     """The linearity check of _linear_phase with u_bar: the probes of 2 eps by the nonlinear march (as probe_rates
     at the free lines lines[free[pick]] and locked_matrix at the first locked line), each wheel's Newton steps on
     u_bar started from the smooth rail's u_bar_0 plus the closed loop's linear prediction for the probe
-    (creepage.warm_train_wear, to creepage.REFERENCE_TOL, on the smooth rail's grid) instead of from u_bar = 0 to
+    (linear.warm_train_wear, to creepage.REFERENCE_TOL, on the smooth rail's grid) instead of from u_bar = 0 to
     march_with_creepage's 1e-5. What is left to the Newton steps, and to the check, is the probe's nonlinear
     part, of the contact and of the loop; the smooth rail's wear is taken on the same footing (its converged
     state over the probes' period). Returns the free lines' rates (None without) and the locked line's 2 x 2
