@@ -26,13 +26,49 @@ from .basis import _basis_workspace, _closure_matrix, _influence_arrays, chebysh
 from .influence import INFLUENCE, _influence_d_at, _lead_cell, _table_place, influence_table
 from .hertz import ContactError, ContactMaterial, compliance, report_rigid_compliance
 from .march import step_times
-from .._linalg import solve_in_place
 from .steps import (_advance, _all_finite, _enter_particles, _entry_fraction, _exit_fraction, _exit_slip, _pressure,
                     _restore_rows, _shape_mean, _shift_particles, _stick_solve, _work_terms_of)
 
 __all__ = ["work_tangent"]
 
 _DA_REL = 1e-9  # relative step of a in the (central) difference of the influence matrix
+
+
+@njit(cache=True, error_model="numpy")
+def _solve_columns(A, B):
+    """Solve A X = B in place (X left in B, A overwritten by its factors): rail._linalg.solve_in_place's Gaussian
+    elimination with partial pivoting, operation for operation (the same numbers bit for bit), its back
+    substitution ordered by rows of B so that the inner loop runs along the many right-hand sides (the tangent's
+    columns, hundreds with the basis of u_bar: rail.growth_spectrum.creepage) in memory order."""
+    n, m = A.shape[0], B.shape[1]
+    for k in range(n):
+        piv, big = k, abs(A[k, k])
+        for r in range(k + 1, n):
+            v = abs(A[r, k])
+            if v > big:
+                piv, big = r, v
+        if piv != k:
+            for c in range(n):
+                A[k, c], A[piv, c] = A[piv, c], A[k, c]
+            for c in range(m):
+                B[k, c], B[piv, c] = B[piv, c], B[k, c]
+        inv = 1.0 / A[k, k]
+        for r in range(k + 1, n):
+            f = A[r, k] * inv
+            if f != 0.0:
+                A[r, k] = f
+                for c in range(k + 1, n):
+                    A[r, c] -= f * A[k, c]
+                for c in range(m):
+                    B[r, c] -= f * B[k, c]
+    for k in range(n - 1, -1, -1):
+        inv = 1.0 / A[k, k]
+        for j in range(k + 1, n):
+            f = A[k, j]
+            for c in range(m):
+                B[k, c] -= f * B[j, c]
+        for c in range(m):
+            B[k, c] *= inv
 
 
 @njit(cache=True)
@@ -189,7 +225,7 @@ def _d_stick_solve(E, C, Cd, r_edge, r_edge_d, qn, dai, enter, theta, dtheta, in
                     A[r, cc] = E[S[r], S[cc]]
                 for c in range(nc):
                     B[r, c] = dh[S[r], c] - dEq[S[r], c] - Edq[S[r], c]
-            solve_in_place(A, B)
+            _solve_columns(A, B)
             for r in range(ns):
                 for c in range(nc):
                     dqn[S[r], c] = B[r, c]
@@ -239,7 +275,7 @@ def _d_stick_slip_solve(E, p, inside, stick, sign, dp, dh, dEq, dqn, s, gV, dt, 
             A[r, r] += 1.0
             for c in range(nc):
                 B[r, c] = sg * mus[n] * dp[n, c] + kap * (dEq[n, c] - dh[n, c] - dgd[c] + ddub[c] - (s[n] - gV) * ddt[c])
-    solve_in_place(A, B)
+    _solve_columns(A, B)
     for r in range(nu):
         for c in range(nc):
             dqn[U[r], c] = B[r, c]

@@ -13,11 +13,11 @@ import numpy as np
 from .. import chain, wear
 from ..contact.tangent import work_tangent
 from ..interaction import Roughness
-from .creepage import closed_loop_wear, has_creepage
+from .creepage import REFERENCE_STEPS, REFERENCE_TOL, closed_loop_wear, creepage_reference, has_creepage
 from .probes import GridMismatch, batches
 
 __all__ = ["tangent_batches", "probe_roughness", "check_held_grid", "input_names", "column_chunk", "wear_tangent", "line_coefficient",
-           "cos_sin_column", "linear_rates"]
+           "cos_sin_column", "linear_rates", "warm_train_wear"]
 
 
 def tangent_batches(free, locked_probes, N: int):
@@ -244,7 +244,7 @@ def cos_sin_column(D):
     return 2 * D.real, -2 * D.imag
 
 
-def linear_rates(scn, tabs, free, locked, eps, phase, max_columns=None, progress=None):
+def linear_rates(scn, tabs, free, locked, eps, phase, max_columns=None, progress=None, details=None):
     """R_j at the free lines (and their sideband ratios) and the 2 x 2 operators M at the locked lines
     (line, kind), by the tangent of the contact march about the smooth rail (method 'linear').
 
@@ -282,6 +282,14 @@ def linear_rates(scn, tabs, free, locked, eps, phase, max_columns=None, progress
         Most probe columns per tangent march [-] (column_chunk).
     progress : callable, optional
         progress(i, n) [-] as above.
+    details : dict, optional
+        Filled, if given, with what the spectrum's other parts take from the smooth rail's march over one bay
+        instead of marching it again: 'smooth_wear', the smooth rail's wear coefficients per train passage over
+        one bay (rail.chain.train_wear's, 2 K + 1) [m]; 'wheels', per wheel in rolling order (index, one-bay march
+        inputs, CreepageReference or None: its state with u_bar, converged to creepage.REFERENCE_TOL); and
+        'ubar', {(j, kind): per wheel the closed loop's delta u_bar per unit amplitude of the probe's complex
+        direction (closed_loop_wear's predictions) or None} (the probes' amplitude is eps; kind 'free': the direction
+        is twice the class's part over eps).
 
     Returns
     -------
@@ -303,14 +311,26 @@ def linear_rates(scn, tabs, free, locked, eps, phase, max_columns=None, progress
     Z01 = np.zeros(2 * K + 1, dtype=complex)
     f1 = chain.solve_forces(s1, tabs[0], Roughness(Z01, 1))
     order = [int(l) for l in np.argsort(scn.wheels.positions)[::-1]]
-    # the reference inputs of each wheel over one bay, and the smooth rail's wear before each wheel
-    ref, cur1, wear_before = [], Roughness(Z01, 1), []
+    # the reference inputs of each wheel over one bay, and the smooth rail's wear before each wheel; with u_bar the
+    # smooth rail's state converged once (creepage_reference), the tangent's reference and the smooth rail's wear
+    ref, cur1, wear_before, creep = [], Roughness(Z01, 1), [], []
+    W01 = np.zeros_like(Z01)
     for l in order:
-        mi = wear.march_inputs(f1, l, cur1, chain.wheel_material(scn, l), nums, phase)
+        mat = chain.wheel_material(scn, l)
+        mi = wear.march_inputs(f1, l, cur1, mat, nums, phase)
         ref.append(mi)
-        w = chain.passage_wear(s1, f1, cur1, l, phase)
+        if has_creepage(mat):
+            cr = creepage_reference(mi, mat, tabs[0].speed, nums, K)
+            depth = scn.wear_law.depth(cr.work)
+            if not np.all(np.isfinite(depth)):
+                raise FloatingPointError(f"the wear depth of wheel {l} is not finite (V = {tabs[0].speed:g} m/s).")
+            wZ = wear.wear_spectrum(depth, K)
+        else:
+            cr, wZ = None, chain.passage_wear(s1, f1, cur1, l, phase).Z
+        creep.append(cr)
         wear_before.append(cur1.Z.copy())
-        cur1 = wear.apply_wear(cur1, w.Z)
+        W01 += wZ
+        cur1 = wear.apply_wear(cur1, wZ)
     # the same on the N-bay period (the 1-bay coefficients k on the lines k N)
     def on_period(Z1):
         Z = np.zeros(2 * J + 1, dtype=complex)
@@ -363,6 +383,7 @@ def linear_rates(scn, tabs, free, locked, eps, phase, max_columns=None, progress
     # grids may hold a different number of points per bay (4131 and 4132 for two axles of one
     # locomotive at 40 m/s); wheels on grids of one size are summed there, each size transformed apart
     gws = {}
+    ubar = {(j, kind): [None] * len(order) for j, kind, imag in cols if not imag}
     if progress is not None:
         progress(0, len(order), "tangent marches")
     for w_i, l in enumerate(order):
@@ -374,7 +395,12 @@ def linear_rates(scn, tabs, free, locked, eps, phase, max_columns=None, progress
             d = {name: np.moveaxis(np.array(dirs[w_i][name]), 0, -1) for name in names}
             groups = [(j % N, c, c + 1 if kind == "free" else None) for c, (j, kind, imag) in enumerate(cols) if not imag]
             kd = scn.wear_law.coefficient / scn.wear_law.density
-            gw += kd * closed_loop_wear(scn, l, mi1, tabs[0].speed, d, groups, _bay_tangent(scn, mi1, tabs[0].speed, max_columns))
+            pred = {}
+            gw += kd * closed_loop_wear(scn, l, mi1, tabs[0].speed, d, groups, _bay_tangent(scn, mi1, tabs[0].speed, max_columns),
+                                        ref=creep[w_i], predictions=pred)
+            for c, (j, kind, imag) in enumerate(cols):
+                if not imag:
+                    ubar[(j, kind)][w_i] = pred[c]
             continue
         chunk = column_chunk(mi1, ncol, max_columns)
         for c0 in range(0, ncol, chunk):
@@ -397,4 +423,70 @@ def linear_rates(scn, tabs, free, locked, eps, phase, max_columns=None, progress
             Ms.setdefault(j, {})[kind] = cos_sin_column(line_coefficient(gws, c, j, N))
             c += 1
     Mout = {j: np.array([v["cos"], v["sin"]]).T for j, v in Ms.items()}
+    if details is not None:
+        details.update(smooth_wear=W01, wheels=[(l, ref[w_i], creep[w_i]) for w_i, l in enumerate(order)], ubar=ubar)
     return R, side, Mout
+
+
+def warm_train_wear(scn, tabs, Z, grid_phase: float, refs, starts):
+    """The wear of one train passage over the roughness Z (as rail.chain.train_wear: the wheels in turn, each on the
+    profile the one before left), each wheel's march on its smooth rail's grid held and, with u_bar, its Newton
+    steps (march_with_creepage to REFERENCE_TOL) started from the smooth rail's u_bar_0 plus a given change (the
+    linear method's prediction): the linearity check of the linear method with dynamic creepage
+    (rail.growth_spectrum.spectrum). From the prediction the Newton steps have only the probe's nonlinear part
+    of u_bar left to find (one march where it is below REFERENCE_TOL; more where it is not), against five to ten
+    marches from u_bar = 0; the state reached is the same periodic state to REFERENCE_TOL.
+
+    Parameters
+    ----------
+    scn : Scenario
+        With roughness.bays = B, the period of Z [bays].
+    tabs : MovingReceptance or tuple of MovingReceptance
+        The receptance table(s) of the B-bay period at the speed [m/N].
+    Z : ndarray, complex, (2 B K + 1,)
+        The roughness coefficients [m].
+    grid_phase : float
+        Contact grid phase [-], in [0, 1).
+    refs : list of (int, rail.wear.MarchInputs, CreepageReference or None)
+        Per wheel in rolling order (leading first): its index, its smooth rail's one-bay march inputs (whose
+        grid is held) and its smooth rail's state with u_bar (None: the wheel has no u_bar).
+    starts : list of (ndarray, complex) or None
+        Per wheel: the change of u_bar's periodic part at the B N_x steps of the period from the bay's first
+        [m] (its real part is taken) and of v_bar [m/s] where the Newton steps start (None: at u_bar_0).
+
+    Returns
+    -------
+    ndarray, complex, (2 B K + 1,)
+        The wear coefficients summed over the wheels per train passage [m].
+
+    Raises
+    ------
+    GridMismatch
+        Where the roughness moves a wheel's contact grid off its smooth rail's.
+    """
+    B = scn.roughness.bays
+    rough = Roughness(np.asarray(Z, dtype=complex), B)
+    forces = chain.solve_forces(scn, tabs, rough)
+    nums = scn.contact_numerics
+    dZ = np.zeros_like(rough.Z, dtype=complex)
+    current = rough
+    for (l, mi1, cr), st in zip(refs, starts):
+        mat = chain.wheel_material(scn, l)
+        mi = wear.march_inputs(forces, l, current, mat, nums, grid_phase, grid=(mi1.delta, mi1.Nx, mi1.M, mi1.spin))
+        check_held_grid(mi, mi1, B)
+        if cr is None:
+            sol, _ = wear.march_with_creepage(mi, mat, forces.speed, nums, harmonics=forces.harmonics)
+        else:
+            dtp = (np.full(mi.Nx, mi.delta / forces.speed) if mi.dt is None else np.asarray(mi.dt, dtype=float)[mi.spin:mi.spin + mi.Nx])
+            phase = (np.cumsum(dtp) - dtp[0]) / float(np.sum(dtp))  # as march_with_creepage's: start.at(phase) is p
+            du, dv = (np.zeros(mi.Nx), 0.0) if st is None else st
+            start = wear.CreepageState(phase, np.tile(cr.p, B) + np.real(du), cr.vbar + float(np.real(dv)), grid=mi.Nx)
+            sol, _ = wear.march_with_creepage(mi, mat, forces.speed, nums, tol=REFERENCE_TOL, max_iter=REFERENCE_STEPS,
+                                         harmonics=forces.harmonics, start=start)
+        depth = scn.wear_law.depth(sol.work[mi.spin + mi.M + np.arange(mi.Nx)])
+        if not np.all(np.isfinite(depth)):
+            raise FloatingPointError(f"the wear depth of wheel {l} is not finite (V = {forces.speed:g} m/s).")
+        w = wear.wear_spectrum(depth, rough.harmonics)
+        dZ += w
+        current = wear.apply_wear(current, w)
+    return dZ

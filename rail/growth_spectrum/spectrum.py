@@ -11,7 +11,7 @@ from .. import chain
 from ..moving import MovingReceptance
 from ..scenario import Scenario
 from .cell import cell_rate_spectrum
-from .linear import linear_rates
+from .linear import linear_rates, probe_roughness, warm_train_wear
 from .probes import GridMismatch, RateSpectrum, batches, linear_unsupported, locked_matrix, probe_rates, smooth_roughness, sorted_eigenvalues
 
 __all__ = ["rate_spectrum", "locked_kinds"]
@@ -193,17 +193,17 @@ def _period(scn: Scenario, tabs, kind: int):
 def _linear_phase(scn: Scenario, tabs, lines, locked, eps: float, phase: float, check_lines, step=None, say=None):
     """One grid phase of rate_spectrum by the tangent march (linear_rates): the free lines' rates and
     sideband ratios, the locked lines' operators, the comb's source (2 abs(W0), not yet averaged over
-    the phases) and, with check_lines given, the linear range (probes of 2 eps by the nonlinear march
-    against the derivative). GridMismatch where a probe moves the contact grid. ``step(i, n)`` is
-    linear_rates' progress; ``say(text)`` is told of the linearity check."""
+    the phases; the smooth rail's wear of linear_rates' own march over one bay) and, with check_lines given,
+    the linear range (probes of 2 eps by the nonlinear march against the derivative; with u_bar their Newton
+    steps start from the linear prediction, _warm_check). GridMismatch where a probe moves the contact grid.
+    ``step(i, n)`` is linear_rates' progress; ``say(text)`` is told of the linearity check."""
     N = scn.roughness.bays
     free, held = np.flatnonzero(locked == 0), np.flatnonzero(locked)
-    s_1, _ = _period(scn, tabs, 1)
-    Z01 = smooth_roughness(s_1)
-    W01 = chain.train_wear(s_1, tabs[0], Z01, phase)[0]
     kinds = {int(lines[idx]): int(locked[idx]) for idx in held}
     probes = [(j, kind) for j in kinds for kind in ("cos", "sin")]
-    R_l, side_l, M_l = linear_rates(scn, tabs, [int(j) for j in lines[free]], probes, eps, phase, progress=step)
+    details = {}
+    R_l, side_l, M_l = linear_rates(scn, tabs, [int(j) for j in lines[free]], probes, eps, phase, progress=step, details=details)
+    W01 = details["smooth_wear"]  # chain.train_wear's of the smooth rail over one bay, from linear_rates' march
     R = np.array([R_l[int(j)] for j in lines[free]], dtype=complex)
     side = np.array([side_l[int(j)] for j in lines[free]])
     Ms = np.zeros((held.size, 2, 2))
@@ -216,21 +216,94 @@ def _linear_phase(scn: Scenario, tabs, lines, locked, eps: float, phase: float, 
     if check_lines is not None:  # the linear range: probes of 2 eps against the derivative
         if say is not None:
             say(f"linearity check: probes of 2 eps at {min(check_lines, free.size)} lines by the nonlinear march")
+        pick = np.unique(np.linspace(0, free.size - 1, min(check_lines, free.size)).round().astype(int)) if free.size else None
+        warm = None
+        if any(cr is not None for _, _, cr in details["wheels"]):
+            try:
+                warm = _warm_check(scn, tabs, lines, locked, eps, phase, details, pick)
+            except GridMismatch:  # a probe of 2 eps moves the grid: the cold probes on their own grids
+                warm = None
+        if warm is not None:
+            R2, M2 = warm
+            if free.size:
+                changes += list(np.abs(R2.real / R[pick].real - 1))
+            if held.size:
+                changes.append(abs(sorted_eigenvalues(M2)[0].real / sorted_eigenvalues(Ms[0])[0].real - 1))
+            return R, side, Ms, source, changes
         if free.size:
             Z0 = smooth_roughness(scn)
             W0 = np.zeros(Z0.size, dtype=complex)  # the smooth rail's wear is bay-periodic: on the lines k N
             W0[len(Z0) // 2 + N * np.arange(-scn.harmonics, scn.harmonics + 1)] = W01
-            pick = np.unique(np.linspace(0, free.size - 1, min(check_lines, free.size)).round().astype(int))
             R2 = probe_rates(scn, tabs, lines[free[pick]], 2 * eps, Z0, W0, phase)
             changes += list(np.abs(R2.real / R[pick].real - 1))
         if held.size:
             kind = int(locked[held[0]])
             s_n, t_n = _period(scn, tabs, kind)
             Z0n = smooth_roughness(s_n)
-            W0n = chain.train_wear(s_n, t_n, Z0n, phase)[0]
+            W0n = W01 if kind == 1 else chain.train_wear(s_n, t_n, Z0n, phase)[0]  # one bay: the march of W01
             M2 = locked_matrix(s_n, t_n, int(lines[held[0]] * kind // N), 2 * eps, phase, Z0n, W0n)
             changes.append(abs(sorted_eigenvalues(M2)[0].real / sorted_eigenvalues(Ms[0])[0].real - 1))
     return R, side, Ms, source, changes
+
+
+def _warm_check(scn: Scenario, tabs, lines, locked, eps: float, phase: float, details: dict, pick):
+    """The linearity check of _linear_phase with u_bar: the probes of 2 eps by the nonlinear march (as probe_rates
+    at the free lines lines[free[pick]] and locked_matrix at the first locked line), each wheel's Newton steps on
+    u_bar started from the smooth rail's u_bar_0 plus the closed loop's linear prediction for the probe
+    (linear.warm_train_wear, to creepage.REFERENCE_TOL, on the smooth rail's grid) instead of from u_bar = 0 to
+    march_with_creepage's 1e-5. What is left to the Newton steps, and to the check, is the probe's nonlinear
+    part, of the contact and of the loop; the smooth rail's wear is taken on the same footing (its converged
+    state over the probes' period). Returns the free lines' rates (None without) and the locked line's 2 x 2
+    operator (None without); GridMismatch where a probe moves the grid."""
+    N = scn.roughness.bays
+    free, held = np.flatnonzero(locked == 0), np.flatnonzero(locked)
+    wheels, pred, W01 = details["wheels"], details["ubar"], details["smooth_wear"]
+
+    def starts(probes, B, amp):
+        """Per wheel the sum of the probes' predicted delta u_bar at amplitude amp over the first B bays."""
+        out = []
+        for w_i, (_, mi1, cr) in enumerate(wheels):
+            if cr is None:
+                out.append(None)
+                continue
+            u = sum(amp * pred[pr][w_i][0][:B * mi1.Nx] for pr in probes)
+            v = sum(amp * pred[pr][w_i][1] for pr in probes)
+            out.append((u, v))
+        return out
+
+    def smooth(s_b, t_b, B):
+        """The smooth rail's wear over B bays: linear_rates' own over one bay, its converged state marched over B."""
+        Z0 = smooth_roughness(s_b)
+        if B == 1:
+            return Z0, W01
+        return Z0, warm_train_wear(s_b, t_b, Z0, phase, wheels, [None] * len(wheels))
+
+    R2 = M2 = None
+    if free.size:
+        Z0, W0 = smooth(scn, tabs, N)
+        J = len(Z0) // 2
+        rates = {}
+        for batch in batches(lines[free[pick]], N):
+            Z = Z0
+            for j in batch:
+                Z = probe_roughness(Z, int(j), "free", 2 * eps)
+            W = warm_train_wear(scn, tabs, Z, phase, wheels, starts([(int(j), "free") for j in batch], N, 2 * eps))
+            for j in batch:
+                rates[int(j)] = (W[J + j] - W0[J + j]) / eps
+        R2 = np.array([rates[int(j)] for j in lines[free[pick]]])
+    if held.size:
+        kind = int(locked[held[0]])
+        j = int(lines[held[0]])
+        s_n, t_n = _period(scn, tabs, kind)
+        Z0n, W0n = smooth(s_n, t_n, kind)
+        Jn, jj = len(Z0n) // 2, j * kind // N
+        cols = []
+        for name in ("cos", "sin"):
+            W = warm_train_wear(s_n, t_n, probe_roughness(Z0n, jj, name, 2 * eps), phase, wheels, starts([(j, name)], kind, 2 * eps))
+            D = (W[Jn + jj] - W0n[Jn + jj]) / (2 * eps)
+            cols.append((2 * D.real, -2 * D.imag))
+        M2 = np.array(cols).T
+    return R2, M2
 
 
 def _probe_progress(progress, p: int, grid_phases: int, n_lines: int):

@@ -6,11 +6,17 @@ Target (issue 54): at most 1.5 times. Both on the scenarios' own settings (2 bay
 octave, one contact grid, 41 nodes, the non-Hertzian contact on the patch's true path) at one speed. The
 receptance tables and the rail head's Bloch tables are computed first (kept in numba's and the
 head tables' caches by a warm-up spectrum of one line at the same speed), so that only the spectrum is
-timed. Printed: the CPU time of each spectrum, the ratio, and the parts of the one with dynamic
-creepage (rail.growth_spectrum.linear_rates, of which the smooth rail's u_bar_0 and the tangent
-marches; the rest is the comb's source and the linearity check, probes of 2 eps by the nonlinear
-march). With --probe the probes' spectrum too (method 'probe', minutes) and the largest difference
-over the largest rate. CPU time is time.process_time of this process.
+timed. Printed: the CPU time of each spectrum, the ratio, and its parts: rail.growth_spectrum.linear_rates
+(of which the smooth rail's u_bar_0, creepage_reference, and the tangent marches, work_tangent; the
+comb's source is the smooth rail's wear of linear_rates' own march), and the linearity check's probes of
+2 eps by the nonlinear march (with u_bar warm_train_wear, Newton steps from the linear prediction; without,
+locked_matrix and probe_rates). The rest (rate_spectrum less those) is bookkeeping. With --probe the
+probes' spectrum too (method 'probe', minutes) and the largest difference over the largest rate. CPU time
+is time.process_time of this process.
+
+Measured (2026-12-02, this machine, load 15-20, the code before and after run in turn): 8.8 at 40 m/s and 13.7
+at 60 before the smooth rail's state was reused and the check's probes warm-started, 5.9 and 7.1 after
+(docs/performance.md, "The linear spectrum with dynamic creepage").
 
 Run:  OMP_NUM_THREADS=1 OPENBLAS_NUM_THREADS=1 python tests/benchmarks/bench_creepage_spectrum.py [--speed 40] [--probe]
 """
@@ -23,7 +29,7 @@ from pathlib import Path
 import numpy as np
 
 from rail import chain, growth_spectrum
-from rail.growth_spectrum import creepage, linear
+from rail.growth_spectrum import linear
 from rail.setup import build
 from rail.setup.config import load_yaml, validate_config
 from rail.setup.plan import plan
@@ -89,7 +95,9 @@ def main():
         tabs, t_tab = timed(chain.receptance_table, scn, a.speed)
         _, t_warm = timed(growth_spectrum.rate_spectrum, scn, tabs, lines[:1], grid_phases=1, check_lines=1)
         print(f"{name}: tables {t_tab:.1f} s, warm-up {t_warm:.1f} s CPU", flush=True)
-        with Parts([(growth_spectrum.spectrum, "linear_rates"), (creepage, "creepage_reference"), (linear, "work_tangent")]) as parts:
+        with Parts([(growth_spectrum.spectrum, "linear_rates"), (linear, "creepage_reference"), (linear, "work_tangent"),
+                    (growth_spectrum.spectrum, "warm_train_wear"), (growth_spectrum.spectrum, "locked_matrix"),
+                    (growth_spectrum.spectrum, "probe_rates")]) as parts:
             sp, t = timed(growth_spectrum.rate_spectrum, scn, tabs, lines, grid_phases=int(s["grid_phases"]), check_lines=4)
         out[name] = (scn, tabs, lines, sp, t)
         print(f"{name}: {len(lines)} lines of {scn.roughness.bays} bays at {a.speed:g} m/s, method {sp.method}: {t:.1f} s CPU; "
