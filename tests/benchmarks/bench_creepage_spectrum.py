@@ -22,6 +22,7 @@ Run:  OMP_NUM_THREADS=1 OPENBLAS_NUM_THREADS=1 python tests/benchmarks/bench_cre
 """
 
 import argparse
+import math
 import os
 import time
 from pathlib import Path
@@ -31,7 +32,7 @@ import numpy as np
 from rail import chain, growth_spectrum
 from rail.growth_spectrum import linear
 from rail.setup import build
-from rail.setup.config import load_yaml, validate_config
+from rail.setup.config import SCENARIO_FILE_DEFAULTS, deep_merge, load_yaml, validate_config
 from rail.setup.plan import plan
 
 ROOT = Path(__file__).resolve().parents[2]
@@ -83,15 +84,24 @@ def main():
     ap = argparse.ArgumentParser(description=__doc__.splitlines()[0])
     ap.add_argument("--speed", type=float, default=40.0)
     ap.add_argument("--probe", action="store_true", help="also the probes' spectrum of dynspeed_together (minutes)")
+    ap.add_argument("--band", action="store_true",
+                    help="on the scenario files' default lines instead: the log-spaced lines and the band 900-1,400 Hz at most 15 Hz "
+                         "apart (rail.setup.config.SCENARIO_FILE_DEFAULTS) on the shortest period that resolves it at the speed")
     a = ap.parse_args()
     cfgs = scenarios()
     out = {}
     for name in ("dynspeed_fixed", "dynspeed_together"):
         cfg = cfgs[name]
+        if a.band:
+            band = SCENARIO_FILE_DEFAULTS["figures"]["rate_spectrum"]["band"]
+            N = max(2, math.ceil(a.speed / (band["spacing"] * build.spectrum_scenario(cfg, name).L)))
+            cfg = deep_merge(cfg, {"figures": {"rate_spectrum": {"bays": N, "band": dict(band)}}, "roughness": {"bays": N}})
         scn = build.spectrum_scenario(cfg, name)
         s = cfg["figures"]["rate_spectrum"]
         lines = growth_spectrum.spectrum_lines(scn.L, scn.roughness.bays, scn.harmonics, float(s["shortest"]), float(s["longest"]),
                                                int(s["per_octave"]))
+        if a.band:
+            lines = growth_spectrum.settings_lines(scn.L, scn.roughness.bays, scn.harmonics, s, speeds=[a.speed])
         tabs, t_tab = timed(chain.receptance_table, scn, a.speed)
         _, t_warm = timed(growth_spectrum.rate_spectrum, scn, tabs, lines[:1], grid_phases=1, check_lines=1)
         print(f"{name}: tables {t_tab:.1f} s, warm-up {t_warm:.1f} s CPU", flush=True)
