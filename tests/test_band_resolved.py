@@ -1,5 +1,5 @@
 """The band near the pinned-pinned frequency resolved (issue 54, must-show "The band resolved"): on the default
-track with every mechanism of dynamic creepage together (config/studies/band_resolved.yaml, case band_together),
+track with every mechanism of dynamic creepage together (config/studies/spectrum_band.yaml, case tenhz_together),
 at 40, 50 and 60 m/s, the lines of the fewest bays that space 1,000-1,300 Hz at most 10 Hz apart, at least five
 of them inside 1.00-1.15 f_pp, and the band's edges (rail.growth_spectrum.band.band_edges) bracketed by lines
 and stated. Slow: about 2-5 min of CPU per speed (docs/dynamic-creepage.md, "The band resolved")."""
@@ -20,10 +20,10 @@ SPEEDS = (40.0, 50.0, 60.0)
 
 
 def band_spectrum(V: float):
-    study = api.load("band_together")
+    study = api.load("tenhz_together")
     band = study.config["figures"]["rate_spectrum"]["band"]
     N = math.ceil(V / (band["spacing"] * study.scenario.L) * (1 - 1e-12))
-    study = api.load("band_together", changes={"figures": {"rate_spectrum": {"speeds": [V], "bays": N}}})
+    study = api.load("tenhz_together", changes={"figures": {"rate_spectrum": {"speeds": [V], "bays": N}}})
     scn = build.spectrum_scenario(study.config, study.name)
     s = study.config["figures"]["rate_spectrum"]
     lines = growth_spectrum.settings_lines(scn.L, N, scn.harmonics, s)

@@ -1,12 +1,12 @@
 """The band near the pinned-pinned frequency resolved (issue 54): the growth-rate spectrum of cases of
-config/studies/band_resolved.yaml, one speed at a time (each speed on its own band lines, not the union over
+config/studies/spectrum_band.yaml, one speed at a time (each speed on its own band lines, not the union over
 the case's speeds that the workflow's spectrum takes), and the band's peak, edges and width per speed
 (rail.growth_spectrum.band.band_edges).
 
 Run from the checkout (not a snakemake rule; the study file's target builds the same spectra on the union of
 the speeds' lines):
 
-    OMP_NUM_THREADS=1 python workflow/scripts/band_resolved.py band_together 40 50 60 [--out results/band_resolved]
+    OMP_NUM_THREADS=1 python workflow/scripts/band_resolved.py tenhz_together 40 50 60 [--out results/band_resolved]
 
 Writes results/band_resolved/<case>/<speed>.nc (the spectrum, as rail.app.api.spectrum) and appends one row
 per speed to results/band_resolved/bands.csv (dB per 100,000 axles; per year at the scenario's traffic).
@@ -53,14 +53,33 @@ def band_row(case: str, ds, cpu: float, bays: int) -> dict:
             "lines_in_1.00_1.15_fpp": int(((f >= fpp) & (f <= 1.15 * fpp)).sum()), "spacing_Hz": round(b.spacing, 2),
             "peak_Hz": round(b.peak_frequency, 1), "peak_wavelength_mm": round(1e3 * V / b.peak_frequency, 2),
             "peak_dB_per_1e5_axles": round(b.peak_rate, 3), "peak_dB_per_year": None if per_year is None else round(float(per_year[i]), 1),
-            **{k: round(getattr(b, k), 1) for k in ("low", "high", "width", "half_low", "half_high", "half_width")},
+            **{f"{k}_Hz": round(getattr(b, k), 1) for k in ("low", "high", "width", "half_low", "half_high", "half_width")},
             "lines_growing": b.lines_growing, "linearity": float(ds.linearity.values[0]), "cpu_s": round(cpu, 1)}
+
+
+def write_table(out: Path):
+    """bands.csv afresh from the spectra saved under ``out`` (one row per file, by case and speed)."""
+    import xarray as xr
+
+    rows = []
+    for f in sorted(out.glob("*/*_N*.nc")):
+        with xr.open_dataset(f) as ds:
+            nodes = f.stem.split("_")[2] if f.stem.count("_") >= 2 else ""
+            case = ds.attrs["scenario"] + (f" ({nodes.replace('nodes', ' nodes')})" if nodes else "")
+            rows.append(band_row(case, ds.load(), float("nan"), int(f.stem.split("_N")[1].split("_")[0])))
+    with (out / "bands.csv").open("w", newline="") as fh:
+        w = csv.DictWriter(fh, fieldnames=FIELDS)
+        w.writeheader()
+        w.writerows(sorted(rows, key=lambda r: (r["case"], r["speed_m_s"])))
+    for r in rows:
+        print(r)
 
 
 def main():
     ap = argparse.ArgumentParser(description=__doc__.splitlines()[0])
-    ap.add_argument("case")
-    ap.add_argument("speeds", type=float, nargs="+")
+    ap.add_argument("case", nargs="?")
+    ap.add_argument("speeds", type=float, nargs="*")
+    ap.add_argument("--table", action="store_true", help="only write bands.csv afresh from every <case>/<speed>_N<bays>*.nc under --out")
     ap.add_argument("--out", default="results/band_resolved")
     ap.add_argument("--bays", type=int, default=0, help="the lines' period N [bays] (0: the fewest that space the band's lines "
                     "at most its spacing apart at the speed, N = ceil(V / (spacing L)), so every line of the period in the band is taken)")
@@ -69,6 +88,10 @@ def main():
     ap.add_argument("--lines", type=int, nargs="+", help="these lines j of the period (--bays, required) instead of the band's")
     ap.add_argument("--nodes", type=int, default=0, help="contact grid nodes (0: the case's)")
     a = ap.parse_args()
+    if a.table:
+        return write_table(Path(a.out))
+    if not (a.case and a.speeds):
+        ap.error("give a case and its speeds (or --table)")
     if (a.wavelengths or a.lines) and not a.bays:
         ap.error("--wavelengths and --lines need --bays")
     out = Path(a.out)
@@ -97,7 +120,7 @@ def main():
                          source="workflow/scripts/band_resolved.py", scenario=study.name)
         cpu = time.process_time() - c
         print(f"{a.case} {V:g} m/s, {N} bays: tables {t_tables:.0f} s CPU, all {cpu:.0f} s CPU", file=sys.stderr, flush=True)
-        ds.to_netcdf(out / a.case / f"{V:g}_N{N}" + (f"_{a.nodes}nodes" if a.nodes else "") + ".nc")
+        ds.to_netcdf(out / a.case / (f"{V:g}_N{N}" + (f"_{a.nodes}nodes" if a.nodes else "") + ".nc"))
         row = band_row(a.case + (f" ({a.nodes} nodes)" if a.nodes else ""), ds, cpu, N)
         new = not table.exists()
         with table.open("a", newline="") as fh:
