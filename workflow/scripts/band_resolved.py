@@ -59,11 +59,9 @@ def band_row(case: str, ds, cpu: float, bays: int) -> dict:
 
 def write_table(out: Path):
     """bands.csv afresh from the spectra saved under ``out`` (one row per file, by case and speed)."""
-    import xarray as xr
-
     rows = []
     for f in sorted(out.glob("*/*_N*.nc")):
-        with xr.open_dataset(f) as ds:
+        with io.open_intermediate(f) as ds:
             nodes = f.stem.split("_")[2] if f.stem.count("_") >= 2 else ""
             case = ds.attrs["scenario"] + (f" ({nodes.replace('nodes', ' nodes')})" if nodes else "")
             rows.append(band_row(case, ds.load(), float("nan"), int(f.stem.split("_N")[1].split("_")[0])))
