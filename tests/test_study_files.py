@@ -39,7 +39,11 @@ from rail.setup.study_files import study_file
 ROOT = Path(__file__).resolve().parents[1]
 BEFORE = json.loads((ROOT / "tests/data/named_targets_before_study_files.json").read_text())
 BEFORE_57B = json.loads((ROOT / "tests/data/named_targets_before_closure_irregular_short_wave.json").read_text())
-STUDY_FILES = ["closure_study", "dynamic_creepage", "dynamic_creepage_speeds", "irregular_track", "rail_flexibility", "short_wave"]
+STUDY_FILES = ["closure_study", "dynamic_creepage", "dynamic_creepage_speeds", "irregular_track", "rail_flexibility", "short_wave",
+               "spectrum_band"]
+# study files added after the recordings: the recorded plans are compared with the plan without them, and
+# test_the_study_files_added_since_the_recordings_change_no_other_target checks that they add their own alone
+ADDED_SINCE = ["spectrum_band"]
 
 
 def plan_at(root):
@@ -55,6 +59,16 @@ def plan_at(root):
 @pytest.fixture(scope="module")
 def P():
     return plan_at(ROOT)
+
+
+@pytest.fixture(scope="module")
+def P_recorded(tmp_path_factory):
+    """The plan of this checkout's config/ without the study files added since the recordings (ADDED_SINCE)."""
+    root = tmp_path_factory.mktemp("recorded")
+    shutil.copytree(ROOT / "config", root / "config")
+    for name in ADDED_SINCE:
+        (root / "config" / "studies" / f"{name}.yaml").unlink()
+    return plan_at(root)
 
 
 def named_targets(P) -> dict:
@@ -74,39 +88,39 @@ def _without_noise(files):
     return [f for f in files if not f.endswith(("_noise.png", "_noise.csv"))]
 
 
-def test_every_named_target_lists_the_same_files_as_before_the_study_files(P):
-    now = named_targets(P)
+def test_every_named_target_lists_the_same_files_as_before_the_study_files(P_recorded):
+    now = named_targets(P_recorded)
     assert sorted(set(now) - {"noise"}) == sorted(BEFORE["targets"])
     for target, files in BEFORE["targets"].items():
         assert _without_noise(now[target]) == files, target
 
 
-def test_every_named_target_scenario_and_sweep_is_as_before_the_closure_irregular_and_short_wave_study_files(P):
+def test_every_named_target_scenario_and_sweep_is_as_before_the_closure_irregular_and_short_wave_study_files(P_recorded):
     from rail.setup.plan import config_part
 
     def h(x):
         return hashlib.sha256(json.dumps(x, default=str).encode()).hexdigest()[:16]
 
     B = BEFORE_57B
-    now = named_targets(P)
+    now = named_targets(P_recorded)
     assert sorted(now) == sorted(B["targets"])
     for target, files in B["targets"].items():
         assert now[target] == files, target
-    assert list(P.scenarios) == B["scenarios"] and P.study_names() == B["study_names"]
-    assert {n: h(_without_band(P.scenarios[n])) for n in P.scenarios} == B["configs"]
-    assert {n: P.table_file(n, P.objects[n].speeds[0]) for n in P.scenario_table} == B["tables"]
-    assert P.characterised_tracks() == B["characterised_tracks"]
+    assert list(P_recorded.scenarios) == B["scenarios"] and P_recorded.study_names() == B["study_names"]
+    assert {n: h(_without_band(P_recorded.scenarios[n])) for n in P_recorded.scenarios} == B["configs"]
+    assert {n: P_recorded.table_file(n, P_recorded.objects[n].speeds[0]) for n in P_recorded.scenario_table} == B["tables"]
+    assert P_recorded.characterised_tracks() == B["characterised_tracks"]
     assert {s: {"keys": sw.keys, "values": sw.values, "points": [[p.name, list(p.index), p.speed] for p in sw.points], "units": sw.units}
-            for s, sw in P.sweeps.items()} == B["sweeps"]
-    paths, meta = P.closure_inputs()
-    assert [P.closure_values(), paths, meta] == [B["closure"]["values"], B["closure"]["inputs"], B["closure"]["meta"]]
-    assert {f"{v:g}": h(P.closure_wear_config(f"{v:g}")) for v in P.closure_values()} == B["closure"]["wear_config"]
-    rnd, irr = P.irregular_random_points(), B["irregular"]
-    assert [P.irregular_cases(), rnd] == [irr["cases"], irr["random_points"]]
-    assert {c: h(config_part(("track",), P.scenarios[c])) for c in P.irregular_cases()} == irr["case_cfg"]
-    assert h(config_part(("track", "numerics.track"), P.scenarios[P.irregular_study()["uniform"]])) == irr["uniform_cfg"]
-    assert {n: h(config_part(("track",), P.scenarios[n])) for n in rnd} == irr["random_cfg"]
-    assert {n: P.scenarios[n]["track"]["cell"]["random"].get("spacing", 0.0) for n in rnd} == irr["spreads"]
+            for s, sw in P_recorded.sweeps.items()} == B["sweeps"]
+    paths, meta = P_recorded.closure_inputs()
+    assert [P_recorded.closure_values(), paths, meta] == [B["closure"]["values"], B["closure"]["inputs"], B["closure"]["meta"]]
+    assert {f"{v:g}": h(P_recorded.closure_wear_config(f"{v:g}")) for v in P_recorded.closure_values()} == B["closure"]["wear_config"]
+    rnd, irr = P_recorded.irregular_random_points(), B["irregular"]
+    assert [P_recorded.irregular_cases(), rnd] == [irr["cases"], irr["random_points"]]
+    assert {c: h(config_part(("track",), P_recorded.scenarios[c])) for c in P_recorded.irregular_cases()} == irr["case_cfg"]
+    assert h(config_part(("track", "numerics.track"), P_recorded.scenarios[P_recorded.irregular_study()["uniform"]])) == irr["uniform_cfg"]
+    assert {n: h(config_part(("track",), P_recorded.scenarios[n])) for n in rnd} == irr["random_cfg"]
+    assert {n: P_recorded.scenarios[n]["track"]["cell"]["random"].get("spacing", 0.0) for n in rnd} == irr["spreads"]
 
 
 def _without_band(cfg):
@@ -117,15 +131,34 @@ def _without_band(cfg):
     return out
 
 
-def test_every_scenario_resolves_as_before_and_reads_the_same_tables(P):
+def test_every_scenario_resolves_as_before_and_reads_the_same_tables(P_recorded):
     # the study files' cases are the former scenario files: the same names, in the same order (a track is characterised
     # under the first scenario holding it), the same configuration key for key, the same tables
-    assert list(P.scenarios) == BEFORE["scenarios"]
-    configs = {n: hashlib.sha256(json.dumps(_without_band(P.scenarios[n]), default=str).encode()).hexdigest()[:16] for n in P.scenarios}
+    assert list(P_recorded.scenarios) == BEFORE["scenarios"]
+    configs = {n: hashlib.sha256(json.dumps(_without_band(P_recorded.scenarios[n]), default=str).encode()).hexdigest()[:16]
+               for n in P_recorded.scenarios}
     assert configs == BEFORE["configs"]
-    assert {n: P.table_file(n, P.objects[n].speeds[0]) for n in P.scenario_table} == BEFORE["tables"]
-    assert P.characterised_tracks() == BEFORE["characterised_tracks"]
-    assert P.speed_study_spectra() == BEFORE["speed_study_spectra"]
+    assert {n: P_recorded.table_file(n, P_recorded.objects[n].speeds[0]) for n in P_recorded.scenario_table} == BEFORE["tables"]
+    assert P_recorded.characterised_tracks() == BEFORE["characterised_tracks"]
+    assert P_recorded.speed_study_spectra() == BEFORE["speed_study_spectra"]
+
+
+def test_the_study_files_added_since_the_recordings_change_no_other_target(P, P_recorded):
+    """A study file added since the recordings (ADDED_SINCE) brings its own cases and targets and changes no other
+    scenario's configuration, table or target."""
+    now, before = named_targets(P), named_targets(P_recorded)
+    added = [n for n in P.scenarios if n not in P_recorded.scenarios]
+    assert [n for n in P.scenarios if n in P_recorded.scenarios] == list(P_recorded.scenarios)
+    assert all(n.startswith("tenhz_") for n in added) and added, added
+    assert {n: P.scenarios[n] for n in P_recorded.scenarios} == dict(P_recorded.scenarios)
+    mine = {name for name in ADDED_SINCE} | {f"study_{n}" for n in added}
+    assert sorted(set(now) - mine) == sorted(before)
+    for target in before:  # every file it had, and the new ones are the new cases' own (or their tracks' tables)
+        assert set(before[target]) <= set(now[target]), target
+        extra = [f for f in now[target] if f not in set(before[target])]
+        assert all(any(n in f for n in added) or f.startswith("results/receptance/") for f in extra), (target, extra[:3])
+        if target not in ("receptances", "track_characterisation", "report_candidates"):
+            assert now[target] == before[target], target
 
 
 def test_the_named_study_targets_come_from_the_study_files(P):

@@ -50,6 +50,8 @@ def rate_spectrum(scn: Scenario, table, lines, eps: float = 1e-9, grid_phases: i
     check_lines : int
         Free lines (spread over the range), and the first locked line, probed again with 2 eps to
         measure the linearity [-] (on the first grid).
+        None: no check (the result's linearity NaN; rail.growth_spectrum.band.class_pair_spectrum checks
+        its first call only).
     method : str
         'linear' (default): every line from one march of the smooth rail over one bay carrying the
         derivative of the contact along every probe (linear_rates, rail.contact.tangent); the
@@ -115,7 +117,8 @@ def rate_spectrum(scn: Scenario, table, lines, eps: float = 1e-9, grid_phases: i
         g = [sorted_eigenvalues(M)[0].real for M in Ms[:, n]]
         spread[idx] = np.ptp(g) / 2
     return RateSpectrum(wavelength=N * scn.L / lines, line=lines, locked=locked, rate=rate, rate_other=other,
-                        source=source, grid_spread=spread, sideband=sideband, linearity=float(max(changes)), eps=float(eps), bays=N,
+                        source=source, grid_spread=spread, sideband=sideband, linearity=float(max(changes)) if changes else float("nan"),
+                        eps=float(eps), bays=N,
                         grid_phases=int(grid_phases),
                         method=(method + forced) if not fallbacks else f"{method}, probes at " + "; ".join(fallbacks), operator=operator)
 
