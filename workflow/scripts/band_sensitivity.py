@@ -22,8 +22,8 @@ import numpy as np
 from rail.app import api
 
 # The sourced rotational stiffness (schema, track.pad.rotational_stiffness): k_P l^2 / 12 for the default pad
-# (3.5e8 N/m) over l = 0.15 m along the rail (docs/dynamic-creepage.md, "What the band rests on").
-K_THETA = 3.5e8 * 0.15**2 / 12
+# (3.5e8 N/m) over l = 0.18 m along the rail (docs/dynamic-creepage.md, "What the band rests on").
+K_THETA = 3.5e8 * 0.18**2 / 12
 E0 = 0.0911
 KX0 = 1.0e7
 
