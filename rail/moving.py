@@ -256,7 +256,7 @@ def _rotational_tables(beta, Omega, V, js, cell: TrackCell, static_j):
 
     Each support acts on the rail with a force and a moment: two channels q at x = 0, the force (q = 0, on w)
     and the moment (q = 1, on psi). With the free rail's 2 x 2 receptance H = [[H_ww, H_wM], [H_psiF, H_psiM]]
-    (rail.longitudinal.free_beam_matrix) and its lattice sum S (rail.track.beam_lattice_sums), the reactions
+    (rail.track.free_beam_receptances) and its lattice sum S (rail.track.beam_lattice_sums), the reactions
     to column k are Y_k = P (C + S)^-1 v_k, C = diag(P / K_s, P / k_theta), v_k = (H_ww, H_psiF)(beta - k beta0),
     and the rows U_p = (H_ww, H_wM)(beta - p beta0): the scalar formula of docs/track.md with 2 x 2 blocks.
 
@@ -267,14 +267,13 @@ def _rotational_tables(beta, Omega, V, js, cell: TrackCell, static_j):
     large numbers within half a cell wavenumber of the static point, as rail.longitudinal does).
     Returns as ``_node_tables`` (U and Y with two channels).
     """
-    from .longitudinal import free_beam_matrix
-    from .track import beam_lattice_sums, support_rotational_stiffness, support_stiffness
+    from .track import beam_lattice_sums, free_beam_receptances, support_rotational_stiffness, support_stiffness
 
     t = cell.track
     P, bP = cell.period, cell.beta_p
     omega = Omega + beta * V
     b = beta[:, None] - js[None, :] * bP
-    Hww, HwM, HpF, HpM, _ = free_beam_matrix(b, omega[:, None], t)
+    Hww, HwM, HpF, HpM = free_beam_receptances(b, omega[:, None], t)
     Sww, SwM, SpF, SpM = beam_lattice_sums(beta, omega, t)
     n, J = len(beta), len(js)
     Cm = np.zeros((n, 2, 2), dtype=complex)

@@ -33,6 +33,7 @@ __all__ = [
     "support_stiffness",
     "support_rotational_stiffness",
     "beam_lattice_sums",
+    "free_beam_receptances",
     "free_receptance",
     "free_receptance_poles",
     "periodic_sum",
@@ -384,6 +385,37 @@ def support_rotational_stiffness(track: Track, omega):
     p = track.pad
     c = p.viscous_damping * p.rotational_stiffness / p.stiffness
     return damped_stiffness(p.rotational_stiffness, p.loss_factor, c, np.asarray(omega, dtype=float), track.damping)
+
+
+def free_beam_receptances(beta, omega, track: Track):
+    """Free Timoshenko rail's 2 x 2 receptance from (F, M) to (W, Psi) in the wavenumber domain.
+
+    With D = [[kGA b^2 - rho A w^2, -i b kGA], [i b kGA, EI b^2 + kGA - rho I w^2]] (the dynamic stiffness)
+    H = D^-1: H_ww = (EI b^2 + kGA - rho I w^2) / det D (``free_receptance``), H_wM = i b kGA / det D = -H_psiF,
+    H_psiM = (kGA b^2 - rho A w^2) / det D (rail.longitudinal.free_beam_matrix holds the same for the head).
+
+    Parameters
+    ----------
+    beta : float or ndarray
+        Wavenumber [rad/m]; broadcast with ``omega``.
+    omega : float or ndarray
+        Angular frequency [rad/s].
+    track : Track
+        The track (rail properties and damping model).
+
+    Returns
+    -------
+    (H_ww, H_wM, H_psiF, H_psiM) : complex ndarrays
+        [m^2/N, m/N, m/N, 1/N] per unit wavenumber.
+    """
+    b = np.asarray(beta, dtype=float)
+    w = np.asarray(omega, dtype=float)
+    EI, kGA = rail_stiffnesses(track, w)
+    r = track.rail
+    d11 = kGA * b**2 - r.density * r.area * w**2
+    d22 = EI * b**2 + kGA - r.density * r.second_moment_of_area * w**2
+    inv = 1.0 / (d11 * d22 - (b * kGA) ** 2)
+    return d22 * inv, 1j * b * kGA * inv, -1j * b * kGA * inv, d11 * inv
 
 
 def beam_lattice_sums(beta, omega, track: Track):

@@ -23,8 +23,8 @@ import pytest
 
 from rail import longitudinal as lg
 from rail import moving
-from rail.track import (MAX_ROTATIONAL_STIFFNESS, Ballast, Pad, Rail, Sleeper, Track, beam_lattice_sums, pinned_pinned_frequency,
-                        stationary_receptance, support_rotational_stiffness)
+from rail.track import (MAX_ROTATIONAL_STIFFNESS, Ballast, Pad, Rail, Sleeper, Track, beam_lattice_sums, free_beam_receptances,
+                        free_receptance, pinned_pinned_frequency, stationary_receptance, support_rotational_stiffness)
 
 sys.path.insert(0, str(Path(__file__).parent / "independent"))
 import rail_head_direct as direct  # noqa: E402
@@ -51,6 +51,26 @@ def test_the_moment_spring_is_damped_as_the_pad():
     assert np.allclose(k, K_THETA * (1 + 0.25j * np.sign(om)), rtol=1e-15)
     v = dataclasses.replace(with_k(TRACK, K_THETA), damping="viscous")
     assert np.allclose(support_rotational_stiffness(v, om), K_THETA + 1j * om * 2.8e4 * K_THETA / 3.5e8, rtol=1e-15)
+
+
+def test_the_two_copies_of_the_free_beam_matrix_agree_and_invert_the_dynamic_stiffness():
+    """rail.track.free_beam_receptances (rail.moving's) and rail.longitudinal.free_beam_matrix (the head's) are the
+    same matrix, its w/F is rail.track.free_receptance, and it inverts the beam's dynamic stiffness D."""
+    b = np.array([0.5, 3.0, -12.0, 40.0])
+    om = 2 * np.pi * np.array([300.0, 1100.0, -900.0, 2000.0])
+    H = free_beam_receptances(b, om, TRACK)
+    G = lg.free_beam_matrix(b, om, TRACK)
+    for k in range(4):
+        assert np.allclose(H[k], G[k], rtol=1e-14, atol=0), k
+    assert np.allclose(H[0], free_receptance(b, om, TRACK), rtol=1e-13, atol=0)
+    r = TRACK.rail
+    f = 1 + 1j * r.loss_factor * np.sign(om)
+    EI, kGA = r.youngs_modulus * r.second_moment_of_area * f, r.shear_coefficient * r.shear_modulus * r.area * f
+    for i in range(len(b)):
+        D = np.array([[kGA[i] * b[i] ** 2 - r.density * r.area * om[i] ** 2, -1j * b[i] * kGA[i]],
+                      [1j * b[i] * kGA[i], EI[i] * b[i] ** 2 + kGA[i] - r.density * r.second_moment_of_area * om[i] ** 2]])
+        Hm = np.array([[H[0][i], H[1][i]], [H[2][i], H[3][i]]])
+        assert np.allclose(Hm @ D, np.eye(2), atol=1e-10), i
 
 
 @pytest.mark.parametrize("beta,f", [(0.3, 1100.0), (2.0, 700.0), (-4.1, 1300.0)])
