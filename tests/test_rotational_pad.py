@@ -193,3 +193,24 @@ def test_the_receptances_with_the_moment_spring_agree_with_the_direct_solution(k
             assert abs(ours_pF / pF - 1) < 1e-2, (where, ours_pF, pF)
         else:  # zero by symmetry: judged against the quarter-span value
             assert abs(ours_pF) < 1e-3 * abs(quarter), (where, ours_pF, quarter)
+
+
+def test_the_moment_spring_is_refused_on_a_track_cell_at_start_up(defaults, schema):
+    """A cell's supports (rail.cell) carry no moment: track.pad.rotational_stiffness > 0 with track.cell is one
+    line naming the key, before any table; 0 (the default) on a cell, and the spring on the uniform track, pass."""
+    from rail.setup import build
+    from rail.setup.config import deep_merge, validate_config
+
+    cell = {"track": {"cell": {"bays": 2, "damper": {"mass": 4.0, "frequency": 1070.0, "loss_factor": 0.35, "position": 0.5}}},
+            "roughness": {"bays": 2}}
+    on_cell = validate_config(deep_merge(defaults, deep_merge(cell, {"track": {"pad": {"rotational_stiffness": K_THETA}}})), schema)
+    problems = build.physics_problems(on_cell, "scen.yaml")
+    assert [p for p in problems if "rotational_stiffness" in p] == [
+        f"scen.yaml: track.pad.rotational_stiffness = {K_THETA!r} N m/rad is not allowed with track.cell: the pads' moment springs "
+        "are carried on the uniform track only (rail.moving, rail.longitudinal); use 0 on a cell, or the rotational stiffness "
+        "on a track without track.cell."]
+    assert not [p for p in build.physics_problems(validate_config(deep_merge(defaults, cell), schema), "s") if "rotational" in p]
+    uniform = validate_config(deep_merge(defaults, {"track": {"pad": {"rotational_stiffness": K_THETA}}}), schema)
+    assert build.physics_problems(uniform, "s") == []
+    assert build.scenario(uniform).track.pad.rotational_stiffness == K_THETA
+    assert build.scenario(validate_config(defaults, schema)).track.pad.rotational_stiffness == 0.0  # today's pad
