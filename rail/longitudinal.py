@@ -14,8 +14,9 @@ vertical track's (rail.moving, docs/track.md):
   moves by u_head = u_n + e psi. So the vertical force P moves the head too (the cross receptance
   psi / P): the vertical dynamics move the contact longitudinally even at constant traction.
 
-The pads' rotational stiffness and the coupling of the rod to the bending through the pads (the
-pad acts on the rail foot, e_f below the neutral axis) are left out.
+The pads' rotational stiffness (Pad.rotational_stiffness, a moment spring on psi at every support, the
+sleeper held in rotation) enters the beam's tables when it is > 0 (_beam_nodes_rotational); the coupling of
+the rod to the bending through the pads (the pad acts on the rail foot, e_f below the neutral axis) is left out.
 
 Conventions
 -----------
@@ -360,6 +361,54 @@ def _beam_nodes(beta, Omega, V, js, track: Track, static, want_wM=False):
     return Y, HpF, Hww, HwM, dF, dM, dW, dx
 
 
+def _beam_nodes_rotational(beta, Omega, V, js, track: Track, static):
+    """The beam's integrand tables with the pads' moment springs (Pad.rotational_stiffness > 0): each support
+    holds the rail by a force on w and a moment on psi, so the scalar 1 / (L / K_s + S) becomes the 2 x 2
+    Y = (C + S)^-1, C = diag(L / K_s, L / k_theta), S the lattice sum of the 2 x 2 free receptance
+    (rail.track.beam_lattice_sums); a load l at the contact reaches the supports as v_l = (H_wl, H_psil) and a
+    support's (force, moment) the contact's response r as u_r = (H_rF, H_rM). Near the static point, with
+    H_0 the divergent m = 0 term, B = C + S - H_0 and D_0 = H_0^-1, the static column's diagonal of r per l is
+    [(I + B D_0)^-1 B]_rl (finite; rail.moving._rotational_tables). Returns Y (n, 2, 2), the rows
+    u_psi = (H_psiF, H_psiM), u_w = (H_ww, H_wM) (n, 2, J) and the columns v_F = (H_ww, H_psiF),
+    v_M = (H_wM, H_psiM) (n, 2, J), the diagonals of psi/F, psi/M, w/M and the derivative factor."""
+    from .track import beam_lattice_sums, support_rotational_stiffness
+
+    om = Omega + beta * V
+    b = beta[:, None] - js[None, :] * track.beta0
+    Hww, HwM, HpF, HpM, inv = free_beam_matrix(b, om[:, None], track)
+    Sww, SwM, SpF, SpM = beam_lattice_sums(beta, om, track)
+    n = len(beta)
+    Cm = np.zeros((n, 2, 2), dtype=complex)
+    Cm[:, 0, 0] = track.L / support_stiffness(track, om)
+    Cm[:, 1, 1] = track.L / support_rotational_stiffness(track, om)
+    S = np.stack([np.stack([Sww, SwM], -1), np.stack([SpF, SpM], -1)], -2)
+    Y = np.linalg.inv(Cm + S)
+    u_psi, u_w = np.stack([HpF, HpM], 1), np.stack([Hww, HwM], 1)
+    v_F, v_M = np.stack([Hww, HpF], 1), np.stack([HwM, HpM], 1)
+
+    def quad(u, v):  # sum_{s, s'} u_s Y_ss' v_s' per node and column
+        return np.einsum("nsj,nst,ntj->nj", u, Y, v)
+
+    dF, dM, dW = HpF - quad(u_psi, v_F), HpM - quad(u_psi, v_M), HwM - quad(u_w, v_M)
+    if static is not None:
+        near = np.abs(beta) < track.beta0 / 2
+        if near.any():
+            k0 = int(np.where(js == static)[0][0])
+            H0 = np.stack([np.stack([Hww[near, k0], HwM[near, k0]], -1), np.stack([HpF[near, k0], HpM[near, k0]], -1)], -2)
+            B = Cm[near] + S[near] - H0
+            bn, on = b[near, k0], om[near]
+            EI, kGA = rail_stiffnesses(track, on)
+            r = track.rail
+            D0 = np.empty_like(H0)
+            D0[:, 0, 0] = kGA * bn**2 - r.density * r.area * on**2
+            D0[:, 0, 1] = -1j * bn * kGA
+            D0[:, 1, 0] = 1j * bn * kGA
+            D0[:, 1, 1] = EI * bn**2 + kGA - r.density * r.second_moment_of_area * on**2
+            Z = np.linalg.inv(np.eye(2)[None] + B @ D0) @ B  # = H_0 - H_0 (B + H_0)^-1 H_0
+            dF[near, k0], dM[near, k0], dW[near, k0] = Z[:, 1, 0], Z[:, 1, 1], Z[:, 0, 1]
+    return Y, u_psi, u_w, v_F, v_M, dF, dM, dW, -1j * b
+
+
 def _rod_nodes(beta, Omega, V, js, head: RailHead, static):
     """Integrand tables of the rod: Y = 1 / (L / k_x + S_u), H_u(beta - j b0) and the diagonal."""
     t = head.track
@@ -423,6 +472,7 @@ def moving_head_matrix(head: RailHead, speed: float, Omega: float, js, kinds=("r
     th_edges = np.unique(np.concatenate([np.linspace(-np.pi / 2, np.pi / 2, 97), [np.arctan(beta_s / Bmap)],
                                          np.arctan((np.arange(-np.max(np.abs(js)) - 2, np.max(np.abs(js)) + 3) + 0.5) * b0 / Bmap)]))
     c0 = int(np.argmin(np.abs(js)))
+    rotational = t.pad.rotational_stiffness > 0  # the pads' moment springs (_beam_nodes_rotational)
 
     def to_beta(th):
         return Bmap * np.tan(th), Bmap / np.cos(th) ** 2
@@ -442,6 +492,9 @@ def moving_head_matrix(head: RailHead, speed: float, Omega: float, js, kinds=("r
                 if g == "rod":
                     Y, Hu, d = _rod_nodes(beta, Omega, V, js, head, static)
                     res.append(np.concatenate([d, (Y * Hu[:, c0])[:, None]], axis=1) * jac[:, None])
+                elif rotational:
+                    Y, u_psi, u_w, v_F, v_M, dF, dM, dW, dx = _beam_nodes_rotational(beta, Omega, V, js, t, static)
+                    res.append(np.concatenate([dF, dM, (Y[:, 0, :] * v_F[:, :, c0]).sum(1)[:, None]], axis=1) * jac[:, None])
                 else:
                     Y, HpF, Hww, HwM, dF, dM, dW, dx = _beam_nodes(beta, Omega, V, js, t, static)
                     res.append(np.concatenate([dF, dM, (Y * Hww[:, c0])[:, None]], axis=1) * jac[:, None])
@@ -461,6 +514,17 @@ def moving_head_matrix(head: RailHead, speed: float, Omega: float, js, kinds=("r
                 Y, Hu, d = _rod_nodes(beta, Omega, V, js, head, static)
                 mats["rod"] += (Hu * (w * Y)[:, None]).T @ Hu
                 diags["rod"] += w @ d
+            elif rotational:  # the 2 x 2 reactions: sum over the channels s, s' of u_s Y_ss' v_s'
+                Y, u_psi, u_w, v_F, v_M, dF, dM, dW, dx = _beam_nodes_rotational(beta, Omega, V, js, t, static)
+                wY = Y * w[:, None, None]
+                terms = {"dpsiF": (u_psi * dx[:, None, :], v_F, dF * dx), "psiF": (u_psi, v_F, dF), "psiM": (u_psi, v_M, dM),
+                         "wM": (u_w, v_M, dW)}
+                for k, (u, v, d) in terms.items():
+                    if k in mats:
+                        for a in (0, 1):
+                            for c in (0, 1):
+                                mats[k] += (u[:, a, :] * wY[:, a, c][:, None]).T @ v[:, c, :]
+                        diags[k] += w @ d
             else:
                 Y, HpF, Hww, HwM, dF, dM, dW, dx = _beam_nodes(beta, Omega, V, js, t, static, want_wM="wM" in kinds)
                 wy = (w * Y)[:, None]

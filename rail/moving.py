@@ -251,6 +251,70 @@ def _near_static(beta, static_j, bP):
     return np.abs(beta - static_j * bP) < bP / 2
 
 
+def _rotational_tables(beta, Omega, V, js, cell: TrackCell, static_j):
+    """``_node_tables`` of the uniform track whose pads have a rotational stiffness (Pad.rotational_stiffness).
+
+    Each support acts on the rail with a force and a moment: two channels q at x = 0, the force (q = 0, on w)
+    and the moment (q = 1, on psi). With the free rail's 2 x 2 receptance H = [[H_ww, H_wM], [H_psiF, H_psiM]]
+    (rail.track.free_beam_receptances) and its lattice sum S (rail.track.beam_lattice_sums), the reactions
+    to column k are Y_k = P (C + S)^-1 v_k, C = diag(P / K_s, P / k_theta), v_k = (H_ww, H_psiF)(beta - k beta0),
+    and the rows U_p = (H_ww, H_wM)(beta - p beta0): the scalar formula of docs/track.md with 2 x 2 blocks.
+
+    Near the static point (beta' = beta - static_j beta0 -> 0 with omega -> 0) the m = 0 term H_0 of S diverges;
+    with B = C + S - H_0 and D_0 = H_0^-1 (the free rail's dynamic stiffness, a polynomial) the static column's
+    reactions are P (I + D_0 B)^-1 e_0, its row P [(I + B D_0)^-1 v_k]_0 and its diagonal [(I + B D_0)^-1 B]_00,
+    each finite (H_0 - H_0 (B + H_0)^-1 H_0 = (I + B D_0)^-1 B). B is formed as S - H_0 (a difference of two
+    large numbers within half a cell wavenumber of the static point, as rail.longitudinal does).
+    Returns as ``_node_tables`` (U and Y with two channels).
+    """
+    from .track import beam_lattice_sums, free_beam_receptances, support_rotational_stiffness, support_stiffness
+
+    t = cell.track
+    P, bP = cell.period, cell.beta_p
+    omega = Omega + beta * V
+    b = beta[:, None] - js[None, :] * bP
+    Hww, HwM, HpF, HpM = free_beam_receptances(b, omega[:, None], t)
+    Sww, SwM, SpF, SpM = beam_lattice_sums(beta, omega, t)
+    n, J = len(beta), len(js)
+    Cm = np.zeros((n, 2, 2), dtype=complex)
+    Cm[:, 0, 0] = P / support_stiffness(t, omega)
+    Cm[:, 1, 1] = P / support_rotational_stiffness(t, omega)
+    S = np.stack([np.stack([Sww, SwM], -1), np.stack([SpF, SpM], -1)], -2)  # (n, 2, 2) [response, load]
+    U = np.stack([Hww, HwM], 1)  # (n, 2, J): w at the load per unit support force, moment
+    Vv = np.stack([Hww, HpF], 1)  # (n, 2, J): w, psi at the support per unit load
+    Y = P * np.linalg.solve(Cm + S, Vv)
+    diag = Hww - np.einsum("nqj,nqj->nj", U, Y) / P
+    near = _near_static(beta, static_j, bP)
+    row = None
+    if near.any():
+        col = int(np.where(js == static_j)[0][0])
+        H0 = np.stack([np.stack([Hww[near, col], HwM[near, col]], -1), np.stack([HpF[near, col], HpM[near, col]], -1)], -2)
+        B = Cm[near] + S[near] - H0
+        bn, on = b[near, col], omega[near]
+        EI, kGA = rail_stiffnesses(t, on)
+        r = t.rail
+        D0 = np.empty_like(H0)
+        D0[:, 0, 0] = kGA * bn**2 - r.density * r.area * on**2
+        D0[:, 0, 1] = -1j * bn * kGA
+        D0[:, 1, 0] = 1j * bn * kGA
+        D0[:, 1, 1] = EI * bn**2 + kGA - r.density * r.second_moment_of_area * on**2
+        eye = np.eye(2)[None]
+        left = np.linalg.inv(eye + B @ D0)  # (I + B D_0)^-1 = H_0 (B + H_0)^-1
+        right = np.linalg.inv(eye + D0 @ B)  # (I + D_0 B)^-1 = (B + H_0)^-1 H_0
+        Yn = Y[near]
+        Yn[:, :, col] = P * right[:, :, 0]
+        Y[near] = Yn
+        row = np.zeros((n, J), dtype=complex)
+        row[near] = P * np.einsum("nq,nqj->nj", left[:, 0, :], Vv[near])
+        row[near, col] = 0.0
+        Un = U[near].copy()
+        Un[:, :, col] = 0.0
+        dn = Hww[near] - np.einsum("nqj,nqj->nj", Un, Yn) / P
+        dn[:, col] = (left @ B)[:, 0, 0]
+        diag[near] = dn
+    return Hww, diag, U, Y, row, near
+
+
 def _node_tables(beta, Omega, V, js, cell: TrackCell, static_j, compiled: bool = True):
     """Everything the wavenumber integrands need at the nodes ``beta`` (docs/track.md, "A cell of N bays").
 
@@ -281,6 +345,11 @@ def _node_tables(beta, Omega, V, js, cell: TrackCell, static_j, compiled: bool =
     """
     P, bP = cell.period, cell.beta_p
     s = cell.positions
+    if cell.track.pad.rotational_stiffness > 0:  # the pads' moment springs: the uniform track only
+        if not (len(s) == 1 and s[0] == 0.0):
+            raise ValueError("track.pad.rotational_stiffness > 0 is not carried on a track cell (track.cell): "
+                             "the moving-load tables hold it on the uniform track only.")
+        return _rotational_tables(beta, Omega, V, js, cell, static_j)
     omega = Omega + beta * V
     Kq = point_stiffness(cell, omega)  # (n, Q)
     uniform = len(s) == 1 and s[0] == 0.0
@@ -405,7 +474,7 @@ def _integrate(cell: TrackCell, V, Omega, js, offsets, static_j, rtol, cut, orde
     beta_s = -Omega / V  # where omega = 0: hysteretic damping changes sign
     has_offsets = np.any(offsets != 0)
     c0 = int(np.argmin(np.abs(js)))
-    uniform = Q == 1 and cell.positions[0] == 0.0  # the compiled columns (rail.moving._uniform_columns)
+    uniform = Q == 1 and cell.positions[0] == 0.0 and cell.track.pad.rotational_stiffness == 0  # rail.moving._uniform_columns
 
     def to_beta(th):
         return Bmap * np.tan(th), Bmap / np.cos(th) ** 2
@@ -460,10 +529,10 @@ def _integrate(cell: TrackCell, V, Omega, js, offsets, static_j, rtol, cut, orde
         D += W[:, sl] @ diag
         if row is not None and near.any():
             U[near, :, int(np.where(js == static_j)[0][0])] = 0.0
-        n = U.shape[0]
-        Yf = Y.reshape(n * Q, J)
+        n, Qn = U.shape[0], U.shape[1]  # Qn: the attachments, or 2 channels with the pads' moment springs
+        Yf = Y.reshape(n * Qn, J)
         for i in range(len(offsets)):
-            M[i] += (U * W[i, sl][:, None, None]).reshape(n * Q, J).T @ Yf  # M[p, k] = int sum_q u_p^q Y_k^q e^d_p
+            M[i] += (U * W[i, sl][:, None, None]).reshape(n * Qn, J).T @ Yf  # M[p, k] = int sum_q u_p^q Y_k^q e^d_p
             if row is not None and near.any():
                 M[i, int(np.where(js == static_j)[0][0])] += W[i, sl] @ row
     if progress is not None:

@@ -31,6 +31,9 @@ __all__ = [
     "damped_stiffness",
     "rail_stiffnesses",
     "support_stiffness",
+    "support_rotational_stiffness",
+    "beam_lattice_sums",
+    "free_beam_receptances",
     "free_receptance",
     "free_receptance_poles",
     "periodic_sum",
@@ -89,6 +92,12 @@ def require_nonnegative(name: str, value: float) -> None:
         raise ValueError(f"{name} = {value!r} is not allowed: it must be >= 0 (valid range [0, inf)).")
 
 
+# The stiffest moment spring a pad may have (the schema's maximum of track.pad.rotational_stiffness): 1e9 N m/rad is
+# 50 times EI / L of UIC60 on 0.6 m bays (6.4e6 N m^2 / 0.6 m = 1.1e7 N m/rad), so the rail is clamped at the supports
+# (the clamped-clamped limit; tests/test_rotational_pad.py).
+MAX_ROTATIONAL_STIFFNESS = 1.0e9
+
+
 @dataclass(frozen=True, slots=True)
 class Rail:
     """Timoshenko rail (report Table 1).
@@ -121,16 +130,28 @@ class Rail:
 
 @dataclass(frozen=True, slots=True)
 class Pad:
-    """Railpad under one rail seat: stiffness N/m (> 0), loss_factor - (>= 0), viscous_damping N s/m (>= 0)."""
+    """Railpad under one rail seat: stiffness N/m (> 0), loss_factor - (>= 0), viscous_damping N s/m (>= 0),
+    rotational_stiffness k_theta N m/rad (>= 0; 0: the report's pad, a point spring without moment).
+
+    k_theta is a moment spring between the rail's bending rotation psi and the sleeper, taken as held in
+    rotation (``support_rotational_stiffness``); it is damped as the pad: loss factor ``loss_factor``
+    (hysteretic) or the dashpot ``viscous_damping k_theta / stiffness`` (viscous: the pad's time constant).
+    For a uniform (Winkler) pad of length l along the rail, k_theta = stiffness l^2 / 12.
+    """
 
     stiffness: float
     loss_factor: float = 0.0
     viscous_damping: float = 0.0
+    rotational_stiffness: float = 0.0
 
     def __post_init__(self):
         require_positive("track.pad.stiffness", self.stiffness)
         require_nonnegative("track.pad.loss_factor", self.loss_factor)
         require_nonnegative("track.pad.viscous_damping", self.viscous_damping)
+        require_nonnegative("track.pad.rotational_stiffness", self.rotational_stiffness)
+        if self.rotational_stiffness > MAX_ROTATIONAL_STIFFNESS:
+            raise ValueError(f"track.pad.rotational_stiffness = {self.rotational_stiffness!r} N m/rad is not allowed: it must be "
+                             f"in [0, {MAX_ROTATIONAL_STIFFNESS:g}] N m/rad (above it the rail is clamped at the supports).")
 
 
 @dataclass(frozen=True, slots=True)
@@ -338,6 +359,112 @@ def support_stiffness(track: Track, omega):
     kb = damped_stiffness(track.ballast.stiffness, track.ballast.loss_factor, track.ballast.viscous_damping, omega, track.damping)
     kbm = kb - track.sleeper.mass * omega**2
     return kp * kbm / (kp + kbm)
+
+
+def support_rotational_stiffness(track: Track, omega):
+    """Dynamic moment stiffness of one pad seen by the rail's bending rotation psi (``Pad.rotational_stiffness``).
+
+    k_theta (1 + i eta_P sign(omega)) (hysteretic) or k_theta + i omega c_P k_theta / k_P (viscous: the pad's
+    time constant). The sleeper is held in rotation: its pitch (rotational inertia about the lateral axis,
+    about m_S b^2 / 12 with the sleeper's width b = 0.25 m along the rail, on the ballast's rotational stiffness)
+    is left out. At 1 kHz the half sleeper's pitch inertia (162 kg: 0.84 kg m^2, 3.3e7 N m/rad at 1 kHz) is
+    about 35 times the sourced k_theta (9.45e5 N m/rad), so the series spring differs from k_theta by about 3 %.
+
+    Parameters
+    ----------
+    track : Track
+        The track (its pad and damping model).
+    omega : float or ndarray
+        Angular frequency [rad/s].
+
+    Returns
+    -------
+    complex ndarray
+        The moment stiffness [N m/rad], shape of ``omega``; 0 where the pad has no rotational stiffness.
+    """
+    p = track.pad
+    c = p.viscous_damping * p.rotational_stiffness / p.stiffness
+    return damped_stiffness(p.rotational_stiffness, p.loss_factor, c, np.asarray(omega, dtype=float), track.damping)
+
+
+def free_beam_receptances(beta, omega, track: Track):
+    """Free Timoshenko rail's 2 x 2 receptance from (F, M) to (W, Psi) in the wavenumber domain.
+
+    With D = [[kGA b^2 - rho A w^2, -i b kGA], [i b kGA, EI b^2 + kGA - rho I w^2]] (the dynamic stiffness)
+    H = D^-1: H_ww = (EI b^2 + kGA - rho I w^2) / det D (``free_receptance``), H_wM = i b kGA / det D = -H_psiF,
+    H_psiM = (kGA b^2 - rho A w^2) / det D (rail.longitudinal.free_beam_matrix holds the same for the head).
+
+    Parameters
+    ----------
+    beta : float or ndarray
+        Wavenumber [rad/m]; broadcast with ``omega``.
+    omega : float or ndarray
+        Angular frequency [rad/s].
+    track : Track
+        The track (rail properties and damping model).
+
+    Returns
+    -------
+    (H_ww, H_wM, H_psiF, H_psiM) : complex ndarrays
+        [m^2/N, m/N, m/N, 1/N] per unit wavenumber.
+    """
+    b = np.asarray(beta, dtype=float)
+    w = np.asarray(omega, dtype=float)
+    EI, kGA = rail_stiffnesses(track, w)
+    r = track.rail
+    d11 = kGA * b**2 - r.density * r.area * w**2
+    d22 = EI * b**2 + kGA - r.density * r.second_moment_of_area * w**2
+    inv = 1.0 / (d11 * d22 - (b * kGA) ** 2)
+    return d22 * inv, 1j * b * kGA * inv, -1j * b * kGA * inv, d11 * inv
+
+
+def beam_lattice_sums(beta, omega, track: Track):
+    """Lattice sums of the free Timoshenko rail's 2 x 2 receptance from (F, M) to (W, Psi), closed form.
+
+    S_rl(beta) = sum_m H_rl(beta + m beta0, omega), with (rail.longitudinal.free_beam_matrix)
+    H_ww = (EI b^2 + kGA - rho I w^2) / det, H_wM = i b kGA / det = -H_psiF, H_psiM = (kGA b^2 - rho A w^2) / det.
+    det = a (b^2 - s_1)(b^2 - s_2) (``free_receptance_poles``), so each entry is a sum of partial fractions
+    over p_j = sqrt(s_j); with z = exp(i p L), C = cos(beta L) (docs/track.md)::
+
+      sum_m 1 / ((beta + m b0)^2 - p^2)          = (L / 2p) (z^2 - 1) / (i (1 + z^2 - 2 z C))
+      sum_m (beta + m b0) / ((beta + m b0)^2 - p^2) = L z sin(beta L) / (1 + z^2 - 2 z C)
+
+    (the second summed symmetrically in m; the odd entries decay as 1 / b^3, so their sum converges absolutely).
+
+    Parameters
+    ----------
+    beta : float or array_like
+        Wavenumber [rad/m]; broadcast with ``omega``.
+    omega : float or array_like
+        Angular frequency [rad/s], != 0.
+    track : Track
+        The track.
+
+    Returns
+    -------
+    S_ww, S_wM, S_psiF, S_psiM : complex ndarray
+        [m^2/N], [m/N], [m/N], [1/N]: the lattice sums per unit wavenumber (S_ww is ``periodic_sum``).
+    """
+    beta, omega = np.broadcast_arrays(np.asarray(beta, dtype=float), np.asarray(omega, dtype=float))
+    c, p = free_receptance_poles(omega, track)
+    EI, kGA = rail_stiffnesses(track, omega)
+    rA = track.rail.density * track.rail.area
+    a = kGA * EI
+    s = p * p
+    L = track.L
+    cb, sb = np.cos(beta * L), np.sin(beta * L)
+    S_ww = S_wM = S_pM = 0j
+    for j in (0, 1):
+        k = 1 - j
+        z = np.exp(1j * p[j] * L)
+        den = 1 + z * z - 2 * z * cb
+        even = (L / (2 * p[j])) * (z * z - 1) / (1j * den)
+        odd = L * z * sb / den
+        inv = 1.0 / (a * (s[j] - s[k]))
+        S_ww = S_ww + c[j] * even
+        S_pM = S_pM + (kGA * s[j] - rA * omega**2) * inv * even
+        S_wM = S_wM + 1j * kGA * inv * odd
+    return S_ww, S_wM, -S_wM, S_pM
 
 
 def free_receptance(beta, omega, track: Track):
@@ -580,6 +707,11 @@ def stationary_receptance(x, x0, omega, track: Track, rtol: float = 1e-7, return
     """
     from .quadrature import adaptive_panels
 
+    if track.pad.rotational_stiffness > 0:
+        raise ValueError(f"track.pad.rotational_stiffness = {track.pad.rotational_stiffness!r} N m/rad is not carried by the "
+                         "stationary receptance (rail.track.stationary_receptance: noise, decay, characterisation): only the "
+                         "moving-load tables and the head's tables (rail.moving, rail.longitudinal) hold the pads' moment springs; "
+                         "set it to 0 for these results.")
     if np.ndim(omega) != 0 or not (np.isfinite(omega) and omega != 0):
         raise ValueError(f"omega = {np.asarray(omega).tolist()!r} rad/s is not allowed in the stationary receptance: it must be a finite scalar != 0 "
                          "(the static receptance has a double pole at 0).")

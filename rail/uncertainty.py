@@ -121,9 +121,24 @@ def sample(parameters: dict, members: int, seed: int) -> dict:
     return {k: out[k] for k in parameters}
 
 
-def member_config(cfg: dict, values: dict) -> dict:
+def _schema_declares(schema: dict | None, parts) -> bool:
+    """Whether the schema's nested ``properties`` declare the dotted key ``parts`` (an optional key)."""
+    node = schema
+    for p in parts:
+        props = node.get("properties") if isinstance(node, dict) else None
+        if not isinstance(props, dict) or p not in props:
+            return False
+        node = props[p]
+    return True
+
+
+def member_config(cfg: dict, values: dict, schema: dict | None = None) -> dict:
     """The configuration of one member: a deep copy of ``cfg`` with each dotted key set to its value
     (``contact.friction`` sets the static and the dynamic friction).
+
+    An optional key that ``cfg`` does not hold (``track.rail.head_height``, ``track.pad.longitudinal_stiffness``,
+    ``track.pad.rotational_stiffness``: the schema's defaults apply where they are absent) is set when ``schema``
+    declares it; any other key ``cfg`` does not hold is refused (a misspelt key names itself).
 
     Parameters
     ----------
@@ -131,6 +146,8 @@ def member_config(cfg: dict, values: dict) -> dict:
         Resolved configuration.
     values : dict
         {dotted key: value} [the key's SI unit].
+    schema : dict, optional
+        config/schema/config.schema.yaml: the optional keys it declares may be set although absent.
 
     Returns
     -------
@@ -141,12 +158,15 @@ def member_config(cfg: dict, values: dict) -> dict:
     for key, value in values.items():
         for target in ALIASES.get(key, (key,)):
             *parents, leaf = target.split(".")
+            declared = _schema_declares(schema, target.split("."))
             node = out
             for p in parents:
                 if not isinstance(node.get(p), dict):
-                    raise ValueError(f"uncertainty parameter {key}: the configuration has no key {target}.")
+                    if not (declared and p not in node):
+                        raise ValueError(f"uncertainty parameter {key}: the configuration has no key {target}.")
+                    node[p] = {}
                 node = node[p]
-            if leaf not in node:
+            if leaf not in node and not declared:
                 raise ValueError(f"uncertainty parameter {key}: the configuration has no key {target}.")
             node[leaf] = float(value)
     return out

@@ -18,7 +18,7 @@ def test_unknown_key_names_key_value_and_allowed_keys(defaults, schema):
     cfg = rconfig.deep_merge(defaults, {"track": {"pad": {"stifness": 3.5e8}}})
     with pytest.raises(rconfig.ConfigError, match=r"scen.yaml: unknown key track\.pad\.stifness = 350000000\.0; "
                        r"the keys allowed under track\.pad are: longitudinal_loss_factor, longitudinal_stiffness, "
-                       r"longitudinal_viscous_damping, loss_factor, stiffness, viscous_damping"):
+                       r"longitudinal_viscous_damping, loss_factor, rotational_stiffness, stiffness, viscous_damping"):
         rconfig.validate_config(cfg, schema, source="scen.yaml")
 
 

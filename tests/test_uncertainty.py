@@ -111,3 +111,34 @@ def test_band_interval_figure_plots_the_per_axle_band_median_and_interval():
     assert len(median) == 1 and median[0].get_ydata().tolist() == [3.0, -2.0]
     path = ax.collections[0].get_paths()[0].vertices[:, 1]
     assert set(np.round(path, 12)) == {2.0, -3.0, 4.0, -1.0}
+
+
+def test_the_ensemble_carries_the_head_height_and_the_pads_stiffnesses_with_their_stated_spreads(study):
+    """Issue 54: e (track.rail.head_height), the pads' vertical, longitudinal and rotational stiffness are drawn
+    with the file's spreads (20,000 draws against the distributions, independent of the code), within the
+    schema's ranges, and every member holds the rail's flexibility (the file's changes), through which e and k_x act."""
+    p = study["parameters"]
+    for key in ("track.rail.head_height", "track.pad.stiffness", "track.pad.longitudinal_stiffness", "track.pad.rotational_stiffness"):
+        assert key in p, key
+    assert study["changes"]["rail_flexibility"]["model"] == "rod_and_bending"
+    n = 20000
+    d = U.sample(p, n, 3)
+    e = d["track.rail.head_height"]
+    assert 0.082 <= e.min() and e.max() <= 0.100 and abs(e.mean() - 0.091) < 4 * 0.018 / np.sqrt(12 * n)
+    for key, median, factor in (("track.pad.longitudinal_stiffness", 1e7, 1.8), ("track.pad.rotational_stiffness", 9.45e5, 2.0)):
+        lk = np.log(d[key])
+        assert abs(lk.mean() - np.log(median)) < 4 * np.log(factor) / np.sqrt(n) and abs(lk.std() / np.log(factor) - 1) < 0.03, key
+    # the file's 16 members stay inside the schema's ranges (k_x >= 1e6, k_theta <= 1e9)
+    m = U.sample(p, study["members"], study["seed"])
+    assert m["track.pad.longitudinal_stiffness"].min() >= 1e6 and m["track.pad.rotational_stiffness"].max() <= 1e9
+
+
+def test_a_member_configuration_sets_an_optional_key_the_schema_declares(defaults, root):
+    schema = yaml.safe_load((root / "config/schema/config.schema.yaml").read_text())
+    assert "head_height" not in defaults["track"]["rail"]  # optional: absent from the resolved default
+    cfg = U.member_config(defaults, {"track.rail.head_height": 0.085, "track.pad.rotational_stiffness": 5e5}, schema)
+    assert cfg["track"]["rail"]["head_height"] == 0.085 and cfg["track"]["pad"]["rotational_stiffness"] == 5e5
+    with pytest.raises(ValueError, match=r"the configuration has no key track\.rail\.head_hieght"):
+        U.member_config(defaults, {"track.rail.head_hieght": 0.085}, schema)
+    with pytest.raises(ValueError, match=r"the configuration has no key track\.rail\.head_height"):
+        U.member_config(defaults, {"track.rail.head_height": 0.085})  # without the schema: refused as before

@@ -252,7 +252,8 @@ def _track(cfg: dict) -> Track:
             loss_factor=float(r["loss_factor"]),
             damping_time=float(r["damping_time"]),
         ),
-        pad=Pad(float(p["stiffness"]), float(p["loss_factor"]), float(p["viscous_damping"])),
+        pad=Pad(float(p["stiffness"]), float(p["loss_factor"]), float(p["viscous_damping"]),
+                float(setting(cfg, "track.pad.rotational_stiffness"))),
         sleeper=Sleeper(float(s["mass"]), float(s["spacing"])),
         ballast=Ballast(float(b["stiffness"]), float(b["loss_factor"]), float(b["viscous_damping"])),
         damping=str(t["damping"]),
@@ -395,6 +396,10 @@ def physics_problems(cfg: dict, source: str) -> list[str]:
         for key in ("spacing", "pad", "ballast", "sleeper_mass"):
             if key in cell and len(cell[key]) != nb:
                 out.append(f"{source}: track.cell.{key} has {len(cell[key])} values: it needs one per bay, track.cell.bays = {nb}.")
+        if float(setting(cfg, "track.pad.rotational_stiffness")) > 0:
+            out.append(f"{source}: track.pad.rotational_stiffness = {setting(cfg, 'track.pad.rotational_stiffness')!r} N m/rad is not "
+                       "allowed with track.cell: the pads' moment springs are carried on the uniform track only (rail.moving, "
+                       "rail.longitudinal); use 0 on a cell, or the rotational stiffness on a track without track.cell.")
         if "spacing" in cell and len(cell["spacing"]) == nb:
             tr = dataclasses.replace(tr, sleeper=Sleeper(tr.sleeper.mass, float(np.mean(cell["spacing"]))))
     out += dynamic_creepage_problems(cfg, source)

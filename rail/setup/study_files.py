@@ -389,7 +389,8 @@ def uncertainty_study(config: dict, schema: dict, path) -> dict:
     schema : dict
         config/schema/config.schema.yaml.
     path : Path
-        config/uncertainty.yaml (members, seed, parameters, interval [-], speed [m/s], spectrum).
+        config/uncertainty.yaml (members, seed, parameters, interval [-], speed [m/s], spectrum; optional changes,
+        keys merged into every member before its draws).
 
     Returns
     -------
@@ -416,10 +417,14 @@ def uncertainty_study(config: dict, schema: dict, path) -> dict:
     except (ValueError, KeyError) as e:
         raise ConfigError(f"invalid configuration:\n  {path}: {e}") from None
     members = []
+    base = config
+    if u.get("changes"):  # keys every member holds before its draws (e.g. the rail's flexibility, which e and k_x act through)
+        from .config import deep_merge
+        base = deep_merge(config, u["changes"])
     for m in range(int(u["members"])):
         vals = {k: float(v[m]) for k, v in draws.items()}
         try:
-            cfg = unc.member_config(config, vals)
+            cfg = unc.member_config(base, vals, schema)
         except ValueError as e:
             raise ConfigError(f"invalid configuration:\n  {path}: {e}") from None
         cfg["figures"]["rate_spectrum"].update(u["spectrum"])

@@ -156,3 +156,28 @@ def stationary_rod_row(x0, omega, track, xs, Kx):
     Aeq = np.diag(1 / Kx) + rod_green(xs[:, None] - xs[None, :], omega, track)
     R = np.linalg.solve(Aeq, rod_green(xs - x0, omega, track))
     return rod_green(0.0, omega, track) - rod_green(x0 - xs, omega, track) @ R
+
+
+def stationary_beam_rotational(x0, omega, track, k_theta, n=150):
+    """(w/F, psi/F, psi/M) at the load point x0 [m from a support] of the rail on 2n+1 supports that each hold
+    the rail by the vertical support K_s and by a moment spring k_theta (complex [N m/rad], on psi; the sleeper
+    held in rotation): reactions R_j (force) and T_j (moment) from one dense system,
+    R_i / K_s + sum_j (G_wF R_j + G_wM T_j)(x_i - x_j) = w_load(x_i), T_i / k_theta + sum_j (G_psiF R_j + G_psiM T_j) = psi_load(x_i)."""
+    xs = np.arange(-n, n + 1) * track.L
+    N = xs.size
+    Ks = _support(track, omega)
+    GwF, GwM, GpF, GpM = beam_green(xs[:, None] - xs[None, :], omega, track)
+    Aeq = np.block([[np.eye(N) / Ks + GwF, GwM], [GpF, np.eye(N) / k_theta + GpM]])
+    at_load = beam_green(np.array([0.0]), omega, track)
+    from_load = beam_green(xs - x0, omega, track)  # at the supports, from the load at x0
+    to_load = beam_green(x0 - xs, omega, track)  # at x0, from the supports
+    out = []
+    for load, resp in ((0, 0), (0, 2), (1, 3)):  # (F -> w), (F -> psi), (M -> psi)
+        rhs = np.concatenate([from_load[load], from_load[2 + load]])
+        RT = np.linalg.solve(Aeq, rhs)
+        R, T = RT[:N], RT[N:]
+        if resp == 0:
+            out.append(at_load[load][0] - to_load[0] @ R - to_load[1] @ T)
+        else:
+            out.append(at_load[2 + load][0] - to_load[2] @ R - to_load[3] @ T)
+    return tuple(out)
