@@ -153,6 +153,12 @@ class Pad:
             raise ValueError(f"track.pad.rotational_stiffness = {self.rotational_stiffness!r} N m/rad is not allowed: it must be "
                              f"in [0, {MAX_ROTATIONAL_STIFFNESS:g}] N m/rad (above it the rail is clamped at the supports).")
 
+    def __repr__(self) -> str:
+        """As the dataclass's, without rotational_stiffness where it is 0 (the report's pad): the hashes of what a
+        spectrum reads (rail.setup.study_files.class_key) stay those of the results computed before the option."""
+        extra = f", rotational_stiffness={self.rotational_stiffness!r}" if self.rotational_stiffness else ""
+        return f"Pad(stiffness={self.stiffness!r}, loss_factor={self.loss_factor!r}, viscous_damping={self.viscous_damping!r}{extra})"
+
 
 @dataclass(frozen=True, slots=True)
 class Sleeper:

@@ -70,7 +70,8 @@ ADDED_TRACKS = ("dyn_rail_pinned_stiff",)
 ADDED_SINCE = ("dyn_fixed", "dyn_rigid", "dyn_trailer", "dyn_trailer_independent", "dyn_driven", "dyn_rail", "dyn_rail_trailer",
                "dyn_rail_driven", "dyn_rail_pinned", "dyn_rail_pinned_slow",
                "dyn_rail_pinned_stiff", "dyn_rail_shear_soft", "dyn_rail_shear_stiff") + tuple(
-    f"dynspeed_{m}{t}" for m in ("fixed", "trailer", "driven", "rail", "falling", "together") for t in ("", "_stiff"))
+    f"dynspeed_{m}{t}" for m in ("fixed", "trailer", "driven", "rail", "falling", "together") for t in ("", "_stiff")) + tuple(
+    f"tenhz_{m}" for m in ("fixed", "driven", "rail", "falling", "together", "together_soft", "together_stiff"))  # spectrum_band.yaml
 
 
 def test_every_study_target_is_reproduced_scenarios_sweeps_and_fleets(P):
