@@ -9,7 +9,8 @@ import pytest
 
 from rail.creepage import coupling
 from rail import contact as C
-from rail.creepage.modes import LongitudinalModes, advance_modes, carter_creep_slope, periodic_response
+from rail.creepage.coupling import carter_creep_slope
+from rail.creepage.modes import LongitudinalModes, advance_modes, periodic_response
 from rail.contact.passage import MarchInputs
 from rail.contact.steady import carter
 from rail.creepage.wheelset import Wheelset, tread_receptance, wheelset_modes
