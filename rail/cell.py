@@ -224,7 +224,7 @@ def cell_lattice_sum(beta, omega, x: float, period: float, track: Track, poles=N
         The rail (only its rail and damping model are used).
     poles : (c, p), optional
         The partial fractions H = sum_j c_j / (beta^2 - p_j^2) of another free receptance, c_j [1/N] and p_j
-        [rad/m] with Im p_j >= 0, each broadcast with beta (the axial rod's, rail.cell_head); default the
+        [rad/m] with Im p_j >= 0, each broadcast with beta (the axial rod's, rail.creepage.rail_flexibility_cell); default the
         Timoshenko rail's (rail.track.free_receptance_poles).
 
     Returns

@@ -22,6 +22,7 @@ import sys
 import numpy as np
 
 from . import growth, interaction, moving, provenance, wear
+from .creepage import coupling
 from .contact import normal
 from .contact import ContactError, hertz_half_length
 from .interaction import ForceResult, Roughness
@@ -225,7 +226,7 @@ def passage_wear(scn: Scenario, forces: ForceResult, roughness: Roughness, wheel
         Index of the wheel in ``forces``.
     grid_phase : float
         Contact grid phase in [0, 1) [-] (rail.wear.bay_wear).
-    creepage_start : rail.wear.CreepageState, optional
+    creepage_start : rail.creepage.coupling.CreepageState, optional
         Where the dynamic creepage's Newton steps start (rail.wear.bay_wear).
 
     Returns
@@ -277,15 +278,15 @@ def train_wear(scn: Scenario, table: MovingReceptance, Z, grid_phase: float = 0.
     grid_phase : float
         Contact grid phase in [0, 1) [-].
     warm : dict, optional
-        {wheel index: rail.wear.CreepageState}: where each wheel's dynamic creepage starts its Newton
+        {wheel index: rail.creepage.coupling.CreepageState}: where each wheel's dynamic creepage starts its Newton
         steps, updated in place with the state reached (a growth run hands the same dict to every
-        update); a wheel not in it starts from rest (rail.wear.REST_STATE). Unused for the report's fixed
+        update); a wheel not in it starts from rest (rail.creepage.coupling.REST_STATE). Unused for the report's fixed
         creepage. With a start, rail.wear.bay_wear takes the lagged coupling (creepage_lag): the Newton
-        steps stop at the first below rail.wear.LAGGED_STEP, one march per update from the last update's
+        steps stop at the first below rail.creepage.coupling.LAGGED_STEP, one march per update from the last update's
         state, and the first update's from rest at that threshold too (3 marches, not 5 to the tolerance);
         its cost and its error per wear harmonic against the Newton steps to 1e-8 are measured by
         tests/benchmarks/bench_growth_creepage.py (docs/dynamic-creepage.md, "The lagged coupling").
-        None: no start, the Newton steps to the tolerance (rail.wear.march_with_creepage); the growth-rate
+        None: no start, the Newton steps to the tolerance (rail.creepage.coupling.march_with_creepage); the growth-rate
         spectrum's probes start so: a probe's own small change of u_bar must not be left below the tolerance.
 
     Returns
@@ -300,7 +301,7 @@ def train_wear(scn: Scenario, table: MovingReceptance, Z, grid_phase: float = 0.
     dZ = np.zeros_like(rough.Z, dtype=complex)
     current, slip = rough, 0.0
     for l in np.argsort(scn.wheels.positions)[::-1]:
-        w = passage_wear(scn, forces, current, int(l), grid_phase, None if warm is None else warm.get(int(l), wear.REST_STATE))
+        w = passage_wear(scn, forces, current, int(l), grid_phase, None if warm is None else warm.get(int(l), coupling.REST_STATE))
         if warm is not None and w.creepage_state is not None:
             warm[int(l)] = w.creepage_state
         dZ += w.Z

@@ -25,7 +25,7 @@ Conventions
   for (``wheels.static_load``); the half-space loss slope of the spring is proportional to k_H
   (rail.halfspace.contact_loss_factor), a constant loss factor is kept.
 - A vehicle that names the wheelset of each axle (``fleet.vehicles[*].wheelsets``: motored or trailer,
-  a rail.wheelset.Wheelset each) runs each axle's contact with that wheelset's modes
+  a rail.creepage.wheelset.Wheelset each) runs each axle's contact with that wheelset's modes
   (rail.interaction.Wheels.wheelsets, read by rail.chain.wheel_material); a vehicle that names none
   runs the scenario's (the ``wheelset`` section: every axle the same, or the report's fixed creepage
   without it). The other wheel's choice (``wheelset.other_wheel``) and the rail's flexibility are the
@@ -42,7 +42,7 @@ import numpy as np
 
 from .interaction import ContactSpring, Wheels
 from .scenario import Scenario
-from .wheelset import wheelset_modes
+from .creepage.wheelset import wheelset_modes
 
 __all__ = ["GRAVITY", "SUM_TOLERANCE", "Vehicle", "SpeedClasses", "speed_classes", "normal_classes", "uniform_classes",
            "FleetClass", "Fleet", "vehicle_spring"]
@@ -74,7 +74,7 @@ class Vehicle:
     unsprung_mass : kg, > 0, unsprung mass per wheel
     creepage      : -, one signed creepage per axle (eq 25; < 0 driven, > 0 braked, 0 trailing)
     share         : -, in [0, 1], the vehicle's share of the trains
-    wheelsets     : one rail.wheelset.Wheelset per axle (motored or trailer), or None (every axle the scenario's)
+    wheelsets     : one rail.creepage.wheelset.Wheelset per axle (motored or trailer), or None (every axle the scenario's)
     wheelset_names: one name per axle (a key of ``fleet.wheelsets``, or '' given in place), None with no wheelsets
 
     Without wheelsets every axle runs the scenario's ``wheelset`` section, or the report's fixed creepage.

@@ -59,8 +59,8 @@ class Wheels:
     positions : m, positions a_l along the train (the first wheel passes a support at t = 0)
     creepage : -, one signed creepage per wheel (eq 25; rail.fleet), or None for the contact's
                   creepage on every wheel (rail.contact.ContactMaterial.creepage)
-    wheelsets : one wheelset's modes per wheel (rail.contact.creep.LongitudinalModes, or None for the
-                  report's fixed creepage; rail.wheelset.wheelset_modes, rail.fleet), or None for the
+    wheelsets : one wheelset's modes per wheel (rail.creepage.modes.LongitudinalModes, or None for the
+                  report's fixed creepage; rail.creepage.wheelset.wheelset_modes, rail.fleet), or None for the
                   contact's on every wheel (rail.contact.ContactMaterial.longitudinal); read only by the
                   contact of each wheel (rail.chain.wheel_material), not by the vertical forces
     """

@@ -264,7 +264,7 @@ def _rotational_tables(beta, Omega, V, js, cell: TrackCell, static_j):
     with B = C + S - H_0 and D_0 = H_0^-1 (the free rail's dynamic stiffness, a polynomial) the static column's
     reactions are P (I + D_0 B)^-1 e_0, its row P [(I + B D_0)^-1 v_k]_0 and its diagonal [(I + B D_0)^-1 B]_00,
     each finite (H_0 - H_0 (B + H_0)^-1 H_0 = (I + B D_0)^-1 B). B is formed as S - H_0 (a difference of two
-    large numbers within half a cell wavenumber of the static point, as rail.longitudinal does).
+    large numbers within half a cell wavenumber of the static point, as rail.creepage.rail_flexibility does).
     Returns as ``_node_tables`` (U and Y with two channels).
     """
     from .track import beam_lattice_sums, free_beam_receptances, support_rotational_stiffness, support_stiffness

@@ -12,7 +12,7 @@ from dataclasses import dataclass
 import numpy as np
 
 from .contact import ContactMaterial, ContactNumerics, FrictionLaw, NormalContact, WearPath
-from .creepage_sources import RailFlexibility, WheelsetModel, rail_flexibility_of, wheelset_model_of
+from .creepage.choices import RailFlexibility, WheelsetModel, rail_flexibility_of, wheelset_model_of
 from .growth import GrowthSettings
 from .halfspace import ElasticMaterial
 from .interaction import ContactSpring, Roughness, Wheels, read_roughness_coefficients
@@ -173,8 +173,8 @@ class ModelChoices:
     ----------
     normal_contact : rail.contact.NormalContact (contact.normal)
     wear_path : rail.contact.WearPath (contact.wear_path)
-    wheelset : rail.creepage_sources.WheelsetModel (wheelset.model)
-    rail_flexibility : rail.creepage_sources.RailFlexibility (rail_flexibility.model)
+    wheelset : rail.creepage.choices.WheelsetModel (wheelset.model)
+    rail_flexibility : rail.creepage.choices.RailFlexibility (rail_flexibility.model)
     friction_law : rail.contact.FrictionLaw (contact.friction_decay, friction_static, friction_dynamic)
     """
 
@@ -188,7 +188,7 @@ class ModelChoices:
         """The choices as a result's attributes: each value beside its description (``wear_path = "patch"``
         and ``wear_path_description``, with the flag contact_shift_modelled; normal_contact, wheelset_model,
         rail_flexibility, friction_law), read back by value (rail.contact.wear_path,
-        rail.creepage_sources.wheelset_model, ...), never parsed.
+        rail.creepage.choices.wheelset_model, ...), never parsed.
 
         Returns
         -------

@@ -398,7 +398,7 @@ def free_beam_receptances(beta, omega, track: Track):
 
     With D = [[kGA b^2 - rho A w^2, -i b kGA], [i b kGA, EI b^2 + kGA - rho I w^2]] (the dynamic stiffness)
     H = D^-1: H_ww = (EI b^2 + kGA - rho I w^2) / det D (``free_receptance``), H_wM = i b kGA / det D = -H_psiF,
-    H_psiM = (kGA b^2 - rho A w^2) / det D (rail.longitudinal.free_beam_matrix holds the same for the head).
+    H_psiM = (kGA b^2 - rho A w^2) / det D (rail.creepage.rail_flexibility.free_beam_matrix holds the same for the head).
 
     Parameters
     ----------
@@ -427,7 +427,7 @@ def free_beam_receptances(beta, omega, track: Track):
 def beam_lattice_sums(beta, omega, track: Track):
     """Lattice sums of the free Timoshenko rail's 2 x 2 receptance from (F, M) to (W, Psi), closed form.
 
-    S_rl(beta) = sum_m H_rl(beta + m beta0, omega), with (rail.longitudinal.free_beam_matrix)
+    S_rl(beta) = sum_m H_rl(beta + m beta0, omega), with (rail.creepage.rail_flexibility.free_beam_matrix)
     H_ww = (EI b^2 + kGA - rho I w^2) / det, H_wM = i b kGA / det = -H_psiF, H_psiM = (kGA b^2 - rho A w^2) / det.
     det = a (b^2 - s_1)(b^2 - s_2) (``free_receptance_poles``), so each entry is a sum of partial fractions
     over p_j = sqrt(s_j); with z = exp(i p L), C = cos(beta L) (docs/track.md)::
@@ -716,7 +716,7 @@ def stationary_receptance(x, x0, omega, track: Track, rtol: float = 1e-7, return
     if track.pad.rotational_stiffness > 0:
         raise ValueError(f"track.pad.rotational_stiffness = {track.pad.rotational_stiffness!r} N m/rad is not carried by the "
                          "stationary receptance (rail.track.stationary_receptance: noise, decay, characterisation): only the "
-                         "moving-load tables and the head's tables (rail.moving, rail.longitudinal) hold the pads' moment springs; "
+                         "moving-load tables and the head's tables (rail.moving, rail.creepage.rail_flexibility) hold the pads' moment springs; "
                          "set it to 0 for these results.")
     if np.ndim(omega) != 0 or not (np.isfinite(omega) and omega != 0):
         raise ValueError(f"omega = {np.asarray(omega).tolist()!r} rad/s is not allowed in the stationary receptance: it must be a finite scalar != 0 "

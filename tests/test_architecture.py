@@ -19,8 +19,9 @@ ROOT = Path(__file__).resolve().parents[1]
 RAIL = ROOT / "rail"
 SCRIPTS = sorted((ROOT / "workflow/scripts").glob("*.py"))
 LAYERS = {"physics": 0, "setup": 1, "studies": 2, "plotting": 3, "app": 4}
-# packages of the physics layer (rail/contact/: the contact models; rail/growth_spectrum/; rail/noise/: CNOSSOS-EU rolling noise)
-PHYSICS_PACKAGES = {"contact", "growth_spectrum", "noise"}
+# packages of the physics layer (rail/contact/: the contact models; rail/creepage/: dynamic creepage; rail/growth_spectrum/;
+# rail/noise/: CNOSSOS-EU rolling noise)
+PHYSICS_PACKAGES = {"contact", "creepage", "growth_spectrum", "noise"}
 
 
 def _layer(path: Path) -> str:
@@ -219,13 +220,17 @@ PHYSICS_ORDER = [
     ({"quadrature", "halfspace"}, "quadrature rules; the elastic half-space and contact-spring damping (report 4.1)"),
     ({"track"}, "the Timoshenko rail on periodic discrete supports (4.2)"),
     ({"cell"}, "supports that vary over a cell of bays, built from track's parts"),
-    ({"moving", "decay", "longitudinal"}, "moving-load receptances of a track cell; its EN 15461 decay rate; the rail "
+    ({"moving", "decay", "creepage.rail_flexibility"}, "moving-load receptances of a track cell; its EN 15461 decay rate; the rail "
      "head's longitudinal receptances under moving loads (the same Bloch method, on the track alone)"),
-    ({"cell_head"}, "the rail head's longitudinal receptances on a track cell (longitudinal's transfers on the cell's supports)"),
+    ({"creepage.rail_flexibility_cell"}, "the rail head's longitudinal receptances on a track cell (rail_flexibility's transfers "
+     "on the cell's supports)"),
     ({"roughness", "interaction"}, "roughness over N bays; wheel/rail forces on it (4.3), through the moving receptances"),
+    ({"creepage", "creepage.modes"}, "longitudinal modes in the slip, which the contact's march carries (the package's "
+     "docstring imports nothing)"),
     ({"contact"}, "normal and tangential contact (4.4), along the force histories"),
-    ({"wheelset", "wear", "growth", "creepage_sources"}, "the wheelset's modes in the slip; frictional-work wear (4.5); growth over "
-     "passages (4.6); the sources of dynamic creepage as model choices"),
+    ({"creepage.wheelset", "creepage.coupling", "creepage.choices"}, "the wheelset's modes; u_bar coupled with the contact's "
+     "march; the sources of dynamic creepage as model choices"),
+    ({"wear", "growth"}, "frictional-work wear (4.5); growth over passages (4.6)"),
     ({"scenario"}, "one scenario: every input of the chain as one frozen object"),
     ({"chain"}, "the model chain, written once"),
     ({"growth_spectrum"}, "growth rate over wavelength, each line a run of the chain"),
@@ -236,8 +241,13 @@ PHYSICS_ORDER = [
 ]
 
 
+SPLIT_PACKAGES = {"creepage"}  # packages whose modules sit at their own places in PHYSICS_ORDER (creepage.<module>)
+
+
 def _physics_name(path: Path) -> str:
     rel = path.relative_to(RAIL)
+    if len(rel.parts) > 1 and rel.parts[0] in SPLIT_PACKAGES:
+        return f"{rel.parts[0]}.{rel.stem}" if rel.stem != "__init__" else rel.parts[0]
     return rel.parts[0] if len(rel.parts) > 1 else rel.stem
 
 
@@ -509,13 +519,13 @@ def test_report_alone_is_told_from_a_run_that_reports_after():
 # enum, or rail.contact.FRICTION_LAWS for the friction law, which no key names), and its home, the only
 # files that may compare them. Elsewhere a module asks the choice's object (rail.scenario.ModelChoices:
 # ``path.modelled_shift``, ``wheelset.modelled``, ``flexibility.bending``, ``law.falling``) or looks a stored
-# value up (rail.contact.wear_path, rail.creepage_sources.wheelset_model), never compares the name.
+# value up (rail.contact.wear_path, rail.creepage.choices.wheelset_model), never compares the name.
 # The dynamic-creepage family's homes are listed file by file until it is gathered into one package.
 MODEL_FAMILIES = {
     "contact.normal": ("contact/",),
     "contact.wear_path": ("contact/",),
-    "wheelset.model": ("wheelset.py", "creepage_sources.py", "contact/creep.py"),
-    "rail_flexibility.model": ("longitudinal.py", "creepage_sources.py"),
+    "wheelset.model": ("creepage/",),
+    "rail_flexibility.model": ("creepage/",),
     "friction law": ("contact/",),
 }
 # a comparison is of a family's name only where its other side speaks of that choice (not, say,

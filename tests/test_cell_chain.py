@@ -11,7 +11,7 @@ import pytest
 from rail import interaction as I
 from rail import moving
 from rail.cell import RandomSupports, TrackCell, cell_stationary_receptance, make_cell
-from rail.cell_head import CellHead
+from rail.creepage.rail_flexibility_cell import CellHead
 from rail.setup import build, config
 from rail.setup.config import ConfigError
 
@@ -138,7 +138,7 @@ def test_cell_configuration_is_checked_at_start_up(cfg):
     with pytest.raises(ConfigError, match=r"roughness.bays = 2 is not allowed with track.cell.bays = 4"):
         build.scenario(bad)
     # issue 55: a cell with the rail's flexibility (refused until the head had a cell of its own) builds the head on
-    # the cell's supports and dampers (rail.cell_head.CellHead), in the run's and in the spectrum's scenario alike
+    # the cell's supports and dampers (rail.creepage.rail_flexibility_cell.CellHead), in the run's and in the spectrum's scenario alike
     flex = config.deep_merge(cfg, {"track": {"cell": {"bays": 2, "damper": {"mass": 4.0, "frequency": 1070.0}}},
                                    "roughness": {"bays": 2}, "figures": {"rate_spectrum": {"bays": 2}},
                                    "rail_flexibility": {"model": "rod_and_bending"}})

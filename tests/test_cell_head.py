@@ -1,6 +1,6 @@
-"""The rail head's longitudinal receptances on a track cell (rail.cell_head, issue 55): a cell of N identical bays
-against the uniform track's Bloch tables (rail.longitudinal), the cell's table a real operator, and the hook
-into the growth loop (rail.wear.march_with_creepage). The check against a direct solution on uneven supports
+"""The rail head's longitudinal receptances on a track cell (rail.creepage.rail_flexibility_cell, issue 55): a cell of N identical bays
+against the uniform track's Bloch tables (rail.creepage.rail_flexibility), the cell's table a real operator, and the hook
+into the growth loop (rail.creepage.coupling.march_with_creepage). The check against a direct solution on uneven supports
 is in tests/test_cell_head_direct.py (slow), the end-to-end run in tests/test_cell_head_run.py (slow)."""
 
 import types
@@ -8,10 +8,10 @@ import types
 import numpy as np
 import pytest
 
-from rail import longitudinal as lg
-from rail import wear
+from rail.creepage import coupling
+from rail.creepage import rail_flexibility as lg
 from rail.cell import TrackCell, make_cell
-from rail.cell_head import CellHead, cell_head_operator, cell_head_table, rod_point_stiffness
+from rail.creepage.rail_flexibility_cell import CellHead, cell_head_operator, cell_head_table, rod_point_stiffness
 from rail.track import Ballast, Pad, Rail, Sleeper, Track
 
 RAIL = Rail(2.1e11, 8.1e10, 7850.0, 7.69e-3, 3.055e-5, 0.4, 0.01, 1.6e-6)  # config/config.yaml
@@ -66,11 +66,11 @@ def test_the_cells_table_is_a_real_operator_and_the_dampers_and_pads_change_it()
 def test_the_growth_loop_takes_the_cells_operator_over_the_cells_period():
     head = CellHead(make_cell(TRACK, 2, spacing=[0.55, 0.65], damper=DAMPER))
     mi = types.SimpleNamespace(Nx=240, delta=head.cell.period / 240)
-    op = wear._rail_operator(head, 40.0, 4, mi)
+    op = coupling._rail_operator(head, 40.0, 4, mi)
     assert op.bays == 1 and op.spacing == head.cell.period and op.tables[0] is cell_head_operator(head, 40.0, 4).tables[0]
     assert op.tables[0].A_Q.shape == (9, 9)
     with pytest.raises(ValueError, match="the track cell 2"):  # a period of another number of bays
-        wear._rail_operator(head, 40.0, 4, types.SimpleNamespace(Nx=480, delta=head.cell.period / 240))
+        coupling._rail_operator(head, 40.0, 4, types.SimpleNamespace(Nx=480, delta=head.cell.period / 240))
 
 
 def test_bad_head_parameters_on_a_cell_are_refused_naming_the_key():

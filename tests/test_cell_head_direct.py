@@ -1,5 +1,5 @@
-"""The rail head's receptances on a track cell with uneven supports (rail.cell_head) against a direct solution
-written without rail.cell_head or rail.cell (tests/independent/rail_head_direct.py: the free rail's Green's
+"""The rail head's receptances on a track cell with uneven supports (rail.creepage.rail_flexibility_cell) against a direct solution
+written without rail.creepage.rail_flexibility_cell or rail.cell (tests/independent/rail_head_direct.py: the free rail's Green's
 functions by residues and a finite row of the cell's attachments solved for directly).
 
 The cell: three bays of 0.55, 0.70 and 0.55 m, pads 1, 2.5 and 0.7 times the default, the second sleeper voided
@@ -24,7 +24,7 @@ import numpy as np
 import pytest
 
 from rail.cell import make_cell
-from rail.cell_head import CellHead, cell_head_matrix
+from rail.creepage.rail_flexibility_cell import CellHead, cell_head_matrix
 from rail.track import Ballast, Pad, Rail, Sleeper, Track
 
 sys.path.insert(0, str(Path(__file__).parent / "independent"))

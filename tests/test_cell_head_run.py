@@ -1,7 +1,7 @@
 """A growth run with the rail's longitudinal flexibility on a track cell, end to end through rail.app.api (issue 55:
-refused at start-up before rail.cell_head): the irregular_dampers case (two bays, a tuned rail damper at each
+refused at start-up before rail.creepage.rail_flexibility_cell): the irregular_dampers case (two bays, a tuned rail damper at each
 mid-span) with rail_flexibility.model = rod_and_bending, and a cell of two identical bays against the uniform
-track over the same two-bay period (rail.longitudinal.RailHead). Coarse numerics (K = 18 per bay, 21 contact
+track over the same two-bay period (rail.creepage.rail_flexibility.RailHead). Coarse numerics (K = 18 per bay, 21 contact
 nodes, two updates of 10,000 passages at 40 m/s). Slow: about 1-4 min per run on a shared machine."""
 
 import io
@@ -10,8 +10,8 @@ import numpy as np
 import pytest
 
 from rail.app import api
-from rail.cell_head import CellHead
-from rail.longitudinal import RailHead
+from rail.creepage.rail_flexibility_cell import CellHead
+from rail.creepage.rail_flexibility import RailHead
 from rail.setup.config import deep_merge
 
 pytestmark = pytest.mark.slow
@@ -36,15 +36,15 @@ def _Z(ds):
 def test_a_growth_run_with_the_rails_flexibility_on_a_cell_with_rail_dampers_runs_end_to_end():
     head, ds = _run("irregular_dampers", CHANGES)
     assert isinstance(head, CellHead) and len(head.cell.dampers) == 2
-    assert "rail.cell_head" in ds.attrs["creepage_model"] and "2 rail dampers act vertically only" in ds.attrs["creepage_model"]
+    assert "rail.creepage.rail_flexibility_cell" in ds.attrs["creepage_model"] and "2 rail dampers act vertically only" in ds.attrs["creepage_model"]
     Z = _Z(ds)
     assert np.all(np.isfinite(Z)) and np.abs(Z).max() > 0
     assert np.all(np.isfinite(ds.exponential_rate.values[1::2]))  # the bay harmonics (even lines of the 2-bay period)
 
 
 def test_a_cell_of_identical_bays_grows_as_the_uniform_track_with_the_rails_flexibility():
-    # The same two-bay period with the uniform track's head (its Bloch classes, rail.longitudinal) and with the cell's
-    # (rail.cell_head): from a smooth rail the bay harmonics (even lines j = 2 k) grow; measured within 2.5e-4 of
+    # The same two-bay period with the uniform track's head (its Bloch classes, rail.creepage.rail_flexibility) and with the cell's
+    # (rail.creepage.rail_flexibility_cell): from a smooth rail the bay harmonics (even lines j = 2 k) grow; measured within 2.5e-4 of
     # themselves for k <= K / 2 = 9 (3.9e-6 at k = 1), 2.5e-3 at k = 12 and 4.5e-2 at k = 17 near the table's top.
     # There the two differ in range, not in method: the uniform operator is handed the force table's J = N K as its
     # K per bay (N times the harmonics the cell's table holds, J of the period). The odd lines stay at rounding

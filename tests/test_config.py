@@ -117,7 +117,7 @@ def test_an_absent_optional_key_takes_the_schema_default(defaults, schema):
     # config.yaml sets no contact.friction_decay and no wheelset: the schema's defaults apply, read
     # where they are used (rail.setup.config.setting); a torsional wheelset given only its model gets
     # the schema's inertias, stiffnesses and damping (its description states them: 40, 10, 5e6, 0, 1e6, 0.02)
-    from rail.wheelset import Wheelset, wheelset_modes
+    from rail.creepage.wheelset import Wheelset, wheelset_modes
 
     cfg = rconfig.resolve(defaults, schema, {"wheelset": {"model": "torsional"}})
     assert "friction_decay" not in cfg["contact"] and rconfig.setting(cfg, "contact.friction_decay", schema) == 0
@@ -139,11 +139,11 @@ def test_a_key_config_yaml_sets_has_no_schema_default(schema):
 
 
 def test_the_wheelset_dataclass_defaults_are_the_schemas(schema):
-    # rail.wheelset.Wheelset keeps defaults for direct use from Python (tests/test_creep.py); the
+    # rail.creepage.wheelset.Wheelset keeps defaults for direct use from Python (tests/test_creep.py); the
     # workflow passes every key from the schema, and the two must not drift apart
     import dataclasses
 
-    from rail.wheelset import Wheelset
+    from rail.creepage.wheelset import Wheelset
 
     for f in dataclasses.fields(Wheelset):
         if f.default is not dataclasses.MISSING:

@@ -1,4 +1,4 @@
-"""Dynamic creepage (u_bar of eq 26: the wheelset's rotation, rail.wheelset, rail.contact.creep) and
+"""Dynamic creepage (u_bar of eq 26: the wheelset's rotation, rail.creepage.wheelset, rail.creepage.modes) and
 friction falling with the slip velocity: checked against a closed-form transfer function, a direct
 solve of the torsional chain, a long time march, and their limits."""
 
@@ -7,12 +7,13 @@ import dataclasses
 import numpy as np
 import pytest
 
+from rail.creepage import coupling
 from rail import contact as C
-from rail import wear
-from rail.contact.creep import LongitudinalModes, _advance_modes, carter_creep_slope, periodic_response
+from rail.creepage.coupling import carter_creep_slope
+from rail.creepage.modes import LongitudinalModes, advance_modes, periodic_response
 from rail.contact.passage import MarchInputs
 from rail.contact.steady import carter
-from rail.wheelset import Wheelset, tread_receptance, wheelset_modes
+from rail.creepage.wheelset import Wheelset, tread_receptance, wheelset_modes
 
 M0 = C.ContactMaterial(2.1e11, 0.3, 0.008, 0.46, 0.3, 0.3, -0.001)
 V, P0, R = 40.0, 1e5, 0.46
@@ -92,7 +93,7 @@ def test_the_periodic_response_is_the_modes_time_march_after_many_periods():
     om, ze, cp = modes.arrays()
     x, v = np.zeros(om.size), np.zeros(om.size)
     for _ in range(300):  # 2.4 s: the 80 Hz mode at 2 % has decayed by e^-60
-        xs = np.cumsum([_advance_modes(x, v, om, ze, cp, F[i] - Fm, dt[i]) for i in range(n)])
+        xs = np.cumsum([advance_modes(x, v, om, ze, cp, F[i] - Fm, dt[i]) for i in range(n)])
     r1, r2 = np.diff(u) / dt[1:], np.diff(xs) / dt[1:]
     assert np.abs(r1 - r1.mean() - r2 + r2.mean()).max() < 1e-9 * np.abs(r2).max()
 
@@ -109,12 +110,12 @@ def _inputs(k=3, dP=0.05, nodes=21):
 
 def test_the_periodic_state_is_that_of_a_long_time_march():
     # Independent method: the wheelset's modes stepped inside the march (rail.contact.march) over 30
-    # periods from rest, against the Newton iteration on the periodic u_bar (rail.wear.march_with_creepage);
+    # periods from rest, against the Newton iteration on the periodic u_bar (rail.creepage.coupling.march_with_creepage);
     # after the usual spin-up alone the time march is far off (the 80 Hz torsion rings)
     mi = _inputs()
     mat = dataclasses.replace(M0, longitudinal=wheelset_modes(Wheelset("torsional", 0.46, other_wheel="independent")))
     num = C.ContactNumerics(21, "default", 1.0, "report", "wheel")
-    sol, info = wear.march_with_creepage(mi, mat, V, num, tol=1e-8)
+    sol, info = coupling.march_with_creepage(mi, mat, V, num, tol=1e-8)
     assert info["iterations"] <= 8
     j = mi.spin + mi.M + np.arange(mi.Nx)
     Wn = np.fft.rfft(sol.work[j])
@@ -140,12 +141,12 @@ def test_a_warm_start_reaches_the_same_periodic_state_in_fewer_marches(nodes):
     # mean) as close as from a cold start, in fewer marches.
     mat = dataclasses.replace(M0, longitudinal=wheelset_modes(Wheelset("torsional", 0.46, other_wheel="independent")))
     num = C.ContactNumerics(nodes, "default", 1.0, "report", "wheel")
-    _, before = wear.march_with_creepage(_inputs(dP=0.05), mat, V, num)
+    _, before = coupling.march_with_creepage(_inputs(dP=0.05), mat, V, num)
     mi = _inputs(dP=0.052, nodes=nodes)
     j = mi.spin + mi.M + np.arange(mi.Nx)
-    cold, ic = wear.march_with_creepage(mi, mat, V, num)
-    warm, iw = wear.march_with_creepage(mi, mat, V, num, start=before["state"])
-    exact, _ = wear.march_with_creepage(mi, mat, V, num, tol=1e-11, max_iter=40)
+    cold, ic = coupling.march_with_creepage(mi, mat, V, num)
+    warm, iw = coupling.march_with_creepage(mi, mat, V, num, start=before["state"])
+    exact, _ = coupling.march_with_creepage(mi, mat, V, num, tol=1e-11, max_iter=40)
     k = 3
     W = {name: np.fft.rfft(s.work[j])[k] for name, s in (("cold", cold), ("warm", warm), ("exact", exact))}
     assert abs(W["cold"] / W["exact"] - 1) < 3e-4
@@ -156,16 +157,16 @@ def test_a_warm_start_reaches_the_same_periodic_state_in_fewer_marches(nodes):
 
 def test_steady_rolling_under_falling_friction_is_carter_at_the_friction_of_its_creep_velocity():
     # The torque reference and the creep slope of the periodic state come from Carter's steady rolling
-    # (rail.wear.steady_material): with friction falling with slip, at mu(abs(gamma) V), not mu_d. With mu_d
+    # (rail.creepage.coupling.steady_material): with friction falling with slip, at mu(abs(gamma) V), not mu_d. With mu_d
     # the motored wheelset with falling friction found no periodic state at 20 m/s (its Newton steps on the
     # mean slip overshot 3.5-fold); a long march at constant load is the independent reference.
     for mus, mud, s0 in ((0.3, 0.12, 1.67), (0.3, 0.2, 0.5)):
         mat = dataclasses.replace(M0, friction_static=mus, friction_dynamic=mud, friction_decay=s0)
         P = np.full(400, P0)
         Q = C.solve_tangential(P, C.hertz_half_length(P, R, mat), mat, V, DELTA, M).Q[-50:].mean()
-        assert abs(carter(0.0, P0, wear.steady_material(mat, V), V, R)[2] / Q - 1) < 0.01
+        assert abs(carter(0.0, P0, coupling.steady_material(mat, V), V, R)[2] / Q - 1) < 0.01
         assert abs(carter(0.0, P0, mat, V, R)[2] / Q - 1) > 0.05
-    assert wear.steady_material(M0, V) is M0  # the step law: as it is
+    assert coupling.steady_material(M0, V) is M0  # the step law: as it is
 
 
 def test_the_periodic_state_with_falling_friction_is_that_of_a_long_time_march():
@@ -177,7 +178,7 @@ def test_the_periodic_state_with_falling_friction_is_that_of_a_long_time_march()
     mat = dataclasses.replace(M0, friction_static=0.3, friction_dynamic=0.12, friction_decay=1.67,
                               longitudinal=wheelset_modes(ws))
     num = C.ContactNumerics(21, "default", 1.0, "report", "wheel")
-    sol, info = wear.march_with_creepage(mi, mat, V, num, tol=1e-8, max_iter=20)
+    sol, info = coupling.march_with_creepage(mi, mat, V, num, tol=1e-8, max_iter=20)
     j = mi.spin + mi.M + np.arange(mi.Nx)
     Wn = np.fft.rfft(sol.work[j])
     mat2 = dataclasses.replace(mat, longitudinal=dataclasses.replace(mat.longitudinal, reference_force=info["reference_force"]))
@@ -292,25 +293,25 @@ def _lagged_growth(lagged, carry=True, updates=8, step=5e-4):
         num = C.ContactNumerics(nodes, "default", 1.0, "report", "wheel")
         mi = _inputs(dP=0.05 + step * n, nodes=nodes)
         j = mi.spin + mi.M + np.arange(mi.Nx)
-        sol, info = wear.march_with_creepage(mi, mat, V, num, start=state, lagged=lagged if n else None)
+        sol, info = coupling.march_with_creepage(mi, mat, V, num, start=state, lagged=lagged if n else None)
         if carry or state is None:
             state = info["state"]
         marches.append(info["iterations"])
-        ref, _ = wear.march_with_creepage(mi, mat, V, num, tol=1e-10, max_iter=40)
+        ref, _ = coupling.march_with_creepage(mi, mat, V, num, tol=1e-10, max_iter=40)
         total = total + np.fft.rfft(sol.work[j])[:10] / mi.Nx
         exact = exact + np.fft.rfft(ref.work[j])[:10] / mi.Nx
     return total, exact, marches
 
 
 def test_the_lagged_coupling_marches_once_per_update_and_its_wear_harmonics_stay_near_the_converged_ones():
-    # rail.wear.march_with_creepage's ``lagged`` (the growth loop's coupling, rail.wear.bay_wear): each update
+    # rail.creepage.coupling.march_with_creepage's ``lagged`` (the growth loop's coupling, rail.wear.bay_wear): each update
     # marches once from the last update's state extrapolated along its drift, and hands on the state one Newton
     # step further. Judged per wear harmonic against that harmonic, summed over a run whose force grows: the
     # force's harmonic (k = 3) and the next (k = 6, 0.5 % of the mean wear). Measured: 1.8e-3 and 1.4e-2 in
     # 1-2 marches per update (2 where the grid changes); Newton to the tolerance at every update 1.6e-5 and
     # 1.5e-3 in 3. With the correction off (u_bar frozen at the first update's state, no threshold) the lag's
     # error shows: 6.1e-2 and 0.57.
-    on, exact, marches = _lagged_growth(wear.LAGGED_STEP)
+    on, exact, marches = _lagged_growth(coupling.LAGGED_STEP)
     assert marches[0] >= 3 and max(marches[1:]) <= 2 and sum(marches[1:]) <= 11
     err_on = [abs(on[k] / exact[k] - 1) for k in (3, 6)]
     assert err_on[0] < 3e-3 and err_on[1] < 3e-2, err_on

@@ -491,8 +491,8 @@ rail_flexibility:
 
 def test_a_track_cell_with_rail_dampers_and_the_rails_flexibility_passes_check_and_the_api(tmp_path, capsys):
     # issue 55: refused at start-up ("rail_flexibility.model ... is not allowed with track.cell") until the rail head
-    # had the track cell's own receptances (rail.cell_head); now one ok line, and the head on the cell's supports
-    from rail.cell_head import CellHead
+    # had the track cell's own receptances (rail.creepage.rail_flexibility_cell); now one ok line, and the head on the cell's supports
+    from rail.creepage.rail_flexibility_cell import CellHead
 
     path = tmp_path / "dampers.yaml"
     path.write_text(DAMPERS_FLEX)

@@ -15,10 +15,11 @@ import pytest
 from model import scenario
 from test_growth import MATERIAL, contact_spring, track
 
+from rail.creepage import coupling
 from rail import chain, growth, moving, wear
 from rail.interaction import Roughness
-from rail.longitudinal import RailHead
-from rail.wheelset import Wheelset, wheelset_modes
+from rail.creepage.rail_flexibility import RailHead
+from rail.creepage.wheelset import Wheelset, wheelset_modes
 
 K, NODES, V = 24, 31, 40.0
 TRAILER = Wheelset("torsional", MATERIAL.wheel_radius, wheel_inertia=45.0, centre_inertia=14.0, axle_stiffness=5.5e6, damping=0.01)
@@ -37,10 +38,10 @@ def loops():
     unchecked = dataclasses.replace(scn, growth=dataclasses.replace(scn.growth, step_tolerance=1e9))
     bare = dataclasses.replace(scn, material=MATERIAL)
     tab = moving.receptance_table(tr, V, K)
-    bay, march = wear.bay_wear, wear.march_with_creepage
+    bay, march = wear.bay_wear, coupling.march_with_creepage
 
-    def one_march_first(*args, creepage_start=None, creepage_lag=wear.LAGGED_STEP, **kwargs):
-        lag = np.inf if creepage_start is wear.REST_STATE else creepage_lag
+    def one_march_first(*args, creepage_start=None, creepage_lag=coupling.LAGGED_STEP, **kwargs):
+        lag = np.inf if creepage_start is coupling.REST_STATE else creepage_lag
         return bay(*args, creepage_start=creepage_start, creepage_lag=lag, **kwargs)
 
     runs = {"lagged": (scn, {}),
@@ -59,7 +60,7 @@ def loops():
                 return sol, info
 
             mp.setattr(wear, "bay_wear", patches.get("bay_wear", bay))
-            mp.setattr(wear, "march_with_creepage", counted)
+            mp.setattr(coupling, "march_with_creepage", counted)
             out[label] = chain.grow(s, tab, Roughness.smooth(K), progress=io.StringIO()), marches
     return out
 
@@ -74,7 +75,7 @@ def _errors(hist, ref, window):
 
 
 def test_the_lagged_growth_loop_starts_from_rest_at_the_lag_and_keeps_each_wear_harmonic_near_the_converged_loop(loops):
-    # The growth loop as it runs (rail.chain.train_wear hands the first update rail.wear.REST_STATE, so its Newton
+    # The growth loop as it runs (rail.chain.train_wear hands the first update rail.creepage.coupling.REST_STATE, so its Newton
     # steps from rest stop at the lagged threshold too: 3 marches, not 5 to 1e-5; then one march per update from the
     # last update's state, 2 where the grid changes) against the loop converged to 1e-8 at every update, each wear
     # harmonic of the run's change against itself. Measured: within 20 dB of the largest (j = 1-6) at most

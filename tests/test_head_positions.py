@@ -1,5 +1,5 @@
 """The rail head's receptances at a position in the bay, near the pinned-pinned frequency, against a
-direct solution written without rail.longitudinal (tests/independent/rail_head_direct.py: the free
+direct solution written without rail.creepage.rail_flexibility (tests/independent/rail_head_direct.py: the free
 rail's Green's functions by residues and a finite row of supports solved for directly).
 
 Issue 54 asks for the head's receptances above a sleeper, at quarter-span and at mid-span over
@@ -26,7 +26,7 @@ from pathlib import Path
 import numpy as np
 import pytest
 
-from rail import longitudinal as lg
+from rail.creepage import rail_flexibility as lg
 from rail.track import Ballast, Pad, Rail, Sleeper, Track
 
 sys.path.insert(0, str(Path(__file__).parent / "independent"))
@@ -54,7 +54,7 @@ def test_the_heads_receptances_at_a_position_agree_with_the_direct_solution(f):
         ours = {k: complex(np.sum(m[k][:, HARMONICS] * ph)) for k in ("rod", "psiM", "psiF")}
         psiF, psiM, _, _ = direct.stationary_beam(x0, om, TRACK, n=150)
         rod = direct.stationary_rod(x0, om, TRACK, HEAD.longitudinal_stiffness, HEAD.longitudinal_loss_factor, n=400)
-        # the head's longitudinal receptance to a longitudinal force on the running surface (A_Q of rail.longitudinal)
+        # the head's longitudinal receptance to a longitudinal force on the running surface (A_Q of rail.creepage.rail_flexibility)
         A_Q, A_Q_ref = ours["rod"] + e**2 * ours["psiM"], rod + e**2 * psiM
         assert abs(A_Q / A_Q_ref - 1) < 1e-3, (f, where, A_Q, A_Q_ref)
         assert abs(ours["psiM"] / psiM - 1) < 1e-3, (f, where, ours["psiM"], psiM)

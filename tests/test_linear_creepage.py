@@ -1,5 +1,5 @@
 """The linear method with dynamic creepage (rail.growth_spectrum.creepage, rail.contact.tangent) against
-the probes of the nonlinear march with u_bar (rail.wear.march_with_creepage), and with every mechanism
+the probes of the nonlinear march with u_bar (rail.creepage.coupling.march_with_creepage), and with every mechanism
 off bit for bit the tangent march as it was (tests/reference/tangent_fixed_creepage.py).
 
 The mechanisms are those of the dynspeed_* cases of config/studies/dynamic_creepage_speeds.yaml (the trailer and the motored wheelset of
@@ -16,14 +16,15 @@ from model import scenario
 from test_growth import MATERIAL, contact_spring, track
 
 import reference.tangent_fixed_creepage as frozen
+from rail.creepage import coupling
 from rail import chain, moving, wear
 from rail import growth_spectrum as GS
 from rail.contact import solve_tangential, tangent
-from rail.contact.creep import periodic_response
+from rail.creepage.modes import periodic_response
 from rail.growth_spectrum import creepage, linear
 from rail.interaction import Roughness
-from rail.longitudinal import RailHead
-from rail.wheelset import Wheelset, wheelset_modes
+from rail.creepage.rail_flexibility import RailHead
+from rail.creepage.wheelset import Wheelset, wheelset_modes
 
 K, NODES = 24, 31
 R_W = MATERIAL.wheel_radius
@@ -64,11 +65,11 @@ def case(mechanism: str, pad: float = 3.5e8, speed: float = 40.0, bays: int = 2,
 
 def probes(scn, tabs, lines, monkeypatch, **kw):
     """The reference: rate_spectrum's probes with the nonlinear march's Newton steps on u_bar converged to
-    1e-9 of the creep velocity (rail.wear.march_with_creepage's tol; its default 1e-5 leaves part of a probe's own
+    1e-9 of the creep velocity (rail.creepage.coupling.march_with_creepage's tol; its default 1e-5 leaves part of a probe's own
     small change of u_bar unresolved: 3.4 % of the rate at the comb line of 1 kHz with the rail's flexibility,
     test_the_default_probes_leave_part_of_a_probes_u_bar_unresolved)."""
     with monkeypatch.context() as mp:
-        mp.setattr(wear, "march_with_creepage", functools.partial(wear.march_with_creepage, tol=1e-9, max_iter=200))
+        mp.setattr(coupling, "march_with_creepage", functools.partial(coupling.march_with_creepage, tol=1e-9, max_iter=200))
         return GS.rate_spectrum(scn, tabs, lines, grid_phases=1, check_lines=1, method="probe", **kw)
 
 
@@ -237,7 +238,7 @@ def _cold_check(scn, tabs, j, kind, eps, op, monkeypatch):
     from rail.growth_spectrum import spectrum as SP
     s_n, t_n = SP._period(scn, tabs, kind)
     with monkeypatch.context() as mp:
-        mp.setattr(wear, "march_with_creepage", functools.partial(wear.march_with_creepage, tol=1e-9, max_iter=200))
+        mp.setattr(coupling, "march_with_creepage", functools.partial(coupling.march_with_creepage, tol=1e-9, max_iter=200))
         Z0n = SP.smooth_roughness(s_n)
         W0n = chain.train_wear(s_n, t_n, Z0n, 0.0)[0]
         M2 = SP.locked_matrix(s_n, t_n, j * kind // scn.roughness.bays, 2 * eps, 0.0, Z0n, W0n)
@@ -273,7 +274,7 @@ def test_the_accelerated_reference_is_march_with_creepages_periodic_state():
     f = chain.solve_forces(scn, tabs[0], Roughness(Z, 1))
     mi = wear.march_inputs(f, 0, Roughness(Z, 1), scn.material, scn.contact_numerics)
     ref = creepage.creepage_reference(mi, scn.material, 40.0, scn.contact_numerics, K)
-    _, info = wear.march_with_creepage(mi, scn.material, 40.0, scn.contact_numerics, tol=1e-12, max_iter=80, harmonics=K)
+    _, info = coupling.march_with_creepage(mi, scn.material, 40.0, scn.contact_numerics, tol=1e-12, max_iter=80, harmonics=K)
     st = info["state"]
     dp = ref.p - st.p
     assert np.abs(dp - dp.mean()).max() < 1e-7 * np.abs(st.p - st.p.mean()).max()

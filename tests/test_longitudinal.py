@@ -1,4 +1,4 @@
-"""The rail head's longitudinal flexibility (rail.longitudinal): the moving-load receptances against
+"""The rail head's longitudinal flexibility (rail.creepage.rail_flexibility): the moving-load receptances against
 closed forms on a smeared foundation, a direct stationary solution written without the module
 (tests/independent/rail_head_direct.py), reciprocity, their convergence in the harmonics, and the
 coupled march against the closed loop of its own transfers."""
@@ -10,9 +10,9 @@ from pathlib import Path
 import numpy as np
 import pytest
 
+from rail.creepage import coupling
 from rail import contact as C
-from rail import longitudinal as lg
-from rail import wear
+from rail.creepage import rail_flexibility as lg
 from rail.contact.passage import MarchInputs
 from rail.track import Ballast, Pad, Rail, Sleeper, Track
 
@@ -150,7 +150,7 @@ def test_the_coupled_march_closes_the_loop_of_its_own_transfers():
     mi = _inputs()
     num = C.ContactNumerics(21, "default", 1.0, "report", "wheel")
     mat = dataclasses.replace(M0, rail_flexibility=head)
-    sol, info = wear.march_with_creepage(mi, mat, V, num, tol=1e-9, harmonics=K)
+    sol, info = coupling.march_with_creepage(mi, mat, V, num, tol=1e-9, harmonics=K)
     period = slice(mi.spin, mi.spin + mi.Nx)
     n = mi.Nx
     Qc = np.fft.fft(sol.Q[period]) / n
@@ -185,7 +185,7 @@ def test_the_coupled_march_closes_the_loop_of_its_own_transfers():
 def test_without_the_rail_the_march_and_the_material_are_unchanged():
     mi = _inputs()
     num = C.ContactNumerics(21, "default", 1.0, "report", "wheel")
-    a, info = wear.march_with_creepage(mi, M0, V, num)
+    a, info = coupling.march_with_creepage(mi, M0, V, num)
     b = C.solve_tangential(mi.P, mi.a, M0, V, mi.delta, mi.M)
     assert info is None and np.array_equal(a.work, b.work)
     assert "rail_flexibility" not in repr(M0)
@@ -195,7 +195,7 @@ def test_without_the_rail_the_march_and_the_material_are_unchanged():
 def test_the_march_needs_the_harmonics_with_the_rail():
     mat = dataclasses.replace(M0, rail_flexibility=lg.RailHead(TRACK))
     with pytest.raises(ValueError, match="needs harmonics"):
-        wear.march_with_creepage(_inputs(), mat, V, C.ContactNumerics(21, "default", 1.0, "report", "wheel"))
+        coupling.march_with_creepage(_inputs(), mat, V, C.ContactNumerics(21, "default", 1.0, "report", "wheel"))
 
 
 @pytest.mark.parametrize("key,value,match", [

@@ -8,14 +8,14 @@ import pytest
 import xarray as xr
 
 from rail import contact as C
-from rail import creepage_sources as S
+from rail.creepage import choices as S
 from rail.setup import build
 from rail.setup import config as rconfig
 from rail.setup.targets import read_part
 from rail.studies import speed_study
 from rail.studies.rate_spectrum import model_mechanisms
 from rail.studies.validity import model_attributes, stated_wear_path, validity_text
-from rail.wheelset import WHEELSET_MODELS
+from rail.creepage.wheelset import WHEELSET_MODELS
 
 
 def _enum(schema, key):

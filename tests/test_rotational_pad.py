@@ -1,11 +1,11 @@
 """The pads' rotational stiffness (track.pad.rotational_stiffness, issue 54): a moment spring k_theta on the
 rail's bending rotation psi at every support, in the moving-load tables (rail.moving) and the head's tables
-(rail.longitudinal).
+(rail.creepage.rail_flexibility).
 
 Checked against
 * the lattice sums' partial sums (rail.track.beam_lattice_sums),
 * today's model: k_theta -> 0 gives the one-channel tables (the two-channel path, its static point included),
-* a direct solution written without rail.moving and rail.longitudinal (tests/independent/rail_head_direct.py:
+* a direct solution written without rail.moving and rail.creepage.rail_flexibility (tests/independent/rail_head_direct.py:
   the free rail's Green's functions by residues and 2 x 150 supports, each with a force and a moment reaction,
   solved for directly): the vertical receptance w/F and the head's psi/M, psi/F above a sleeper, at quarter-
   and at mid-span over 900-1,300 Hz, within 1 % (slow),
@@ -21,7 +21,7 @@ from pathlib import Path
 import numpy as np
 import pytest
 
-from rail import longitudinal as lg
+from rail.creepage import rail_flexibility as lg
 from rail import moving
 from rail.track import (MAX_ROTATIONAL_STIFFNESS, Ballast, Pad, Rail, Sleeper, Track, beam_lattice_sums, free_beam_receptances,
                         free_receptance, pinned_pinned_frequency, stationary_receptance, support_rotational_stiffness)
@@ -54,7 +54,7 @@ def test_the_moment_spring_is_damped_as_the_pad():
 
 
 def test_the_two_copies_of_the_free_beam_matrix_agree_and_invert_the_dynamic_stiffness():
-    """rail.track.free_beam_receptances (rail.moving's) and rail.longitudinal.free_beam_matrix (the head's) are the
+    """rail.track.free_beam_receptances (rail.moving's) and rail.creepage.rail_flexibility.free_beam_matrix (the head's) are the
     same matrix, its w/F is rail.track.free_receptance, and it inverts the beam's dynamic stiffness D."""
     b = np.array([0.5, 3.0, -12.0, 40.0])
     om = 2 * np.pi * np.array([300.0, 1100.0, -900.0, 2000.0])
@@ -207,7 +207,7 @@ def test_the_moment_spring_is_refused_on_a_track_cell_at_start_up(defaults, sche
     problems = build.physics_problems(on_cell, "scen.yaml")
     assert [p for p in problems if "rotational_stiffness" in p] == [
         f"scen.yaml: track.pad.rotational_stiffness = {K_THETA!r} N m/rad is not allowed with track.cell: the pads' moment springs "
-        "are carried on the uniform track only (rail.moving, rail.longitudinal); use 0 on a cell, or the rotational stiffness "
+        "are carried on the uniform track only (rail.moving, rail.creepage.rail_flexibility); use 0 on a cell, or the rotational stiffness "
         "on a track without track.cell."]
     assert not [p for p in build.physics_problems(validate_config(deep_merge(defaults, cell), schema), "s") if "rotational" in p]
     uniform = validate_config(deep_merge(defaults, {"track": {"pad": {"rotational_stiffness": K_THETA}}}), schema)

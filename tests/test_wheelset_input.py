@@ -18,11 +18,11 @@ from hypothesis import HealthCheck, given, settings
 from hypothesis import strategies as st
 
 from rail import contact as C
-from rail.contact.creep import LongitudinalModes
+from rail.creepage.modes import LongitudinalModes
 from rail.setup import build
 from rail.setup import config as rconfig
-from rail import wheelset as W
-from rail.wheelset import Wheelset, wheelset_modes
+from rail.creepage import wheelset as W
+from rail.creepage.wheelset import Wheelset, wheelset_modes
 
 ROOT = Path(__file__).resolve().parents[1]
 TORSIONAL = {"model": "torsional"}
@@ -213,7 +213,7 @@ def test_a_vanishing_pad_longitudinal_stiffness_is_refused_at_check(tmp_path, ca
 
 
 def test_the_rail_head_and_the_schema_state_one_range_for_the_pads_longitudinal_stiffness(schema):
-    from rail.longitudinal import MIN_LONGITUDINAL_STIFFNESS, RailHead
+    from rail.creepage.rail_flexibility import MIN_LONGITUDINAL_STIFFNESS, RailHead
 
     node = rconfig._schema_node(schema, "track.pad.longitudinal_stiffness")
     assert node["minimum"] == MIN_LONGITUDINAL_STIFFNESS and "exclusiveMinimum" not in node
@@ -298,7 +298,7 @@ def _taken_is_finite(study):
         assert np.all(np.isfinite(om)) and np.all(np.isfinite(c)) and np.all(c >= 0)
         assert np.all(np.isfinite(m.longitudinal.receptance(2 * np.pi * np.array([10.0, 300.0, 3000.0]))))
     if m.rail_flexibility is not None:
-        from rail.longitudinal import smeared_rod_receptance
+        from rail.creepage.rail_flexibility import smeared_rod_receptance
 
         assert np.isfinite(smeared_rod_receptance(m.rail_flexibility, 2 * np.pi * 300.0))
     # the short computation: the steady traction at the static load with this friction and wheel (Carter)

@@ -110,7 +110,7 @@ def _what_runs(study) -> str:
                 f"{rest}).")
     from ..setup.build import fleet_classes
 
-    from ..creepage_sources import wheelset_model
+    from ..creepage.choices import wheelset_model
     from ..setup.build import fleet
     from ..setup.config import setting
     from ..studies.fleet import wheelset_lines

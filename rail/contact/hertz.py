@@ -37,9 +37,9 @@ class ContactMaterial:
     friction_dynamic : mu_d, -
     friction_static  : mu_s, -, >= mu_d
     creepage         : gamma_1, - (eq 25; negative for a driving wheel)
-    friction_decay   : s_0, m/s, >= 0: friction falling with the slip velocity (rail.contact.creep); 0 (default): the report's step
-    longitudinal     : rail.contact.creep.LongitudinalModes or None (default): the wheelset's rotation, u_bar of eq 26 (rail.wheelset)
-    rail_flexibility : rail.longitudinal.RailHead or None (default): the rail head's longitudinal flexibility, its share of u_bar
+    friction_decay   : s_0, m/s, >= 0: friction falling with the slip velocity (rail.creepage.modes); 0 (default): the report's step
+    longitudinal     : rail.creepage.modes.LongitudinalModes or None (default): the wheelset's rotation, u_bar of eq 26 (rail.creepage.wheelset)
+    rail_flexibility : rail.creepage.rail_flexibility.RailHead or None (default): the rail head's longitudinal flexibility, its share of u_bar
     """
 
     youngs_modulus: float
@@ -249,7 +249,7 @@ def hertz_pressure(xi, P, a, m: ContactMaterial):
 @dataclass(frozen=True)
 class FrictionLaw:
     """The friction law of a contact material (config keys contact.friction_decay, friction_static,
-    friction_dynamic; rail.contact.creep).
+    friction_dynamic; rail.creepage.modes).
 
     Attributes
     ----------

@@ -43,7 +43,7 @@ from dataclasses import dataclass
 import numpy as np
 
 from .._lazyjit import njit
-from .creep import LongitudinalModes, _advance_modes
+from ..creepage.modes import LongitudinalModes, advance_modes
 from .steady import carter
 from .basis import _basis_workspace, _influence_arrays, chebyshev_hat_moments
 from .influence import INFLUENCE, _influence_at, influence_table
@@ -71,7 +71,7 @@ class TangentialSolution:
     delta : grid spacing = V dt, m
     stick_nodes : (steps,) number of stick nodes in the patch; 0 while loaded means full slip
               (saturated creepage or fast unloading: no stick zone, the traction is mu_d p)
-    ubar : (steps,) the global relative displacement u_bar of eq 26 at each step [m] (rail.contact.creep),
+    ubar : (steps,) the global relative displacement u_bar of eq 26 at each step [m] (rail.creepage.modes),
               None when there is none (the report's rigid wheel)
     """
 
@@ -132,7 +132,7 @@ def _march(P, a, shape, xi, Mom, mu, ws, k, delta, M, speed, dts, gds, g, mu_d, 
            report_coef, q0, max_iter, checkerboard_limit, dus, om, ze, cp, q_ref, decay, settle, xm0, vm0, table):
     """The time loop of solve_tangential (compiled): each step is the sequence of rail.contact.steps.
     dus: the given change of u_bar in each step [m]; om, ze, cp: the modes of the longitudinal
-    receptance at the contact (rail.contact.creep; empty: none), driven by Q - q_ref [N] extrapolated
+    receptance at the contact (rail.creepage.modes; empty: none), driven by Q - q_ref [N] extrapolated
     from the two steps before, from step ``settle`` on (before it the traction builds up from zero, which
     is no force on the wheelset: its torque holds q_ref); decay: s_0 of the falling friction [m/s] (0: the step law);
     table: the influence matrix's table (rail.contact.influence.influence_table; its cells are interpolated,
@@ -193,7 +193,7 @@ def _march(P, a, shape, xi, Mom, mu, ws, k, delta, M, speed, dts, gds, g, mu_d, 
         dub = dus[i]  # the change of u_bar over the step: given, and from the modes under the last step's force
         if om.size > 0 and i >= settle:
             # the force over the step extrapolated from the two steps before (second order in the step)
-            dub += _advance_modes(xm, vm, om, ze, cp, 1.5 * Q_last - 0.5 * Q_last2 - q_ref, dt)
+            dub += advance_modes(xm, vm, om, ze, cp, 1.5 * Q_last - 0.5 * Q_last2 - q_ref, dt)
         ub += dub
         ubar[i] = ub
         gd = gds[i] + dub  # the step's rigid slip gamma V dt and the change of u_bar
@@ -308,14 +308,14 @@ def solve_tangential(P, a, m: ContactMaterial, speed: float, delta: float, M: in
         On the patch's true path (rail.contact.passage) the wheel travels V dt while its patch moves
         Delta, so dt = Delta / (V (1 + dc/dx)).
     ubar : ndarray, shape (len(P),), optional
-        A given global relative displacement u_bar [m] at each step (eq 26; rail.contact.creep), added to
+        A given global relative displacement u_bar [m] at each step (eq 26; rail.creepage.modes), added to
         that of m.longitudinal's modes; its change over a step enters the step's slip. Default 0.
     influence : str
         How the influence matrix follows a(t) (rail.contact.influence): 'table' (interpolated in a
         within each grid cell the patch edge visits, from exact rebuilds; 2e-10 of the matrix's scale)
         or 'exact' (rebuilt at every step where a changes).
 
-    The material's ``longitudinal`` modes (rail.contact.creep.LongitudinalModes), when given, are driven
+    The material's ``longitudinal`` modes (rail.creepage.modes.LongitudinalModes), when given, are driven
     by Q - Q_ref (Q of the step before; Q_ref the modes' reference_force, or Carter's steady traction
     at the mean of P with the wheel radius); its ``friction_decay`` s_0 > 0 makes the slip nodes'
     friction fall with the slip velocity.
@@ -447,7 +447,7 @@ def _settle_steps(a, delta: float, q0) -> int:
 
 
 def _creep_inputs(m: ContactMaterial, P, speed: float, ubar):
-    """The march's inputs of dynamic creepage (rail.contact.creep): the given change of u_bar per step
+    """The march's inputs of dynamic creepage (rail.creepage.modes): the given change of u_bar per step
     [m], the modes (omega [rad/s], zeta [-], c [1/kg]; empty without) and Q_ref [N]."""
     if ubar is None:
         dus = np.zeros(P.size)
@@ -461,7 +461,7 @@ def _creep_inputs(m: ContactMaterial, P, speed: float, ubar):
         e = np.zeros(0)
         return dus, e, e, e, 0.0
     if not isinstance(modes, LongitudinalModes):
-        raise TypeError(f"ContactMaterial.longitudinal must be a rail.contact.creep.LongitudinalModes or None, not {type(modes).__name__}.")
+        raise TypeError(f"ContactMaterial.longitudinal must be a rail.creepage.modes.LongitudinalModes or None, not {type(modes).__name__}.")
     om, ze, cp = modes.arrays()
     q_ref = modes.reference_force
     if q_ref is None:

@@ -221,7 +221,7 @@ def _stick_solve(E, h, p, inside, stick, sign, qn, s, S, g, speed, gd, dt, mu_d,
     (for an entering particle: its mean slip velocity since it entered). An active-set iteration
     moves nodes where abs(q) > mu_s p to slip and nodes whose slip opposes their traction to stick.
 
-    dub : the step's change of the global relative displacement u_bar [m] (rail.contact.creep; in gd
+    dub : the step's change of the global relative displacement u_bar [m] (rail.creepage.modes; in gd
     already, gd = gamma V dt + dub): the slip velocity gains dub / dt. decay : s_0 [m/s] of the falling
     friction mu(s) = mu_d + (mu_s - mu_d) exp(-abs(s) / s_0) on the slip nodes (0: mu_d, the report's);
     mus : (nodes,) workspace, the slip nodes' friction, iterated with the active set to a fixed point
@@ -326,7 +326,7 @@ def _exit_slip(xi, a_prev, ai, g, speed, dt, u_old, u_new, u_trail_old, u_trail_
     at that time interpolated between the steps, the mirror image of the entry) or 2 (left a contact
     zone inside the patch into a gap, rail.contact.normal.multizone_contact: its mean slip velocity
     over the step along its path, first order in the step). dub: the step's change of u_bar [m]
-    (rail.contact.creep), at a uniform rate over the step."""
+    (rail.creepage.modes), at a uniform rate over the step."""
     nn = xi.size
     for n in range(nn - 1):
         s_exit[n] = 0.0

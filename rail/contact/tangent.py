@@ -358,7 +358,7 @@ def _march_tangent(P, a, shape, dP, da, dshape, has_dshape, xi, Mom, mu, ws, ws2
                    mu_s, half_width, closure, closure_scale, report_coef, max_iter, table, dus, ddus, decay):
     """The march of rail.contact.march._march (its steps, rail.contact.steps) from zero traction and,
     with it, the derivative of every step along the columns of dP, da, dshape, ddts and ddus, the
-    stick/slip sets held. dus: the given change of u_bar over each step [m] (rail.contact.creep; zeros:
+    stick/slip sets held. dus: the given change of u_bar over each step [m] (rail.creepage.modes; zeros:
     none), ddus its direction; decay: s_0 of the falling friction [m/s] (0: the step law). table: the
     influence matrix's table (rail.contact.influence.influence_table): in its cells the matrix and its
     derivative in a are the interpolant's, elsewhere _d_closure_matrix's.

@@ -1,4 +1,4 @@
-"""The linear method with dynamic creepage: the periodic state with u_bar (rail.wear.march_with_creepage)
+"""The linear method with dynamic creepage: the periodic state with u_bar (rail.creepage.coupling.march_with_creepage)
 linearised about the smooth rail, per Bloch class (method 'linear' of rate_spectrum).
 
 The nonlinear passage over a period of N bays (n = N N_x steps) finds the u_bar of eq 26 in its
@@ -7,8 +7,8 @@ rate of a free rotation (the torque balance), with
 
     p = R[F] + A_Q Q - A_P P + V int E_P P dt     (up to a constant),   F = (Q_{i-1} + Q_i) / 2 - Q_ref,
 
-R the wheelset's periodic response (rail.contact.creep.periodic_response; its free rotation takes
-F less its time mean) and A_Q, A_P, E_P the rail head's (rail.longitudinal.HeadOperator); with a free
+R the wheelset's periodic response (rail.creepage.modes.periodic_response; its free rotation takes
+F less its time mean) and A_Q, A_P, E_P the rail head's (rail.creepage.rail_flexibility.HeadOperator); with a free
 rotation, v_bar such that the time mean of F is 0. Q is the march's tangential force with u_bar given.
 
 About the smooth rail (one bay, u_bar_0 = p_0 + v_bar_0 t from march_with_creepage) a probe of the
@@ -44,8 +44,9 @@ import numpy as np
 from .._lazyjit import njit
 from ..contact.hertz import ContactError
 from ..contact.steady import carter
-from ..longitudinal import head_operator
-from ..wear import CreepageState, march_with_creepage, steady_material
+from ..creepage.rail_flexibility import head_operator
+from ..creepage import coupling
+from ..creepage.coupling import CreepageState, steady_material
 from .probes import GridMismatch
 
 __all__ = ["has_creepage", "CreepageReference", "creepage_reference", "closed_loop_wear", "discrete_mode_response",
@@ -165,7 +166,7 @@ def _anderson_reference(mi, material, speed: float, numerics, harmonics: int):
     X, F = [], []  # states (p, v_bar T) [m] and their steps
     start, best = None, None
     for it in range(1, REFERENCE_STEPS + 1):
-        sol, info = march_with_creepage(mi, material, speed, numerics, tol=REFERENCE_TOL, harmonics=harmonics, start=start,
+        sol, info = coupling.march_with_creepage(mi, material, speed, numerics, tol=REFERENCE_TOL, harmonics=harmonics, start=start,
                                         lagged=np.inf)
         stepped = info["state"]
         x = np.zeros(Nx + 1) if start is None else np.append(start.p, start.vbar * T)
@@ -194,7 +195,7 @@ def _anderson_reference(mi, material, speed: float, numerics, harmonics: int):
 
 def _free_transition(om: float, ze: float, T: float):
     """The 2 x 2 transition of (x [m], v [m/s]) over T [s] of x'' + 2 zeta omega x' + omega^2 x = 0 (omega > 0),
-    as rail.contact.creep's march of the modes."""
+    as rail.creepage.modes's march of the modes."""
     sg, wd = ze * om, om * np.sqrt(1 - ze * ze)
     ex, cs, sn = np.exp(-sg * T), np.cos(wd * T), np.sin(wd * T)
     return ex * np.array([[cs + sg / wd * sn, sn / wd], [-(om * om) / wd * sn, cs - sg / wd * sn]])
@@ -202,11 +203,11 @@ def _free_transition(om: float, ze: float, T: float):
 
 def discrete_mode_response(modes, dt: float, q, n: int):
     """H_d(q) [m/N]: the modes' periodic response at the end of each step to the force exp(2 pi i q k / n) held
-    over step k (rail.contact.creep.periodic_response with uniform steps of dt [s], exactly), q != 0 mod n.
+    over step k (rail.creepage.modes.periodic_response with uniform steps of dt [s], exactly), q != 0 mod n.
 
     Parameters
     ----------
-    modes : rail.contact.creep.LongitudinalModes
+    modes : rail.creepage.modes.LongitudinalModes
         omega [rad/s], zeta [-] and participation [1/kg] of each mode.
     dt : float
         The uniform step [s].
@@ -239,7 +240,7 @@ def discrete_mode_response(modes, dt: float, q, n: int):
 
 @njit(cache=True)
 def _dt_tangent_mode(F, dt, om, ze, c, ddt, dF0, out):
-    """Add to out (n, nc) the tangent of one mode's periodic response (rail.contact.creep.periodic_response's
+    """Add to out (n, nc) the tangent of one mode's periodic response (rail.creepage.modes.periodic_response's
     per-mode part, its force F held over each step) along the step-time directions ddt (n, nc), with the
     force changed by the constant dF0 (nc,) at every step (the free rotation's mean force)."""
     n = F.size
@@ -324,7 +325,7 @@ def _dt_tangent_mode(F, dt, om, ze, c, ddt, dF0, out):
 
 
 def periodic_response_dt(F, dt, modes, ddt):
-    """The tangent of rail.contact.creep.periodic_response(F, dt, modes)[0] along step-time directions ddt
+    """The tangent of rail.creepage.modes.periodic_response(F, dt, modes)[0] along step-time directions ddt
     (n, nc), complex allowed, with F fixed [m per unit of the direction] (up to a constant per column):
     the wheelset's part of the step times' change; the free rotation's force is F less its time mean
     sum(F dt) / T, which the step times change too.
@@ -335,7 +336,7 @@ def periodic_response_dt(F, dt, modes, ddt):
         The force held over each step [N].
     dt : ndarray, (n,)
         The steps [s].
-    modes : rail.contact.creep.LongitudinalModes
+    modes : rail.creepage.modes.LongitudinalModes
         omega [rad/s], zeta [-] and participation [1/kg] of each mode.
     ddt : ndarray, (n, nc)
         The step times' directions [s per unit of the column].
@@ -361,7 +362,7 @@ def periodic_response_dt(F, dt, modes, ddt):
 
 def _class_harmonics(r: int, N: int, K: int):
     """The harmonics q = m N + r of the period of class r that the head's table holds (m = -K..K for r = 0,
-    -K..K-1 otherwise; rail.longitudinal.HeadTable.indices) [-]."""
+    -K..K-1 otherwise; rail.creepage.rail_flexibility.HeadTable.indices) [-]."""
     m = np.arange(-K, K + (1 if r == 0 else 0))
     return m * N + r
 

@@ -11,6 +11,7 @@ import dataclasses
 import numpy as np
 
 from .. import chain, wear
+from ..creepage import coupling
 from ..contact.tangent import work_tangent
 from ..interaction import Roughness
 from .creepage import REFERENCE_STEPS, REFERENCE_TOL, closed_loop_wear, creepage_reference, has_creepage
@@ -475,13 +476,13 @@ def warm_train_wear(scn, tabs, Z, grid_phase: float, refs, starts):
         mi = wear.march_inputs(forces, l, current, mat, nums, grid_phase, grid=(mi1.delta, mi1.Nx, mi1.M, mi1.spin))
         check_held_grid(mi, mi1, B)
         if cr is None:
-            sol, _ = wear.march_with_creepage(mi, mat, forces.speed, nums, harmonics=forces.harmonics)
+            sol, _ = coupling.march_with_creepage(mi, mat, forces.speed, nums, harmonics=forces.harmonics)
         else:
             dtp = (np.full(mi.Nx, mi.delta / forces.speed) if mi.dt is None else np.asarray(mi.dt, dtype=float)[mi.spin:mi.spin + mi.Nx])
             phase = (np.cumsum(dtp) - dtp[0]) / float(np.sum(dtp))  # as march_with_creepage's: start.at(phase) is p
             du, dv = (np.zeros(mi.Nx), 0.0) if st is None else st
-            start = wear.CreepageState(phase, np.tile(cr.p, B) + np.real(du), cr.vbar + float(np.real(dv)), grid=mi.Nx)
-            sol, _ = wear.march_with_creepage(mi, mat, forces.speed, nums, tol=REFERENCE_TOL, max_iter=REFERENCE_STEPS,
+            start = coupling.CreepageState(phase, np.tile(cr.p, B) + np.real(du), cr.vbar + float(np.real(dv)), grid=mi.Nx)
+            sol, _ = coupling.march_with_creepage(mi, mat, forces.speed, nums, tol=REFERENCE_TOL, max_iter=REFERENCE_STEPS,
                                          harmonics=forces.harmonics, start=start)
         depth = scn.wear_law.depth(sol.work[mi.spin + mi.M + np.arange(mi.Nx)])
         if not np.all(np.isfinite(depth)):

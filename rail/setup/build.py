@@ -17,7 +17,7 @@ from dataclasses import dataclass
 import numpy as np
 
 from ..cell import RandomSupports, TrackCell, make_cell
-from ..cell_head import CellHead
+from ..creepage.rail_flexibility_cell import CellHead
 from ..contact import ContactMaterial, ContactNumerics
 from ..fleet import Fleet, Vehicle, speed_classes
 from ..growth import GrowthSettings
@@ -27,9 +27,9 @@ from ..roughness import read_profile_record, record_bays
 from ..scenario import InitialRoughness, Scenario, TrackNumerics
 from ..track import Ballast, Pad, Rail, Sleeper, Track, damping_problem, min_harmonics, pinned_pinned_frequency
 from ..wear import WearLaw
-from ..longitudinal import RailHead
-from ..wheelset import Wheelset, hz_text, wheelset_modes
-from ..creepage_sources import rail_flexibility, wheelset_model
+from ..creepage.rail_flexibility import RailHead
+from ..creepage.wheelset import Wheelset, hz_text, wheelset_modes
+from ..creepage.choices import rail_flexibility, wheelset_model
 from ..contact.hertz import hertz_half_length
 from ..contact.numerics import rolling_grid
 from .config import ConfigError, configured_speeds, project_schema, schema_default, setting
@@ -305,9 +305,10 @@ def _material_unchecked(cfg: dict) -> ContactMaterial:
 
 
 def _rail_flexibility(cfg: dict):
-    """The rail head's longitudinal flexibility (rail.longitudinal.RailHead; on a track cell rail.cell_head.CellHead,
+    """The rail head's longitudinal flexibility (rail.creepage.rail_flexibility.RailHead; on a track cell
+    rail.creepage.rail_flexibility_cell.CellHead,
     the cell's supports and dampers), None without it (the report's): rail_flexibility.model
-    (rail.creepage_sources.RailFlexibility), absent at the schema's default."""
+    (rail.creepage.choices.RailFlexibility), absent at the schema's default."""
     choice = rail_flexibility(setting(cfg, "rail_flexibility.model"))
     if not choice.modelled:
         return None
@@ -321,8 +322,8 @@ def _rail_flexibility(cfg: dict):
 
 
 def _longitudinal(cfg: dict):
-    """The wheelset's tread receptance in modal form (rail.wheelset), None for the report's fixed creepage:
-    wheelset.model (rail.creepage_sources.WheelsetModel), an absent section at the schema's default."""
+    """The wheelset's tread receptance in modal form (rail.creepage.wheelset), None for the report's fixed creepage:
+    wheelset.model (rail.creepage.choices.WheelsetModel), an absent section at the schema's default."""
     choice = wheelset_model(setting(cfg, "wheelset.model"))
     if not choice.modelled:
         return None
@@ -399,7 +400,7 @@ def physics_problems(cfg: dict, source: str) -> list[str]:
         if float(setting(cfg, "track.pad.rotational_stiffness")) > 0:
             out.append(f"{source}: track.pad.rotational_stiffness = {setting(cfg, 'track.pad.rotational_stiffness')!r} N m/rad is not "
                        "allowed with track.cell: the pads' moment springs are carried on the uniform track only (rail.moving, "
-                       "rail.longitudinal); use 0 on a cell, or the rotational stiffness on a track without track.cell.")
+                       "rail.creepage.rail_flexibility); use 0 on a cell, or the rotational stiffness on a track without track.cell.")
         if "spacing" in cell and len(cell["spacing"]) == nb:
             tr = dataclasses.replace(tr, sleeper=Sleeper(tr.sleeper.mass, float(np.mean(cell["spacing"]))))
     out += dynamic_creepage_problems(cfg, source)
@@ -422,13 +423,13 @@ def physics_problems(cfg: dict, source: str) -> list[str]:
 def dynamic_creepage_problems(cfg: dict, source: str) -> list[str]:
     """The wheelset's modes the contact march cannot resolve, one line each naming the keys and ``source``.
 
-    The march advances the modes step by step (rail.contact.creep): a step of dt = Delta / V (Delta the
+    The march advances the modes step by step (rail.creepage.modes): a step of dt = Delta / V (Delta the
     grid spacing of rail.contact.numerics.rolling_grid, from the patch at the static load; the dynamic
     load's larger patch coarsens it, which the march checks again with its own grid) resolves
     frequencies below its Nyquist frequency V / (2 Delta), lowest at the slowest configured speed. A
     mode above it is aliased, and its force, extrapolated over the step, drives it unstably; the mode
     responds quasi-statically to all the march resolves, so it is refused with what to change rather
-    than run. A value the wheelset refuses (rail.wheelset.Wheelset) is named here too.
+    than run. A value the wheelset refuses (rail.creepage.wheelset.Wheelset) is named here too.
 
     Parameters
     ----------

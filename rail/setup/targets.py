@@ -25,7 +25,7 @@ import copy
 from collections.abc import Mapping
 from dataclasses import dataclass, field
 
-from ..creepage_sources import wheelset_model
+from ..creepage.choices import wheelset_model
 from .build import OPTIONAL_KEYS, PASSAGE_KEYS
 from .config import ConfigError, deep_merge, schema_default, setting
 

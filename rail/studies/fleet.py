@@ -17,7 +17,7 @@ from ..growth_spectrum import FleetRateSpectrum, RateSpectrum
 from ..traffic import Traffic
 from . import datasets
 from ..setup.io import data_var
-from ..wheelset import hz_text
+from ..creepage.wheelset import hz_text
 from .rate_spectrum import PASSAGES_PER_DB
 
 __all__ = ["fleet_spectrum_dataset", "fleet_growth_dataset", "tables_by_speed", "spectrum_arrays", "spectrum_from_arrays",

@@ -29,7 +29,7 @@ import xarray as xr
 import yaml
 
 from ..contact import friction_law
-from ..creepage_sources import rail_flexibility, wheelset_model
+from ..creepage.choices import rail_flexibility, wheelset_model
 from ..setup.config import setting
 from ..setup.io import data_var
 
@@ -37,7 +37,7 @@ __all__ = ["mechanism_label", "track_label", "study_dataset", "verdict", "summar
 
 def mechanism_label(cfg: dict) -> str:
     """The mechanisms of ū(t) a resolved scenario configuration switches on, in words, each asked of its
-    model choice (rail.creepage_sources, rail.contact.FrictionLaw), a key left out at the schema's default.
+    model choice (rail.creepage.choices, rail.contact.FrictionLaw), a key left out at the schema's default.
 
     Parameters
     ----------

@@ -6,7 +6,7 @@ from __future__ import annotations
 import numpy as np
 
 from .. import contact
-from ..wheelset import hz_text
+from ..creepage.wheelset import hz_text
 
 __all__ = ["VALIDITY_ATTRS", "NOT_USED", "NO_WEAR", "model_attributes", "stated_wear_path", "validity_text", "creepage_model_text"]
 
@@ -97,7 +97,7 @@ def validity_text(attrs) -> str:
 
 def creepage_model_text(material) -> str:
     """What the contact's creepage and friction are beyond the report's (a fixed creepage, mu_s / mu_d step):
-    the wheelset's modes (rail.wheelset), the rail's longitudinal flexibility (rail.longitudinal) and
+    the wheelset's modes (rail.creepage.wheelset), the rail's longitudinal flexibility (rail.creepage.rail_flexibility) and
     falling friction, with what is still left out.
 
     Parameters
@@ -119,7 +119,8 @@ def creepage_model_text(material) -> str:
         idle = f"; not excited at this wheel: {', '.join(hz_text(f) for f in idle)} Hz" if idle else ""
         parts.append(f"dynamic creepage from the {modes.label or 'wheelset'} (modes at {freqs} Hz{idle}{rail})")
     if head is not None:
-        parts.append(f"dynamic creepage from the {head.label} ({'rail.cell_head' if hasattr(head, 'cell') else 'rail.longitudinal'})")
+        home = "rail.creepage.rail_flexibility_cell" if hasattr(head, "cell") else "rail.creepage.rail_flexibility"
+        parts.append(f"dynamic creepage from the {head.label} ({home})")
     if material.friction_decay > 0:  # the falling law, or one made flat by mu_s = mu_d, said so
         parts.append(material.friction_law.description)
     return "; ".join(parts)

@@ -17,7 +17,7 @@ from pathlib import Path
 from rail import interaction
 from rail import chain
 from rail.setup import build, config
-from rail.wheelset import Wheelset, wheelset_modes
+from rail.creepage.wheelset import Wheelset, wheelset_modes
 
 ROOT = Path(__file__).resolve().parents[2]
 

@@ -8,8 +8,8 @@ loaded by other jobs moves the time of a run by 10-30 %, so the ratios are given
 ratios, and the best times); the marches (rail.contact.solve_tangential) of each are counted, the measure that
 does not depend on the load. Loops with u_bar:
 
-- lagged: the growth loop as it runs (rail.wear.bay_wear's creepage_lag = rail.wear.LAGGED_STEP: one march per
-  update from the last update's state, extrapolated; the first update from rest, rail.wear.REST_STATE, stops at
+- lagged: the growth loop as it runs (rail.wear.bay_wear's creepage_lag = rail.creepage.coupling.LAGGED_STEP: one march per
+  update from the last update's state, extrapolated; the first update from rest, rail.creepage.coupling.REST_STATE, stops at
   the lagged threshold too, 3 marches);
 - lagged, first update to a step below 1e-4: the same with the first update's lag 1e-4 (4 marches);
 - lagged, first update to 1e-5: the same with the first update's Newton steps to the tolerance 1e-5 (5 marches;
@@ -17,7 +17,7 @@ does not depend on the load. Loops with u_bar:
 - Newton: every update's Newton steps to the tolerance 1e-5 (creepage_lag None; the loop before issue 54);
 - reference: Newton steps to 1e-8 (run once, for the errors).
 
-Every loop with u_bar has the modes' periodic response (rail.contact.creep.periodic_response) compiled since issue 54's
+Every loop with u_bar has the modes' periodic response (rail.creepage.modes.periodic_response) compiled since issue 54's
 first update lagged; in Python it took about 10 % of the loop without u_bar.
 
 The errors are judged per harmonic against that harmonic: for each harmonic j within 40 dB of the largest at
@@ -36,6 +36,7 @@ import time
 
 import numpy as np
 
+from rail.creepage import coupling
 from rail import chain, growth, wear
 from rail.app import api
 
@@ -43,16 +44,16 @@ from rail.app import api
 @contextlib.contextmanager
 def _settings(bay_kwargs=None, tol=None, first_lag=False):
     """rail.wear.bay_wear (and its march) called with other settings while in the block: bay_kwargs, the march's
-    tol, or the first update's (its start rail.wear.REST_STATE) creepage_lag first_lag (None: Newton steps to the
+    tol, or the first update's (its start rail.creepage.coupling.REST_STATE) creepage_lag first_lag (None: Newton steps to the
     tolerance)."""
-    bay, march = wear.bay_wear, wear.march_with_creepage
+    bay, march = wear.bay_wear, coupling.march_with_creepage
 
-    def first(*args, creepage_start=None, creepage_lag=wear.LAGGED_STEP, **kwargs):
-        return bay(*args, creepage_start=creepage_start, creepage_lag=first_lag if creepage_start is wear.REST_STATE else creepage_lag,
+    def first(*args, creepage_start=None, creepage_lag=coupling.LAGGED_STEP, **kwargs):
+        return bay(*args, creepage_start=creepage_start, creepage_lag=first_lag if creepage_start is coupling.REST_STATE else creepage_lag,
                    **kwargs)
 
     if tol is not None:
-        wear.march_with_creepage = functools.partial(march, tol=tol, max_iter=60)
+        coupling.march_with_creepage = functools.partial(march, tol=tol, max_iter=60)
     if bay_kwargs:
         wear.bay_wear = functools.partial(bay, **bay_kwargs)
     if first_lag is not False:
@@ -60,7 +61,7 @@ def _settings(bay_kwargs=None, tol=None, first_lag=False):
     try:
         yield
     finally:
-        wear.bay_wear, wear.march_with_creepage = bay, march
+        wear.bay_wear, coupling.march_with_creepage = bay, march
 
 
 def _run(scn, tab, **settings):
@@ -107,7 +108,7 @@ def main(speeds, rounds=3):
     bare = dataclasses.replace(scn, material=dataclasses.replace(scn.material, longitudinal=None, rail_flexibility=None))
     g = scn.growth
     print(f"passages {g.passages}, per update {g.passages_per_update}, contact nodes {scn.contact_numerics.nodes}, "
-          f"lagged step {wear.LAGGED_STEP:g}, {rounds} rounds")
+          f"lagged step {coupling.LAGGED_STEP:g}, {rounds} rounds")
     for V in speeds:
         tab = chain.receptance_table(scn, V)
         for s in (bare, scn):  # compile (or load numba's cache) and warm up: the first run with u_bar took 4-5 times the next

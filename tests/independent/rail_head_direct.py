@@ -1,4 +1,4 @@
-"""The rail head's stationary longitudinal receptances by a direct solution, written without rail.longitudinal.
+"""The rail head's stationary longitudinal receptances by a direct solution, written without rail.creepage.rail_flexibility.
 
 The free infinite rail's Green's functions in x by residues (Timoshenko beam: w, psi from a force F
 and a moment M; axial rod: u from a longitudinal force), and a finite row of 2 n + 1 supports at
@@ -109,7 +109,7 @@ def stationary_rod(x0, omega, track, kx, eta_x, n=400):
 
 
 # --------------------------------------------------------------------------------------------------
-# uneven supports: a finite row of a track cell's attachments (issue 55, rail.cell_head)
+# uneven supports: a finite row of a track cell's attachments (issue 55, rail.creepage.rail_flexibility_cell)
 
 
 def _spring(k0, eta, c, omega, damping):
@@ -119,7 +119,7 @@ def _spring(k0, eta, c, omega, damping):
 def cell_row(cell, omega, cells):
     """Positions [m] and dynamic stiffnesses [N/m] of the cell's attachments over 2 cells + 1 periods: the
     vertical ones (every support: pad in series with the sleeper on its ballast; every damper: its spring in
-    series with its mass) and the longitudinal ones of rail.cell_head's model written out here again (each
+    series with its mass) and the longitudinal ones of rail.creepage.rail_flexibility_cell's model written out here again (each
     support's pad sheared, k_x scaled by the support's pad factor, the sleeper held; no damper)."""
     d = cell.track.damping
     vert_x, vert_k, sup_x, sup_f = [], [], [], []

@@ -10,7 +10,7 @@ The peak is the largest rate on the lines, refined by a parabola through it and 
 Run:  OMP_NUM_THREADS=1 python workflow/scripts/band_sensitivity.py --speed 60 --out results/band_sensitivity_60.csv
       [--variants base e-10 e+10 ...] [--bays 8] [--low 900] [--high 1400] [--spacing 15]
       python workflow/scripts/band_sensitivity.py --cross --speed 60 --out x.csv   (seconds: the moving load's cross
-      receptance e psi/F at the load, a_0 of rail.longitudinal.moving_head_matrix, over the band for k_theta = 0, sourced,
+      receptance e psi/F at the load, a_0 of rail.creepage.rail_flexibility.moving_head_matrix, over the band for k_theta = 0, sourced,
       3 x sourced, on the default track)
 """
 
@@ -61,7 +61,7 @@ def cross(V, low, high, out):
     (off the harmonics of V / L), for k_theta = 0, K_THETA and 3 K_THETA on the default track."""
     import dataclasses
 
-    from rail import longitudinal as lg
+    from rail.creepage import rail_flexibility as lg
 
     base = api.load("dyn_rail_pinned").scenario.track
     f = np.arange(low, high + 1.0, 10.0) + 0.37

@@ -27,8 +27,8 @@ Conventions
   load: u_head = e psi < 0). The issue text's u = -e psi measures psi the other way round (the
   rotation about the lateral axis with z upwards); the physics is the same.
 * Longitudinal forces and displacements positive in +x. The rail's u_head is driven by the force on
-  the rail, -Q, where Q is the tangential force on the wheel of rail.contact.creep (in +x, the
-  traction of a driving wheel). With u_bar = u_wheel - u_rail (rail.contact.creep) the rail adds
+  the rail, -Q, where Q is the tangential force on the wheel of rail.creepage.modes (in +x, the
+  traction of a driving wheel). With u_bar = u_wheel - u_rail (rail.creepage.modes) the rail adds
 
       u_bar_rail = -u_head(-Q, P) = A_Q Q - A_P P,
 
@@ -76,8 +76,8 @@ from dataclasses import dataclass
 
 import numpy as np
 
-from .quadrature import adaptive_panels
-from .track import Track, damped_stiffness, damping_problem, periodic_sum, rail_stiffnesses, support_stiffness
+from ..quadrature import adaptive_panels
+from ..track import Track, damped_stiffness, damping_problem, periodic_sum, rail_stiffnesses, support_stiffness
 
 __all__ = ["RailHead", "HeadTable", "HeadOperator", "free_beam_matrix", "rod_receptance", "rod_lattice_sum",
            "longitudinal_support_stiffness", "moving_head_matrix", "head_table", "head_operator",
@@ -371,7 +371,7 @@ def _beam_nodes_rotational(beta, Omega, V, js, track: Track, static):
     [(I + B D_0)^-1 B]_rl (finite; rail.moving._rotational_tables). Returns Y (n, 2, 2), the rows
     u_psi = (H_psiF, H_psiM), u_w = (H_ww, H_wM) (n, 2, J) and the columns v_F = (H_ww, H_psiF),
     v_M = (H_wM, H_psiM) (n, 2, J), the diagonals of psi/F, psi/M, w/M and the derivative factor."""
-    from .track import beam_lattice_sums, support_rotational_stiffness
+    from ..track import beam_lattice_sums, support_rotational_stiffness
 
     om = Omega + beta * V
     b = beta[:, None] - js[None, :] * track.beta0

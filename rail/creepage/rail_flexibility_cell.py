@@ -1,5 +1,5 @@
 """The rail head's longitudinal displacement at the moving contact on a track cell of N bays whose supports
-differ (rail.cell): the head's operator of rail.longitudinal (the axial rod on the pads' shear springs and
+differ (rail.cell): the head's operator of rail.creepage.rail_flexibility (the axial rod on the pads' shear springs and
 the head's e psi from the bending rotation) with the cell's supports and dampers (issue 55).
 
 What is modelled
@@ -9,7 +9,7 @@ What is modelled
   or k_x f_j + i omega c_x f_j, f_j = k_P,j / k_P the support's pad factor (its vertical stiffness over
   the nominal pad's: a pad stiffer or softer through its elastomer's modulus or thickness is so in
   shear as in compression, k_P and k_x both scale as G A / t). The sleeper is held longitudinally, as
-  on the uniform track (rail.longitudinal): its ballast, sleeper mass and a void under it (a vertical
+  on the uniform track (rail.creepage.rail_flexibility): its ballast, sleeper mass and a void under it (a vertical
   gap; the crib ballast still holds the sleeper along the rail) do not enter the rod.
 * **The rail dampers act vertically only.** A tuned rail damper (masses in an elastomer clipped to
   the web and foot) is designed and characterised for the rail's vertical and lateral vibration
@@ -20,7 +20,7 @@ What is modelled
   psi moves the head by e psi. Its force acts through the section (web): no moment on the rail.
 * **The head's e psi**: the Timoshenko rail (w, psi) on the cell's vertical attachments (supports and
   dampers, rail.cell.point_stiffness), the longitudinal force on the running surface at the height e an
-  axial force and a moment e F_x, u_head = u_n + e psi, as rail.longitudinal.
+  axial force and a moment e F_x, u_head = u_n + e psi, as rail.creepage.rail_flexibility.
 
 Left out as on the uniform track: the pads' rotational stiffness and the coupling of the rod to the
 bending through the pads; the longitudinal friction of the clips.
@@ -30,7 +30,7 @@ The moving-load matrices
 A load l exp(i Omega t) at x = V t on the rail periodic over the cell (length P, attachments at s_q,
 beta_P = 2 pi / P), the response r at the load, the supported variable s (w for the beam, u_n for
 the rod): with h^x_j = H_x(beta - j beta_P, omega), omega = Omega + beta V, e_qj = exp(i (beta - j beta_P) s_q)
-(rail.moving's cell table with the transfers of rail.longitudinal)::
+(rail.moving's cell table with the transfers of rail.creepage.rail_flexibility)::
 
     A[p, k] = delta_pk / 2pi int h^rl_k db - 1 / (2 pi P) int sum_q h^rs_p e_qp Y_qk db,
     Y_k = (I + diag(K) S / P)^-1 diag(K) (h^sl_k / e_k),   S[l, j] = sum_m H_ss(beta + m beta_P) e^{i (beta + m beta_P)(s_j - s_l)}.
@@ -38,7 +38,7 @@ the rod): with h^x_j = H_x(beta - j beta_P, omega), omega = Omega + beta V, e_qj
 S in closed form per distance (rail.cell.cell_lattice_sum; the rod's poles for the rod). With
 Omega = 0 the columns k are the loads at k Omega_P, Omega_P = 2 pi V / P, abs(k) <= J: one table over the
 cell's harmonics (J = N K reaches K Omega_0 as the uniform track's classes do); for N identical supports at
-equal spacing its entries with p = k (mod N) are the uniform track's Bloch tables (rail.longitudinal.head_table,
+equal spacing its entries with p = k (mod N) are the uniform track's Bloch tables (rail.creepage.rail_flexibility.head_table,
 nu = (k mod N) / N) and the others vanish. Column 0 diverges at the static point (beta -> 0): within half a
 cell wavenumber of it the divergent lattice term H_ss(beta) is taken out of S and put back by the
 Sherman-Morrison formula (as rail.moving), so that no entry is formed from the difference of two large
@@ -49,7 +49,7 @@ h^rs t_k / (1 + h c / P) (t_k = b . B^-1 diag(K) (h^sl_k / e_k)) and its diagona
 
 References
 ----------
-Sheng, Thompson & Jones, report sec. 4.3 (eq 26); docs/track.md ("A cell of N bays"); rail.longitudinal.
+Sheng, Thompson & Jones, report sec. 4.3 (eq 26); docs/track.md ("A cell of N bays"); rail.creepage.rail_flexibility.
 """
 
 from __future__ import annotations
@@ -60,10 +60,10 @@ from dataclasses import dataclass
 
 import numpy as np
 
-from .cell import TrackCell, cell_lattice_sum, cell_sum_matrix, point_stiffness
-from .longitudinal import DEFAULT_HEAD_HEIGHT, DEFAULT_LONGITUDINAL_STIFFNESS, HeadOperator, HeadTable, RailHead, free_beam_matrix, rod_receptance
-from .quadrature import adaptive_panels
-from .track import Track, damped_stiffness
+from ..cell import TrackCell, cell_lattice_sum, cell_sum_matrix, point_stiffness
+from .rail_flexibility import DEFAULT_HEAD_HEIGHT, DEFAULT_LONGITUDINAL_STIFFNESS, HeadOperator, HeadTable, RailHead, free_beam_matrix, rod_receptance
+from ..quadrature import adaptive_panels
+from ..track import Track, damped_stiffness
 
 __all__ = ["CellHead", "cell_head_matrix", "cell_head_table", "cell_head_operator", "rod_poles", "rod_point_stiffness"]
 
@@ -96,7 +96,7 @@ class CellHead:
 
     @property
     def nominal(self) -> RailHead:
-        """The uniform track's head with the cell's nominal support (rail.longitudinal.RailHead)."""
+        """The uniform track's head with the cell's nominal support (rail.creepage.rail_flexibility.RailHead)."""
         return RailHead(self.cell.track, self.longitudinal_stiffness, self.longitudinal_loss_factor, self.longitudinal_viscous_damping,
                         self.head_height, self.bending)
 
@@ -123,7 +123,7 @@ class CellHead:
 
 
 def _axial_stiffness(track: Track, omega):
-    """E A (1 + i eta_R sign(omega)) or E A (1 + i omega tau_R) [N] (rail.longitudinal's rod)."""
+    """E A (1 + i eta_R sign(omega)) or E A (1 + i omega tau_R) [N] (rail.creepage.rail_flexibility's rod)."""
     r = track.rail
     f = 1 + 1j * r.loss_factor * np.sign(omega) if track.damping == "hysteretic" else 1 + 1j * omega * r.damping_time
     return r.youngs_modulus * r.area * f
@@ -433,7 +433,7 @@ def cell_head_table(head: CellHead, speed: float, harmonics: int, rtol: float = 
 
 
 def cell_head_operator(head: CellHead, speed: float, harmonics: int, rtol: float = 1e-4) -> HeadOperator:
-    """The HeadOperator of the cell's period P (one table over its harmonics: rail.longitudinal.HeadOperator with
+    """The HeadOperator of the cell's period P (one table over its harmonics: rail.creepage.rail_flexibility.HeadOperator with
     bays = 1 and spacing = P, the march's samples over the cell).
 
     Parameters

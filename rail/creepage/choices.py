@@ -1,6 +1,6 @@
 """The sources of dynamic creepage as model choices (docs/dynamic-creepage.md): the wheelset's model
-(config key ``wheelset.model``, rail.wheelset) and the rail head's longitudinal flexibility
-(``rail_flexibility.model``, rail.longitudinal).
+(config key ``wheelset.model``, rail.creepage.wheelset) and the rail head's longitudinal flexibility
+(``rail_flexibility.model``, rail.creepage.rail_flexibility).
 
 Each choice is a small frozen object with ``name`` (the configuration's value, which results store
 as a value: ``wheelset_model = "torsional"``, ``rail_flexibility = "rod_and_bending"``),
@@ -23,13 +23,13 @@ __all__ = ["WheelsetModel", "RailFlexibility", "WHEELSET_CHOICES", "RAIL_FLEXIBI
 
 @dataclass(frozen=True)
 class WheelsetModel:
-    """The wheelset's model (config key wheelset.model; rail.wheelset).
+    """The wheelset's model (config key wheelset.model; rail.creepage.wheelset).
 
     Attributes
     ----------
     name : 'fixed_creepage' (the report's rigid wheel at the fixed creepage), 'rigid' (a rigid
         wheelset spinning under the drive torque) or 'torsional' (the elastic axle and the drive);
-        'modes' for modes given directly (rail.contact.creep.LongitudinalModes built without a wheelset)
+        'modes' for modes given directly (rail.creepage.modes.LongitudinalModes built without a wheelset)
     description : what it is, in words (a result's wheelset_model_description)
     modelled : whether the wheelset's rotation drives a dynamic creepage (False: the report's)
     """
@@ -61,7 +61,7 @@ class WheelsetModel:
         return f"{self.name} wheelset"
 
     def unread_keys(self, driven: bool) -> tuple:
-        """The wheelset section's keys this model does not read (rail.wheelset.wheelset_modes), left out of a
+        """The wheelset section's keys this model does not read (rail.creepage.wheelset.wheelset_modes), left out of a
         job's rerun trigger (rail.setup.targets.read_part): the rigid wheelset reads only its inertias, a
         torsional one without a drive no coupling.
 
@@ -86,17 +86,17 @@ _WHEELSETS = {
     "fixed_creepage": WheelsetModel("fixed_creepage", "fixed_creepage: the report's rigid wheel at the fixed creepage contact.creepage "
                                     "(no dynamic creepage from the wheelset)", False),
     "rigid": WheelsetModel("rigid", "rigid: a rigid wheelset spinning under the drive or brake torque, which holds the steady traction "
-                           "(its rigid spin alone; rail.wheelset)", True),
+                           "(its rigid spin alone; rail.creepage.wheelset)", True),
     "torsional": WheelsetModel("torsional", "torsional: two wheels on an elastic axle, the inertia between them and the drive through "
-                               "its coupling (rail.wheelset)", True),
+                               "its coupling (rail.creepage.wheelset)", True),
 }
-GIVEN_MODES = WheelsetModel("modes", "modes: the wheelset's modes given directly (rail.contact.creep.LongitudinalModes)", True)
-WHEELSET_CHOICES = tuple(_WHEELSETS)  # rail.wheelset.WHEELSET_MODELS and the schema's enum (tests/test_model_choices.py)
+GIVEN_MODES = WheelsetModel("modes", "modes: the wheelset's modes given directly (rail.creepage.modes.LongitudinalModes)", True)
+WHEELSET_CHOICES = tuple(_WHEELSETS)  # rail.creepage.wheelset.WHEELSET_MODELS and the schema's enum (tests/test_model_choices.py)
 
 
 @dataclass(frozen=True)
 class RailFlexibility:
-    """The rail head's longitudinal flexibility (config key rail_flexibility.model; rail.longitudinal).
+    """The rail head's longitudinal flexibility (config key rail_flexibility.model; rail.creepage.rail_flexibility).
 
     Attributes
     ----------
@@ -105,7 +105,7 @@ class RailFlexibility:
         rotation)
     description : what it is, in words (a result's rail_flexibility_description)
     modelled : whether the rail's flexibility drives a dynamic creepage
-    bending : whether the head's motion from the bending rotation is included (rail.longitudinal.RailHead.bending)
+    bending : whether the head's motion from the bending rotation is included (rail.creepage.rail_flexibility.RailHead.bending)
     """
 
     name: str
@@ -119,9 +119,9 @@ class RailFlexibility:
 
 _FLEXIBILITIES = {
     "none": RailFlexibility("none", "none: the report's rail, without longitudinal flexibility", False, False),
-    "rod": RailFlexibility("rod", "rod: the rail as an axial rod on the pads' shear springs (rail.longitudinal)", True, False),
+    "rod": RailFlexibility("rod", "rod: the rail as an axial rod on the pads' shear springs (rail.creepage.rail_flexibility)", True, False),
     "rod_and_bending": RailFlexibility("rod_and_bending", "rod_and_bending: the axial rod and the head's motion e psi from the bending "
-                                       "rotation, driven by the tangential force's moment and the vertical force (rail.longitudinal)",
+                                       "rotation, driven by the tangential force's moment and the vertical force (rail.creepage.rail_flexibility)",
                                        True, True),
 }
 RAIL_FLEXIBILITIES = tuple(_FLEXIBILITIES)
@@ -170,9 +170,9 @@ def wheelset_model_of(modes) -> WheelsetModel:
 
     Parameters
     ----------
-    modes : rail.contact.creep.LongitudinalModes or None
+    modes : rail.creepage.modes.LongitudinalModes or None
         ContactMaterial.longitudinal: None for the report's fixed creepage; modes built by
-        rail.wheelset.wheelset_modes carry their model's name (``model``).
+        rail.creepage.wheelset.wheelset_modes carry their model's name (``model``).
 
     Returns
     -------
@@ -189,7 +189,7 @@ def rail_flexibility_of(head) -> RailFlexibility:
 
     Parameters
     ----------
-    head : rail.longitudinal.RailHead or None
+    head : rail.creepage.rail_flexibility.RailHead or None
         ContactMaterial.rail_flexibility: None for the report's rail.
 
     Returns

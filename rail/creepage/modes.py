@@ -68,7 +68,7 @@ class LongitudinalModes:
     label : what the modes are (for results and messages)
     unexcited : the natural frequencies [Hz] of the modes left out (their participation at the contact
         below 1e-12 of the largest), named in results' headers
-    model : the wheelset model the modes are of (config key wheelset.model, rail.creepage_sources), or ''
+    model : the wheelset model the modes are of (config key wheelset.model, rail.creepage.choices), or ''
         for modes given directly
     """
 
@@ -80,7 +80,7 @@ class LongitudinalModes:
     # the frequencies [Hz] of the modes left out as not excited at the contact, for results' headers; out of
     # the repr (hashed into the keys of class spectra) and of comparisons: what the march runs is unchanged
     unexcited: tuple = field(default=(), repr=False, compare=False)
-    # the model's name (rail.wheelset.wheelset_modes sets it), for results' wheelset_model: out of the repr and
+    # the model's name (rail.creepage.wheelset.wheelset_modes sets it), for results' wheelset_model: out of the repr and
     # of comparisons as ``unexcited`` is
     model: str = field(default="", repr=False, compare=False)
 
@@ -132,9 +132,26 @@ def modal_receptance(omega, omega_r, zeta_r, c_r):
 
 
 @njit(cache=True)
-def _advance_modes(x, v, om, ze, c, force, dt):
-    """Advance each mode (x_r [m], v_r [m/s], in place) over dt [s] under the constant force [N]:
-    x'' + 2 zeta omega x' + omega^2 x = c F, exactly. Returns the change of sum_r x_r [m]."""
+def advance_modes(x, v, om, ze, c, force, dt):
+    """Advance each mode in place over one step under a constant force: x'' + 2 zeta omega x' + omega^2 x = c F,
+    exactly (compiled; the contact's march calls it at every step, rail.contact.march).
+
+    Parameters
+    ----------
+    x, v : ndarray
+        Each mode's displacement [m] and velocity [m/s], advanced in place.
+    om, ze, c : ndarray
+        Each mode's omega [rad/s], zeta [-] and participation [1/kg].
+    force : float
+        The force held over the step [N].
+    dt : float
+        The step [s].
+
+    Returns
+    -------
+    float
+        The change of sum_r x_r over the step [m].
+    """
     total = 0.0
     for r in range(om.size):
         w = om[r]
@@ -156,30 +173,6 @@ def _advance_modes(x, v, om, ze, c, force, dt):
         x[r] = x1
         v[r] = v1
     return total
-
-
-def carter_creep_slope(P: float, material) -> float:
-    """dQ/dgamma [N] of Carter's steady traction at load P [N] and the material's creepage (0 when saturated).
-
-    Parameters
-    ----------
-    P : float
-        Normal load [N], > 0.
-    material : rail.contact.ContactMaterial
-        Its compliance, dynamic friction coefficient [-], wheel radius [m], half-width [m] and creepage [-].
-
-    Returns
-    -------
-    float
-        The slope dQ/dgamma [N] of the traction against the creepage; <= 0, and 0 in full slip.
-    """
-    from .hertz import compliance, hertz_half_length
-    m = material
-    k, mu = compliance(m), m.friction_dynamic
-    a = float(hertz_half_length(P, m.wheel_radius, m))
-    gamma_s = np.pi * k * mu * P / (np.pi * a * m.half_width)
-    f = abs(m.creepage) / gamma_s
-    return 0.0 if f >= 1 else -2 * mu * P * (1 - f) / gamma_s
 
 
 def periodic_response(force, dt, modes: LongitudinalModes):
@@ -232,11 +225,11 @@ def periodic_response(force, dt, modes: LongitudinalModes):
 @njit(cache=True)
 def _march_mode(x, v, om, ze, c, F, dt):
     """The modes' displacement x[0] [m] at the end of each step under the force F [N] held over each step of dt [s],
-    from (x, v) (advanced in place); compiled, as _advance_modes: a growth update calls it for every mode and Newton
+    from (x, v) (advanced in place); compiled, as advance_modes: a growth update calls it for every mode and Newton
     step, over every step of the period (in Python 10 % of the growth loop's time, tests/benchmarks/bench_growth_creepage.py)."""
     xs = np.empty(F.size)
     for i in range(F.size):
-        _advance_modes(x, v, om, ze, c, F[i], dt[i])
+        advance_modes(x, v, om, ze, c, F[i], dt[i])
         xs[i] = x[0]
     return xs
 
@@ -254,7 +247,7 @@ def precondition(residual, T: float, modes: LongitudinalModes | None, slope_over
     spaced in time over T [s]): per harmonic k != 0, r_k / (1 - H(omega_k) i omega_k dQ/dgamma / V), with
     the contact's traction response to u_bar that of quasi-steady rolling (Carter's creep slope). H is the
     modes' receptance (none: 0) plus ``extra``, a receptance [m/N] at the rfft harmonics k = 0..n//2 (the
-    rail's time-invariant part, rail.longitudinal.HeadOperator.diagonal), if given. ``lag`` [s] > 0 lets the
+    rail's time-invariant part, rail.creepage.rail_flexibility.HeadOperator.diagonal), if given. ``lag`` [s] > 0 lets the
     contact's response lag as a first-order relaxation, i omega dQ/dgamma / V / (1 + i omega lag) (a / V: the
     traction builds up over a rolling distance of about the half-length; a stiff contact spring at high
     frequency instead of a creep damper growing without bound); 0 (default): quasi-steady.

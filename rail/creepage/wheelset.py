@@ -1,5 +1,5 @@
 """The wheelset's rotational dynamics about its axle, in modal form at the contact (the source of
-u_bar in eq 26 that the report leaves out, sec. 4.3 and 6.1; rail.contact.creep).
+u_bar in eq 26 that the report leaves out, sec. 4.3 and 6.1; rail.creepage.modes).
 
 Model: a torsional chain of rigid inertias on the axle's line (angles theta in rad, torques in N m)::
 
@@ -23,7 +23,7 @@ excited) and s = 0 when its traction is independent of this wheel's (``independe
 rail's roughness is uncorrelated; the antisymmetric torsion, the wheels twisting against each
 other, is excited too; what the other wheel's own force does to this wheel is incoherent with this
 rail's roughness and left out). The rigid spin (omega = 0) is the wheelset turning as one under the
-drive or brake torque, which holds the steady traction Q_ref (rail.contact.creep). Elastic modes
+drive or brake torque, which holds the steady traction Q_ref (rail.creepage.modes). Elastic modes
 have the damping ratio zeta; the rigid spin has none.
 
 The report's rigid wheel at a fixed creepage is the limit of infinite inertia (H -> 0). A rigid
@@ -38,7 +38,7 @@ from dataclasses import dataclass
 import numpy as np
 from scipy import linalg
 
-from .contact.creep import LongitudinalModes
+from .modes import LongitudinalModes
 
 __all__ = ["Wheelset", "WHEELSET_MODELS", "OTHER_WHEEL", "RANGES", "wheelset_modes", "chain_modes", "hz_text",
            "tread_receptance"]
