@@ -34,6 +34,7 @@ def band_spectrum(V: float):
 
 
 @pytest.mark.slow
+@pytest.mark.matrix  # on demand (pyproject.toml): minutes of CPU per speed, over an hour with every mechanism
 def test_the_band_is_resolved_at_40_50_and_60_m_s_and_its_edges_are_stated():
     stated = []
     for V in SPEEDS:

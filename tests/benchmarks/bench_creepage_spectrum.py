@@ -30,7 +30,8 @@ from pathlib import Path
 import numpy as np
 
 from rail import chain, growth_spectrum
-from rail.growth_spectrum import linear
+from rail.growth_spectrum import creepage, linear
+from rail.growth_spectrum.band import class_pair_spectrum
 from rail.setup import build
 from rail.setup.config import SCENARIO_FILE_DEFAULTS, deep_merge, load_yaml, validate_config
 from rail.setup.plan import plan
@@ -108,7 +109,11 @@ def main():
         with Parts([(growth_spectrum.spectrum, "linear_rates"), (linear, "creepage_reference"), (linear, "work_tangent"),
                     (growth_spectrum.spectrum, "warm_train_wear"), (growth_spectrum.spectrum, "locked_matrix"),
                     (growth_spectrum.spectrum, "probe_rates")]) as parts:
-            sp, t = timed(growth_spectrum.rate_spectrum, scn, tabs, lines, grid_phases=int(s["grid_phases"]), check_lines=4)
+            # as a study's spectrum runs it (rail.studies.rate_spectrum.spectrum_with_settings): with dynamic creepage on
+            # more than two bays one pair of Bloch classes at a time
+            pairs = a.band and scn.roughness.bays > 2 and creepage.has_creepage(scn.material)
+            sp, t = timed(class_pair_spectrum if pairs else growth_spectrum.rate_spectrum, scn, tabs, lines,
+                          grid_phases=int(s["grid_phases"]), check_lines=4)
         out[name] = (scn, tabs, lines, sp, t)
         print(f"{name}: {len(lines)} lines of {scn.roughness.bays} bays at {a.speed:g} m/s, method {sp.method}: {t:.1f} s CPU; "
               + ", ".join(f"{k} {v:.1f} s" for k, v in parts.spent.items()), flush=True)
