@@ -322,3 +322,37 @@ def noise_files(scenarios, runs) -> list[str]:
 
     return [f"results/growth/{n}/V{speed_label(v)}_noise.{ext}" for n, v in runs
             if n in scenarios and noise_problem(scenarios[n], v) is None for ext in ("png", "csv")]
+
+
+def fleet_noise_growth_file(name: str, fleets, cfg) -> str:
+    """The growth file of a fleet's noise (rule fleet_noise's input); a scenario without a fleet, or a fleet whose
+    noise cannot be computed (noise_problem: a class speed outside CNOSSOS-EU's range, naming fleet.speeds), stops
+    the run at start-up when, and only when, the target is asked for.
+
+    Parameters
+    ----------
+    name : str
+        The scenario.
+    fleets : container of str
+        The scenarios that hold a fleet (the plan's fleet_classes).
+    cfg : dict or None
+        The scenario's resolved configuration.
+
+    Returns
+    -------
+    str
+        ``results/fleet/<name>/growth.nc``.
+
+    Raises
+    ------
+    ConfigError
+        Naming why the fleet's noise cannot be computed.
+    """
+    from .config import ConfigError
+
+    if name not in fleets:
+        raise ConfigError(f"scenario '{name}' has no fleet: its noise is results/growth/{name}/V<speed>_noise.nc per speed.")
+    why = noise_problem(cfg)
+    if why is not None:
+        raise ConfigError(f"scenario '{name}': its fleet's noise cannot be computed: {why}")
+    return f"results/fleet/{name}/growth.nc"

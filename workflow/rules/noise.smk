@@ -1,3 +1,6 @@
+from rail.setup.inputs import fleet_noise_growth_file
+
+
 # Rolling noise over traffic (CNOSSOS-EU) and grinding by noise, issue 56 (docs/noise.md).
 
 
@@ -38,22 +41,6 @@ rule noise:
         PLAN.noise_targets(),
 
 
-def fleet_noise_growth(wildcards):
-    """The growth file of a fleet's noise; a scenario without a fleet, or a fleet whose noise cannot be
-    computed (rail.setup.inputs.noise_problem: a class speed outside CNOSSOS-EU's range, naming fleet.speeds),
-    stops the run at start-up when, and only when, the target is asked for."""
-    from rail.setup.config import ConfigError
-    from rail.setup.inputs import noise_problem
-
-    name = wildcards.scenario
-    if name not in PLAN.fleet_classes:
-        raise ConfigError(f"scenario '{name}' has no fleet: its noise is results/growth/{name}/V<speed>_noise.nc per speed.")
-    why = noise_problem(SCENARIOS[name])
-    if why is not None:
-        raise ConfigError(f"scenario '{name}': its fleet's noise cannot be computed: {why}")
-    return f"results/fleet/{name}/growth.nc"
-
-
 rule fleet_noise:
     """Rolling noise by CNOSSOS-EU at every save of a fleet's growth run: one traffic class per
     (vehicle, speed) of the fleet, the line's sound power per metre their energy sum, per class and
@@ -61,7 +48,7 @@ rule fleet_noise:
     script, API and `railgrowth noise` of the one-train noise alike)."""
     localrule: True
     input:
-        fleet_noise_growth,
+        lambda wc: fleet_noise_growth_file(wc.scenario, PLAN.fleet_classes, SCENARIOS.get(wc.scenario)),
         band_limit_file,
     output:
         data="results/fleet/{scenario}/growth_noise.nc",
