@@ -43,7 +43,8 @@ POSITIONS = [0.0, 0.1375, 0.275, 0.55, 0.725, 0.9, 1.25, 1.525, 1.6]
 BETWEEN = (0.1375, 0.725, 1.6)  # the positions between the attachments (supports at 0, 0.55, 1.25 m; dampers at 0.275, 0.9, 1.525 m)
 
 
-@pytest.mark.parametrize("f", [900.0, 1100.0, 1300.0])
+# 1,100 Hz in .ci/run; 900 and 1,300 Hz on demand (-m matrix): 6-8 min of CPU each (all three passed when written)
+@pytest.mark.parametrize("f", [pytest.param(900.0, marks=pytest.mark.matrix), 1100.0, pytest.param(1300.0, marks=pytest.mark.matrix)])
 def test_the_heads_receptances_on_uneven_supports_agree_with_the_direct_solution(f):
     om = 2 * np.pi * f
     J = PER_BAY * CELL.bays
