@@ -67,7 +67,8 @@ def test_every_named_target_list_is_reproduced(P, target, method):
 # longitudinal stiffness, which no vertical track result reads (rail.setup.targets.RAIL_HEAD_KEYS): their track is
 # the default's (issue 57, item 5)
 ADDED_TRACKS = ("dyn_rail_pinned_stiff",)
-ADDED_SINCE = ("dyn_fixed", "dyn_rigid", "dyn_trailer", "dyn_trailer_independent", "dyn_driven", "dyn_rail", "dyn_rail_trailer",
+ADDED_SINCE = ("ws_disc", "ws_cast_iron", "ws_rail_cast_iron",
+               "dyn_fixed", "dyn_rigid", "dyn_trailer", "dyn_trailer_independent", "dyn_driven", "dyn_rail", "dyn_rail_trailer",
                "dyn_rail_driven", "dyn_rail_pinned", "dyn_rail_pinned_slow",
                "dyn_rail_pinned_stiff", "dyn_rail_shear_soft", "dyn_rail_shear_stiff") + tuple(
     f"dynspeed_{m}{t}" for m in ("fixed", "trailer", "driven", "rail", "falling", "together") for t in ("", "_stiff")) + tuple(

@@ -32,6 +32,7 @@ from ..setup.study_files import study_cases
 from ..studies import fleet as fleet_study
 from ..studies import exports, rate_spectrum, runs
 from ..studies import noise as noise_study
+from ..studies import wheel_source
 
 __all__ = ["Study", "load", "growth", "check_bands", "bands", "spectrum", "fleet_spectrum", "noise", "ROOT"]
 
@@ -483,8 +484,17 @@ def spectrum(study: Study, *, speeds, shortest: float | None = None, longest: fl
     scn = build.spectrum_scenario(cfg, study.name)
     s = {**s, "speeds": list(speeds)}  # a band of figures.rate_spectrum is resolved at the speeds asked for
     settings_lines(scn.L, scn.roughness.bays, scn.harmonics, s)
-    spectra = {v: rate_spectrum.spectrum_with_settings(scn, chain.receptance_table(scn, v), s) for v in speeds}
-    ds = rate_spectrum.spectrum_dataset_of(spectra, scn)
+    source = inputs.wheel_source_spectra(cfg)  # the wheels' roughness as a source (None: none)
+    if source is None:
+        spectra = {v: rate_spectrum.spectrum_with_settings(scn, chain.receptance_table(scn, v), s) for v in speeds}
+        ds = rate_spectrum.spectrum_dataset_of(spectra, scn)
+    else:  # per speed, as the workflow's rate_spectrum_speed and rate_spectrum_map
+        parts = []
+        for v in speeds:
+            tabs = chain.receptance_table(scn, v)
+            one = rate_spectrum.spectrum_dataset_of({v: rate_spectrum.spectrum_with_settings(scn, tabs, s)}, scn)
+            parts.append(wheel_source.with_wheel_source(one, scn, tabs, s, source))
+        ds = xr.concat(parts, dim="speed", data_vars="minimal", coords="minimal", compat="override", combine_attrs="override").sortby("speed")
     return io.finalize(ds, cfg, title="Growth-rate spectrum", source="rail.app.api.spectrum", scenario=study.name)
 
 

@@ -19,12 +19,13 @@ from .build import fleet_classes, physics_problems
 from .config import ConfigError
 
 __all__ = ["FILE_KEYS", "MAX_SPEED", "resolve_paths", "measured_decay_file", "check_inputs", "check_speed", "fleet_checked", "band_inputs",
-           "noise_problem", "noise_files"]
+           "wheel_source_spectra", "noise_problem", "noise_files"]
 
 MAX_SPEED = 300.0  # m/s, the schema's bound on a configured speed (config/schema: speeds.items.maximum)
 
 # The configuration keys that name files (relative paths are relative to the project folder)
-FILE_KEYS = (("roughness", "file"), ("figures", "bands", "limit"), ("figures", "bands", "wheel_roughness"), ("measured", "decay_rate"))
+FILE_KEYS = (("roughness", "file"), ("figures", "bands", "limit"), ("figures", "bands", "wheel_roughness"), ("measured", "decay_rate"),
+             ("wheel_source", "file"))
 
 
 def _get(cfg: dict, keys):
@@ -216,6 +217,10 @@ def check_inputs(cfg: dict, scn: Scenario, name: str, source: str, root=".") -> 
                 read(path)
             except (OSError, ValueError) as e:
                 raise ConfigError(f"{where}: figures.bands.{key}: {e}") from None
+    try:  # the wheels' source: its spectrum and the ground rail read now, not after the spectrum's hours
+        wheel_source_spectra(cfg)
+    except (OSError, ValueError) as e:
+        raise ConfigError(f"{where}: {e}") from None
     s = _get(cfg, ("figures", "rate_spectrum"))
     if s:
         try:  # the spectrum's period must resolve its longest wavelength, its shortest lie above L / K
@@ -262,6 +267,57 @@ def band_inputs(cfg: dict, scn: Scenario) -> dict:
                              else None),
         "traffic": traffic,
     }
+
+
+def wheel_source_spectra(cfg: dict):
+    """The wheels' roughness, the ground rail and the limit of a configuration's wheel_source (rail.studies.wheel_source),
+    read here so that the studies read no file; None without a source.
+
+    Parameters
+    ----------
+    cfg : dict
+        The resolved configuration (wheel_source, figures.bands.limit, fleet).
+
+    Returns
+    -------
+    dict or None
+        wheel, ground, limit: rail.noise.named.RoughnessSpectrum (limit None without figures.bands.limit).
+
+    Raises
+    ------
+    ValueError
+        Naming the key: a file missing or not a spectrum (rail.roughness.read_spectrum_table's checks), roughness
+        'file' without a file, a ground rail neither E, M nor a file, or a source on a fleet (not yet read per vehicle).
+    """
+    from ..noise.named import RoughnessSpectrum, named_spectrum
+
+    w = cfg.get("wheel_source") or {}
+    name = w.get("roughness", "none")
+    if name == "none":
+        return None
+    if "fleet" in cfg:
+        raise ValueError(f"wheel_source.roughness = {name!r} is not allowed with a fleet yet: the wheels' source is computed for "
+                         "one train (its spectrum); set it to none for a fleet.")
+    if name == "file":
+        if not w.get("file"):
+            raise ValueError("wheel_source.roughness = 'file' needs wheel_source.file: a CSV wavelength_m,level_dB of the wheels' roughness.")
+        try:
+            wheel = RoughnessSpectrum(*read_third_octave_spectrum(w["file"]), f"the file {w['file']}")
+        except (OSError, ValueError) as e:
+            raise ValueError(f"wheel_source.file: {e}") from None
+    else:
+        wheel = named_spectrum(name, "wheel")
+    g = str(w.get("ground", "E"))
+    if g in ("E", "M"):
+        ground = named_spectrum(g, "rail")
+    else:
+        try:
+            ground = RoughnessSpectrum(*read_third_octave_spectrum(g), f"the file {g}")
+        except (OSError, ValueError) as e:
+            raise ValueError(f"wheel_source.ground = {g!r}: E, M or a roughness spectrum file: {e}") from None
+    lim = cfg["figures"]["bands"].get("limit")
+    limit = RoughnessSpectrum(*read_limit_spectrum(lim), f"the file {lim}") if lim else None
+    return {"wheel": wheel, "ground": ground, "limit": limit}
 
 
 def noise_problem(cfg: dict, speed: float | None = None) -> str | None:

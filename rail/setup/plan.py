@@ -306,8 +306,10 @@ class Plan:
         case's study_<case> outputs, or nothing), then the outputs of the file's summary (rail.setup.study_files)."""
         st, out = self.studies[name], []
         for n in st["include"] + st["cases"]:
-            if st["builds"][n] == "spectrum" and n in self.scenarios:
+            if st["builds"][n] in ("spectrum", "settled") and n in self.scenarios:
                 out.append(f"results/spectrum/{n}/rate_spectrum.png")
+                if st["builds"][n] == "settled":  # and the wheels' source (wheel_source, rule settled_spectrum)
+                    out.append(f"results/spectrum/{n}/settled.png")
             elif st["builds"][n] == "study" and (n in self.scenarios or n in self.sweeps):
                 out += self.study_targets(n)
         summary = {"speed_study": lambda: ["results/dynamic_creepage/speeds.png"], "closure_study": self.closure_targets,

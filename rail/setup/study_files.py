@@ -26,7 +26,7 @@ __all__ = ["STUDY_FILE_KEYS", "BUILDS", "SUMMARIES", "SPEED_STUDY", "study_file"
 STUDY_FILE_KEYS = ("description", "defaults", "cases", "include", "builds", "summary")
 # What a named target builds of a case: its growth-rate spectrum's figure, the outputs of its target
 # study_<case> (Plan.study_targets), or nothing (the study's summary alone).
-BUILDS = ("spectrum", "study", "none")
+BUILDS = ("spectrum", "settled", "study", "none")
 # The summaries a study file may name (summary.kind), each made by its own rules from the cases its roles name
 # (a role of one case, or of a list of cases; None: optional), and each set by one study file at most (its
 # outputs' paths are fixed): the speed study over every case (rule speed_study, results/dynamic_creepage/speeds.*),

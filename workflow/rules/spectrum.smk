@@ -58,6 +58,33 @@ rule rate_spectrum_map:
         "../scripts/rate_spectrum_map.py"
 
 
+rule settled_spectrum:
+    """The expected rail roughness under the wheels' roughness (wheel_source, issue 58): the level each band settles to
+    and the time from a ground rail to the limit, from the scenario's spectrum (which carries the source)."""
+    priority: PRIORITY_KERNELS  # a short drawing job: not queued behind long jobs (issue 57)
+    localrule: True
+    input:
+        "results/spectrum/{scenario}/rate_spectrum.nc",
+    output:
+        figure=report("results/spectrum/{scenario}/settled.png", caption="../report/settled_spectrum.rst", category="Wheels' roughness",
+                      subcategory="{scenario}"),
+        csv=report("results/spectrum/{scenario}/settled.csv", caption="../report/settled_spectrum.rst", category="Wheels' roughness",
+                   subcategory="{scenario}"),
+        summary=report("results/spectrum/{scenario}/settled.md", caption="../report/settled_spectrum.rst", category="Wheels' roughness",
+                       subcategory="{scenario}"),
+    params:
+        code=code("settled_spectrum.py"),
+    resources:
+        mem_mb=300,
+        runtime=5,
+    log:
+        "logs/spectrum/{scenario}/settled.log",
+    benchmark:
+        "benchmarks/spectrum/{scenario}/settled.tsv"
+    script:
+        "../scripts/settled_spectrum.py"
+
+
 rule rate_spectrum:
     """Named target: the growth-rate spectrum of the default scenario over figures.rate_spectrum.speeds."""
     input:

@@ -19,6 +19,8 @@ import sys
 import time
 from pathlib import Path
 
+import yaml
+
 from rail import chain, growth_spectrum
 from rail.app import api
 from rail.setup import build, io
@@ -85,6 +87,13 @@ def main():
                     help="every line of the period (--bays, required) from SHORTEST to LONGEST [m] instead of the band's lines")
     ap.add_argument("--lines", type=int, nargs="+", help="these lines j of the period (--bays, required) instead of the band's")
     ap.add_argument("--nodes", type=int, default=0, help="contact grid nodes (0: the case's)")
+    ap.add_argument("--check-lines", type=int, default=1, help="free lines of the linearity check (probes of 2 eps by the nonlinear "
+                    "march over the N bays: most of a speed's CPU with the rail's flexibility, which needs the head's tables of every "
+                    "class; 0: none, the spectrum's linearity NaN)")
+    ap.add_argument("--set", action="append", default=[], metavar="KEY=VALUE",
+                    help="a configuration change on top of the case, a dotted key and a YAML value (track.pad.rotational_stiffness=9.45e5); "
+                         "the files are named by a --label")
+    ap.add_argument("--label", default="", help="appended to the case's name in the files and bands.csv (with --set)")
     a = ap.parse_args()
     if a.table:
         return write_table(Path(a.out))
@@ -107,19 +116,32 @@ def main():
             changes["figures"]["rate_spectrum"].update(shortest=a.wavelengths[0], longest=a.wavelengths[1], per_octave=300, band=None)
         if a.nodes:
             changes["numerics"] = {"contact": {"nodes": a.nodes}}
+        for item in a.set:
+            key, _, value = item.partition("=")
+            d = changes
+            *path, last = key.split(".")
+            for k in path:
+                d = d.setdefault(k, {})
+            d[last] = yaml.safe_load(value)
         study = api.load(a.case, changes=changes)
         scn = build.spectrum_scenario(study.config, study.name)  # as rail.app.api.spectrum, one class pair at a time
         tables = chain.receptance_table(scn, V)
         t_tables = time.process_time() - c
         s = study.config["figures"]["rate_spectrum"]
         lines = a.lines or growth_spectrum.settings_lines(scn.L, N, scn.harmonics, s)
-        sp = class_pair_spectrum(scn, tables, lines, eps=float(s["eps"]), grid_phases=int(s["grid_phases"]), progress=Clock(sys.stderr))
+        sp = class_pair_spectrum(scn, tables, lines, eps=float(s["eps"]), grid_phases=int(s["grid_phases"]),
+                                 check_lines=a.check_lines if a.check_lines > 0 else None,
+                                 progress=Clock(sys.stderr))
         ds = io.finalize(rate_spectrum.spectrum_dataset_of({V: sp}, scn), study.config, title="Growth-rate spectrum",
                          source="workflow/scripts/band_resolved.py", scenario=study.name)
         cpu = time.process_time() - c
         print(f"{a.case} {V:g} m/s, {N} bays: tables {t_tables:.0f} s CPU, all {cpu:.0f} s CPU", file=sys.stderr, flush=True)
-        ds.to_netcdf(out / a.case / (f"{V:g}_N{N}" + (f"_{a.nodes}nodes" if a.nodes else "") + ".nc"))
-        row = band_row(a.case + (f" ({a.nodes} nodes)" if a.nodes else ""), ds, cpu, N)
+        if a.set and not a.label:
+            ap.error("--set needs a --label naming the change in the files")
+        label = f"_{a.label}" if a.label else ""
+        ds.attrs["band_resolved_changes"] = "; ".join(a.set) or "none"
+        ds.to_netcdf(out / a.case / (f"{V:g}_N{N}" + (f"_{a.nodes}nodes" if a.nodes else "") + label + ".nc"))
+        row = band_row(a.case + (f" ({a.nodes} nodes)" if a.nodes else "") + (f" [{a.label}]" if a.label else ""), ds, cpu, N)
         new = not table.exists()
         with table.open("a", newline="") as fh:
             w = csv.DictWriter(fh, fieldnames=FIELDS)

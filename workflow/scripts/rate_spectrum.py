@@ -2,9 +2,9 @@
 
 import sys
 
-from rail.setup import build, io
+from rail.setup import build, inputs, io
 from rail.setup.progress import Tee, progress_lines
-from rail.studies import datasets, rate_spectrum
+from rail.studies import datasets, rate_spectrum, wheel_source
 
 
 def main(config, name, table_path, speed, out_path, log):
@@ -20,6 +20,8 @@ def main(config, name, table_path, speed, out_path, log):
     print(f"linearity (2 eps against eps): {sp.linearity:.2e}; grid spread of the growth rate: at most "
           f"{(sp.grid_spread / abs(sp.growth_rate).max()).max():.2e} of the largest rate", file=log, flush=True)
     ds = rate_spectrum.spectrum_dataset_of({speed: sp}, scn)
+    # the wheels' roughness as a source (wheel_source; none: ds as it is)
+    ds = wheel_source.with_wheel_source(ds, scn, tabs, s, inputs.wheel_source_spectra(config), progress=progress_lines(log))
     io.write_netcdf(io.finalize(ds, config, title=f"Growth-rate spectrum at {speed:g} m/s",
                                 source="rail.growth_spectrum.rate_spectrum", scenario=name), out_path)
 
