@@ -96,6 +96,11 @@ def test_a_spectrum_one_class_pair_at_a_time_is_the_spectrum_of_every_line_at_on
         assert np.abs(getattr(pairs, name) - getattr(every, name)).max() < 1e-7 * big, name
     assert np.allclose(pairs.wavelength, every.wavelength, rtol=0, atol=0) and np.allclose(pairs.source, every.source, rtol=1e-7, atol=0)
     assert np.abs(pairs.operator - every.operator).max() < 1e-7 * big
+    # the linearity check, with dynamic creepage on more than 2 bays made on the 2-bay period (the march over N bays
+    # needs the rail head's tables of every class): the same order as the N-bay check's, both far inside the linear range
+    print(f"linearity: {every.linearity:.2e} on the 4-bay check, {pairs.linearity:.2e} on the 2-bay period")
+    assert "2-bay period" in pairs.method and "2-bay period" not in every.method
+    assert 0 < pairs.linearity < 1e-2 and 0 < every.linearity < 1e-2
 
 
 def test_a_studys_spectrum_with_dynamic_creepage_on_more_than_two_bays_runs_one_class_pair_at_a_time(monkeypatch):

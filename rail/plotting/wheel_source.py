@@ -42,6 +42,8 @@ def settled_figure(ds: xr.Dataset):
         lev = ds.settled_band_level_dB.values[i]
         grows = np.isinf(lev) & (lev > 0)
         ax.plot(mm, _finite(lev), "o-", color=colours[i], ms=4, label=f"settled, {V:g} m/s")
+        ax.plot(mm, _finite(ds.settled_band_wheels_dB.values[i]), "s--", color=colours[i], ms=3, lw=1,
+                label=f"the wheels' part alone, {V:g} m/s")
         if grows.any():
             top = np.nanmax(ds.wheel_band_level_dB.values) + 5
             ax.plot(mm[grows], np.full(grows.sum(), top), "^", color=colours[i], ms=7,

@@ -26,6 +26,26 @@ SETTLE_WITHIN_DB = 1.0  # dB: a line has settled when within this of its settled
 LONGEST_SEARCH_AXLES = 1e12  # the most axle passages the time to the limit is looked for over (about 140,000 years at 20,000 a day)
 
 
+def S0_band(S0, share, band, nb):
+    """The ground rail's band mean squares back from its line powers [m^2] (band_mean_square_from_lines).
+
+    Parameters
+    ----------
+    S0 : ndarray
+        Line mean squares [m^2].
+    share, band : ndarray
+        rail.growth_spectrum.source.line_share's.
+    nb : int
+        Bands [-].
+
+    Returns
+    -------
+    ndarray
+        [m^2].
+    """
+    return src.band_mean_square_from_lines(S0, share, band, nb)
+
+
 def _line_power(spec: RoughnessSpectrum, lam, period: float):
     return src.wheel_line_power(lam, period, spec.centres, spec.levels)
 
@@ -82,6 +102,7 @@ def source_dataset(ds: xr.Dataset, wheel: RoughnessSpectrum, rate_own=None, grou
     with np.errstate(invalid="ignore"):
         coherent_inf = S_inf - incoherent_inf
     settled_band = src.band_mean_square_from_lines(incoherent_inf, share, band, nb, coherent=np.nan_to_num(coherent_inf, nan=np.inf))
+    wheels_band = src.band_mean_square_from_lines(incoherent_inf, share, band, nb)  # the wheels' part alone (the comb left out)
     wheel_band = 1e-12 * 10 ** (wheel.at(bands.centre) / 10)
 
     def level(ms):
@@ -108,6 +129,9 @@ def source_dataset(ds: xr.Dataset, wheel: RoughnessSpectrum, rate_own=None, grou
     out["settled_band_level_dB"] = data_var(("speed", "band"), np.where(sampled, level(settled_band), np.nan), "dB re 1 um",
                                             "the band's settled level (the mean of its lines' settled densities times its width, and the comb); "
                                             "inf where a line in it grows; NaN where no line of the spectrum samples the band")
+    out["settled_band_wheels_dB"] = data_var(("speed", "band"), np.where(sampled, level(wheels_band), np.nan), "dB re 1 um",
+                                             "the band's settled level from the wheels' roughness alone (the supports' comb left out): "
+                                             "what the wheels' source holds the rail at")
     attrs = {"wheel_roughness": wheel.label, "wheel_source_wheels": wheels,
              "wheel_source_transfer": "the spectrum's own rate (one wheel)" if rate_own is None else
              "each wheel alone on the track (rail.chain.single_wheel): the wheels' cross terms through the rail left out",
@@ -128,8 +152,12 @@ def source_dataset(ds: xr.Dataset, wheel: RoughnessSpectrum, rate_own=None, grou
                 coh = src.expected_mean_square(n, 0.0, R[i][None, :], 0.0, comb[i][None, :])
                 return src.band_mean_square_from_lines(inc, share, band, nb, coherent=coh)
             axles[i] = src.passages_to_limit(band_ms, np.where(sampled, lim, np.nan), longest=LONGEST_SEARCH_AXLES / wheels) * wheels
-        first = np.min(axles, axis=1)
-        driver = np.where(np.isfinite(first), bands.nominal[np.argmin(axles, axis=1)], np.nan)
+        above = np.isfinite(lim) & sampled & (S0_band(S0, share, band, nb) > lim)  # a band that starts above its limit
+        counted = np.where(above[None, :], np.inf, axles)  # the interval: the bands that start below their limit
+        first = np.min(counted, axis=1)
+        driver = np.where(np.isfinite(first), bands.nominal[np.argmin(counted, axis=1)], np.nan)
+        out["starts_above_limit"] = data_var("band", above.astype(int), "1",
+                                             "1: the ground rail starts above the limit in the band (axles_to_limit 0; left out of the interval)")
         out["start_band_level_dB"] = data_var("band", level(1e-12 * 10 ** (ground.at(bands.centre) / 10)), "dB re 1 um",
                                               f"the ground rail's roughness per band (the start): {ground.label}")
         out["limit_dB"] = data_var("band", limit.at(bands.centre), "dB re 1 um", f"the limit spectrum: {limit.label}")
@@ -137,7 +165,8 @@ def source_dataset(ds: xr.Dataset, wheel: RoughnessSpectrum, rate_own=None, grou
                                          "axle passages from the ground rail until the band's expected level exceeds its limit "
                                          "(the expected spectrum with the wheels' source, never a decay extrapolated); inf: not "
                                          f"within {LONGEST_SEARCH_AXLES:.0e} axle passages")
-        out["interval_axles"] = data_var("speed", first, "1", "axle passages from the ground rail to the first band over its limit")
+        out["interval_axles"] = data_var("speed", first, "1", "axle passages from the ground rail to the first band over its limit "
+                                         "(of the bands that start below it)")
         out["interval_band"] = data_var("speed", driver, "m", "the nominal band that reaches its limit first (NaN: none)")
         if traffic is not None:
             out["years_to_limit"] = data_var(("speed", "band"), axles / traffic.axles_per_year, "year",
@@ -214,7 +243,7 @@ def settled_csv_text(ds: xr.Dataset) -> str:
     has = "axles_to_limit" in ds
     if has:
         head.append(f"# from the ground rail {a['ground_rail']} to the limit {a['limit']} (the expected spectrum, never a decay extrapolated)")
-    cols = ["speed_m_s", "band_nominal_m", "wheel_dB_re_1um", "settled_dB_re_1um"]
+    cols = ["speed_m_s", "band_nominal_m", "wheel_dB_re_1um", "settled_dB_re_1um", "settled_wheels_only_dB_re_1um"]
     if has:
         cols += ["ground_dB_re_1um", "limit_dB_re_1um", "axles_to_limit"] + (["years_to_limit"] if "years_to_limit" in ds else [])
     rows = [",".join(cols)]
@@ -225,7 +254,8 @@ def settled_csv_text(ds: xr.Dataset) -> str:
 
     for i, V in enumerate(ds.speed.values):
         for b in range(ds.sizes["band"]):
-            r = [f"{V:g}", f"{ds.band_nominal.values[b]:g}", cell(ds.wheel_band_level_dB.values[b]), cell(ds.settled_band_level_dB.values[i, b])]
+            r = [f"{V:g}", f"{ds.band_nominal.values[b]:g}", cell(ds.wheel_band_level_dB.values[b]), cell(ds.settled_band_level_dB.values[i, b]),
+                 cell(ds.settled_band_wheels_dB.values[i, b])]
             if has:
                 n = ds.axles_to_limit.values[i, b]
                 r += [cell(ds.start_band_level_dB.values[b]), cell(ds.limit_dB.values[b]), cell(n, "{:.4g}")]
@@ -265,6 +295,11 @@ def settled_summary_markdown(ds: xr.Dataset) -> str:
                      "roughness in that band")
         else:
             line += "no band settles"
+        wl = ds.settled_band_wheels_dB.values[i] - ds.wheel_band_level_dB.values
+        if np.isfinite(wl).any():
+            b = int(np.nanargmax(np.where(np.isfinite(wl), wl, -np.inf)))
+            line += (f"; the wheels' part alone (the supports' comb left out) is at most {wl[b]:+.1f} dB against the wheels' roughness "
+                     f"(the {1e3 * nom[b]:g} mm band, {ds.settled_band_wheels_dB.values[i, b]:.1f} dB re 1 µm)")
         if grows:
             line += f"; a line grows (no settled level) in {', '.join(grows)}"
         if "interval_axles" in ds:
@@ -274,6 +309,9 @@ def settled_summary_markdown(ds: xr.Dataset) -> str:
                 line += (f"; from the ground rail the {1e3 * float(ds.interval_band.values[i]):g} mm band passes the limit first, "
                          f"after {n:.3g} axle passages{yrs}")
             else:
-                line += "; from the ground rail no band reaches the limit"
+                line += "; from the ground rail no band that starts below its limit reaches it"
+            if "starts_above_limit" in ds and ds.starts_above_limit.values.any():
+                line += ("; the ground rail starts above the limit in "
+                         + ", ".join(f"{1e3 * x:g} mm" for x in nom[ds.starts_above_limit.values == 1]) + " (left out)")
         out.append(line)
     return "\n".join(out) + "\n"
