@@ -311,7 +311,10 @@ def test_check_of_a_fleet_describes_its_vehicles_and_speed_classes_not_the_unuse
     out = capsys.readouterr().out.strip()
     assert out == ("ok: scenario 'mix' is valid: a fleet of 2 vehicle type(s), loco (2 axles, share 0.4), coach (2 axles, share "
                    "0.6), at 3 speed(s) (37.33, 40, 42.67 m/s): 6 (vehicle, speed) classes, roughness period 1 bay(s), normal "
-                   "contact nonhertzian, wear path patch; the one-train keys speeds, wheels and contact.creepage are not used.\n"
+                   "contact nonhertzian, wear path patch; dynamic creepage from the rail's longitudinal flexibility (rod on the pads' "
+                   "shear springs and the head's bending rotation (e = 91.1 mm), k_x = 1e+07 N/m per support) "
+                   "(rail.creepage.rail_flexibility); the one-train keys speeds, wheels and contact.creepage are not used.\n"
+                   # issue 55: a scenario file starts from the rail's flexibility (rail.setup.config.scenario_file_physics)
                    # issue 55: which wheelset each vehicle's axles run (no wheelset section: the report's fixed creepage)
                    "  wheelsets of loco: every axle (2) the report's fixed creepage (no wheelset section)\n"
                    "  wheelsets of coach: every axle (2) the report's fixed creepage (no wheelset section)")

@@ -310,7 +310,8 @@ def test_check_states_each_vehicles_wheelsets_and_the_old_single_section_on_ever
         assert line == (f"  wheelsets of {name}: every axle (2) the wheelset section's: torsional wheelset (driven, other wheel in_phase), "
                         "modes at 0, 25, 163 Hz (the section's motor on every axle of this vehicle: where some are trailers, name them "
                         "in fleet.vehicles[*].wheelsets)")
-    assert "dynamic creepage" not in out[0]  # the section is stated per vehicle, not as the one train's
+    # the section is stated per vehicle, not as the one train's; the rail's flexibility (a scenario file's start, issue 55) is the line's
+    assert "torsional" not in out[0] and "the rail's longitudinal flexibility" in out[0]
 
 
 # ---------------------------------------------------------------- old fleet files plan identically
@@ -357,7 +358,8 @@ def test_the_traffic_study_keeps_its_class_keys_and_targets():
     assert len(cases) == 8
     for name, scen in cases.items():
         src = f"config/traffic_study.yaml (case {name})"
-        cfg = read_part(config.resolve_scenario_file(defaults, schema, scen, source=src), schema)
+        # a study's case keeps what its file says (physics=False, as the plan resolves it)
+        cfg = read_part(config.resolve_scenario_file(defaults, schema, scen, source=src, physics=False), schema)
         keys = [class_key(c, cfg["figures"]["rate_spectrum"]) for c in build.fleet_classes(cfg, build.spectrum_scenario(cfg, name, src))]
         assert [f"results/fleet/classes/{k.rsplit('_', 1)[-1]}.npz" for k in keys] == expected[f"fleet_rate_spectrum/{name}"]["input"]
         assert all(re.fullmatch(r"(class87|coach)_V[0-9.]+_[0-9a-f]{16}", k) for k in keys)

@@ -183,7 +183,8 @@ def test_without_a_wheel_source_the_spectrum_is_the_dataset_itself():
 @pytest.mark.parametrize("text, message", [
     ("wheel_source:\n  roughness: file\n", r"wheel_source\.roughness = 'file' needs wheel_source\.file"),
     ("wheel_source:\n  roughness: file\n  file: nowhere.csv\n", r"wheel_source\.file: .*nowhere\.csv"),
-    ("wheel_source:\n  roughness: disc\n  ground: X\n", r"wheel_source\.ground = 'X': E, M or a roughness spectrum file"),
+    ("wheel_source:\n  roughness: disc\n  ground: file\n", r"wheel_source\.ground = 'file' needs wheel_source\.ground_file"),
+    ("wheel_source:\n  roughness: disc\n  ground: file\n  ground_file: nowhere.csv\n", r"wheel_source\.ground_file: .*nowhere\.csv"),
     ("wheel_source:\n  roughness: drum\n", r"wheel_source\.roughness = 'drum' is not allowed"),
 ])
 def test_check_refuses_a_bad_wheel_source_before_computing(tmp_path, capsys, text, message):

@@ -142,8 +142,9 @@ def load(name: str = "default", *, root: str | Path | None = None, changes: dict
         raise config.ConfigError(f"{source} is a sweep study: its grid points are scenarios of the workflow "
                                  "(snakemake -j2 sweeps); load one point's keys as changes instead.")
     merged = config.deep_merge(scen, changes or {})
+    case = path.suffix not in (".yaml", ".yml") and str(name) != "default" and source.startswith("config/studies/")
     cfg = (config.resolve(defaults, schema, merged, source=source) if stem == "default" and not path.suffix
-           else config.resolve_scenario_file(defaults, schema, merged, source=source))
+           else config.resolve_scenario_file(defaults, schema, merged, source=source, physics=not case))
     cfg = inputs.resolve_paths(cfg, root)  # its files relative to the project, not the current folder
     scn = build.scenario(cfg, stem, source)
     inputs.check_inputs(cfg, scn, stem, source, root)  # as the workflow does at start-up

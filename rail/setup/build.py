@@ -95,6 +95,26 @@ class NoiseSettings:
     fleet_brakes: tuple | None = None
 
 
+def wheel_source_settings(cfg: dict):
+    """wheel_source of a resolved configuration as the spectrum's jobs read it (rail.setup.inputs.wheel_source_spectra):
+    None without a source (roughness none), else (roughness, file, ground, ground_file) with each absent key at its default.
+
+    Parameters
+    ----------
+    cfg : dict
+        A resolved, validated configuration.
+
+    Returns
+    -------
+    tuple or None
+        (roughness, file, ground, ground_file) [names and paths].
+    """
+    w = cfg.get("wheel_source") or {}
+    if w.get("roughness", "none") == "none":
+        return None
+    return (w["roughness"], w.get("file"), setting(cfg, "wheel_source.ground"), w.get("ground_file"))
+
+
 def noise_settings(cfg: dict) -> NoiseSettings:
     """figures.noise of a resolved configuration, each absent key at the schema's default (setting).
 

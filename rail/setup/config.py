@@ -616,7 +616,50 @@ SCENARIO_FILE_DEFAULTS = {"contact": {"normal": "nonhertzian", "wear_path": "pat
                           "figures": {"rate_spectrum": {"shortest": 0.0, "band": {"low": 900.0, "high": 1400.0, "spacing": 15.0}}}}
 
 
-def resolve_scenario_file(defaults: dict, schema: dict, scenario: dict | None, source: str) -> dict:
+# The full physics a scenario file starts from on top of SCENARIO_FILE_DEFAULTS (issue 55): the rail's longitudinal
+# flexibility (the head's e psi: without it nothing grows by feedback at any speed or pad, docs/growth-spectrum.md) and,
+# for one train, a torsional wheelset, motored where the train's creepage drives (contact.creepage < 0, eq 25: the
+# traction comes from a motor through its coupling, so the motor's inertia is in the slip) and a trailer otherwise
+# (braked or rolling: no motor). The values are docs/dynamic-creepage.md's "Parameters" (the dynspeed_* studies'):
+# J_w 50 kg m^2, J_c 20 kg m^2, k_a 5.5 MN m/rad, the motor 288 kg m^2 and its coupling 3.6 MN m/rad at the axle.
+# A fleet takes its vehicles' own wheelsets (fleet.wheelsets; without them the fixed creepage of each axle). A file
+# that sets wheelset or rail_flexibility keeps its own; config.yaml keeps the report's model, and the study files'
+# cases keep what their files say (physics=False).
+SCENARIO_FILE_RAIL = {"rail_flexibility": {"model": "rod_and_bending"}}
+TRAILER_WHEELSET = {"model": "torsional", "other_wheel": "in_phase", "wheel_inertia": 50.0, "centre_inertia": 20.0,
+                    "axle_stiffness": 5.5e6, "motor_inertia": 0.0, "damping": 0.02}
+MOTORED_WHEELSET = {**TRAILER_WHEELSET, "motor_inertia": 288.0, "coupling_stiffness": 3.6e6}
+
+
+def scenario_file_physics(defaults: dict, scenario: dict | None) -> dict:
+    """The model a scenario file starts from beyond SCENARIO_FILE_DEFAULTS (the comment above it): the rail's
+    flexibility and, for one train, the wheelset its creepage calls for; only the sections the file does not set.
+
+    Parameters
+    ----------
+    defaults : dict
+        The validated default configuration (config/config.yaml).
+    scenario : dict or None
+        The file's own keys.
+
+    Returns
+    -------
+    dict
+        The sections to start from (rail_flexibility, wheelset).
+    """
+    own = scenario or {}
+    out = {} if "rail_flexibility" in own else dict(SCENARIO_FILE_RAIL)
+    if "wheelset" not in own and "fleet" not in own:
+        creepage = ((own.get("contact") or {}).get("creepage", defaults["contact"]["creepage"]))
+        try:
+            driven = float(creepage) < 0
+        except (TypeError, ValueError):  # a wrong value: the schema names it
+            driven = False
+        out["wheelset"] = dict(MOTORED_WHEELSET if driven else TRAILER_WHEELSET)
+    return out
+
+
+def resolve_scenario_file(defaults: dict, schema: dict, scenario: dict | None, source: str, physics: bool = True) -> dict:
     """A scenario file's resolved configuration: config.yaml, then SCENARIO_FILE_DEFAULTS, then the
     file's keys, validated (problems reported against ``source``). The workflow, the command line and
     the API all resolve scenario files here.
@@ -631,6 +674,9 @@ def resolve_scenario_file(defaults: dict, schema: dict, scenario: dict | None, s
         The scenario's own keys (only those that differ from the defaults).
     source : str
         The file the values come from (a scenario file), named in every message.
+    physics : bool
+        Start from the full physics too (scenario_file_physics: a file of config/scenarios/); False for a study
+        file's case, which keeps what its file says.
 
     Returns
     -------
@@ -644,6 +690,8 @@ def resolve_scenario_file(defaults: dict, schema: dict, scenario: dict | None, s
     """
     own = ((scenario or {}).get("figures") or {}).get("rate_spectrum") or {}
     start = deep_merge(defaults, SCENARIO_FILE_DEFAULTS)
+    if physics:
+        start = deep_merge(start, scenario_file_physics(defaults, scenario))
     if "bays" in own and "band" not in own:  # its own period: its own lines (a cell's, or the 2-bay surveys')
         start["figures"]["rate_spectrum"]["band"] = None
     return resolve(start, schema, scenario, source)
@@ -659,7 +707,7 @@ def _set_dotted(d: dict, dotted: str, value) -> dict:
     return out
 
 
-def expand_sweep(defaults: dict, schema: dict, scenario: dict, source: str):
+def expand_sweep(defaults: dict, schema: dict, scenario: dict, source: str, physics: bool = True):
     """Expand a scenario with a ``sweep:`` mapping (dotted config key or ``speed`` -> list of values)
     into its grid points.
 
@@ -677,6 +725,9 @@ def expand_sweep(defaults: dict, schema: dict, scenario: dict, source: str):
         the keys every point shares.
     source : str
         The file the values come from (a scenario file), named in every message.
+    physics : bool
+        Each point starts from the full physics of a scenario file (resolve_scenario_file); False for a study
+        file's sweep case.
 
     Returns
     -------
@@ -715,7 +766,7 @@ def expand_sweep(defaults: dict, schema: dict, scenario: dict, source: str):
         for k, v in assignment.items():
             override = _set_dotted(override, "speeds", [v]) if k == "speed" else _set_dotted(override, k, v)
         label = ", ".join(f"{k} = {v}" for k, v in assignment.items())
-        cfg = resolve_scenario_file(defaults, schema, override, source=f"{source} (sweep point {label})")
+        cfg = resolve_scenario_file(defaults, schema, override, source=f"{source} (sweep point {label})", physics=physics)
         points.append((index, assignment, cfg))
     return keys, values, points
 

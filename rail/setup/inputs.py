@@ -25,7 +25,7 @@ MAX_SPEED = 300.0  # m/s, the schema's bound on a configured speed (config/schem
 
 # The configuration keys that name files (relative paths are relative to the project folder)
 FILE_KEYS = (("roughness", "file"), ("figures", "bands", "limit"), ("figures", "bands", "wheel_roughness"), ("measured", "decay_rate"),
-             ("wheel_source", "file"))
+             ("wheel_source", "file"), ("wheel_source", "ground_file"))
 
 
 def _get(cfg: dict, keys):
@@ -287,7 +287,7 @@ def wheel_source_spectra(cfg: dict):
     ------
     ValueError
         Naming the key: a file missing or not a spectrum (rail.roughness.read_spectrum_table's checks), roughness
-        'file' without a file, a ground rail neither E, M nor a file, or a source on a fleet (not yet read per vehicle).
+        'file' without a file (roughness or ground), or a source on a fleet (not yet read per vehicle).
     """
     from ..noise.named import RoughnessSpectrum, named_spectrum
 
@@ -310,11 +310,13 @@ def wheel_source_spectra(cfg: dict):
     g = str(w.get("ground", "E"))
     if g in ("E", "M"):
         ground = named_spectrum(g, "rail")
+    elif not w.get("ground_file"):
+        raise ValueError("wheel_source.ground = 'file' needs wheel_source.ground_file: a CSV wavelength_m,level_dB of the ground rail.")
     else:
         try:
-            ground = RoughnessSpectrum(*read_third_octave_spectrum(g), f"the file {g}")
+            ground = RoughnessSpectrum(*read_third_octave_spectrum(w["ground_file"]), f"the file {w['ground_file']}")
         except (OSError, ValueError) as e:
-            raise ValueError(f"wheel_source.ground = {g!r}: E, M or a roughness spectrum file: {e}") from None
+            raise ValueError(f"wheel_source.ground_file: {e}") from None
     lim = cfg["figures"]["bands"].get("limit")
     limit = RoughnessSpectrum(*read_limit_spectrum(lim), f"the file {lim}") if lim else None
     return {"wheel": wheel, "ground": ground, "limit": limit}

@@ -702,11 +702,11 @@ def _scenarios(config: dict, schema: dict, root: Path, broken: dict, broken_swee
         try:
             scen = cases[name][1] if name in cases else load_yaml(path)
             if "sweep" not in scen:
-                scenarios[name] = read_part(resolve_scenario_file(config, schema, scen, source=src), schema)
+                scenarios[name] = read_part(resolve_scenario_file(config, schema, scen, source=src, physics=name not in cases), schema)
                 sources[name] = src
                 continue
             broken_sweeps.add(name)  # kept only if the file is left out
-            keys, values, points = expand_sweep(config, schema, scen, src)
+            keys, values, points = expand_sweep(config, schema, scen, src, physics=name not in cases)
         except ConfigError as e:
             broken[name] = _one_problem(e)
             continue
@@ -734,7 +734,7 @@ def _traffic_cases(config, schema, study, path, scenarios, sources) -> dict:
         if name in scenarios:
             raise ConfigError(f"invalid configuration:\n  config/scenarios/{name}.yaml: the name is a case of the traffic study "
                               "(config/traffic_study.yaml): rename the file.")
-        scenarios[name] = read_part(resolve_scenario_file(config, schema, scen, source=f"{path} (case {name})"), schema)
+        scenarios[name] = read_part(resolve_scenario_file(config, schema, scen, source=f"{path} (case {name})", physics=False), schema)
         sources[name] = f"{path} (case {name})"
     return cases
 

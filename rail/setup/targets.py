@@ -246,7 +246,8 @@ def read_part(cfg: dict, schema: dict, base: bool = False) -> dict:
     (``rail_flexibility: {model: none}``); a wheelset of model fixed_creepage (the report's rigid wheel:
     rail.setup.build reads nothing of it); and, unless ``base``, the keys the chosen models leave
     unread: RAIL_HEAD_KEYS without the rail's flexibility, and the wheelset keys its model does not
-    read (the rigid wheelset's stiffnesses and damping; a trailer's coupling). Every key that a
+    read (the rigid wheelset's stiffnesses and damping; a trailer's coupling), and wheel_source without a source
+    (roughness none). Every key that a
     rail.setup.build object holds is kept (tests/test_rerun.py checks both directions over every
     optional key of the schema). The order of the keys is kept.
 
@@ -273,6 +274,8 @@ def read_part(cfg: dict, schema: dict, base: bool = False) -> dict:
     if base:
         return out
     out = copy.deepcopy(out)
+    if (out.get("wheel_source") or {}).get("roughness", "none") == "none":  # no source: its other keys unread
+        out.pop("wheel_source", None)
     if "rail_flexibility" not in out:
         for key in RAIL_HEAD_KEYS:
             _drop(out, key.split("."))
