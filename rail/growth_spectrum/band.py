@@ -198,7 +198,8 @@ def class_pair_spectrum(scn, table, lines, eps: float = 1e-9, grid_phases: int =
         parts.append(rate_spectrum(scn, table, mine, eps=eps, grid_phases=grid_phases, check_lines=None if checked else check_lines,
                                    progress=progress))
         checked = checked or free
-    linearity = float(np.nanmax([p.linearity for p in parts])) if not short else short_period_linearity(
+    checks = np.array([p.linearity for p in parts], dtype=float)
+    linearity = (float(np.nanmax(checks)) if np.isfinite(checks).any() else float("nan")) if not short else short_period_linearity(
         scn, table, lines, eps, progress)
     order = np.argsort(np.concatenate([p.line for p in parts]))
     merged = {n: np.concatenate([getattr(p, n) for p in parts])[order]

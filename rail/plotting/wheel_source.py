@@ -56,7 +56,7 @@ def settled_figure(ds: xr.Dataset):
     ax.set_ylabel("level (dB re 1 µm rms)")
     ax.set_title("one-third-octave bands: the wheels' roughness and the rail's settled level", fontsize=10)
     ax.grid(True, which="both", alpha=0.3)
-    ax.legend(fontsize=7, loc="lower left")
+    ax.legend(fontsize=6, loc="best", framealpha=0.8)
     if "pinned_pinned_Hz" in ds.attrs:
         bx.axvline(ds.attrs["pinned_pinned_Hz"], color="k", ls="--", lw=1, label="pinned-pinned")
     bx.set_xscale("log")
