@@ -230,8 +230,8 @@ def test_the_overall_change_has_the_sign_of_the_roughness_change_in_the_bands_th
 
 
 def _trend(study, growth):
-    """The run's band trend as rail.studies.noise builds it (its public pieces): the model's bands from the
-    growth file's coefficients, the others from the input spectrum."""
+    """The model's band mean squares of the run as rail.studies.noise takes them (its public pieces): from
+    the growth file's coefficients, with which bands are resolved, and the CNOSSOS-EU bands."""
     cfg = study.config
     bands = cnossos_wavelength_bands()
     Z = growth["Z_real"].values + 1j * growth["Z_imag"].values
@@ -298,13 +298,12 @@ def _trend_of(study, growth, d):
 
 
 def test_a_crossing_within_the_run_lies_between_the_saves_around_it_and_follows_the_stated_rule(runs):
-    """(b) The criteria where the run's levels do cross within it: the cycle average against a target below
-    the start (it trips at the start: the average there is the start's level), a target between two
-    saves' levels of a falling noise (never reached upward: the average falls), and the band rms of the
-    one range that grows here (300-1000 mm, its 315 and 630 mm bands) against a limit between its first
-    and last saves: the trip lies between the saves around the crossing, and the module's rule (each
-    band's rms amplitude linear in ln amplitude between the saves) reproduces it to the stated 1e-6 of
-    the run's passages."""
+    """(b) From the limit: the cycle average against a target 0.2 dB below the start (it trips at the start:
+    the average there is the start's level) and 0.2 dB above it (never reached: the average falls); and
+    the band rms of the one range that grows here (300-1000 mm, its 315 and 630 mm bands) against a limit
+    between its rms at two saves: the trip lies between the saves around the crossing, and the module's
+    rule (each band's rms amplitude linear in ln amplitude between the saves) reproduces it by hand to
+    the stated 1e-6 of the run's passages."""
     study, growth, out, path = runs["limit"]
     n = growth["passage"].values.astype(float)
     ms, resolved, bands = _trend(study, growth)
