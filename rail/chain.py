@@ -338,10 +338,10 @@ def grow(scn: Scenario, table: MovingReceptance, roughness: Roughness | None = N
     """
     rough = initial_roughness(scn, table_speed(table)) if roughness is None else roughness
     ident = {"scenario": repr(scn), "speed": table_speed(table), "code": provenance.module_hash("rail.chain"), **(identity or {})}
-    warm = {}  # the dynamic creepage's periodic state of each wheel, carried from update to update
-    return growth.run_growth(lambda Z, phase: train_wear(scn, table, Z, phase, warm), rough, len(scn.wheels.positions),
+    warm = coupling.WarmStates()  # the dynamic creepage's periodic state of each wheel, carried from update to update
+    return growth.run_growth(lambda Z, phase: train_wear(scn, table, Z, phase, warm.states), rough, len(scn.wheels.positions),
                              scn.growth, checkpoint=checkpoint, identity=ident, progress=progress,
-                             period=scn.L * scn.roughness.bays, **kwargs)
+                             period=scn.L * scn.roughness.bays, carry=warm, **kwargs)
 
 
 def fleet_tables(classes) -> dict:
@@ -449,10 +449,10 @@ def grow_fleet(classes, tables: dict, roughness: Roughness | None = None, *, che
         roughness = initial_roughness(scn, classes[0].speed)
     ident = {"fleet": [(c.weight, repr(c.scenario)) for c in classes], "speeds": sorted(tables),
              "code": provenance.module_hash("rail.chain"), **(identity or {})}
-    warm = {}  # each class's dynamic-creepage states, carried from update to update
-    return growth.run_growth(lambda Z, phase: fleet_wear(classes, tables, Z, phase, warm), roughness, fleet_wheels(classes),
+    warm = coupling.WarmStates()  # each class's dynamic-creepage states, carried from update to update
+    return growth.run_growth(lambda Z, phase: fleet_wear(classes, tables, Z, phase, warm.states), roughness, fleet_wheels(classes),
                              scn.growth, checkpoint=checkpoint, identity=ident, progress=progress,
-                             period=scn.L * scn.roughness.bays, **kwargs)
+                             period=scn.L * scn.roughness.bays, carry=warm, **kwargs)
 
 
 @dataclasses.dataclass(frozen=True)

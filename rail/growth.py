@@ -279,13 +279,17 @@ def _fingerprint(obj) -> str:
     return hashlib.sha256(json.dumps({"run": obj}, sort_keys=True, default=str).encode()).hexdigest()[:16]
 
 
-def _save_checkpoint(path: Path, fingerprint: str, done: int, Z, history: GrowthHistory, update: int, rate):
+CARRY_PREFIX = "carry:"  # the checkpoint's arrays of the wear function's carried state (run_growth's ``carry``)
+
+
+def _save_checkpoint(path: Path, fingerprint: str, done: int, Z, history: GrowthHistory, update: int, rate, carry=None):
     """Everything a resumed run needs to continue as if never stopped, including the last wear
-    rate (rate, for the next update's error estimate)."""
+    rate (rate, for the next update's error estimate) and the wear function's carried state (carry)."""
     tmp = path.with_suffix(".tmp.npz")
+    kept = {} if carry is None else {CARRY_PREFIX + k: v for k, v in carry.arrays().items()}
     try:
         np.savez(tmp, fingerprint=fingerprint, done=done, Z=Z, hist_passages=history.passages, hist_Z=history.Z, update=update,
-                 step_error=history.step_error, full_slip=history.full_slip, rate=np.asarray(rate))
+                 step_error=history.step_error, full_slip=history.full_slip, rate=np.asarray(rate), **kept)
         os.replace(tmp, path)  # atomic: a run killed at any moment leaves the old or the new checkpoint
     except OSError as e:  # a full disk, a file-size limit, a folder made read-only: no partial file left behind
         try:
@@ -345,14 +349,16 @@ def step_error(rate_before, rate_after, Z_after, train_passages: float) -> float
     return float(num / max(np.linalg.norm(Z_after), 1e-300))
 
 
-def _resume(ck: Path, fp: str, on_mismatch: str, passages: int, progress):
+def _resume(ck: Path, fp: str, on_mismatch: str, passages: int, progress, carry=None):
     """run_growth's state from its checkpoint ck: (done, Z, update, history, rate_before), or None to
     start afresh (an unreadable checkpoint, or with on_mismatch 'restart' one written for another
-    fingerprint, is moved aside; without 'restart' the latter is an error)."""
+    fingerprint, is moved aside; without 'restart' the latter is an error). The carried state is
+    restored into carry."""
     try:
         with np.load(ck, allow_pickle=False) as data:
             saved = {k: data[k] for k in ("fingerprint", "done", "Z", "update", "hist_passages", "hist_Z", "step_error",
                                           "full_slip", "rate")}
+            carried = {k[len(CARRY_PREFIX):]: data[k] for k in data.files if k.startswith(CARRY_PREFIX)}
     except Exception as e:  # noqa: BLE001 - truncated, empty, random or incomplete: never resumable
         aside = _move_aside(ck, "unreadable")
         print(f"warning: checkpoint {ck} cannot be read ({type(e).__name__}: {e}); moved to {aside}, starting afresh",
@@ -369,6 +375,8 @@ def _resume(ck: Path, fp: str, on_mismatch: str, passages: int, progress):
     history = GrowthHistory(saved["hist_passages"].copy(), saved["hist_Z"].copy(), saved["step_error"].copy(),
                             saved["full_slip"].copy())
     rate_before = saved["rate"].copy()  # saved after an update, so always there
+    if carry is not None:
+        carry.restore(carried)
     print(f"resuming from {ck}: {done} of {passages} passages done", file=progress)
     return done, Z, update, history, rate_before
 
@@ -401,6 +409,7 @@ def run_growth(
     stop_after_updates: int | None = None,
     on_mismatch: str = "error",
     period: float | None = None,
+    carry=None,
 ) -> GrowthHistory:
     """Grow the roughness over ``settings.passages`` wheel passages (sec. 5, eq 54).
 
@@ -429,6 +438,11 @@ def run_growth(
         Stop early (for tests of the resume path).
     period : float, optional
         The roughness period N L [m], to name the wavelength of a harmonic in a stop message.
+    carry : object, optional
+        State that train_wear carries from update to update (rail.creepage.coupling.WarmStates, the
+        dynamic creepage's periodic u_bar of each wheel), with ``arrays()`` -> {name: ndarray} and
+        ``restore(arrays)``: saved in the checkpoint and restored on resume, so that a resumed run
+        continues bit for bit as the uninterrupted one (tests/test_growth.py).
 
     Returns
     -------
@@ -454,7 +468,7 @@ def run_growth(
     done, update = 0, 0
     rate_before = None  # wear per train passage of the last update (for the next update's error estimate)
     ck = Path(checkpoint) if checkpoint else None
-    resumed = _resume(ck, fp, on_mismatch, settings.passages, progress) if ck is not None and ck.exists() else None
+    resumed = _resume(ck, fp, on_mismatch, settings.passages, progress, carry) if ck is not None and ck.exists() else None
     if resumed is not None:
         done, Z, update, history, rate_before = resumed
 
@@ -506,7 +520,7 @@ def run_growth(
         if done % settings.save_every == 0:
             history = GrowthHistory(np.append(history.passages, done), np.vstack([history.Z, Z[None, :]]), history.step_error, history.full_slip)
             if ck is not None:
-                _save_checkpoint(ck, fp, done, Z, history, update, rate_before)
+                _save_checkpoint(ck, fp, done, Z, history, update, rate_before, carry)
         rate = (done - done0) / max(time.perf_counter() - t0, 1e-9)
         left = (settings.passages - done) / rate if rate > 0 else float("inf")
         print(f"{done} of {settings.passages} passages, {rate:.0f} passages/s, {left:.0f} s left", file=progress, flush=True)

@@ -94,3 +94,61 @@ def test_the_lagged_growth_loop_starts_from_rest_at_the_lag_and_keeps_each_wear_
     for wrong in ("first update one march", "without u_bar"):
         err, _ = _errors(loops[wrong][0], ref, 20)
         assert np.all(err > 0.1), (wrong, dict(zip(j_near, err)))
+
+
+def _coupled_scenario(passages=40000):
+    tr = track()
+    coupled = dataclasses.replace(MATERIAL, longitudinal=wheelset_modes(TRAILER), rail_flexibility=RailHead(tr))
+    return scenario(tr, coupled, contact_spring(), K=K, nodes=NODES, passages=passages, step=10000), tr
+
+
+def test_a_run_with_u_bar_resumed_from_its_checkpoint_equals_the_uninterrupted_run_bit_for_bit(tmp_path):
+    # The SLURM cluster test (tests/cluster/run.sh) found a run of a config/scenarios file (which takes the rail's
+    # flexibility and a torsional wheelset since issue 55) resumed after a scancel differing from the uninterrupted
+    # run: the checkpoint did not hold the wheels' periodic u_bar (rail.creepage.coupling.WarmStates), so the resumed
+    # run's next update started its Newton steps from rest and stopped elsewhere within the lagged threshold. The
+    # checkpoint now holds them; with them stripped from it (as before) the resumed roughness differs.
+    scn, tr = _coupled_scenario()
+    tab = moving.receptance_table(tr, V, K)
+    straight = chain.grow(scn, tab, Roughness.smooth(K), progress=io.StringIO())
+    ck = tmp_path / "run.npz"
+    chain.grow(scn, tab, Roughness.smooth(K), checkpoint=ck, progress=io.StringIO(), stop_after_updates=2)
+    with np.load(ck) as data:
+        saved = {k: data[k] for k in data.files}
+    carried = [k for k in saved if k.startswith(growth.CARRY_PREFIX)]
+    assert int(saved["done"]) == 20000 and any(k.endswith(".p") for k in carried), sorted(saved)
+    stripped = tmp_path / "stripped.npz"
+    np.savez(stripped, **{k: v for k, v in saved.items() if k not in carried})
+    resumed = chain.grow(scn, tab, Roughness.smooth(K), checkpoint=ck, progress=io.StringIO())
+    np.testing.assert_array_equal(resumed.passages, straight.passages)
+    np.testing.assert_array_equal(resumed.Z, straight.Z)
+    np.testing.assert_array_equal(resumed.step_error, straight.step_error)
+    without = chain.grow(scn, tab, Roughness.smooth(K), checkpoint=stripped, progress=io.StringIO())
+    change = np.abs(straight.Z[-1] - straight.Z[2]).max()
+    assert np.abs(without.Z[-1] - straight.Z[-1]).max() > 1e-6 * change
+
+
+def test_the_carried_states_survive_their_arrays_for_a_train_and_a_fleet():
+    # rail.creepage.coupling.WarmStates: arrays() and restore() give back every state, with and without a drift
+    st = coupling.CreepageState(np.linspace(0, 0.9, 10), np.arange(10.0) * 1e-7, 1.5e-4, np.ones(10) * 1e-9, -2e-6, 81)
+    rest = coupling.CreepageState(np.zeros(1), np.zeros(1), 0.0)
+    for states in ({0: st, 3: rest}, {0: {0: st, 1: rest}, 2: {5: st}}):
+        a = coupling.WarmStates()
+        a.states = states
+        b = coupling.WarmStates()
+        b.restore(a.arrays())
+        assert b.states.keys() == states.keys()
+
+        def flat(d, path=()):
+            for k, v in d.items():
+                yield from flat(v, path + (k,)) if isinstance(v, dict) else [(path + (k,), v)]
+        got, want = dict(flat(b.states)), dict(flat(states))
+        assert got.keys() == want.keys()
+        for k, w in want.items():
+            g = got[k]
+            np.testing.assert_array_equal(g.phase, w.phase)
+            np.testing.assert_array_equal(g.p, w.p)
+            assert (g.vbar, g.vdrift, g.grid) == (w.vbar, w.vdrift, w.grid)
+            assert (g.drift is None) == (w.drift is None)
+            if w.drift is not None:
+                np.testing.assert_array_equal(g.drift, w.drift)

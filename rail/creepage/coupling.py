@@ -18,7 +18,7 @@ from .modes import periodic_response, precondition
 from .rail_flexibility import head_operator
 from .rail_flexibility_cell import CellHead, cell_head_operator
 
-__all__ = ["LAGGED_STEP", "RAIL_NEWTON_STEPS", "CreepageState", "REST_STATE", "march_with_creepage", "steady_material",
+__all__ = ["LAGGED_STEP", "RAIL_NEWTON_STEPS", "CreepageState", "REST_STATE", "WarmStates", "march_with_creepage", "steady_material",
            "carter_creep_slope", "dynamic_creepage"]
 
 
@@ -99,6 +99,73 @@ class CreepageState:
 # growth run's first update, which then stops at the lagged threshold too (3 marches from rest, not 5 to 1e-5;
 # docs/dynamic-creepage.md, "The lagged coupling")
 REST_STATE = CreepageState(np.zeros(1), np.zeros(1), 0.0)
+
+
+class WarmStates:
+    """The periodic u_bar of each wheel (and each fleet class) carried by a growth run from update to update,
+    saved in its checkpoint so that a resumed run continues from the same states (rail.growth.run_growth's
+    ``carry``).
+
+    Without them a resumed run would start its Newton steps from rest again and land elsewhere within the
+    lagged coupling's threshold: the SLURM cluster test (tests/cluster/run.sh) found the resumed run's
+    roughness differing from the uninterrupted run's once the scenario files took the rail's flexibility.
+
+    Attributes
+    ----------
+    states : dict
+        {wheel index: CreepageState} for one train (rail.chain.train_wear's ``warm``), or
+        {class index: {wheel index: CreepageState}} for a fleet (rail.chain.fleet_wear's).
+    """
+
+    _FIELDS = ("phase", "p", "vbar", "drift", "vdrift", "grid")
+
+    def __init__(self):
+        self.states: dict = {}
+
+    def arrays(self) -> dict[str, np.ndarray]:
+        """Every state as named arrays, "<key path>.<field>" (a state's drift None is left out).
+
+        Returns
+        -------
+        dict
+            {name: ndarray}; empty for the report's fixed creepage (no state).
+        """
+        out = {}
+
+        def walk(d, path):
+            for k, v in d.items():
+                name = f"{path}{int(k)}"
+                if isinstance(v, dict):
+                    walk(v, name + "_")
+                    continue
+                for f in self._FIELDS:
+                    x = getattr(v, f)
+                    if x is not None:
+                        out[f"{name}.{f}"] = np.asarray(x)
+        walk(self.states, "")
+        return out
+
+    def restore(self, arrays: dict) -> None:
+        """Set the states from arrays written by ``arrays`` (replacing any held).
+
+        Parameters
+        ----------
+        arrays : dict
+            {name: ndarray} as ``arrays`` returns.
+        """
+        by_key: dict = {}
+        for name, x in arrays.items():
+            path, f = name.rsplit(".", 1)
+            by_key.setdefault(path, {})[f] = np.asarray(x)
+        self.states = {}
+        for path, fields in by_key.items():
+            *outer, wheel = [int(k) for k in path.split("_")]
+            d = self.states
+            for k in outer:
+                d = d.setdefault(k, {})
+            d[wheel] = CreepageState(fields["phase"].copy(), fields["p"].copy(), float(fields["vbar"]),
+                                     fields["drift"].copy() if "drift" in fields else None, float(fields["vdrift"]),
+                                     int(fields["grid"]))
 
 
 def march_with_creepage(mi: MarchInputs, material: ContactMaterial, speed: float, numerics: ContactNumerics,
