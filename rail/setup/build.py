@@ -467,6 +467,15 @@ def dynamic_creepage_problems(cfg: dict, source: str) -> list[str]:
         modes = _longitudinal(cfg)
     except ValueError as e:
         return [f"{source}: {e}"]
+    flexible = rail_flexibility(setting(cfg, "rail_flexibility.model")).modelled
+    if (modes is not None or flexible) and float(cfg["contact"]["creepage"]) == 0.0 and "fleet" not in cfg:
+        # the periodic u_bar is found relative to the steady creep velocity abs(gamma) V (rail.creepage.coupling): with no
+        # steady traction there is nothing to linearise about, and the reference's Newton steps never settle
+        return [f"{source}: contact.creepage = 0.0 is not allowed with the dynamic creepage (wheelset.model "
+                f"{setting(cfg, 'wheelset.model')}, rail_flexibility.model {setting(cfg, 'rail_flexibility.model')}): "
+                "it is linearised about the steady traction; give a "
+                "creepage in [-1, 1] other than 0 (a trailer axle's rolling resistance: of order +1e-5 to +1e-4), or the report's "
+                "fixed creepage (no wheelset, rail_flexibility none)."]
     speeds = configured_speeds(cfg)
     if not speeds:
         return []
