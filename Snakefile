@@ -48,6 +48,7 @@ include: "workflow/rules/studies.smk"
 include: "workflow/rules/irregular.smk"
 include: "workflow/rules/fleet.smk"
 include: "workflow/rules/noise.smk"
+include: "workflow/rules/mitigation.smk"
 
 
 # `snakemake --report report.html` (without a target) reports what is built: report_all is then the

@@ -39,11 +39,11 @@ from rail.setup.study_files import study_file
 ROOT = Path(__file__).resolve().parents[1]
 BEFORE = json.loads((ROOT / "tests/data/named_targets_before_study_files.json").read_text())
 BEFORE_57B = json.loads((ROOT / "tests/data/named_targets_before_closure_irregular_short_wave.json").read_text())
-STUDY_FILES = ["closure_study", "dynamic_creepage", "dynamic_creepage_speeds", "irregular_track", "rail_flexibility", "short_wave",
-               "spectrum_band", "wheel_source"]
+STUDY_FILES = ["closure_study", "dynamic_creepage", "dynamic_creepage_speeds", "irregular_track", "rail_flexibility",
+               "short_wave", "spectrum_band", "track_mitigation", "wheel_source"]
 # study files added after the recordings: the recorded plans are compared with the plan without them, and
 # test_the_study_files_added_since_the_recordings_change_no_other_target checks that they add their own alone
-ADDED_SINCE = ["spectrum_band", "wheel_source"]
+ADDED_SINCE = ["spectrum_band", "track_mitigation", "wheel_source"]
 
 
 def plan_at(root):
@@ -158,7 +158,7 @@ def test_the_study_files_added_since_the_recordings_change_no_other_target(P, P_
     now, before = named_targets(P), named_targets(P_recorded)
     added = [n for n in P.scenarios if n not in P_recorded.scenarios]
     assert [n for n in P.scenarios if n in P_recorded.scenarios] == list(P_recorded.scenarios)
-    assert all(n.startswith(("tenhz_", "ws_")) for n in added) and added, added
+    assert all(n.startswith(("tenhz_", "ws_", "tm_")) for n in added) and added, added
     assert {n: P.scenarios[n] for n in P_recorded.scenarios} == dict(P_recorded.scenarios)
     mine = {name for name in ADDED_SINCE} | {f"study_{n}" for n in added}
     assert sorted(set(now) - mine) == sorted(before)

@@ -313,7 +313,7 @@ class Plan:
             elif st["builds"][n] == "study" and (n in self.scenarios or n in self.sweeps):
                 out += self.study_targets(n)
         summary = {"speed_study": lambda: ["results/dynamic_creepage/speeds.png"], "closure_study": self.closure_targets,
-                   "irregular_track": self.irregular_targets}
+                   "irregular_track": self.irregular_targets, "mitigation": lambda: ["results/mitigation/mitigation.png"]}
         return out + (summary[st["summary"]["kind"]]() if st["summary"] else [])
 
     def study_file_input(self, name: str):
@@ -339,8 +339,9 @@ class Plan:
                 for n in names}
 
     def _periodic(self) -> list[str]:
-        """Scenarios with a roughness period of N > 1 bays, neither sweep points nor fleets."""
-        points = self.sweep_points
+        """Scenarios with a roughness period of N > 1 bays, neither sweep points nor fleets nor a study file's cases built
+        for their settled spectrum (builds: settled, a spectrum's study: config/studies/mitigation.yaml's cells)."""
+        points = set(self.sweep_points) | {n for st in self.studies.values() for n, b in st["builds"].items() if b == "settled"}
         return [n for n, scn in self.objects.items() if scn.roughness.bays > 1 and n not in points and n not in self.fleet_classes]
 
     def any_wavelength_targets(self) -> list[str]:

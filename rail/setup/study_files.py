@@ -30,10 +30,13 @@ BUILDS = ("spectrum", "settled", "study", "none")
 # The summaries a study file may name (summary.kind), each made by its own rules from the cases its roles name
 # (a role of one case, or of a list of cases; None: optional), and each set by one study file at most (its
 # outputs' paths are fixed): the speed study over every case (rule speed_study, results/dynamic_creepage/speeds.*),
-# the closure study (workflow/rules/closure.smk, results/closure/) and the irregular track
-# (workflow/rules/irregular.smk, results/irregular/).
+# the closure study (workflow/rules/closure.smk, results/closure/), the irregular track
+# (workflow/rules/irregular.smk, results/irregular/) and the mitigation study (workflow/rules/mitigation.smk,
+# results/mitigation/: spread, the default track's cases at three speeds each; dampers, soft_pad, stiff_pad and
+# trailer, the mitigations' cases at one of those speeds each).
 SUMMARIES = {"speed_study": {}, "closure_study": {"run": str, "soft": str, "four": str},
-             "irregular_track": {"uniform": str, "cases": list, "random": None}}
+             "irregular_track": {"uniform": str, "cases": list, "random": None},
+             "mitigation": {"spread": list, "dampers": list, "soft_pad": list, "stiff_pad": list, "trailer": list}}
 SPEED_STUDY = "speed_study"  # the summary kind of the speed study (Plan.speed_study_spectra)
 
 
