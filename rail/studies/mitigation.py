@@ -25,7 +25,7 @@ from ..growth_spectrum.band import band_edges
 from ..setup.io import data_var
 
 __all__ = ["BAND_WINDOW", "KINDS", "SHARES", "SPREAD", "SPREAD_WEIGHTS", "at_speed", "band_row", "header_text", "interval", "mitigation_rows",
-           "mixture", "rows_csv_text", "rows_dataset", "rows_markdown", "traffic_axles_per_day", "verdict"]
+           "mixture", "on_common_lines", "rows_csv_text", "rows_dataset", "rows_markdown", "traffic_axles_per_day", "verdict"]
 
 SPREAD = 0.08  # the speed spread's relative step d: 1/4, 1/2, 1/4 of the trains at V (1 - d), V, V (1 + d)
 SPREAD_WEIGHTS = (0.25, 0.5, 0.25)
@@ -135,6 +135,31 @@ def interval(ds: xr.Dataset, spectra: dict, axles_per_day: float | None = None) 
             "settled_peak_band_dB": float(out.settled_band_level_dB.values[0, b])}
 
 
+def on_common_lines(*parts):
+    """The spectra on the lines they all hold (the union of a spread case's speeds holds the lines of its nominal speed
+    alone: a one-speed case's lines are a subset).
+
+    Parameters
+    ----------
+    *parts : xr.Dataset
+        Spectra of one period (attrs bays and sleeper_spacing_m equal).
+
+    Returns
+    -------
+    tuple of xr.Dataset
+        Each on the common lines, in its own order of wavelength.
+    """
+    period = {(int(p.attrs["bays"]), float(p.attrs["sleeper_spacing_m"])) for p in parts}
+    if len(period) != 1:
+        raise ValueError(f"the spectra lie on different periods {sorted(period)}: no common lines.")
+    common = set(parts[0].line.values.tolist())
+    for p in parts[1:]:
+        common &= set(p.line.values.tolist())
+    if not common:
+        raise ValueError("the spectra hold no line in common.")
+    return tuple(p.isel(wavelength=np.flatnonzero(np.isin(p.line.values, sorted(common)))) for p in parts)
+
+
 def band_row(label: str, ds: xr.Dataset, nominal: float) -> dict:
     """The band near pinned-pinned of one spectrum at a nominal speed (the frequencies V / wavelength at it).
 
@@ -227,7 +252,7 @@ def mitigation_rows(spread: dict, cases: dict, spectra: dict | None = None, axle
         variants.append((f"speed spread +-{100 * SPREAD:g} %", mixture([at_speed(ds, v) for v in speeds], SPREAD_WEIGHTS)))
         if (V, "trailer") in cases:
             for s in SHARES:
-                part = mixture([base, cases[(V, "trailer")]], [s, 1 - s])
+                part = mixture(list(on_common_lines(base, cases[(V, "trailer")])), [s, 1 - s])
                 variants.append((f"driven axles {100 * s:g} %", part))
         ref = None
         for label, part in variants:
