@@ -8,6 +8,12 @@ one wheel's own rate on the same lines (the wheel alone on the track, rail.chain
 one-wheel train the spectrum's own), the wheel's one-third-octave roughness, the ground rail's and the
 limit. Everything is per train passage inside and per axle (wheel) passage, MGT and year outside, as
 the spectrum's exports are.
+
+Under a fleet (fleet_source_dataset): the fleet's spectrum (rail.studies.fleet.fleet_spectrum_dataset) with each
+class's spectrum (R_c, the comb's s_c per passage of the class's train) and what each class file carries for the
+source (class_source_arrays: each axle's own rate alone on the track, the vehicle's wheel roughness on the lines);
+per fleet passage a = sum_c w_c abs(1 - R_c)^2 and Q = sum_c w_c Q_c (rail.growth_spectrum.source), per axle passage
+outside (x the fleet's mean axles per train, as growth_dB_per_1e5_axles).
 """
 
 from __future__ import annotations
