@@ -53,6 +53,28 @@ def single_wheel(scn: Scenario) -> Scenario:
     return dataclasses.replace(scn, wheels=interaction.Wheels(w.mass, w.radius, w.static_load, (0.0,)))
 
 
+def single_axle(scn: Scenario, wheel: int) -> Scenario:
+    """The scenario with one wheel of the train alone at position 0, with that wheel's own creepage and wheelset
+    where the wheels carry them per axle (a fleet vehicle's, rail.fleet; single_wheel for a train whose wheels are alike).
+
+    Parameters
+    ----------
+    scn : Scenario
+    wheel : int
+        Index of the wheel in scn.wheels.positions [-].
+
+    Returns
+    -------
+    Scenario
+    """
+    w = scn.wheels
+    if not 0 <= wheel < len(w.positions):
+        raise ValueError(f"wheel = {wheel!r} is not allowed: the train has wheels 0 .. {len(w.positions) - 1}.")
+    return dataclasses.replace(scn, wheels=interaction.Wheels(
+        w.mass, w.radius, w.static_load, (0.0,), None if w.creepage is None else (w.creepage[wheel],),
+        None if w.wheelsets is None else (w.wheelsets[wheel],)))
+
+
 def wheel_offsets(scn: Scenario) -> list[float]:
     """Offsets between the scenario's wheels that the receptance table needs.
 

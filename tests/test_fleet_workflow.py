@@ -194,3 +194,29 @@ def test_the_uncertainty_ensemble_runs_one_spectrum_per_member_and_a_bad_draw_st
     bad = snakemake(root, "-n", "uncertainty", cwd=workdir)
     assert_stops_at_start_up(bad, r"config/uncertainty\.yaml: uncertainty parameter contact\.friction: low = 0\.4, high = 0\.2 "
                                   r"are not allowed: low <= high", workdir)
+
+
+@pytest.mark.slow
+def test_a_fleet_whose_wheels_are_a_source_plans_its_settled_spectrum_and_renames_only_the_rough_vehicles_classes(root, workdir):
+    # issue 58 for fleets: the locomotive's wheels disc-braked (its own wheel_source), the coaches' cast iron (the
+    # top-level roughness they take): study_mix plans fleet_settled_spectrum from the fleet's spectrum; without the
+    # source the class files are those of before (the same names), with it every class of a rough vehicle another
+    _fleets(workdir, mix=MIX)
+    plain = snakemake(root, "-n", "study_mix", cwd=workdir)
+    rough = MIX.replace("share: 0.4", "share: 0.4\n      wheel_source: {roughness: disc}", 1) + "wheel_source: {roughness: cast_iron}\n"
+    (workdir / "config/scenarios/mix.yaml").write_text(rough)
+    out = snakemake(root, "-n", "study_mix", cwd=workdir)
+    assert plain.returncode == 0 and out.returncode == 0, out.stderr
+    counts = job_counts(out.stdout)
+    assert counts.pop("fleet_settled_spectrum") == 1 and counts == job_counts(plain.stdout)
+    for x in ("png", "csv", "md"):
+        assert f"results/fleet/mix/settled.{x}" in out.stdout
+    keys = re.compile(r"results/fleet/classes/([A-Za-z0-9.-]+_V[0-9.e+-]+_[0-9a-f]{16})\.npz")
+    before, after = set(keys.findall(plain.stdout)), set(keys.findall(out.stdout))
+    assert len(before) == len(after) == 6 and before.isdisjoint(after)  # both vehicles' wheels are rough here
+    (workdir / "config/scenarios/mix.yaml").write_text(MIX.replace("share: 0.6", "share: 0.6\n      wheel_source: {roughness: none}", 1)
+                                                     .replace("share: 0.4", "share: 0.4\n      wheel_source: {roughness: disc}", 1))
+    half = snakemake(root, "-n", "study_mix", cwd=workdir)
+    assert half.returncode == 0, half.stderr
+    mixed = set(keys.findall(half.stdout))
+    assert len(mixed & before) == 3 and all(k.startswith("coach_") for k in mixed & before)  # the smooth coaches keep theirs

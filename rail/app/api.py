@@ -518,7 +518,8 @@ def fleet_spectrum(study: Study, *, shortest: float | None = None, longest: floa
     -------
     xr.Dataset
         growth_rate, growth_dB_per_1e5_trains, growth_dB_per_1e5_axles, growth_dB_per_year over
-        wavelength; class_growth_rate and class_contribution over (class, wavelength).
+        wavelength; class_growth_rate and class_contribution over (class, wavelength); with the wheels' source
+        (wheel_source, fleet.vehicles[*].wheel_source) its settled spectrum (rail.studies.wheel_source.fleet_source_dataset).
 
     Raises
     ------
@@ -535,8 +536,12 @@ def fleet_spectrum(study: Study, *, shortest: float | None = None, longest: floa
     classes = fl.classes(scn, float(cfg["wheels"]["static_load"]))
     for c in classes:
         inputs.check_speed(cfg, c.speed, f"{study.name}: fleet spectrum")
-    fs = fleet_rate_spectrum(classes, chain.fleet_tables(classes), lines, eps=float(s["eps"]), grid_phases=int(s["grid_phases"]))
+    source = inputs.wheel_source_spectra(cfg)  # the wheels' roughness as a source (None: none), read before computing
+    tables = chain.fleet_tables(classes)
+    fs = fleet_rate_spectrum(classes, tables, lines, eps=float(s["eps"]), grid_phases=int(s["grid_phases"]))
     ds = fleet_study.fleet_spectrum_dataset(fs, fl, classes)
+    # as the workflow's fleet_class_spectrum and fleet_rate_spectrum (each class's arrays, then the fleet's source)
+    ds = wheel_source.with_fleet_source(ds, fs, fl, classes, tables, s, source, scn.roughness.bays * scn.L)
     return io.finalize(ds, cfg, title="Growth-rate spectrum under the fleet", source="rail.app.api.fleet_spectrum",
                        scenario=study.name)
 

@@ -105,9 +105,14 @@ def _what_runs(study) -> str:
     creep = creepage_model_text(scn.material if "fleet" not in study.config else dataclasses.replace(scn.material, longitudinal=None))
     if creep:
         rest += f"; {creep}"
-    source = (study.config.get("wheel_source") or {}).get("roughness", "none")
-    if source != "none":  # the wheels' roughness as a source (issue 58): in the spectrum's results and settled.png
-        rest += f"; the wheels' roughness a source: {source} (settled spectrum: results/spectrum/{study.name}/settled.png)"
+    from ..setup.build import wheel_source_settings, wheel_source_vehicles
+
+    if wheel_source_settings(study.config) is not None:  # the wheels' roughness as a source (issue 58): its spectrum's results
+        vehicles = wheel_source_vehicles(study.config)
+        source = (study.config["wheel_source"]["roughness"] if vehicles is None else
+                  ", ".join(f"{v} {r}" for v, (r, _) in vehicles.items()))
+        folder = "spectrum" if vehicles is None else "fleet"
+        rest += f"; the wheels' roughness a source: {source} (settled spectrum: results/{folder}/{study.name}/settled.png)"
     if "fleet" not in study.config:
         return (f"ok: scenario '{study.name}' is valid ({len(scn.speeds)} speed(s), {len(scn.wheels.positions)} wheel(s), "
                 f"{rest}).")

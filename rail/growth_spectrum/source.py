@@ -29,6 +29,32 @@ back from the lines: the mean over the spectrum's lines inside the band of S_j /
 sample the band's density; with the band's lines 15 Hz apart near pinned-pinned, about 15 lines
 per band there, 1-2 on the log-spaced lines elsewhere), plus the coherent comb lines' own mean squares.
 
+Under a fleet (rail.fleet: each passage one train drawn from the classes c, a vehicle at a speed, with
+probability w_c, independently from passage to passage and of the wheels' phases), the class of a
+passage multiplies the rail's line by (1 - R_c) and adds its wheels' increment. Conditioned on the
+classes drawn, the wheels' increments keep a zero mean and their own mean squares; averaged over the
+draw, the expected mean square obeys per fleet passage
+
+    S_{n+1} = a S_n + Q,   a = sum_c w_c abs(1 - R_c)^2,   Q = sum_c w_c Q_c,
+
+R_c the class train's rate per passage of that train and Q_c its wheels' source per passage of that
+train, as for one train (fleet_decay_factor, fleet_source_power). With R = sum_c w_c R_c (the fleet's
+rate, rail.growth_spectrum.combine_spectra) a = abs(1 - R)^2 + sum_c w_c abs(R_c - R)^2: the draw of the
+class retains more than the mean train does. The closed form and settled level are those above with this
+a (the ``decay`` argument). A fleet passage is one train; per axle passage divide by the fleet's mean
+axles per train (rail.fleet.Fleet.axles_per_train), as the fleet's spectrum does.
+
+The supports' comb under a fleet (fleet_comb_mean_square): each class adds its source s_c coherently,
+c_{n+1} = (1 - R_c) c_n + s_c with the class drawn. The classes' sources are taken in phase (the
+spectrum keeps their magnitudes only; combine_spectra sums them with the weights, an upper bound).
+The comb's mean amplitude m_n = E c_n follows the fleet's rate and source, m_{n+1} = (1 - R) m_n + s,
+s = sum_c w_c s_c: the one-train comb of the fleet's spectrum. The draw adds a spread about it,
+V_n = E abs(c_n - m_n)^2, with V_{n+1} = a V_n + sum_c w_c abs((R_c - R) m_n - (s_c - s))^2 from V_0 = 0,
+and the comb's mean square is (abs(m_n)^2 + V_n) / 2. For one class V = 0 and it is the one-train comb.
+The spread is of order abs(R) of the mean comb (its settled part sum_c w_c abs((R_c - R) s / R - (s_c -
+s))^2 / (1 - a) against abs(s / R)^2). At a locked line each class's rate is its own (the slower-decaying
+of its pair) and the mean comb the fleet's (the eigenvalue of the weighted operators).
+
 Range and what is left out:
 
 * Each wheel's own transfer is taken from the wheel alone on the track (rail.chain.single_wheel): a
@@ -51,8 +77,9 @@ import numpy as np
 
 from ..bands import in_band, third_octave_edges
 
-__all__ = ["line_share", "wheel_line_power", "source_power", "expected_mean_square", "settled_mean_square",
-           "passages_to_settle", "band_mean_square_from_lines", "passages_to_limit"]
+__all__ = ["line_share", "wheel_line_power", "source_power", "axle_source_power", "expected_mean_square", "settled_mean_square",
+           "passages_to_settle", "band_mean_square_from_lines", "passages_to_limit", "fleet_decay_factor", "fleet_source_power",
+           "fleet_comb_mean_square", "fleet_settled_comb"]
 
 
 def line_share(wavelength, period: float, centres):
@@ -140,12 +167,40 @@ def source_power(rate_own, power, wheels: int):
     return int(wheels) * np.abs(np.asarray(rate_own)) ** 2 * np.asarray(power, dtype=float)
 
 
+def axle_source_power(rate_own, power):
+    """Q_j of a train whose wheels differ (a fleet vehicle's axles: each its own creepage and wheelset), sum over
+    the wheels l of abs(R_own,l)^2 P_j [m^2 per train passage] (each wheel with its own random phase).
+
+    Parameters
+    ----------
+    rate_own : array_like, complex, (wheels, ...)
+        Each wheel's own rate per passage of that wheel [-] (the wheel alone on the track).
+    power : array_like, (...)
+        P_j [m^2] (wheel_line_power; the vehicle's wheels share one roughness).
+
+    Returns
+    -------
+    ndarray, (...)
+        [m^2 per train passage].
+    """
+    own = np.asarray(rate_own)
+    if own.ndim < 1 or own.shape[0] < 1:
+        raise ValueError(f"rate_own: give one row of rates per wheel (shape (wheels, lines)), got shape {own.shape}.")
+    return np.sum(np.abs(own) ** 2, axis=0) * np.asarray(power, dtype=float)
+
+
 def _decay_factor(rate):
     """a = abs(1 - R)^2 [-]."""
     return np.abs(1.0 - np.asarray(rate, dtype=complex)) ** 2
 
 
-def expected_mean_square(n, start, rate, Q, comb=None):
+def _comb_mean_square(n, R, s):
+    """abs(c_n)^2 / 2 of the coherent comb c_{n+1} = (1 - R) c_n + s from c_0 = 0 [m^2] (n, R, s broadcast)."""
+    gain = np.where(np.abs(R) > 0, (1 - (1 - R) ** n) / np.where(R == 0, 1, R), n)
+    return np.where(s != 0, np.abs(s * gain) ** 2 / 2, 0.0)
+
+
+def expected_mean_square(n, start, rate, Q, comb=None, decay=None):
     """S_n: the rail line's expected mean square after n train passages [m^2] (module docstring),
     S_n = a^n S_0 + Q (1 - a^n) / (1 - a) plus the supports' coherent part abs(c_n)^2 / 2.
 
@@ -161,6 +216,9 @@ def expected_mean_square(n, start, rate, Q, comb=None):
         [m^2 per train passage].
     comb : array_like, optional
         s, the supports' source amplitude per train passage [m] (the spectrum's ``source``; 0 off the comb).
+    decay : array_like, optional
+        a per passage [-] of the random part (default abs(1 - R)^2, one train; a fleet's fleet_decay_factor
+        per fleet passage, its comb then fleet_comb_mean_square).
 
     Returns
     -------
@@ -169,7 +227,7 @@ def expected_mean_square(n, start, rate, Q, comb=None):
     """
     n = np.asarray(n, dtype=float)
     R = np.asarray(rate, dtype=complex)
-    a = _decay_factor(R)
+    a = _decay_factor(R) if decay is None else np.asarray(decay, dtype=float)
     with np.errstate(divide="ignore", invalid="ignore", over="ignore"):  # a growing line overflows to inf, as it should
         an = a ** n
         # (1 - a^n) / (1 - a) = n at a = 1, and within rounding of it where 1 - a is below 1e-12
@@ -177,13 +235,11 @@ def expected_mean_square(n, start, rate, Q, comb=None):
         S0, Qa = np.asarray(start, dtype=float), np.asarray(Q, dtype=float)
         S = np.where(S0 != 0, an * S0, 0.0) + np.where(Qa != 0, Qa * frac, 0.0)  # a zero start or source adds nothing
         if comb is not None:
-            s = np.asarray(comb, dtype=float)
-            gain = np.where(np.abs(R) > 0, (1 - (1 - R) ** n) / np.where(R == 0, 1, R), n)
-            S = S + np.where(s != 0, np.abs(s * gain) ** 2 / 2, 0.0)
+            S = S + _comb_mean_square(n, R, np.asarray(comb, dtype=float))
     return S
 
 
-def settled_mean_square(rate, Q, comb=None):
+def settled_mean_square(rate, Q, comb=None, decay=None):
     """S_inf: the level a decaying line settles to [m^2], Q / (1 - a) plus (abs(s / R)^2) / 2 from the
     supports; inf where the line does not decay (a >= 1: it grows, or it holds).
 
@@ -195,6 +251,8 @@ def settled_mean_square(rate, Q, comb=None):
         [m^2 per train passage].
     comb : array_like, optional
         s [m per train passage].
+    decay : array_like, optional
+        a [-] (default abs(1 - R)^2; a fleet's fleet_decay_factor, its comb then fleet_settled_comb).
 
     Returns
     -------
@@ -202,7 +260,7 @@ def settled_mean_square(rate, Q, comb=None):
         [m^2]; inf where a >= 1.
     """
     R = np.asarray(rate, dtype=complex)
-    a = _decay_factor(R)
+    a = _decay_factor(R) if decay is None else np.asarray(decay, dtype=float)
     with np.errstate(divide="ignore", invalid="ignore"):
         S = np.where(a < 1, np.asarray(Q, dtype=float) / (1 - a), np.inf)
         if comb is not None:
@@ -211,7 +269,7 @@ def settled_mean_square(rate, Q, comb=None):
     return S
 
 
-def passages_to_settle(rate, within_dB: float = 1.0):
+def passages_to_settle(rate, within_dB: float = 1.0, decay=None):
     """Train passages for a line from a ground (zero) start to come within ``within_dB`` of its settled
     level under its wheels' source: 1 - a^n = 10^(-within_dB / 10), n = ln(1 - 10^(-within/10)) / ln a.
 
@@ -221,6 +279,8 @@ def passages_to_settle(rate, within_dB: float = 1.0):
         R per train passage [-].
     within_dB : float
         [dB], > 0.
+    decay : array_like, optional
+        a [-] (default abs(1 - R)^2; a fleet's fleet_decay_factor, the passages then fleet passages).
 
     Returns
     -------
@@ -229,7 +289,7 @@ def passages_to_settle(rate, within_dB: float = 1.0):
     """
     if not (np.isfinite(within_dB) and within_dB > 0):
         raise ValueError(f"within_dB = {within_dB!r} is not allowed: it must be a finite level > 0 dB.")
-    a = _decay_factor(rate)
+    a = _decay_factor(rate) if decay is None else np.asarray(decay, dtype=float)
     with np.errstate(divide="ignore", invalid="ignore"):
         return np.where(a < 1, np.log1p(-10 ** (-within_dB / 10)) / np.log(np.where(a < 1, a, 0.5)), np.inf)
 
@@ -311,3 +371,158 @@ def passages_to_limit(band_ms, limit_ms, longest: float = 1e12, per_decade: int 
                 lo = mid
         out[b] = hi
     return out
+
+
+def _class_arrays(rates, weights, name: str = "rates"):
+    """The classes' rates (c, ...) as complex and their weights (c,) as float, checked against each other."""
+    R = np.asarray(rates, dtype=complex)
+    w = np.asarray(weights, dtype=float)
+    if w.ndim != 1 or R.ndim < 1 or R.shape[0] != w.size or w.size < 1:
+        raise ValueError(f"{name}: give one row per class ({w.size} weights), got shape {R.shape}.")
+    if not np.all(np.isfinite(w)) or np.any(w < 0):
+        raise ValueError(f"weights = {w.tolist()} is not allowed: each class's weight must be a finite number >= 0.")
+    return R, w.reshape((-1,) + (1,) * (R.ndim - 1))
+
+
+def fleet_decay_factor(rates, weights):
+    """a = sum_c w_c abs(1 - R_c)^2 [-]: the share of the rail line's mean square a fleet passage keeps (module
+    docstring), one train drawn from the classes c with probability w_c.
+
+    Parameters
+    ----------
+    rates : array_like, complex, (classes, ...)
+        R_c, each class's rate per passage of its train [-].
+    weights : array_like, (classes,)
+        w_c [-], summing to 1 (rail.fleet.FleetClass.weight).
+
+    Returns
+    -------
+    ndarray, (...)
+        [-]; for one class of weight 1 the one train's abs(1 - R)^2 exactly.
+    """
+    R, w = _class_arrays(rates, weights)
+    return np.sum(w * _decay_factor(R), axis=0)
+
+
+def fleet_source_power(Q, weights):
+    """Q = sum_c w_c Q_c: the wheels' expected mean square added to the rail's line per fleet passage [m^2].
+
+    Parameters
+    ----------
+    Q : array_like, (classes, ...)
+        Q_c, each class's wheels' source per passage of its train [m^2] (source_power, axle_source_power).
+    weights : array_like, (classes,)
+        w_c [-].
+
+    Returns
+    -------
+    ndarray, (...)
+        [m^2 per fleet passage].
+    """
+    Qc, w = _class_arrays(Q, weights, "Q")
+    if np.any(Qc.imag != 0):
+        raise ValueError("Q: a mean square is real.")
+    return np.sum(w * Qc.real, axis=0)
+
+
+def _log1p_c(z):
+    """log(1 + z) for complex z, accurate where abs(z) is small [-]."""
+    x, y = z.real, z.imag
+    return 0.5 * np.log1p(2 * x + x * x + y * y) + 1j * np.arctan2(y, 1 + x)
+
+
+def _expm1_c(w):
+    """exp(w) - 1 for complex w, accurate where abs(w) is small [-] (an imaginary part of 0 stays 0 on overflow)."""
+    u, v = w.real, w.imag
+    return np.expm1(u) * np.cos(v) - 2 * np.sin(v / 2) ** 2 + 1j * np.where(v == 0, 0.0, np.exp(u) * np.sin(v))
+
+
+def _geometric_mix(n, alpha, kappa):
+    """sum_{i=0}^{n-1} (1 + alpha)^(n-1-i) (1 + kappa)^i [-], by the ratio of the smaller factor to the larger
+    (no overflow of the ratio's power; exp, expm1 and log1p keep it accurate where both factors are near 1)."""
+    alpha = np.asarray(alpha, dtype=complex)
+    kappa = np.asarray(kappa, dtype=complex)
+    swap = np.abs(1 + kappa) > np.abs(1 + alpha)
+    big = np.where(swap, kappa, alpha)
+    rm1 = (np.where(swap, alpha, kappa) - big) / (1 + big)  # r - 1, r = small / big
+    geo = np.where(rm1 == 0, n + 0j, _expm1_c(n * _log1p_c(rm1)) / np.where(rm1 == 0, 1, rm1))
+    return (1 + _expm1_c((n - 1) * _log1p_c(big))) * geo
+
+
+def _comb_spread(rates, sources, weights, mean_rate):
+    """The fleet's mean comb (R, s, mu = s / R) and the spread's coefficients A, B, C of sum_c w_c abs(x_c - y_c b^i)^2,
+    x_c = (R_c - R) mu - (s_c - s), y_c = (R_c - R) mu, b = 1 - R (module docstring)."""
+    Rc, w = _class_arrays(rates, weights)
+    sc = np.asarray(sources, dtype=float)
+    if sc.shape != Rc.shape:
+        raise ValueError(f"sources: give one row per class on the rates' lines, shape {Rc.shape}, got {sc.shape}.")
+    R = np.sum(w * Rc, axis=0) if mean_rate is None else np.asarray(mean_rate, dtype=complex)
+    s = np.sum(w * sc, axis=0)
+    mu = np.where(R != 0, s / np.where(R == 0, 1, R), 0.0)
+    y = (Rc - R) * mu
+    x = y - (sc - s)
+    A = np.sum(w * np.abs(x) ** 2, axis=0)
+    B = np.sum(w * x * np.conj(y), axis=0)
+    C = np.sum(w * np.abs(y) ** 2, axis=0)
+    alpha = np.sum(w * (np.abs(Rc) ** 2 - 2 * Rc.real), axis=0)  # a - 1, without the rounding of a near 1
+    return R, s, mu, A, B, C, alpha
+
+
+def fleet_comb_mean_square(n, rates, sources, weights, mean_rate=None):
+    """The supports' comb under a fleet: its expected mean square after n fleet passages from zero [m^2],
+    (abs(m_n)^2 + V_n) / 2 (module docstring): the mean comb m_n of the fleet's rate and source, and the spread
+    V_n = sum_{i<n} a^(n-1-i) sum_c w_c abs((R_c - R) m_i - (s_c - s))^2 that the draw of the class adds.
+
+    Parameters
+    ----------
+    n : array_like
+        Fleet passages [-], >= 0 (broadcast against the lines).
+    rates : array_like, complex, (classes, lines)
+        R_c per passage of the class's train [-].
+    sources : array_like, (classes, lines)
+        s_c, each class's comb source per passage of its train [m] (the spectrum's ``source``), taken in phase.
+    weights : array_like, (classes,)
+        w_c [-].
+    mean_rate : array_like, complex, (lines,), optional
+        R, the fleet's rate per fleet passage [-] (default sum_c w_c R_c; at a locked line the fleet spectrum's
+        eigenvalue of the weighted operators).
+
+    Returns
+    -------
+    ndarray
+        [m^2]; for one class of weight 1 the one train's abs(c_n)^2 / 2 exactly; inf where the closed form
+        overflows (a line that grows).
+    """
+    n = np.asarray(n, dtype=float)
+    R, s, mu, A, B, C, alpha = _comb_spread(rates, sources, weights, mean_rate)
+    with np.errstate(divide="ignore", invalid="ignore", over="ignore"):
+        mean = _comb_mean_square(n, R, s)
+        bm1 = -R  # b - 1
+        parts = [(A, _geometric_mix(n, alpha, 0.0)), (-2 * B, np.conj(_geometric_mix(n, np.conj(alpha), bm1))),
+                 (C, _geometric_mix(n, alpha, np.abs(bm1) ** 2 - 2 * R.real))]
+        V = sum(np.where(k != 0, (k * F).real, 0.0) for k, F in parts)
+        V = np.where(np.isnan(V), np.inf, V)  # only an overflow of the closed form (a growing line) gives NaN here
+    return mean + np.maximum(V, 0.0) / 2
+
+
+def fleet_settled_comb(rates, sources, weights, mean_rate=None):
+    """The level the supports' comb settles to under a fleet [m^2], (abs(s / R)^2 + A / (1 - a)) / 2 with
+    A = sum_c w_c abs((R_c - R) s / R - (s_c - s))^2 (fleet_comb_mean_square's limit); inf where a >= 1 and the comb
+    is not zero.
+
+    Parameters
+    ----------
+    rates, sources, weights, mean_rate
+        As fleet_comb_mean_square.
+
+    Returns
+    -------
+    ndarray, (lines,)
+        [m^2]; for one class the one train's abs(s / R)^2 / 2 exactly.
+    """
+    R, s, mu, A, B, C, alpha = _comb_spread(rates, sources, weights, mean_rate)
+    a = fleet_decay_factor(rates, weights)
+    with np.errstate(divide="ignore", invalid="ignore"):
+        mean = np.abs(s / np.where(R == 0, 1, R)) ** 2 / 2
+        spread = np.where(A != 0, A / (1 - np.where(a < 1, a, 0.0)) / 2, 0.0)
+        return np.where(a < 1, mean + spread, np.where((s > 0) | (A > 0), np.inf, 0.0))

@@ -39,7 +39,7 @@ MAX_ROUGHNESS_BAYS = 64  # the schema's bound on roughness.bays (config/schema: 
 __all__ = ["HalfSpaceFigureSettings", "PASSAGE_KEYS", "OPTIONAL_KEYS", "elastic", "fleet",
            "fleet_classes", "track_cell", "passage_scenario", "scenario", "spectrum_scenario", "track",
            "physics_problems", "halfspace_numerics", "halfspace_figures",
-           "NoiseSettings", "noise_settings"]
+           "NoiseSettings", "noise_settings", "wheel_source_settings", "wheel_source_vehicles"]
 
 
 @dataclass(frozen=True, slots=True)
@@ -97,7 +97,8 @@ class NoiseSettings:
 
 def wheel_source_settings(cfg: dict):
     """wheel_source of a resolved configuration as the spectrum's jobs read it (rail.setup.inputs.wheel_source_spectra):
-    None without a source (roughness none), else (roughness, file, ground, ground_file) with each absent key at its default.
+    None without a source (roughness none; a fleet: every vehicle's none), else (roughness, file, ground, ground_file) with
+    each absent key at its default, and for a fleet each vehicle's (wheel_source_vehicles).
 
     Parameters
     ----------
@@ -110,9 +111,39 @@ def wheel_source_settings(cfg: dict):
         (roughness, file, ground, ground_file) [names and paths].
     """
     w = cfg.get("wheel_source") or {}
-    if w.get("roughness", "none") == "none":
+    vehicles = wheel_source_vehicles(cfg)
+    if vehicles is None:
+        return None if w.get("roughness", "none") == "none" else (w["roughness"], w.get("file"), setting(cfg, "wheel_source.ground"),
+                                                                 w.get("ground_file"))
+    if all(r == "none" for r, _ in vehicles.values()):
         return None
-    return (w["roughness"], w.get("file"), setting(cfg, "wheel_source.ground"), w.get("ground_file"))
+    return (w.get("roughness", "none"), w.get("file"), setting(cfg, "wheel_source.ground"), w.get("ground_file"),
+            tuple(sorted(vehicles.items())))
+
+
+def wheel_source_vehicles(cfg: dict):
+    """Each fleet vehicle's wheels' roughness as it is read: its own fleet.vehicles[*].wheel_source, or the top-level
+    wheel_source's roughness and file (none by default); None without a fleet.
+
+    Parameters
+    ----------
+    cfg : dict
+        A resolved, validated configuration.
+
+    Returns
+    -------
+    dict or None
+        {vehicle name: (roughness, file or None)} [names and paths].
+    """
+    if cfg.get("fleet") is None:
+        return None
+    w = cfg.get("wheel_source") or {}
+    top = (w.get("roughness", "none"), w.get("file") if w.get("roughness") == "file" else None)
+    out = {}
+    for v in cfg["fleet"]["vehicles"]:
+        own = v.get("wheel_source")
+        out[str(v["name"])] = top if not own else (own["roughness"], own.get("file") if own["roughness"] == "file" else None)
+    return out
 
 
 def noise_settings(cfg: dict) -> NoiseSettings:

@@ -19,7 +19,7 @@ from .build import fleet_classes, physics_problems
 from .config import ConfigError
 
 __all__ = ["FILE_KEYS", "MAX_SPEED", "resolve_paths", "measured_decay_file", "check_inputs", "check_speed", "fleet_checked", "band_inputs",
-           "wheel_source_spectra", "noise_problem", "noise_files"]
+           "wheel_source_spectra", "vehicle_wheel_key", "noise_problem", "noise_files"]
 
 MAX_SPEED = 300.0  # m/s, the schema's bound on a configured speed (config/schema: speeds.items.maximum)
 
@@ -38,7 +38,7 @@ def _get(cfg: dict, keys):
 
 
 def resolve_paths(cfg: dict, root) -> dict:
-    """The configuration with every relative file path (FILE_KEYS) made relative to the project
+    """The configuration with every relative file path (FILE_KEYS, and fleet.vehicles[*].wheel_source.file) made relative to the project
     folder ``root`` instead of the current folder (a copy; absolute paths and empty keys unchanged).
 
     Parameters
@@ -61,6 +61,10 @@ def resolve_paths(cfg: dict, root) -> dict:
             for k in keys[:-1]:
                 node = node[k]
             node[keys[-1]] = str(root / str(value))
+    for v in (out.get("fleet") or {}).get("vehicles", []):  # a fleet vehicle's own wheel roughness file
+        own = v.get("wheel_source") or {}
+        if own.get("file") and not Path(str(own["file"])).is_absolute():
+            own["file"] = str(root / str(own["file"]))
     return out
 
 
@@ -269,9 +273,45 @@ def band_inputs(cfg: dict, scn: Scenario) -> dict:
     }
 
 
+def _wheel_spectrum(name: str, file, key: str):
+    """The wheels' roughness a wheel_source section names (key: where, for the messages), or None for none."""
+    from ..noise.named import RoughnessSpectrum, named_spectrum
+
+    if name == "none":
+        return None
+    if name != "file":
+        return named_spectrum(name, "wheel")
+    if not file:
+        raise ValueError(f"{key}.roughness = 'file' needs {key}.file: a CSV wavelength_m,level_dB of the wheels' roughness.")
+    try:
+        return RoughnessSpectrum(*read_third_octave_spectrum(file), f"the file {file}")
+    except (OSError, ValueError) as e:
+        raise ValueError(f"{key}.file: {e}") from None
+
+
+def vehicle_wheel_key(cfg: dict, i: int) -> str:
+    """The key that sets fleet vehicle i's wheels' roughness: its own wheel_source, or the top-level one it takes.
+
+    Parameters
+    ----------
+    cfg : dict
+        A resolved configuration with a fleet.
+    i : int
+        The vehicle's index in fleet.vehicles [-].
+
+    Returns
+    -------
+    str
+        ``fleet.vehicles[i] (<name>).wheel_source`` or ``wheel_source``.
+    """
+    v = cfg["fleet"]["vehicles"][i]
+    return f"fleet.vehicles[{i}] ({v['name']}).wheel_source" if v.get("wheel_source") else "wheel_source"
+
+
 def wheel_source_spectra(cfg: dict):
     """The wheels' roughness, the ground rail and the limit of a configuration's wheel_source (rail.studies.wheel_source),
-    read here so that the studies read no file; None without a source.
+    read here so that the studies read no file; None without a source. A fleet's vehicles each take their own
+    (fleet.vehicles[*].wheel_source) or the top-level wheel_source.roughness; the ground rail is the top-level's.
 
     Parameters
     ----------
@@ -281,32 +321,30 @@ def wheel_source_spectra(cfg: dict):
     Returns
     -------
     dict or None
-        wheel, ground, limit: rail.noise.named.RoughnessSpectrum (limit None without figures.bands.limit).
+        wheel, ground, limit: rail.noise.named.RoughnessSpectrum (limit None without figures.bands.limit; for a fleet
+        wheel the top-level's or None); for a fleet also vehicles: {vehicle name: RoughnessSpectrum or None (none)}.
+        None where no wheel is rough (one train: roughness none; a fleet: every vehicle's none).
 
     Raises
     ------
     ValueError
         Naming the key: a file missing or not a spectrum (rail.roughness.read_spectrum_table's checks), roughness
-        'file' without a file (roughness or ground), or a source on a fleet (not yet read per vehicle).
+        'file' without a file (roughness or ground; a vehicle's fleet.vehicles[i] (<name>).wheel_source).
     """
     from ..noise.named import RoughnessSpectrum, named_spectrum
 
     w = cfg.get("wheel_source") or {}
-    name = w.get("roughness", "none")
-    if name == "none":
-        return None
+    wheel = _wheel_spectrum(w.get("roughness", "none"), w.get("file"), "wheel_source")
+    vehicles = None
     if "fleet" in cfg:
-        raise ValueError(f"wheel_source.roughness = {name!r} is not allowed with a fleet yet: the wheels' source is computed for "
-                         "one train (its spectrum); set it to none for a fleet.")
-    if name == "file":
-        if not w.get("file"):
-            raise ValueError("wheel_source.roughness = 'file' needs wheel_source.file: a CSV wavelength_m,level_dB of the wheels' roughness.")
-        try:
-            wheel = RoughnessSpectrum(*read_third_octave_spectrum(w["file"]), f"the file {w['file']}")
-        except (OSError, ValueError) as e:
-            raise ValueError(f"wheel_source.file: {e}") from None
-    else:
-        wheel = named_spectrum(name, "wheel")
+        vehicles = {}
+        for i, v in enumerate(cfg["fleet"]["vehicles"]):
+            own = v.get("wheel_source")
+            vehicles[str(v["name"])] = wheel if not own else _wheel_spectrum(own["roughness"], own.get("file"), vehicle_wheel_key(cfg, i))
+        if all(x is None for x in vehicles.values()):
+            return None
+    elif wheel is None:
+        return None
     g = str(w.get("ground", "E"))
     if g in ("E", "M"):
         ground = named_spectrum(g, "rail")
@@ -319,7 +357,10 @@ def wheel_source_spectra(cfg: dict):
             raise ValueError(f"wheel_source.ground_file: {e}") from None
     lim = cfg["figures"]["bands"].get("limit")
     limit = RoughnessSpectrum(*read_limit_spectrum(lim), f"the file {lim}") if lim else None
-    return {"wheel": wheel, "ground": ground, "limit": limit}
+    out = {"wheel": wheel, "ground": ground, "limit": limit}
+    if vehicles is not None:
+        out["vehicles"] = vehicles
+    return out
 
 
 def noise_problem(cfg: dict, speed: float | None = None) -> str | None:

@@ -31,9 +31,9 @@ from types import MappingProxyType
 
 from ..chain import wheel_offsets
 from ..roughness import RoughnessInputWarning
-from .build import fleet_classes, model_notes, scenario, spectrum_scenario
+from .build import fleet_classes, model_notes, scenario, spectrum_scenario, wheel_source_settings
 from .config import ConfigError, check_scenario_names, expand_sweep, load_yaml, resolve_scenario_file, scenario_files, schema_unit
-from .inputs import check_inputs, check_speed, fleet_checked, noise_files, noise_problem
+from .inputs import check_inputs, check_speed, fleet_checked, noise_files, noise_problem, wheel_source_spectra
 from .study_files import (SPEED_STUDY, check_convergence_study, class_estimate, class_key, read_studies, study_summary, traffic_cases,
                           uncertainty_study)
 from .tables import table_key
@@ -273,8 +273,11 @@ class Plan:
         growth, growth-rate spectrum, overview, band view (issue 45: the outputs of a one-train run) and noise."""
         if name in self.fleet_classes:  # and its noise where it can be computed (issue 56: rule fleet_noise)
             noise = [f"results/fleet/{name}/growth_noise.{x}" for x in ("png", "csv")] if noise_problem(self.scenarios[name]) is None else []
+            settled = ([f"results/fleet/{name}/settled.{x}" for x in ("png", "csv", "md")]  # its wheels' source (rule fleet_settled_spectrum)
+                       if wheel_source_settings(self.scenarios[name]) is not None else [])
             return [f"results/fleet/{name}/growth.nc", f"results/fleet/{name}/rate_spectrum.nc", f"results/fleet/{name}/rate_spectrum.png",
-                    f"results/fleet/{name}/overview.png", f"results/fleet/{name}/bands.png", f"results/fleet/{name}/bands.csv", *noise]
+                    f"results/fleet/{name}/overview.png", f"results/fleet/{name}/bands.png", f"results/fleet/{name}/bands.csv", *noise,
+                    *settled]
         if name in self.sweeps:
             runs = [(p.name, p.speed) for p in self.sweeps[name].points]
             extra = [f"results/sweeps/{name}.nc", f"results/sweeps/{name}.png"]
@@ -307,9 +310,10 @@ class Plan:
         st, out = self.studies[name], []
         for n in st["include"] + st["cases"]:
             if st["builds"][n] in ("spectrum", "settled") and n in self.scenarios:
-                out.append(f"results/spectrum/{n}/rate_spectrum.png")
+                folder = "fleet" if n in self.fleet_classes else "spectrum"  # a fleet's: rules fleet_rate_spectrum, fleet_settled_spectrum
+                out.append(f"results/{folder}/{n}/rate_spectrum.png")
                 if st["builds"][n] == "settled":  # and the wheels' source (wheel_source, rule settled_spectrum)
-                    out.append(f"results/spectrum/{n}/settled.png")
+                    out.append(f"results/{folder}/{n}/settled.png")
             elif st["builds"][n] == "study" and (n in self.scenarios or n in self.sweeps):
                 out += self.study_targets(n)
         summary = {"speed_study": lambda: ["results/dynamic_creepage/speeds.png"], "closure_study": self.closure_targets,
@@ -571,6 +575,17 @@ def _left_out(name: str, broken, files) -> str | None:
 # -- building the plan ---------------------------------------------------------------------------
 
 
+def _class_keys(cfg: dict, name: str, source: str) -> list[str]:
+    """The class spectrum keys of a fleet scenario (class_key), each with its vehicle's wheels' roughness where the
+    fleet's wheels are a source (a file that cannot be read: the scenario's ConfigError, as check_inputs words it)."""
+    try:
+        wheels = (wheel_source_spectra(cfg) or {}).get("vehicles", {})
+    except (OSError, ValueError) as e:
+        raise ConfigError(f"scenario {name} ({source}): {e}") from None
+    return [class_key(c, cfg["figures"]["rate_spectrum"], wheels.get(c.vehicle))
+            for c in fleet_classes(cfg, spectrum_scenario(cfg, name, source))]
+
+
 def plan(config: dict, schema: dict, root=".") -> Plan:
     """The workflow's plan from a validated configuration and the files of ``root``/config/.
 
@@ -624,8 +639,7 @@ def plan(config: dict, schema: dict, root=".") -> Plan:
 
     objects = each(scenarios, lambda name: scenario(scenarios[name], name, sources[name]))
     classes = _fleet_classes(scenarios, sources, sweeps, objects, each)
-    spectrum_keys = each(classes, lambda name: [class_key(c, scenarios[name]["figures"]["rate_spectrum"]) for c in fleet_classes(
-        scenarios[name], spectrum_scenario(scenarios[name], name, sources[name]))])
+    spectrum_keys = each(classes, lambda name: _class_keys(scenarios[name], name, sources[name]))
     notes = _input_notes(scenarios, sources, objects, each)
     for name in [n for n in scenarios if owner.get(n) in broken]:  # every scenario of a file left out
         for d in (scenarios, sources, objects, classes, spectrum_keys):

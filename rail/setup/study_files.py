@@ -298,7 +298,7 @@ CLASS_SPECTRUM_READS = ("track", "track_numerics", "wheels", "spring", "material
                         "speeds", "cell")
 
 
-def class_key(fleet_class, settings: dict) -> str:
+def class_key(fleet_class, settings: dict, wheel=None) -> str:
     """A name for one class's spectrum that says what it holds and is the same in every fleet holding
     the class: ``<vehicle>_V<speed>_<hash>``, the vehicle's name (characters other than letters,
     digits, ``.`` and ``-`` written as ``-``), the speed to four significant figures, and a hash of
@@ -315,6 +315,10 @@ def class_key(fleet_class, settings: dict) -> str:
     fleet_class : rail.fleet.FleetClass
     settings : dict
         figures.rate_spectrum (shortest, longest, per_octave, eps, grid_phases, bays) [m, -].
+    wheel : rail.noise.named.RoughnessSpectrum, optional
+        The vehicle's wheels' roughness where the fleet's wheels are a source (rail.setup.inputs.wheel_source_spectra):
+        its band centres [m] and levels [dB re 1 µm] are hashed too (the class file then carries the source's arrays,
+        rail.studies.wheel_source.class_source_arrays); without one (None) the key is the one before the source existed.
 
     Returns
     -------
@@ -329,6 +333,8 @@ def class_key(fleet_class, settings: dict) -> str:
     read = {field: getattr(scn, field) for field in CLASS_SPECTRUM_READS}
     read["bays"] = scn.roughness.bays  # the spectrum's period (its roughness is the smooth rail's)
     text = repr(read) + json.dumps({k: settings[k] for k in sorted(settings) if k != "speeds"}, sort_keys=True, default=str)
+    if wheel is not None:  # the wheels' source: what the class file's source arrays read (none: the key as before)
+        text += json.dumps({"wheel_source": [np.asarray(wheel.centres).tolist(), np.asarray(wheel.levels).tolist()]})
     vehicle = re.sub(r"[^A-Za-z0-9.-]+", "-", str(fleet_class.vehicle)).strip("-") or "vehicle"
     return f"{vehicle}_V{fleet_class.speed:.4g}_{hashlib.sha256(text.encode()).hexdigest()[:16]}"
 

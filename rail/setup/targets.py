@@ -26,7 +26,7 @@ from collections.abc import Mapping
 from dataclasses import dataclass, field
 
 from ..creepage.choices import wheelset_model
-from .build import OPTIONAL_KEYS, PASSAGE_KEYS
+from .build import OPTIONAL_KEYS, PASSAGE_KEYS, wheel_source_settings
 from .config import ConfigError, deep_merge, schema_default, setting
 
 __all__ = ["known_value", "speed_label", "fleet_speed_label", "wear_frequency_label", "closure_label", "config_part", "physics_part", "track_part",
@@ -274,8 +274,10 @@ def read_part(cfg: dict, schema: dict, base: bool = False) -> dict:
     if base:
         return out
     out = copy.deepcopy(out)
-    if (out.get("wheel_source") or {}).get("roughness", "none") == "none":  # no source: its other keys unread
+    if wheel_source_settings(out) is None:  # no source (a fleet: no vehicle's wheels rough): its other keys unread
         out.pop("wheel_source", None)
+        for v in (out.get("fleet") or {}).get("vehicles", []):
+            v.pop("wheel_source", None)
     if "rail_flexibility" not in out:
         for key in RAIL_HEAD_KEYS:
             _drop(out, key.split("."))

@@ -124,6 +124,34 @@ rule fleet_rate_spectrum:
         "../scripts/fleet_rate_spectrum.py"
 
 
+rule fleet_settled_spectrum:
+    """The expected rail roughness under a fleet's wheels' roughness (wheel_source per vehicle, issue 58): per fleet
+    passage S_{n+1} = a S_n + Q, a = sum_c w_c abs(1 - R_c)^2, Q = sum_c w_c Q_c; the level each band settles to and
+    the time from a ground rail to the limit, from the fleet's spectrum (which carries the source)."""
+    priority: PRIORITY_KERNELS  # a short drawing job: not queued behind long jobs (issue 57)
+    localrule: True
+    input:
+        "results/fleet/{scenario}/rate_spectrum.nc",
+    output:
+        figure=report("results/fleet/{scenario}/settled.png", caption="../report/settled_spectrum.rst", category="Wheels' roughness",
+                      subcategory="{scenario}"),
+        csv=report("results/fleet/{scenario}/settled.csv", caption="../report/settled_spectrum.rst", category="Wheels' roughness",
+                   subcategory="{scenario}"),
+        summary=report("results/fleet/{scenario}/settled.md", caption="../report/settled_spectrum.rst", category="Wheels' roughness",
+                       subcategory="{scenario}"),
+    params:
+        code=code("settled_spectrum.py"),
+    resources:
+        mem_mb=300,
+        runtime=5,
+    log:
+        "logs/fleet/{scenario}/settled.log",
+    benchmark:
+        "benchmarks/fleet/{scenario}/settled.tsv"
+    script:
+        "../scripts/settled_spectrum.py"
+
+
 rule traffic_study_summary:
     """The traffic study's cases side by side: growth-rate spectrum per case, one-third-octave band rates,
     what the pinned-pinned and the fastest-growing bands do across the spreads and drives."""

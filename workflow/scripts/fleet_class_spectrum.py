@@ -6,9 +6,9 @@ from pathlib import Path
 import numpy as np
 
 from rail import chain
-from rail.setup import build, io
+from rail.setup import build, inputs, io
 from rail.setup.progress import Tee, progress_lines
-from rail.studies import datasets, rate_spectrum
+from rail.studies import datasets, rate_spectrum, wheel_source
 from rail.studies import fleet as fleet_study
 
 
@@ -25,8 +25,12 @@ def main(config, name, index, speed, table_path, out_path, log, label=""):
                                                   progress=progress_lines(log))
     print(f"{name}, class {index} ({c.label}): {len(sp.line)} lines, linearity {sp.linearity:.2e}, method {sp.method}",
           file=log, flush=True)
+    # the wheels' source (wheel_source: each axle's own rate and the vehicle's wheel roughness; none: nothing added)
+    wheels = (inputs.wheel_source_spectra(config) or {}).get("vehicles", {})
+    extra = wheel_source.class_source_arrays(c.scenario, tab, config["figures"]["rate_spectrum"], sp, wheels.get(c.vehicle),
+                                             progress=progress_lines(log))
     with open(out_path, "wb") as fh:
-        np.savez(fh, **fleet_study.spectrum_arrays(sp))
+        np.savez(fh, **fleet_study.spectrum_arrays(sp), **extra)
 
 
 if __name__ == "__main__":

@@ -1,5 +1,6 @@
 """The expected rail roughness under the wheels' roughness (wheel_source, rail.studies.wheel_source): the figure,
-the band CSV and the summary from a scenario's growth-rate spectrum over its speeds."""
+the band CSV and the summary from a scenario's growth-rate spectrum over its speeds, or from a fleet's spectrum
+(rules settled_spectrum and fleet_settled_spectrum)."""
 
 import sys
 
@@ -12,9 +13,9 @@ def main(data_path, figure_path, csv_path, summary_path, scenario):
     with io.open_intermediate(data_path) as ds:
         ds = ds.load()
     if "settled_band_level_dB" not in ds:
-        raise SystemExit(f"scenario {scenario}: its spectrum has no wheels' source (wheel_source.roughness is none); "
-                         "set wheel_source.roughness (cast_iron, composite, disc or file) to build results/spectrum/"
-                         f"{scenario}/settled.png.")
+        raise SystemExit(f"scenario {scenario}: its spectrum has no wheels' source (wheel_source.roughness is none, and so is "
+                         "every fleet vehicle's); set wheel_source.roughness (cast_iron, composite, disc or file; a fleet: or "
+                         f"fleet.vehicles[*].wheel_source.roughness) to build {figure_path}.")
     settled_figure(ds).savefig(figure_path, dpi=150)
     with open(csv_path, "w") as fh:
         fh.write(wheel_source.settled_csv_text(ds))
