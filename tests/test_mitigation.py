@@ -166,3 +166,19 @@ def test_the_interval_of_a_growing_band_is_finite_and_of_a_decaying_one_set_by_t
     assert grow["interval_years"] == pytest.approx(grow["interval_axles"] / (365 * 20000.0), rel=1e-12)
     assert np.isinf(decay["interval_axles"]) and np.isnan(decay["interval_band_mm"])
     assert np.isinf(grow["settled_peak_band_dB"]) and np.isfinite(decay["settled_peak_band_dB"])
+
+
+def test_a_spread_cases_union_of_lines_and_a_one_speed_case_mix_on_their_common_lines():
+    # the spread case's spectrum holds the lines of three speeds' bands (a union); a one-speed case of the same period
+    # holds the nominal speed's alone, a subset: the driven share mixes them there, line by line
+    wide = spectrum(39.0, band_rates(39.0, 1130.0))
+    narrow = wide.isel(wavelength=slice(10, 40))
+    a, b = M.on_common_lines(wide, narrow)
+    np.testing.assert_array_equal(a.line.values, narrow.line.values)
+    np.testing.assert_array_equal(a.growth_rate.values, narrow.growth_rate.values)
+    with pytest.raises(ValueError, match="same lines"):
+        M.mixture([wide, narrow], [0.5, 0.5])
+    other = narrow.copy()
+    other.attrs["bays"] = 8
+    with pytest.raises(ValueError, match="different periods"):
+        M.on_common_lines(wide, other)
