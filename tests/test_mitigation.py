@@ -182,3 +182,11 @@ def test_a_spread_cases_union_of_lines_and_a_one_speed_case_mix_on_their_common_
     other.attrs["bays"] = 8
     with pytest.raises(ValueError, match="different periods"):
         M.on_common_lines(wide, other)
+
+
+def test_the_rows_dataset_carries_units_and_long_names_on_every_variable():
+    V = 39.0
+    spread = xr.concat([spectrum(v, band_rates(v, 1130.0)) for v in (V * (1 - M.SPREAD), V, V * (1 + M.SPREAD))], dim="speed")
+    ds = M.rows_dataset(M.mitigation_rows({V: spread}, {}))
+    for name in list(ds.data_vars) + list(ds.coords):
+        assert ds[name].attrs.get("units") and ds[name].attrs.get("long_name"), name

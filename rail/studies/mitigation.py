@@ -296,7 +296,7 @@ def rows_dataset(rows: list[dict]) -> xr.Dataset:
     data = {k: data_var("row", np.array([r[k] for r in rows], dtype=float), *units[k]) for k in units if k in rows[0]}
     data["case"] = data_var("row", np.array([r["case"] for r in rows]), "1", "the mitigation")
     data["verdict"] = data_var("row", np.array([r["verdict"] for r in rows]), "1", "against the default track at the speed")
-    return xr.Dataset(data, coords={"row": n})
+    return xr.Dataset(data, coords={"row": data_var("row", n, "1", "row of the study's table (mitigation.csv)")})
 
 
 COLUMNS = [("case", "case", ""), ("speed_m_s", "speed_m_s", "{:g}"), ("f_pp_Hz", "f_pp_Hz", "{:.1f}"), ("peak_Hz", "peak_Hz", "{:.1f}"),
