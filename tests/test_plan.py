@@ -66,13 +66,14 @@ def test_every_named_target_list_is_reproduced(P, target, method):
 # dyn_rail_pinned_stiff and dynspeed_*_stiff. dyn_rail_shear_soft and dyn_rail_shear_stiff change only the pads'
 # longitudinal stiffness, which no vertical track result reads (rail.setup.targets.RAIL_HEAD_KEYS): their track is
 # the default's (issue 57, item 5)
-ADDED_TRACKS = ("dyn_rail_pinned_stiff",)
+ADDED_TRACKS = ("dyn_rail_pinned_stiff", "tm_dampers_39", "tm_dampers_60")  # and the damper cells of track_mitigation.yaml
 ADDED_SINCE = ("ws_disc", "ws_cast_iron", "ws_rail_cast_iron",
                "dyn_fixed", "dyn_rigid", "dyn_trailer", "dyn_trailer_independent", "dyn_driven", "dyn_rail", "dyn_rail_trailer",
                "dyn_rail_driven", "dyn_rail_pinned", "dyn_rail_pinned_slow",
                "dyn_rail_pinned_stiff", "dyn_rail_shear_soft", "dyn_rail_shear_stiff") + tuple(
     f"dynspeed_{m}{t}" for m in ("fixed", "trailer", "driven", "rail", "falling", "together") for t in ("", "_stiff")) + tuple(
-    f"tenhz_{m}" for m in ("fixed", "driven", "rail", "falling", "together", "together_soft", "together_stiff"))  # spectrum_band.yaml
+    f"tenhz_{m}" for m in ("fixed", "driven", "rail", "falling", "together", "together_soft", "together_stiff")) + tuple(  # spectrum_band.yaml
+    f"tm_{m}_{v}" for m in ("default", "dampers", "soft", "stiff", "trailer") for v in (39, 60))  # track_mitigation.yaml
 
 
 def test_every_study_target_is_reproduced_scenarios_sweeps_and_fleets(P):
