@@ -68,3 +68,20 @@ def test_a_zero_creepage_with_the_dynamic_creepage_is_refused_at_start_up_naming
     assert build.dynamic_creepage_problems(report, "zero.yaml") == []
     assert not [p for p in build.dynamic_creepage_problems(resolved({"contact": {"creepage": 1.0e-4}}), "small.yaml")
                 if "creepage" in p.split(":")[1]]
+
+
+def test_a_fleet_axle_at_zero_creepage_with_the_dynamic_creepage_is_refused_at_start_up_naming_the_vehicle(resolved):
+    # found by the fleet source's benchmark (tests/benchmarks/bench_wheel_source_fleet.py): a coach whose trailing axles
+    # rolled at exactly 0 under the rail's flexibility stopped after minutes ("did not settle"), as the one train did
+    from rail.setup import build
+
+    coach = {"name": "coach", "positions": [0.0, 2.6], "static_load": 6.0e4, "unsprung_mass": 900.0, "share": 0.5}
+    loco = {"name": "loco", "positions": [0.0, 3.3], "static_load": 1.0e5, "unsprung_mass": 1350.0, "share": 0.5, "creepage": [-0.001, -0.001]}
+    fleet = {"vehicles": [loco, {**coach, "creepage": [0.0, 0.0008]}], "speeds": {"values": [40.0], "weights": [1.0]}}
+    problems = [p for p in build.dynamic_creepage_problems(resolved({"fleet": fleet}), "f.yaml") if "creepage =" in p]
+    assert len(problems) == 1 and "fleet.vehicles[1] (coach).creepage = [0.0, 0.0008]" in problems[0] and "axle(s) 0" in problems[0]
+    assert "f.yaml" in problems[0]
+    rolling = {**fleet, "vehicles": [loco, {**coach, "creepage": [1.0e-4, 0.0008]}]}
+    assert not [p for p in build.dynamic_creepage_problems(resolved({"fleet": rolling}), "f.yaml") if "creepage =" in p]
+    report = resolved({"fleet": fleet, "rail_flexibility": {"model": "none"}})  # every axle the report's fixed creepage
+    assert not [p for p in build.dynamic_creepage_problems(report, "f.yaml") if "creepage =" in p]
