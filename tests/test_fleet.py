@@ -487,3 +487,31 @@ def test_every_scenario_field_is_hashed_by_the_class_key_or_named_as_unread():
 
     # every field of a Scenario is either hashed or named here as unread: a new field must be decided on
     assert set(CLASS_SPECTRUM_READS) | {"name", "growth", "roughness", "axles_per_day"} == {f.name for f in dc.fields(Scenario)}
+
+
+def test_a_fleets_band_is_resolved_at_every_class_speed_and_a_period_too_coarse_for_it_stops_at_start_up():
+    # fleet.spectrum.band (issue 55): the band just above pinned-pinned is about 50 Hz wide; a fleet's log-spaced lines
+    # (6 per octave, 12 % apart) lie 90-110 Hz apart there. Every class takes the same lines, each class's neighbours
+    # inside the band at most `spacing` apart at its own speed (judged here by the lines' frequencies j V / (N L)).
+    from rail.app import api
+    from rail.growth_spectrum import settings_lines
+
+    L = 0.6
+    fleet = {"vehicles": [{"name": "loco", "positions": [0.0], "static_load": 1.0e5, "unsprung_mass": 1350.0, "creepage": [-0.001],
+                           "share": 1.0}],
+             "speeds": {"distribution": "uniform", "low": 36.0, "high": 44.0, "classes": 3},
+             "spectrum": {"bays": 5, "band": {"low": 1000.0, "high": 1300.0, "spacing": 16.0}}}
+    study = api.load("default", changes={"fleet": fleet})
+    s = study.config["figures"]["rate_spectrum"]
+    assert s["speeds"] == pytest.approx([36.0 + 8.0 / 6, 40.0, 44.0 - 8.0 / 6])
+    lines = settings_lines(L, 5, study.scenario.harmonics, s)
+    plain = settings_lines(L, 5, study.scenario.harmonics, {**s, "band": None})
+    for V in s["speeds"]:
+        f = lines * V / (5 * L)
+        inside = f[(f >= 1000.0) & (f <= 1300.0)]
+        assert np.diff(inside).max() <= 16.0 * (1 + 1e-12) and inside.min() - 1000.0 < 16.0 and 1300.0 - inside.max() < 16.0, V
+        fp = plain * V / (5 * L)
+        assert np.diff(fp[(fp >= 1000.0) & (fp <= 1300.0)]).min() > 50.0  # without it: lines wider apart than the band
+    coarse = {**fleet, "spectrum": {**fleet["spectrum"], "band": {"low": 1000.0, "high": 1300.0, "spacing": 12.0}}}
+    with pytest.raises(config.ConfigError, match=r"fleet\.spectrum: a roughness period of 5 bays spaces the lines 14\.2 Hz apart at 42\.6667 m/s.* at least 6 bays"):
+        api.load("default", changes={"fleet": coarse})

@@ -151,7 +151,7 @@ def band_lines(L: float, bays: int, harmonics: int, speeds, low: float, high: fl
         raise ValueError(f"speeds = {speeds!r} are not allowed: give finite speeds > 0 m/s.")
     period = bays * L
     out = set()
-    for v in V:
+    for v in np.sort(V)[::-1]:  # the fastest first: its spacing is the coarsest, and the error names it
         df = v / period  # the lines' spacing at this speed [Hz]
         if df > spacing * (1 + 1e-12):
             raise ValueError(f"a roughness period of {bays} bays spaces the lines {df:.3g} Hz apart at {v:g} m/s, coarser than "

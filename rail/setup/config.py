@@ -568,7 +568,8 @@ def resolve(defaults: dict, schema: dict, scenario: dict | None = None, source: 
 def fleet_spectrum(cfg: dict, scenario: dict, schema: dict, source: str) -> dict:
     """A fleet's configuration with figures.rate_spectrum set to the class spectra's settings: the keys
     of fleet.spectrum as the file gives them, else the schema's defaults (sized for a 2-core, 8 GB
-    machine, docs/traffic.md); figures.rate_spectrum.speeds is kept (a fleet does not use it).
+    machine, docs/traffic.md); figures.rate_spectrum.speeds is kept (a fleet does not use it), except with
+    fleet.spectrum.band, which is resolved at the fleet's class speeds: they become its speeds.
 
     Parameters
     ----------
@@ -598,7 +599,15 @@ def fleet_spectrum(cfg: dict, scenario: dict, schema: dict, source: str) -> dict
     out = copy.deepcopy(cfg)
     out["figures"]["rate_spectrum"] = {**out["figures"]["rate_spectrum"],
                                        **{k: setting(out, f"fleet.spectrum.{k}", schema) for k in FLEET_SPECTRUM_KEYS}}
-    out["figures"]["rate_spectrum"].pop("band", None)  # the class spectra take fleet.spectrum's lines (it has no band)
+    band = (out["fleet"].get("spectrum") or {}).get("band")
+    out["figures"]["rate_spectrum"].pop("band", None)  # the class spectra take fleet.spectrum's lines: its band or none
+    if band:
+        # resolved at every class's speed, so that every class takes the same lines (the fleet's sum is per line)
+        from ..fleet import speed_classes
+
+        at = band.get("speeds") or speed_classes(out["fleet"]["speeds"]).speeds  # fleet.spectrum.band.speeds, else the classes'
+        out["figures"]["rate_spectrum"]["band"] = {k: float(band[k]) for k in ("low", "high", "spacing")}
+        out["figures"]["rate_spectrum"]["speeds"] = [float(v) for v in at]
     return out
 
 

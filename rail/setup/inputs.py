@@ -230,7 +230,7 @@ def check_inputs(cfg: dict, scn: Scenario, name: str, source: str, root=".") -> 
         try:  # the spectrum's period must resolve its longest wavelength, its shortest lie above L / K
             settings_lines(scn.L, int(s["bays"]), scn.harmonics, s)
         except ValueError as e:
-            raise ConfigError(f"{where}: figures.rate_spectrum: {e}") from None
+            raise ConfigError(f"{where}: {'fleet.spectrum' if cfg.get('fleet') else 'figures.rate_spectrum'}: {e}") from None
     file, key = measured_decay_file(cfg, name, root)
     if file:
         try:

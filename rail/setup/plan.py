@@ -749,7 +749,8 @@ def _traffic_cases(config, schema, study, path, scenarios, sources) -> dict:
         if name in scenarios:
             raise ConfigError(f"invalid configuration:\n  config/scenarios/{name}.yaml: the name is a case of the traffic study "
                               "(config/traffic_study.yaml): rename the file.")
-        scenarios[name] = read_part(resolve_scenario_file(config, schema, scen, source=f"{path} (case {name})", physics=False), schema)
+        # the scenario files' start (issue 55): the rail's flexibility; each vehicle names its wheelsets in the study's file
+        scenarios[name] = read_part(resolve_scenario_file(config, schema, scen, source=f"{path} (case {name})"), schema)
         sources[name] = f"{path} (case {name})"
     return cases
 

@@ -5,6 +5,7 @@ plan (rail.setup.plan), before any job runs; each problem is one line naming the
 
 from __future__ import annotations
 
+import copy
 import dataclasses
 from pathlib import Path
 
@@ -288,7 +289,17 @@ def traffic_cases(study: dict) -> dict:
                 speeds = {"distribution": "normal", "mean": float(V), "std": V * s / np.sqrt(3), "classes": n}
             fleet = {"vehicles": [{**v, "creepage": [float(creep[v["name"]])] * len(v["positions"])} for v in vehicles],
                      "speeds": speeds}
-            out[f"traffic_study-{d}-s{100 * s:g}"] = {"fleet": {**fleet, "spectrum": dict(study["spectrum"])}}
+            out[f"traffic_study-{d}-s{100 * s:g}"] = {"fleet": {**fleet, "spectrum": copy.deepcopy(study["spectrum"])}}
+    band = study["spectrum"].get("band") if isinstance(study["spectrum"], dict) else None
+    if band and "speeds" not in band:  # resolved at every case's speeds, so that a class is computed once for all cases
+        from ..fleet import speed_classes
+
+        try:
+            every = sorted({round(float(v), 9) for c in out.values() for v in speed_classes(c["fleet"]["speeds"]).speeds})
+        except ValueError as e:
+            raise _study_error("spreads", spreads, str(e)) from None
+        for c in out.values():
+            c["fleet"]["spectrum"]["band"]["speeds"] = every
     return out
 
 
