@@ -337,9 +337,20 @@ OLD_KEYS = {
 @pytest.mark.parametrize("kind", ["none", "section"])
 def test_an_old_single_wheelset_fleet_keeps_its_class_keys_and_runs_the_section_on_every_axle(defaults, schema, kind):
     scenario = {"fleet": copy.deepcopy(OLD_FLEET), **({"wheelset": OLD_SECTION} if kind == "section" else {})}
+    if kind == "section":
+        # the old file's coach rolls its first axle at exactly 0 under the motored section: since 2026-12-02 refused at
+        # start-up (it stopped after minutes, "did not settle"); the same file with a trailer's small drag keeps the rest
+        with pytest.raises(config.ConfigError, match=r"mix\.yaml: fleet\.vehicles\[1\] \(coach\)\.creepage = \[0\.0, 0\.0005\]: an axle at exactly 0"):
+            old = config.resolve(defaults, schema, scenario, source="mix.yaml")
+            build.spectrum_scenario(old, "mix", "mix.yaml")
+        scenario["fleet"]["vehicles"][1]["creepage"] = [1.0e-4, 0.0005]
     cfg = config.resolve(defaults, schema, scenario, source="mix.yaml")
     classes = build.fleet_classes(cfg, build.spectrum_scenario(cfg, "mix", "mix.yaml"))
-    assert [class_key(c, cfg["figures"]["rate_spectrum"]) for c in classes] == OLD_KEYS[kind]
+    keys = [class_key(c, cfg["figures"]["rate_spectrum"]) for c in classes]
+    if kind == "section":  # the locomotive's classes as recorded; the coach's read its new creepage, so their keys differ
+        assert keys[:3] == OLD_KEYS[kind][:3] and all(k not in OLD_KEYS[kind] for k in keys[3:])
+    else:
+        assert keys == OLD_KEYS[kind]
     section = build.scenario(cfg, "mix", "mix.yaml").material.longitudinal
     assert (section is None) == (kind == "none")
     for c in classes:  # every axle of every vehicle: the section (the report's fixed creepage without one)
@@ -349,17 +360,31 @@ def test_an_old_single_wheelset_fleet_keeps_its_class_keys_and_runs_the_section_
 
 
 def test_the_traffic_study_keeps_its_class_keys_and_targets():
-    # the class jobs of config/traffic_study.yaml's cases, computed from the cases as the plan resolves them, have
-    # the hashes of the lists frozen from the workflow at f51cf5e (tests/data/plan_expected.json, tests/test_plan.py)
+    # the class jobs of config/traffic_study.yaml's cases as the file was before its full-physics re-run (issue 55: no
+    # vehicle wheelsets, no band, resolved as a study's case, physics=False) have the hashes of the lists frozen from the
+    # workflow at f51cf5e (tests/data/plan_expected.json, tests/test_plan.py); as the file is now, every class is another
+    # job (it reads the rail's flexibility, its wheelsets and the band's lines), and the cases still share their classes
     expected = json.loads((ROOT / "tests/data/plan_expected.json").read_text())["jobs"]
     schema = config.load_yaml(ROOT / "config/schema/config.schema.yaml")
     defaults = config.validate_config(config.load_yaml(ROOT / "config/config.yaml"), schema)
-    cases = traffic_cases(config.load_yaml(ROOT / "config/traffic_study.yaml"))
-    assert len(cases) == 8
-    for name, scen in cases.items():
-        src = f"config/traffic_study.yaml (case {name})"
-        # a study's case keeps what its file says (physics=False, as the plan resolves it)
-        cfg = read_part(config.resolve_scenario_file(defaults, schema, scen, source=src, physics=False), schema)
-        keys = [class_key(c, cfg["figures"]["rate_spectrum"]) for c in build.fleet_classes(cfg, build.spectrum_scenario(cfg, name, src))]
-        assert [f"results/fleet/classes/{k.rsplit('_', 1)[-1]}.npz" for k in keys] == expected[f"fleet_rate_spectrum/{name}"]["input"]
-        assert all(re.fullmatch(r"(class87|coach)_V[0-9.]+_[0-9a-f]{16}", k) for k in keys)
+    study = config.load_yaml(ROOT / "config/traffic_study.yaml")
+    before = copy.deepcopy(study)
+    del before["spectrum"]["band"]
+    for v in before["vehicles"]:
+        del v["wheelsets"]
+    frozen, now = set(), {}
+    for physics, cases in ((False, traffic_cases(before)), (True, traffic_cases(study))):
+        assert len(cases) == 8
+        for name, scen in cases.items():
+            src = f"config/traffic_study.yaml (case {name})"
+            cfg = read_part(config.resolve_scenario_file(defaults, schema, scen, source=src, physics=physics), schema)
+            keys = [class_key(c, cfg["figures"]["rate_spectrum"]) for c in build.fleet_classes(cfg, build.spectrum_scenario(cfg, name, src))]
+            files = [f"results/fleet/classes/{k.rsplit('_', 1)[-1]}.npz" for k in keys]
+            assert all(re.fullmatch(r"(class87|coach)_V[0-9.]+_[0-9a-f]{16}", k) for k in keys)
+            if physics:
+                now[name] = keys
+            else:
+                assert files == expected[f"fleet_rate_spectrum/{name}"]["input"]
+                frozen |= set(keys)
+    assert not frozen & {k for ks in now.values() for k in ks}
+    assert len({k for ks in now.values() for k in ks}) == len(frozen) == 21  # one job per (vehicle, speed, drive), shared

@@ -120,10 +120,18 @@ def test_the_traffic_study_fleet_classes_and_their_shared_spectra(P):
     def frozen(key):
         return key.rsplit("_", 1)[-1]
 
+    # since the traffic study's full-physics re-run (issue 55) its classes read the rail's flexibility, their wheelsets and
+    # the band's lines: other hashes, the same jobs. Each case's class list maps position by position onto the frozen one,
+    # one to one, so the cases share their classes as before, and each job reads the frozen job's table and parameters
+    renamed = {}
     for name in P.traffic_cases:
-        assert [f"results/fleet/classes/{frozen(k)}.npz" for k in P.fleet_spectrum_keys[name]] == JOBS[f"fleet_rate_spectrum/{name}"]["input"]
+        old = [f.rsplit("/", 1)[-1][:-4] for f in JOBS[f"fleet_rate_spectrum/{name}"]["input"]]
+        assert len(old) == len(P.fleet_spectrum_keys[name])
+        for k, o in zip(P.fleet_spectrum_keys[name], old):
+            assert renamed.setdefault(frozen(k), o) == o
+    assert len(set(renamed.values())) == len(renamed) == 21
     for key, (name, i) in P.fleet_spectrum_jobs.items():
-        job = JOBS[f"fleet_class_spectrum/{frozen(key)}"]
+        job = JOBS[f"fleet_class_spectrum/{renamed[frozen(key)]}"]
         c = P.fleet_classes[name][i]
         bays = int(P.scenarios[name]["figures"]["rate_spectrum"]["bays"])
         assert [P.fleet_table_file(name, c.speed, bays)] == [f for f in job["input"] if "receptance" in f]
@@ -377,8 +385,12 @@ def test_a_fleets_default_class_spectra_fit_a_two_core_8_GB_machine(P):
     est = [class_estimate(c, cfg["figures"]["rate_spectrum"]) for c in classes]
     assert {(e.lines, e.axles) for e in est} == {(31, 4)}
     key = next(k for k, (name, i) in P.fleet_spectrum_jobs.items() if P.fleet_classes[name][i].vehicle == "class87")
-    e = P.fleet_class_estimate(key)  # a traffic-study class: the same settings, the same four axles
-    assert (e.lines, e.axles) == (31, 4)
+    e = P.fleet_class_estimate(key)  # a traffic-study class: the default lines and the band's (config/traffic_study.yaml)
+    name = P.fleet_spectrum_jobs[key][0]
+    s = P.scenarios[name]["figures"]["rate_spectrum"]
+    from rail.growth_spectrum import settings_lines
+    K = int(P.scenarios[name]["numerics"]["track"]["harmonics"])
+    assert (e.lines, e.axles) == (len(settings_lines(0.6, 5, K, s)), 4) and e.lines > 31
     res = P.fleet_class_resources(key)
     extra, factor = 300, 1.3  # mem_mb = its estimate x 1.3 + 300 (rail.setup.plan.Plan.fleet_class_resources)
     assert res["mem_mb"] == int(extra + factor * e.memory_mb) and res["runtime"] == int(10 + 3 * e.cpu_seconds / 60)
@@ -388,7 +400,8 @@ def test_a_fleets_default_class_spectra_fit_a_two_core_8_GB_machine(P):
     assert max(e.cpu_seconds for e in est) <= 600  # minutes, not half an hour, on one core
     # the coefficients cover every measured job (max_rss, MB; lines x axles): traffic study, first attempt
     # (61 x 4: locomotive 1893, coach 2183), at 31 x 4 (926-1485), and issue 45's class87 at 40 m/s (31 x 4)
-    for lines, axles, rss in ((61, 4, 1893), (61, 4, 2183), (31, 4, 1485), (31, 4, MEASURED_CLASS87_RSS)):
+    # and the full-physics re-run's classes (73 x 4 with the band: 957-1,397 MB, 2026-12-02)
+    for lines, axles, rss in ((61, 4, 1893), (61, 4, 2183), (31, 4, 1485), (31, 4, MEASURED_CLASS87_RSS), (73, 4, 1397)):
         assert CLASS_MEMORY_MB[0] + CLASS_MEMORY_MB[1] * lines * axles >= rss
     # the settings a fleet had before: one job alone would not have fitted beside another in 8 GB
     old = dict(cfg["figures"]["rate_spectrum"], bays=48, shortest=0.0, longest=0.6, per_octave=30, grid_phases=2)

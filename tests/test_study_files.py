@@ -127,11 +127,21 @@ def _without_band(cfg, source=""):
     """A configuration without figures.rate_spectrum.band: the scenario files' default band (issue 54) was added
     after the configurations were recorded (rail.setup.config.SCENARIO_FILE_DEFAULTS; tests/test_band_lines.py); and,
     for a file of config/scenarios/, without the full physics it starts from since issue 55 (the rail's flexibility and
-    the wheelset of rail.setup.config.scenario_file_physics), where the file does not set them itself."""
+    the wheelset of rail.setup.config.scenario_file_physics), where the file does not set them itself; for a case of the
+    traffic study, without the full physics it was re-run with (the rail's flexibility, each vehicle's wheelsets and the
+    fleet spectrum's band resolved at the study's class speeds, config/traffic_study.yaml)."""
     from rail.setup.config import scenario_file_physics
 
     out = copy.deepcopy(cfg)
     (out.get("figures") or {}).get("rate_spectrum", {}).pop("band", None)
+    if source.startswith("config/traffic_study.yaml"):  # the traffic study re-run with the full physics (issue 55)
+        out.pop("rail_flexibility", None)
+        for v in out["fleet"]["vehicles"]:
+            v.pop("wheelsets", None)
+        out["fleet"]["spectrum"].pop("band", None)
+        if not out["fleet"]["spectrum"]:
+            out["fleet"].pop("spectrum")
+        out["figures"]["rate_spectrum"]["speeds"] = load_yaml(ROOT / "config/config.yaml")["figures"]["rate_spectrum"]["speeds"]
     if source.startswith("config/scenarios/"):
         own = load_yaml(ROOT / source.split(" (")[0])
         for section in scenario_file_physics({"contact": {"creepage": -0.001}}, {k: own[k] for k in own if k != "contact"}):
