@@ -513,5 +513,6 @@ def test_a_fleets_band_is_resolved_at_every_class_speed_and_a_period_too_coarse_
         fp = plain * V / (5 * L)
         assert np.diff(fp[(fp >= 1000.0) & (fp <= 1300.0)]).min() > 50.0  # without it: lines wider apart than the band
     coarse = {**fleet, "spectrum": {**fleet["spectrum"], "band": {"low": 1000.0, "high": 1300.0, "spacing": 12.0}}}
-    with pytest.raises(config.ConfigError, match=r"fleet\.spectrum: a roughness period of 5 bays spaces the lines 14\.2 Hz apart at 42\.6667 m/s.* at least 6 bays"):
+    coarse_text = r"fleet\.spectrum: a roughness period of 5 bays spaces the lines 14\.2 Hz apart at 42\.6667 m/s.* at least 6 bays"
+    with pytest.raises(config.ConfigError, match=coarse_text):
         api.load("default", changes={"fleet": coarse})

@@ -340,7 +340,8 @@ def test_an_old_single_wheelset_fleet_keeps_its_class_keys_and_runs_the_section_
     if kind == "section":
         # the old file's coach rolls its first axle at exactly 0 under the motored section: since 2026-12-02 refused at
         # start-up (it stopped after minutes, "did not settle"); the same file with a trailer's small drag keeps the rest
-        with pytest.raises(config.ConfigError, match=r"mix\.yaml: fleet\.vehicles\[1\] \(coach\)\.creepage = \[0\.0, 0\.0005\]: an axle at exactly 0"):
+        refused = r"mix\.yaml: fleet\.vehicles\[1\] \(coach\)\.creepage = \[0\.0, 0\.0005\]: an axle at exactly 0"
+        with pytest.raises(config.ConfigError, match=refused):
             old = config.resolve(defaults, schema, scenario, source="mix.yaml")
             build.spectrum_scenario(old, "mix", "mix.yaml")
         scenario["fleet"]["vehicles"][1]["creepage"] = [1.0e-4, 0.0005]
