@@ -21,7 +21,7 @@ OTHER = """fleet:
       positions: [0.0, 1.8, 5.0]
       static_load: 4.0e+4
       unsprung_mass: 500.0
-      creepage: [0.0, -0.001, 0.0]
+      creepage: [1.0e-4, -0.001, 1.0e-4]
       share: 1.0
   speeds: {values: [40.0, 44.0], weights: [0.5, 0.5]}
 """
