@@ -23,7 +23,7 @@ from dataclasses import dataclass
 
 import numpy as np
 
-from .track import (Ballast, Pad, Sleeper, Track, damped_stiffness, free_receptance, free_receptance_poles, require_nonnegative,
+from .track import (Ballast, Pad, Sleeper, Track, damped_stiffness, free_receptance, free_receptance_poles, lattice_factors, require_nonnegative,
                     require_positive)
 
 __all__ = ["Support", "RailDamper", "TrackCell", "RandomSupports", "make_cell", "point_stiffness", "cell_lattice_sum", "cell_lattice_sums_excluding",
@@ -242,8 +242,7 @@ def cell_lattice_sum(beta, omega, x: float, period: float, track: Track, poles=N
     xr = x + P if x < 0 else x
     for cj, pj in zip(c, p):
         if xr == 0.0:
-            z = np.exp(1j * pj * P)
-            out = out + cj * (P / (2 * pj)) * (z * z - 1) / (1j * (1 + z * z - 2 * z * np.cos(beta * P)))
+            out = out + cj * (P / (2 * pj)) * lattice_factors(pj, beta, P)[0]
         else:
             t1 = 1j * P * np.exp(1j * pj * xr) / (1 - np.exp(1j * (pj - beta) * P))
             t2 = -1j * P * np.exp(1j * pj * (P - xr)) * eBP / (1 - np.exp(1j * (pj + beta) * P))

@@ -263,11 +263,12 @@ def _rotational_tables(beta, Omega, V, js, cell: TrackCell, static_j):
     Near the static point (beta' = beta - static_j beta0 -> 0 with omega -> 0) the m = 0 term H_0 of S diverges;
     with B = C + S - H_0 and D_0 = H_0^-1 (the free rail's dynamic stiffness, a polynomial) the static column's
     reactions are P (I + D_0 B)^-1 e_0, its row P [(I + B D_0)^-1 v_k]_0 and its diagonal [(I + B D_0)^-1 B]_00,
-    each finite (H_0 - H_0 (B + H_0)^-1 H_0 = (I + B D_0)^-1 B). B is formed as S - H_0 (a difference of two
-    large numbers within half a cell wavenumber of the static point, as rail.creepage.rail_flexibility does).
+    each finite (H_0 - H_0 (B + H_0)^-1 H_0 = (I + B D_0)^-1 B). S - H_0 is formed without H_0
+    (rail.track.beam_lattice_sums_excluding): as the closed form minus H_0 it lost the digits of S to the
+    cancellation, an error the integral near the static point magnified as the adaptive rule refined there.
     Returns as ``_node_tables`` (U and Y with two channels).
     """
-    from .track import beam_lattice_sums, free_beam_receptances, support_rotational_stiffness, support_stiffness
+    from .track import beam_lattice_sums, beam_lattice_sums_excluding, free_beam_receptances, support_rotational_stiffness, support_stiffness
 
     t = cell.track
     P, bP = cell.period, cell.beta_p
@@ -289,7 +290,8 @@ def _rotational_tables(beta, Omega, V, js, cell: TrackCell, static_j):
     if near.any():
         col = int(np.where(js == static_j)[0][0])
         H0 = np.stack([np.stack([Hww[near, col], HwM[near, col]], -1), np.stack([HpF[near, col], HpM[near, col]], -1)], -2)
-        B = Cm[near] + S[near] - H0
+        Xww, XwM, XpF, XpM = beam_lattice_sums_excluding(b[near, col], omega[near], t)  # S - H_0, formed without H_0
+        B = Cm[near] + np.stack([np.stack([Xww, XwM], -1), np.stack([XpF, XpM], -1)], -2)
         bn, on = b[near, col], omega[near]
         EI, kGA = rail_stiffnesses(t, on)
         r = t.rail

@@ -33,6 +33,8 @@ __all__ = [
     "support_stiffness",
     "support_rotational_stiffness",
     "beam_lattice_sums",
+    "lattice_factors",
+    "beam_lattice_sums_excluding",
     "free_beam_receptances",
     "free_receptance",
     "free_receptance_poles",
@@ -424,6 +426,40 @@ def free_beam_receptances(beta, omega, track: Track):
     return d22 * inv, 1j * b * kGA * inv, -1j * b * kGA * inv, d11 * inv
 
 
+def lattice_factors(p, beta, L):
+    """The closed forms of the lattice sums of 1 / (b^2 - p^2) and b / (b^2 - p^2), b = beta + m 2 pi / L, without
+    cancellation.
+
+    With z = exp(i p L) (Im p >= 0) and D = 1 + z^2 - 2 z cos(beta L) (docs/track.md)::
+
+        sum_m 1 / (b^2 - p^2) = (L / 2p) E,  E = (z^2 - 1) / (i D)
+        sum_m b / (b^2 - p^2) = L O,         O = z sin(beta L) / D
+
+    D is formed as (z - 1)^2 + 4 z sin^2(beta L / 2) and z - 1, z^2 - 1 by expm1: as written, 1 + z^2 - 2 z cos(beta L)
+    loses the digits of D when p L and beta L are both small (near the static point, D ~ (beta L)^2 - (p L)^2 with
+    an error of rounding 1), a relative error eps / (beta L)^2 in the sum that the wavenumber integrals near
+    beta = 0 magnified as an adaptive rule refined there.
+
+    Parameters
+    ----------
+    p : complex ndarray
+        The pole [rad/m], Im p >= 0; broadcast with ``beta``.
+    beta : float or ndarray
+        Wavenumber [rad/m].
+    L : float
+        The period [m].
+
+    Returns
+    -------
+    E, O : complex ndarray
+        [-].
+    """
+    zm1 = np.expm1(1j * p * L)
+    z = 1 + zm1
+    den = zm1 * zm1 + 4 * z * np.sin(np.asarray(beta) * L / 2) ** 2
+    return np.expm1(2j * p * L) / (1j * den), z * np.sin(np.asarray(beta) * L) / den
+
+
 def beam_lattice_sums(beta, omega, track: Track):
     """Lattice sums of the free Timoshenko rail's 2 x 2 receptance from (F, M) to (W, Psi), closed form.
 
@@ -458,18 +494,60 @@ def beam_lattice_sums(beta, omega, track: Track):
     a = kGA * EI
     s = p * p
     L = track.L
-    cb, sb = np.cos(beta * L), np.sin(beta * L)
     S_ww = S_wM = S_pM = 0j
     for j in (0, 1):
         k = 1 - j
-        z = np.exp(1j * p[j] * L)
-        den = 1 + z * z - 2 * z * cb
-        even = (L / (2 * p[j])) * (z * z - 1) / (1j * den)
-        odd = L * z * sb / den
+        E, O = lattice_factors(p[j], beta, L)
+        even = (L / (2 * p[j])) * E
+        odd = L * O
         inv = 1.0 / (a * (s[j] - s[k]))
         S_ww = S_ww + c[j] * even
         S_pM = S_pM + (kGA * s[j] - rA * omega**2) * inv * even
         S_wM = S_wM + 1j * kGA * inv * odd
+    return S_ww, S_wM, -S_wM, S_pM
+
+
+def beam_lattice_sums_excluding(beta, omega, track: Track, explicit: int = 40):
+    """The lattice sums of ``beam_lattice_sums`` without the m = 0 term, for wavenumbers near the static point.
+
+    There (beta, omega -> 0) H_ww(beta) ~ 1/(EI beta^4), H_wM ~ i/(EI beta^3) and H_psiM ~ 1/(EI beta^2) diverge, and
+    the closed form minus the m = 0 term loses the digits of S to the cancellation: an absolute error of the
+    rounding of S, eps / (EI beta^4) for S_ww, which the wavenumber integrals near beta = 0 magnify without bound
+    as an adaptive rule refines there. Here the sum is formed without the m = 0 term (as
+    rail.cell.cell_lattice_sums_excluding does for S_ww on a cell): the free receptances for 0 < abs(m) <= ``explicit``,
+    then their static forms (exact at omega = 0: det D = kGA EI b^4), H_ww = 1/(kGA b^2) + 1/(EI b^4),
+    H_wM = i/(EI b^3) = -H_psiF, H_psiM = 1/(EI b^2), summed in closed form by polygamma,
+    sum_{k>=0} 1/(z + k)^n = (-1)^n psi^(n-1)(z) / (n - 1)!, with z = explicit + 1 +- beta / beta0.
+
+    Parameters
+    ----------
+    beta, omega : ndarray, 1-D, same length
+        Wavenumbers [rad/m], abs(beta) < beta0 / 2, and angular frequencies [rad/s] (omega may be 0).
+    track : Track
+    explicit : int
+        The terms summed as they are on each side [-].
+
+    Returns
+    -------
+    S_ww, S_wM, S_psiF, S_psiM : complex ndarray (len(beta),)
+        [m^2/N], [m/N], [m/N], [1/N].
+    """
+    from scipy import special
+
+    beta = np.asarray(beta, dtype=float)
+    omega = np.asarray(omega, dtype=float)
+    b0 = track.beta0
+    m = np.concatenate([np.arange(-explicit, 0), np.arange(1, explicit + 1)])
+    Hww, HwM, HpF, HpM = free_beam_receptances(beta[:, None] + m[None, :] * b0, omega[:, None], track)
+    EI, kGA = rail_stiffnesses(track, omega)
+    a = beta / b0
+    zp, zm = explicit + 1 + a, explicit + 1 - a  # the tails m > explicit (beta + m b0 = b0 (m + a)) and m < -explicit
+    s2 = (special.polygamma(1, zp) + special.polygamma(1, zm)) / b0**2
+    s3 = (-special.polygamma(2, zp) + special.polygamma(2, zm)) / (2 * b0**3)  # odd: the negative side's sign
+    s4 = (special.polygamma(3, zp) + special.polygamma(3, zm)) / (6 * b0**4)
+    S_ww = Hww.sum(1) + s4 / EI + s2 / kGA
+    S_wM = HwM.sum(1) + 1j * s3 / EI
+    S_pM = HpM.sum(1) + s2 / EI
     return S_ww, S_wM, -S_wM, S_pM
 
 
@@ -556,7 +634,7 @@ def periodic_sum(beta, omega, track: Track):
     """Lattice sum S(beta, omega) = sum_m H(beta + m beta0, omega) in closed form (docs/track.md).
 
     sum_m 1/((beta + m beta0)^2 - p^2) = (L / (2p)) sin(pL) / (cos(pL) - cos(beta L)), evaluated as
-    (L / (2p)) (z^2 - 1) / (i (1 + z^2 - 2 z cos(beta L))), z = exp(i p L), abs(z) <= 1.
+    (L / (2p)) (z^2 - 1) / (i (1 + z^2 - 2 z cos(beta L))), z = exp(i p L), abs(z) <= 1 (``lattice_factors``).
 
     Parameters
     ----------
@@ -580,11 +658,9 @@ def periodic_sum(beta, omega, track: Track):
     beta, omega = np.broadcast_arrays(np.asarray(beta, dtype=float), np.asarray(omega, dtype=float))
     c, p = free_receptance_poles(omega, track)
     L = track.L
-    cb = np.cos(beta * L)
     out = 0j
     for cj, pj in zip(c, p):
-        z = np.exp(1j * pj * L)
-        out = out + cj * (L / (2 * pj)) * (z * z - 1) / (1j * (1 + z * z - 2 * z * cb))
+        out = out + cj * (L / (2 * pj)) * lattice_factors(pj, beta, L)[0]
     return out
 
 

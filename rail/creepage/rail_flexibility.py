@@ -77,7 +77,8 @@ from dataclasses import dataclass
 import numpy as np
 
 from ..quadrature import adaptive_panels
-from ..track import Track, damped_stiffness, damping_problem, periodic_sum, rail_stiffnesses, support_stiffness
+from ..track import (Track, beam_lattice_sums_excluding, damped_stiffness, damping_problem, lattice_factors, periodic_sum,
+                     rail_stiffnesses, support_stiffness)
 
 __all__ = ["RailHead", "HeadTable", "HeadOperator", "free_beam_matrix", "rod_receptance", "rod_lattice_sum",
            "longitudinal_support_stiffness", "moving_head_matrix", "head_table", "head_operator",
@@ -231,8 +232,40 @@ def rod_lattice_sum(beta, omega, track: Track):
     p = np.sqrt(track.rail.density * track.rail.area * w**2 / EA + 0j)
     p = np.where(p.imag < 0, -p, p)
     L = track.L
-    z = np.exp(1j * p * L)
-    return (L / (2 * p)) * (z * z - 1) / (1j * (1 + z * z - 2 * z * np.cos(b * L))) / EA
+    return (L / (2 * p)) * lattice_factors(p, b, L)[0] / EA
+
+
+def rod_lattice_sum_excluding(beta, omega, track: Track, explicit: int = 40):
+    """S_u(beta, omega) without the m = 0 term, for wavenumbers near the static point [m^2/N].
+
+    There (beta, omega -> 0) H_u(beta) ~ 1 / (EA beta^2) diverges and ``rod_lattice_sum`` minus it loses the
+    digits of S_u to the cancellation (an error eps / (EA beta^2), which the wavenumber integral near beta = 0
+    magnifies as an adaptive rule refines there). Formed without it: H_u for 0 < abs(m) <= ``explicit``, then the
+    static 1 / (EA q^2) (exact at omega = 0) summed by polygamma, as rail.track.beam_lattice_sums_excluding.
+
+    Parameters
+    ----------
+    beta, omega : ndarray, 1-D, same length
+        Wavenumbers [rad/m], abs(beta) < beta0 / 2, and angular frequencies [rad/s] (omega may be 0).
+    track : Track
+    explicit : int
+        The terms summed as they are on each side [-].
+
+    Returns
+    -------
+    complex ndarray (len(beta),)
+        [m^2/N].
+    """
+    from scipy import special
+
+    beta = np.asarray(beta, dtype=float)
+    omega = np.asarray(omega, dtype=float)
+    b0 = track.beta0
+    m = np.concatenate([np.arange(-explicit, 0), np.arange(1, explicit + 1)])
+    H = rod_receptance(beta[:, None] + m[None, :] * b0, omega[:, None], track)
+    a = beta / b0
+    s2 = (special.polygamma(1, explicit + 1 + a) + special.polygamma(1, explicit + 1 - a)) / b0**2
+    return H.sum(1) + s2 / _rod_EA(track, omega)
 
 
 def longitudinal_support_stiffness(head: RailHead, omega):
@@ -352,7 +385,7 @@ def _beam_nodes(beta, Omega, V, js, track: Track, static, want_wM=False):
         near = np.abs(beta) < track.beta0 / 2
         if near.any():
             k0 = int(np.where(js == static)[0][0])
-            Sp = S[near] - Hww[near, k0]  # S without the divergent lattice term
+            Sp = beam_lattice_sums_excluding(beta[near], om[near], track)[0]  # S without the divergent m = 0 term
             cs = c[near] + Sp
             dF[near, k0] = HpF[near, k0] * cs * Y[near]
             dM[near, k0] = (HpM[near, k0] * cs + inv[near, k0]) * Y[near]
@@ -395,7 +428,8 @@ def _beam_nodes_rotational(beta, Omega, V, js, track: Track, static):
         if near.any():
             k0 = int(np.where(js == static)[0][0])
             H0 = np.stack([np.stack([Hww[near, k0], HwM[near, k0]], -1), np.stack([HpF[near, k0], HpM[near, k0]], -1)], -2)
-            B = Cm[near] + S[near] - H0
+            Xww, XwM, XpF, XpM = beam_lattice_sums_excluding(beta[near], om[near], track)  # S - H_0, formed without H_0
+            B = Cm[near] + np.stack([np.stack([Xww, XwM], -1), np.stack([XpF, XpM], -1)], -2)
             bn, on = b[near, k0], om[near]
             EI, kGA = rail_stiffnesses(track, on)
             r = track.rail
@@ -421,8 +455,8 @@ def _rod_nodes(beta, Omega, V, js, head: RailHead, static):
     if static is not None:
         near = np.abs(beta) < t.beta0 / 2
         if near.any():
-            k0 = int(np.where(js == static)[0][0])
-            d[near, k0] = Hu[near, k0] * (c[near] + S[near] - Hu[near, k0]) * Y[near]
+            k0 = int(np.where(js == static)[0][0])  # S without its divergent m = 0 term, formed without it
+            d[near, k0] = Hu[near, k0] * (c[near] + rod_lattice_sum_excluding(beta[near], om[near], t)) * Y[near]
     return Y, Hu, d
 
 
