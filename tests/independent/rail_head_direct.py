@@ -181,3 +181,26 @@ def stationary_beam_rotational(x0, omega, track, k_theta, n=150):
         else:
             out.append(at_load[2 + load][0] - to_load[2] @ R - to_load[3] @ T)
     return tuple(out)
+
+
+def stationary_beam_rows(x0s, omega, track, xs, Ks):
+    """``stationary_beam_row`` at many load points x0s [m] at once (one system, a right-hand side per point):
+    (psi/F, psi/M) arrays of x0s' shape. At an attachment (x0 in xs) psi/F takes the mean of its two sides."""
+    x0s = np.asarray(x0s, dtype=float)
+    G = beam_green(xs[:, None] - xs[None, :], omega, track)[0]
+    lu = np.diag(1 / Ks) + G
+    Gl = beam_green(np.array([0.0]), omega, track)
+    Gs = beam_green(x0s[None, :] - xs[:, None], omega, track)  # (n, M): at x0 per unit force at xs
+    out = []
+    for load in (0, 1):  # F, M
+        R = np.linalg.solve(lu, beam_green(xs[:, None] - x0s[None, :], omega, track)[load])  # (n, M)
+        out.append(Gl[2 + load][0] - np.sum(Gs[2] * R, axis=0))
+    return tuple(out)
+
+
+def stationary_rod_rows(x0s, omega, track, xs, Kx):
+    """``stationary_rod_row`` at many load points x0s [m] at once."""
+    x0s = np.asarray(x0s, dtype=float)
+    Aeq = np.diag(1 / Kx) + rod_green(xs[:, None] - xs[None, :], omega, track)
+    R = np.linalg.solve(Aeq, rod_green(xs[:, None] - x0s[None, :], omega, track))
+    return rod_green(0.0, omega, track) - np.sum(rod_green(x0s[None, :] - xs[:, None], omega, track) * R, axis=0)
