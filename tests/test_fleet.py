@@ -289,6 +289,9 @@ def _with(path, value):
     ((("speeds",), {"distribution": "uniform", "low": 44.0, "high": 36.0, "classes": 4}),
      r"fleet\.speeds\.low = 44\.0 m/s is not allowed: it must be <= fleet\.speeds\.high = 36\.0 m/s"),
     ((("speeds",), {"values": [40.0], "weights": [1.0], "distribution": "normal"}), r"give either values and weights, or distribution"),
+    # a line break in a name split `railgrowth check`'s one line per vehicle (found by tests/test_doors.py's fuzzing)
+    ((("vehicles", 0, "name"), "lo\nco"), r"fleet\.vehicles\[0\]\.name = 'lo\\nco' is not allowed: a vehicle type's name must be one line"),
+    ((("vehicles", 1, "name"), "\x85"), r"fleet\.vehicles\[1\]\.name = '\\x85' is not allowed"),
 ])
 def test_bad_fleet_is_refused_at_start_up_naming_key_value_and_range(schema, defaults, change, message):
     with pytest.raises(config.ConfigError, match=message):

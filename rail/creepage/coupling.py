@@ -315,8 +315,13 @@ def steady_material(material: ContactMaterial, speed: float) -> ContactMaterial:
 
 def _rail_operator(head, speed: float, harmonics, mi: MarchInputs):
     """The rail head's operator over the march's period (rail.creepage.rail_flexibility.head_operator): N bays from
-    the grid, K from the force table; on a track cell (rail.creepage.rail_flexibility_cell.CellHead) the cell's one table over
-    the force table's harmonics J, the period the cell's."""
+    the grid, the force table's harmonics J = N K of the period (K = J / N per bay in each Bloch class, so that the
+    head holds the period's harmonics up to J, as the vertical forces do); on a track cell
+    (rail.creepage.rail_flexibility_cell.CellHead) the cell's one table over the same J, the period the cell's.
+
+    Before 2026-12-03 the uniform track's classes were each handed J as their K: N times the harmonics of the
+    period, N^2 times the table's size (a 16-bay period's head tables, 2,050 columns at 132,800 nodes, exhausted
+    24 GB before its first passage), and a head reaching beyond the forces' harmonics."""
     if harmonics is None:
         raise ValueError("march_with_creepage needs harmonics (the force table's K) with material.rail_flexibility.")
     span = mi.Nx * mi.delta / head.track.L
@@ -329,7 +334,9 @@ def _rail_operator(head, speed: float, harmonics, mi: MarchInputs):
             raise ValueError(f"the march's period holds {bays} bays, the track cell {head.cell.bays}: the rail's flexibility "
                              "on a cell needs the cell's period.")
         return cell_head_operator(head, speed, int(harmonics))
-    return head_operator(head, speed, int(harmonics), bays)
+    if int(harmonics) % bays:
+        raise ValueError(f"the force table's {harmonics} harmonics are not a whole number per bay of the march's {bays} bays.")
+    return head_operator(head, speed, int(harmonics) // bays, bays)
 
 
 def dynamic_creepage(sol, i, speed: float, delta: float, dt) -> float:

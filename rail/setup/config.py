@@ -262,8 +262,8 @@ def _sum_problem(key: str, values, source: str) -> list[str]:
 
 
 def _fleet_checks(fleet: dict, source: str) -> list[str]:
-    """The fleet's constraints between keys (docs/traffic.md): one creepage per axle, no two axles at one
-    position, distinct names, shares and speed weights summing to 1, one form of speed distribution
+    """The fleet's constraints between keys (docs/traffic.md): names of one printable line, one creepage per axle,
+    no two axles at one position, distinct names, shares and speed weights summing to 1, one form of speed distribution
     with its parameters, every speed class > 0."""
     from ..fleet import speed_classes
 
@@ -271,6 +271,10 @@ def _fleet_checks(fleet: dict, source: str) -> list[str]:
     vehicles = fleet["vehicles"]
     for i, v in enumerate(vehicles):
         key = f"fleet.vehicles[{i}] ({v['name']})"
+        if not str(v["name"]).isprintable():  # a line break or a control character would split or garble every line naming it
+            out.append(f"{source}: fleet.vehicles[{i}].name = {v['name']!r} is not allowed: a vehicle type's name must be one "
+                       "line of printable characters.")
+            key = f"fleet.vehicles[{i}]"
         if len(v["creepage"]) != len(v["positions"]):
             out.append(f"{source}: {key}.creepage has {len(v['creepage'])} values: it needs one per axle, "
                        f"{key}.positions has {len(v['positions'])}.")
