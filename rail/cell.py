@@ -23,8 +23,8 @@ from dataclasses import dataclass
 
 import numpy as np
 
-from .track import (Ballast, Pad, Sleeper, Track, damped_stiffness, free_receptance, free_receptance_poles, lattice_factors, require_nonnegative,
-                    require_positive)
+from .track import (Ballast, Pad, Sleeper, Track, damped_stiffness, free_receptance, free_receptance_poles, lattice_factors, lattice_tails,
+                    require_nonnegative, require_positive)
 
 __all__ = ["Support", "RailDamper", "TrackCell", "RandomSupports", "make_cell", "point_stiffness", "cell_lattice_sum", "cell_lattice_sums_excluding",
            "cell_stationary_receptance"]
@@ -284,8 +284,6 @@ def cell_lattice_sums_excluding(beta, omega, xs, period: float, track: Track, ex
     -------
     complex ndarray, shape (len(beta), len(xs))
     """
-    from scipy import special
-
     from .track import rail_stiffnesses
 
     beta = np.asarray(beta, dtype=float)
@@ -306,10 +304,7 @@ def cell_lattice_sums_excluding(beta, omega, xs, period: float, track: Track, ex
     out *= np.exp(1j * np.outer(beta, xs))
     if zero.any():  # unphased: the quasi-static rest |m| > explicit in closed form (polygamma)
         EI, kGA = rail_stiffnesses(track, omega)
-        a = beta / bP
-        M = explicit
-        s2 = (special.polygamma(1, M + 1 + a) + special.polygamma(1, M + 1 - a)) / bP**2
-        s4 = (special.polygamma(3, M + 1 + a) + special.polygamma(3, M + 1 - a)) / (6 * bP**4)
+        _, s2, _, s4 = lattice_tails(beta, bP, explicit)
         out[:, zero] += (s4 / EI + s2 / kGA)[:, None]
     return out
 

@@ -289,13 +289,12 @@ def _rotational_tables(beta, Omega, V, js, cell: TrackCell, static_j):
     row = None
     if near.any():
         col = int(np.where(js == static_j)[0][0])
-        H0 = np.stack([np.stack([Hww[near, col], HwM[near, col]], -1), np.stack([HpF[near, col], HpM[near, col]], -1)], -2)
         Xww, XwM, XpF, XpM = beam_lattice_sums_excluding(b[near, col], omega[near], t)  # S - H_0, formed without H_0
         B = Cm[near] + np.stack([np.stack([Xww, XwM], -1), np.stack([XpF, XpM], -1)], -2)
         bn, on = b[near, col], omega[near]
         EI, kGA = rail_stiffnesses(t, on)
         r = t.rail
-        D0 = np.empty_like(H0)
+        D0 = np.empty((len(bn), 2, 2), dtype=complex)
         D0[:, 0, 0] = kGA * bn**2 - r.density * r.area * on**2
         D0[:, 0, 1] = -1j * bn * kGA
         D0[:, 1, 0] = 1j * bn * kGA

@@ -34,6 +34,7 @@ __all__ = [
     "support_rotational_stiffness",
     "beam_lattice_sums",
     "lattice_factors",
+    "lattice_tails",
     "beam_lattice_sums_excluding",
     "free_beam_receptances",
     "free_receptance",
@@ -507,6 +508,37 @@ def beam_lattice_sums(beta, omega, track: Track):
     return S_ww, S_wM, -S_wM, S_pM
 
 
+def lattice_tails(beta, b0: float, explicit: int):
+    """The explicit indices 0 < abs(m) <= ``explicit`` and the rest of the lattice sums of the static powers,
+    sum over abs(m) > explicit of 1 / (beta + m b0)^n for n = 2, 3 (summed symmetrically) and 4, by polygamma:
+    sum_{k>=0} 1/(z + k)^n = (-1)^n psi^(n-1)(z) / (n - 1)!, z = explicit + 1 +- beta / b0.
+
+    Parameters
+    ----------
+    beta : ndarray
+        Wavenumbers [rad/m], abs(beta) < b0 / 2.
+    b0 : float
+        The lattice's wavenumber 2 pi / period [rad/m].
+    explicit : int
+        The terms summed as they are on each side [-].
+
+    Returns
+    -------
+    m : int ndarray (2 explicit,)
+    s2, s3, s4 : ndarray of beta's shape
+        [m^2], [m^3], [m^4].
+    """
+    from scipy import special
+
+    m = np.concatenate([np.arange(-explicit, 0), np.arange(1, explicit + 1)])
+    a = np.asarray(beta, dtype=float) / b0
+    zp, zm = explicit + 1 + a, explicit + 1 - a  # the tails m > explicit (beta + m b0 = b0 (m + a)) and m < -explicit
+    s2 = (special.polygamma(1, zp) + special.polygamma(1, zm)) / b0**2
+    s3 = (-special.polygamma(2, zp) + special.polygamma(2, zm)) / (2 * b0**3)  # odd: the negative side's sign
+    s4 = (special.polygamma(3, zp) + special.polygamma(3, zm)) / (6 * b0**4)
+    return m, s2, s3, s4
+
+
 def beam_lattice_sums_excluding(beta, omega, track: Track, explicit: int = 40):
     """The lattice sums of ``beam_lattice_sums`` without the m = 0 term, for wavenumbers near the static point.
 
@@ -516,8 +548,7 @@ def beam_lattice_sums_excluding(beta, omega, track: Track, explicit: int = 40):
     as an adaptive rule refines there. Here the sum is formed without the m = 0 term (as
     rail.cell.cell_lattice_sums_excluding does for S_ww on a cell): the free receptances for 0 < abs(m) <= ``explicit``,
     then their static forms (exact at omega = 0: det D = kGA EI b^4), H_ww = 1/(kGA b^2) + 1/(EI b^4),
-    H_wM = i/(EI b^3) = -H_psiF, H_psiM = 1/(EI b^2), summed in closed form by polygamma,
-    sum_{k>=0} 1/(z + k)^n = (-1)^n psi^(n-1)(z) / (n - 1)!, with z = explicit + 1 +- beta / beta0.
+    H_wM = i/(EI b^3) = -H_psiF, H_psiM = 1/(EI b^2), summed in closed form by polygamma (``lattice_tails``).
 
     Parameters
     ----------
@@ -532,19 +563,12 @@ def beam_lattice_sums_excluding(beta, omega, track: Track, explicit: int = 40):
     S_ww, S_wM, S_psiF, S_psiM : complex ndarray (len(beta),)
         [m^2/N], [m/N], [m/N], [1/N].
     """
-    from scipy import special
-
     beta = np.asarray(beta, dtype=float)
     omega = np.asarray(omega, dtype=float)
     b0 = track.beta0
-    m = np.concatenate([np.arange(-explicit, 0), np.arange(1, explicit + 1)])
+    m, s2, s3, s4 = lattice_tails(beta, b0, explicit)
     Hww, HwM, HpF, HpM = free_beam_receptances(beta[:, None] + m[None, :] * b0, omega[:, None], track)
     EI, kGA = rail_stiffnesses(track, omega)
-    a = beta / b0
-    zp, zm = explicit + 1 + a, explicit + 1 - a  # the tails m > explicit (beta + m b0 = b0 (m + a)) and m < -explicit
-    s2 = (special.polygamma(1, zp) + special.polygamma(1, zm)) / b0**2
-    s3 = (-special.polygamma(2, zp) + special.polygamma(2, zm)) / (2 * b0**3)  # odd: the negative side's sign
-    s4 = (special.polygamma(3, zp) + special.polygamma(3, zm)) / (6 * b0**4)
     S_ww = Hww.sum(1) + s4 / EI + s2 / kGA
     S_wM = HwM.sum(1) + 1j * s3 / EI
     S_pM = HpM.sum(1) + s2 / EI

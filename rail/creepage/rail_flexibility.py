@@ -77,8 +77,8 @@ from dataclasses import dataclass
 import numpy as np
 
 from ..quadrature import adaptive_panels
-from ..track import (Track, beam_lattice_sums_excluding, damped_stiffness, damping_problem, lattice_factors, periodic_sum,
-                     rail_stiffnesses, support_stiffness)
+from ..track import (Track, beam_lattice_sums_excluding, damped_stiffness, damping_problem, lattice_factors, lattice_tails,
+                     periodic_sum, rail_stiffnesses, support_stiffness)
 
 __all__ = ["RailHead", "HeadTable", "HeadOperator", "free_beam_matrix", "rod_receptance", "rod_lattice_sum",
            "longitudinal_support_stiffness", "moving_head_matrix", "head_table", "head_operator",
@@ -256,15 +256,11 @@ def rod_lattice_sum_excluding(beta, omega, track: Track, explicit: int = 40):
     complex ndarray (len(beta),)
         [m^2/N].
     """
-    from scipy import special
-
     beta = np.asarray(beta, dtype=float)
     omega = np.asarray(omega, dtype=float)
     b0 = track.beta0
-    m = np.concatenate([np.arange(-explicit, 0), np.arange(1, explicit + 1)])
+    m, s2, _, _ = lattice_tails(beta, b0, explicit)
     H = rod_receptance(beta[:, None] + m[None, :] * b0, omega[:, None], track)
-    a = beta / b0
-    s2 = (special.polygamma(1, explicit + 1 + a) + special.polygamma(1, explicit + 1 - a)) / b0**2
     return H.sum(1) + s2 / _rod_EA(track, omega)
 
 
@@ -427,13 +423,12 @@ def _beam_nodes_rotational(beta, Omega, V, js, track: Track, static):
         near = np.abs(beta) < track.beta0 / 2
         if near.any():
             k0 = int(np.where(js == static)[0][0])
-            H0 = np.stack([np.stack([Hww[near, k0], HwM[near, k0]], -1), np.stack([HpF[near, k0], HpM[near, k0]], -1)], -2)
             Xww, XwM, XpF, XpM = beam_lattice_sums_excluding(beta[near], om[near], track)  # S - H_0, formed without H_0
             B = Cm[near] + np.stack([np.stack([Xww, XwM], -1), np.stack([XpF, XpM], -1)], -2)
             bn, on = b[near, k0], om[near]
             EI, kGA = rail_stiffnesses(track, on)
             r = track.rail
-            D0 = np.empty_like(H0)
+            D0 = np.empty((len(bn), 2, 2), dtype=complex)
             D0[:, 0, 0] = kGA * bn**2 - r.density * r.area * on**2
             D0[:, 0, 1] = -1j * bn * kGA
             D0[:, 1, 0] = 1j * bn * kGA

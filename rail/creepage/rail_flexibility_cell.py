@@ -63,7 +63,7 @@ import numpy as np
 from ..cell import TrackCell, cell_lattice_sum, cell_sum_matrix, point_stiffness
 from .rail_flexibility import DEFAULT_HEAD_HEIGHT, DEFAULT_LONGITUDINAL_STIFFNESS, HeadOperator, HeadTable, RailHead, free_beam_matrix, rod_receptance
 from ..quadrature import adaptive_panels
-from ..track import Track, damped_stiffness
+from ..track import Track, damped_stiffness, lattice_tails
 
 __all__ = ["CellHead", "cell_head_matrix", "cell_head_table", "cell_head_operator", "rod_poles", "rod_point_stiffness"]
 
@@ -185,8 +185,6 @@ def _rod_sum_matrix(beta, omega, s, P, track, exclude_zero=False, explicit=40, t
         poles = rod_poles(omega, track)
         vals = np.stack([cell_lattice_sum(beta, omega, float(x), P, track, poles=poles) for x in xs], axis=-1)
         return vals[:, inv]
-    from scipy import special
-
     bP = 2 * np.pi / P
     m1 = np.concatenate([np.arange(-explicit, 0), np.arange(1, explicit + 1)])
     q1 = beta[:, None] + m1[None, :] * bP
@@ -199,8 +197,7 @@ def _rod_sum_matrix(beta, omega, s, P, track, exclude_zero=False, explicit=40, t
         vals[:, ~zero] += (1.0 / (EA[:, None] * q2**2)) @ np.exp(1j * np.outer(m2 * bP, xs[~zero]))
     vals *= np.exp(1j * np.outer(beta, xs))
     if zero.any():
-        a = beta / bP
-        s2 = (special.polygamma(1, explicit + 1 + a) + special.polygamma(1, explicit + 1 - a)) / bP**2
+        s2 = lattice_tails(beta, bP, explicit)[1]
         vals[:, zero] += (s2 / EA)[:, None]
     return vals[:, inv]
 
