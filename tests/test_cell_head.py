@@ -83,11 +83,11 @@ def test_the_cells_table_is_a_real_operator_and_the_dampers_and_pads_change_it()
 def test_the_growth_loop_takes_the_cells_operator_over_the_cells_period():
     head = CellHead(make_cell(TRACK, 2, spacing=[0.55, 0.65], damper=DAMPER))
     mi = types.SimpleNamespace(Nx=240, delta=head.cell.period / 240)
-    op = coupling._rail_operator(head, 40.0, 4, mi)
+    op = coupling.rail_operator(head, 40.0, 4, mi)
     assert op.bays == 1 and op.spacing == head.cell.period and op.tables[0] is cell_head_operator(head, 40.0, 4).tables[0]
     assert op.tables[0].A_Q.shape == (9, 9)
     with pytest.raises(ValueError, match="the track cell 2"):  # a period of another number of bays
-        coupling._rail_operator(head, 40.0, 4, types.SimpleNamespace(Nx=480, delta=head.cell.period / 240))
+        coupling.rail_operator(head, 40.0, 4, types.SimpleNamespace(Nx=480, delta=head.cell.period / 240))
 
 
 def test_bad_head_parameters_on_a_cell_are_refused_naming_the_key():

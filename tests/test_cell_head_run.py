@@ -46,7 +46,7 @@ def test_a_cell_of_identical_bays_grows_as_the_uniform_track_with_the_rails_flex
     # The same two-bay period with the uniform track's head (its Bloch classes, rail.creepage.rail_flexibility) and with the cell's
     # (rail.creepage.rail_flexibility_cell): from a smooth rail the bay harmonics (even lines j = 2 k) grow; measured within 9.0e-7 of
     # themselves at every k <= K = 18 (6.8e-10 at k = 1). Before 2026-12-03 the uniform operator was handed the force
-    # table's J = N K as its K per bay (N times the harmonics of the period, rail.creepage.coupling._rail_operator):
+    # table's J = N K as its K per bay (N times the harmonics of the period, rail.creepage.coupling.rail_operator):
     # then 2.5e-4 for k <= 9, 2.5e-3 at k = 12 and 4.5e-2 at k = 17. The odd lines stay at rounding (9e-15 of the
     # even ones) on both.
     h_u, uni = _run("default", CHANGES)

@@ -226,15 +226,6 @@ def test_the_config_switch_builds_the_rail_and_the_results_say_so():
     assert not rod.rail_flexibility.bending
 
 
-def test_the_spectrum_falls_back_to_the_probes_with_the_rail_and_says_why():
-    from rail.growth_spectrum import linear_unsupported
-    mat = dataclasses.replace(M0, rail_flexibility=lg.RailHead(TRACK))
-    assert linear_unsupported(mat) == "dynamic creepage from the rail's longitudinal flexibility"
-    assert linear_unsupported(M0) == ""
-    both = dataclasses.replace(mat, friction_decay=1.0)
-    assert linear_unsupported(both) == "dynamic creepage from the rail's longitudinal flexibility or falling friction"
-
-
 @pytest.mark.parametrize("damping", ["hysteretic", "viscous"])
 def test_the_free_beam_matrix_displacement_term_is_the_tracks_free_receptance(damping):
     """H_ww of the (F, M) -> (W, Psi) matrix and rail.track.free_receptance are one quantity written twice

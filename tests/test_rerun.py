@@ -250,8 +250,9 @@ def before(config, schema, small_root):
 
 # What reads each edit there: dyn_rail_shear_soft has the rail's flexibility with the head's bending, so it reads
 # config.yaml's head height (its pads' longitudinal stiffness is its own); the traffic study's cases, re-run with the
-# rail's flexibility (issue 55), read both; nothing else reads any of them.
-TRAFFIC = [f"scenario traffic_study-{d}-s{s}" for d in ("driven", "braked") for s in (0, 5, 10, 20)]
+# rail's flexibility (issue 55), read both, and so does the irregular track's damper cell (its study re-run with the rail's
+# flexibility on the cell, issue 55); nothing else reads any of them.
+TRAFFIC = [f"scenario traffic_study-{d}-s{s}" for d in ("driven", "braked") for s in (0, 5, 10, 20)] + ["scenario irregular_dampers"]
 READ_BY = {"track.rail.head_height": ["scenario dyn_rail_shear_soft", *TRAFFIC], "track.pad.longitudinal_stiffness": TRAFFIC}
 
 

@@ -129,7 +129,9 @@ def _without_band(cfg, source=""):
     for a file of config/scenarios/, without the full physics it starts from since issue 55 (the rail's flexibility and
     the wheelset of rail.setup.config.scenario_file_physics), where the file does not set them itself; for a case of the
     traffic study, without the full physics it was re-run with (the rail's flexibility, each vehicle's wheelsets and the
-    fleet spectrum's band resolved at the study's class speeds, config/traffic_study.yaml)."""
+    fleet spectrum's band resolved at the study's class speeds, config/traffic_study.yaml); and for a case of the
+    irregular track, without the full physics its study file now starts from (the rail's flexibility on the cell and the
+    motored wheelset, config/studies/irregular_track.yaml's defaults)."""
     from rail.setup.config import scenario_file_physics
 
     out = copy.deepcopy(cfg)
@@ -142,6 +144,9 @@ def _without_band(cfg, source=""):
         if not out["fleet"]["spectrum"]:
             out["fleet"].pop("spectrum")
         out["figures"]["rate_spectrum"]["speeds"] = load_yaml(ROOT / "config/config.yaml")["figures"]["rate_spectrum"]["speeds"]
+    if source.startswith("config/studies/irregular_track.yaml"):  # the irregular track re-run with the full physics (issue 55)
+        out.pop("rail_flexibility", None)
+        out.pop("wheelset", None)
     if source.startswith("config/scenarios/"):
         own = load_yaml(ROOT / source.split(" (")[0])
         for section in scenario_file_physics({"contact": {"creepage": -0.001}}, {k: own[k] for k in own if k != "contact"}):

@@ -19,7 +19,7 @@ from .rail_flexibility import head_operator
 from .rail_flexibility_cell import CellHead, cell_head_operator
 
 __all__ = ["LAGGED_STEP", "RAIL_NEWTON_STEPS", "CreepageState", "REST_STATE", "WarmStates", "march_with_creepage", "steady_material",
-           "carter_creep_slope", "dynamic_creepage"]
+           "carter_creep_slope", "dynamic_creepage", "rail_operator"]
 
 
 # the lagged coupling's threshold (march_with_creepage's ``lagged``, bay_wear's creepage_lag): a growth update
@@ -244,7 +244,7 @@ def march_with_creepage(mi: MarchInputs, material: ContactMaterial, speed: float
     op, extra, u_P, lag = None, None, 0.0, 0.0
     label = modes.label if modes is not None else ""
     if head is not None:
-        op = _rail_operator(head, speed, harmonics, mi)
+        op = rail_operator(head, speed, harmonics, mi)
         extra = op.diagonal(mi.Nx)
         u_P = op.from_vertical(mi.P[period])  # the vertical force's share: fixed over the Newton steps
         label = f"{label} and the {head.label}" if label else head.label
@@ -313,7 +313,7 @@ def steady_material(material: ContactMaterial, speed: float) -> ContactMaterial:
     return dataclasses.replace(material, friction_dynamic=mu)
 
 
-def _rail_operator(head, speed: float, harmonics, mi: MarchInputs):
+def rail_operator(head, speed: float, harmonics, mi: MarchInputs):
     """The rail head's operator over the march's period (rail.creepage.rail_flexibility.head_operator): N bays from
     the grid, the force table's harmonics J = N K of the period (K = J / N per bay in each Bloch class, so that the
     head holds the period's harmonics up to J, as the vertical forces do); on a track cell
@@ -321,7 +321,29 @@ def _rail_operator(head, speed: float, harmonics, mi: MarchInputs):
 
     Before 2026-12-03 the uniform track's classes were each handed J as their K: N times the harmonics of the
     period, N^2 times the table's size (a 16-bay period's head tables, 2,050 columns at 132,800 nodes, exhausted
-    24 GB before its first passage), and a head reaching beyond the forces' harmonics."""
+    24 GB before its first passage), and a head reaching beyond the forces' harmonics.
+
+    Parameters
+    ----------
+    head : rail.creepage.rail_flexibility.RailHead or rail.creepage.rail_flexibility_cell.CellHead
+        The rail head (the uniform track's or a track cell's).
+    speed : float
+        V [m/s].
+    harmonics : int
+        J, the force table's harmonics of the march's period [-].
+    mi : MarchInputs
+        The march's inputs (its period: N_x steps of delta [m]).
+
+    Returns
+    -------
+    rail.creepage.rail_flexibility.HeadOperator
+        u_bar_rail over the march's period from Q and P [m].
+
+    Raises
+    ------
+    ValueError
+        Where the period is not a whole number of bays (or not the cell's), or J not a whole number per bay.
+    """
     if harmonics is None:
         raise ValueError("march_with_creepage needs harmonics (the force table's K) with material.rail_flexibility.")
     span = mi.Nx * mi.delta / head.track.L

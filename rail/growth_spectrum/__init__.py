@@ -28,9 +28,9 @@ from .cell import cell_linear_operators, cell_rate_spectrum
 from .fleet import FleetRateSpectrum, combine_spectra, fleet_rate_spectrum, fleet_spectrum_of
 from .linear import linear_rates
 from .lines import band_lines, settings_lines, spectrum_lines
-from .probes import GridMismatch, RateSpectrum, batches, class_operator, linear_unsupported, locked_operator, wear_rates
+from .probes import GridMismatch, RateSpectrum, batches, class_operator, locked_operator, wear_rates
 from .spectrum import locked_kinds, rate_spectrum
 
-__all__ = ["wear_rates", "linear_unsupported", "RateSpectrum", "spectrum_lines", "rate_spectrum", "locked_operator", "class_operator",
+__all__ = ["wear_rates", "RateSpectrum", "spectrum_lines", "rate_spectrum", "locked_operator", "class_operator",
            "FleetRateSpectrum", "fleet_rate_spectrum", "combine_spectra", "fleet_spectrum_of", "GridMismatch", "batches", "linear_rates",
            "cell_linear_operators", "cell_rate_spectrum", "locked_kinds", "band_lines", "settings_lines"]

@@ -11,13 +11,15 @@ from .. import chain, wear
 from ..interaction import Roughness
 from ..moving import MovingReceptance
 from ..scenario import Scenario
-from .linear import check_held_grid, column_chunk, cos_sin_column, input_names, line_coefficient, probe_roughness, wear_tangent
+from .creepage import cell_closed_loop_wear, creepage_reference, has_creepage
+from .linear import (bay_tangent, check_held_grid, column_chunk, cos_sin_column, input_names, line_coefficient, probe_roughness, warm_train_wear,
+                     wear_tangent)
 from .probes import GridMismatch, RateSpectrum, locked_matrix, smooth_roughness, sorted_eigenvalues
 
 __all__ = ["cell_linear_operators", "cell_rate_spectrum"]
 
 
-def cell_linear_operators(scn, table, lines, eps, phase, max_columns=None, progress=None):
+def cell_linear_operators(scn, table, lines, eps, phase, max_columns=None, progress=None, details=None):
     """The 2 x 2 (cosine, sine) wear operators M at every line of a track cell, and the smooth rail's
     wear over the cell, by the tangent of the contact march about the smooth rail (method 'linear' of
     cell_rate_spectrum).
@@ -31,7 +33,10 @@ def cell_linear_operators(scn, table, lines, eps, phase, max_columns=None, progr
     of the model's own march inputs with and without a probe of amplitude eps (one force solve and
     one march_inputs per probe, no march), on the smooth rail's grid. With several wheels, each rolls
     on the smooth rail's wear of the wheels before it (from the tangent's own reference march); the
-    derivative of that wear is left out, as in linear_rates.
+    derivative of that wear is left out, as in linear_rates. With dynamic creepage (the wheelset's modes,
+    the rail head's flexibility on the cell) the reference is the smooth rail's periodic state with u_bar
+    over the cell (creepage_reference, its wear the source) and the loop of u_bar is closed over the cell's
+    harmonics (rail.growth_spectrum.creepage.cell_closed_loop_wear); falling friction is in the tangent march.
 
     Parameters
     ----------
@@ -49,6 +54,9 @@ def cell_linear_operators(scn, table, lines, eps, phase, max_columns=None, progr
         The most columns per tangent march [-] (default: about 200 MB of the pressure shape's derivative).
     progress : callable, optional
         progress(i, n) after each of the n probes' march inputs (per wheel).
+    details : list, optional
+        Filled with (wheel, march inputs, CreepageReference or None) per wheel in rolling order (the smooth
+        rail's over the cell: the linearity check's warm_train_wear).
 
     Returns
     -------
@@ -73,13 +81,16 @@ def cell_linear_operators(scn, table, lines, eps, phase, max_columns=None, progr
     order = [int(l) for l in np.argsort(scn.wheels.positions)[::-1]]
     nums = scn.contact_numerics
     cur, W0, gws, done = Roughness(Z0, N), np.zeros_like(Z0), {}, 0
+    kd = scn.wear_law.coefficient / scn.wear_law.density
     for l in order:
         mat = chain.wheel_material(scn, l)
         ref = wear.march_inputs(f0, l, cur, mat, nums, phase)
         grid = (ref.delta, ref.Nx // N, ref.M, ref.spin)
         names = input_names(ref)
         gw = gws.setdefault(ref.Nx, np.zeros((ref.Nx, ncol)))
-        chunk = column_chunk(ref, ncol, max_columns)
+        loop = has_creepage(mat)  # the loop of u_bar closed over the cell: every column's inputs at once
+        cr = creepage_reference(ref, mat, table.speed, nums, J) if loop else None
+        chunk = ncol if loop else column_chunk(ref, ncol, max_columns)
         depth = None
         for c0 in range(0, ncol, chunk):
             cs = range(c0, min(c0 + chunk, ncol))
@@ -93,8 +104,18 @@ def cell_linear_operators(scn, table, lines, eps, phase, max_columns=None, progr
                 done += 1
                 if progress is not None:
                     progress(done, ncol * len(order))
-            depth, dd = wear_tangent(scn, l, ref, table.speed, {k: np.moveaxis(np.array(v), 0, -1) for k, v in d.items()})
-            gw[:, c0:cs.stop] += dd
+            d = {k: np.moveaxis(np.array(v), 0, -1) for k, v in d.items()}
+            if loop:
+                depth = scn.wear_law.depth(cr.work)
+                gw[:, c0:cs.stop] += kd * cell_closed_loop_wear(scn, l, ref, table.speed, d, bay_tangent(scn, ref, table.speed, max_columns),
+                                                                cr)
+            else:
+                depth, dd = wear_tangent(scn, l, ref, table.speed, d)
+                gw[:, c0:cs.stop] += dd
+        if not np.all(np.isfinite(depth)):
+            raise FloatingPointError(f"the wear depth of wheel {l} is not finite (V = {table.speed:g} m/s).")
+        if details is not None:
+            details.append((l, ref, cr))
         Wl = wear.wear_spectrum(depth, J)
         W0 += Wl
         cur = wear.apply_wear(cur, Wl)
@@ -148,6 +169,7 @@ def cell_rate_spectrum(scn: Scenario, table: MovingReceptance, lines, eps: float
     """
     N = scn.roughness.bays
     lines = np.asarray(lines, dtype=int)
+    refs = []
     if not (isinstance(table, MovingReceptance) and table.supports is not None and table.bays == N):
         raise ValueError(f"a track cell of {N} bays needs its one table over the cell's harmonics (rail.moving.cell_receptance_table).")
     J = len(smooth_roughness(scn)) // 2
@@ -165,8 +187,9 @@ def cell_rate_spectrum(scn: Scenario, table: MovingReceptance, lines, eps: float
                              f"a cosine and a sine each over the cell of {N} bays)")
                     if i == n:
                         progress(f"grid phase {p + 1} of {grid_phases}: the tangent of the contact march over the cell, every probe at once")
+            refs = []
             try:
-                Ms[p], W0 = cell_linear_operators(scn, table, lines, eps, phase, max_columns=max_columns, progress=step)
+                Ms[p], W0 = cell_linear_operators(scn, table, lines, eps, phase, max_columns=max_columns, progress=step, details=refs)
             except GridMismatch as err:  # the probes of the nonlinear march for this grid phase
                 fallbacks.append(f"grid phase {phase:g}: {err}")
         if W0 is None:
@@ -180,7 +203,10 @@ def cell_rate_spectrum(scn: Scenario, table: MovingReceptance, lines, eps: float
         if p == 0:
             if progress is not None:
                 progress("linearity check: a probe of 2 eps at the first line by the nonlinear march")
-            M2 = locked_matrix(scn, table, int(lines[0]), 2 * eps, phase, Z0, W0)
+            if W0 is not None and any(cr is not None for _, _, cr in refs):
+                M2 = _warm_locked_matrix(scn, table, int(lines[0]), 2 * eps, phase, refs)
+            else:
+                M2 = locked_matrix(scn, table, int(lines[0]), 2 * eps, phase, Z0, W0)
             changes.append(abs(sorted_eigenvalues(M2)[0].real / sorted_eigenvalues(Ms[0, 0])[0].real - 1))
     rate = np.zeros(lines.size, dtype=complex)
     other = np.zeros(lines.size, dtype=complex)
@@ -195,3 +221,19 @@ def cell_rate_spectrum(scn: Scenario, table: MovingReceptance, lines, eps: float
     return RateSpectrum(wavelength=N * scn.L / lines, line=lines, locked=np.ones(lines.size, dtype=int), rate=rate, rate_other=other,
                         source=source, grid_spread=spread, sideband=np.zeros(lines.size), linearity=float(max(changes)), eps=float(eps),
                         bays=N, grid_phases=int(grid_phases), method=f"cell of {N} bays: {how}", operator=Ms.mean(axis=0))
+
+
+def _warm_locked_matrix(scn, table, j: int, eps: float, phase: float, refs):
+    """locked_matrix with the Newton steps of u_bar from the smooth rail's state to REFERENCE_TOL (warm_train_wear over
+    the cell): the linearity check of method 'linear' with dynamic creepage, whose probes' own small change of u_bar
+    march_with_creepage's default tolerance (1e-5 of the creep velocity) would leave unresolved (a few percent of the
+    rate, tests/test_linear_creepage.py)."""
+    Z0 = smooth_roughness(scn)
+    J = len(Z0) // 2
+    starts = [None] * len(refs)
+    W0 = warm_train_wear(scn, table, Z0, phase, refs, starts, periods=1)
+    cols = []
+    for kind in ("cos", "sin"):
+        W = warm_train_wear(scn, table, probe_roughness(Z0, j, kind, eps), phase, refs, starts, periods=1)
+        cols.append(cos_sin_column((W[J + j] - W0[J + j]) / eps))
+    return np.array(cols).T

@@ -50,7 +50,7 @@ from ..creepage.coupling import CreepageState, steady_material
 from .probes import GridMismatch
 
 __all__ = ["has_creepage", "CreepageReference", "creepage_reference", "closed_loop_wear", "discrete_mode_response",
-           "periodic_response_dt"]
+           "periodic_response_dt", "cell_closed_loop_wear"]
 
 # the smooth rail's u_bar and the linearity check's probes (warm_train_wear): Newton steps down to this fraction of the
 # creep velocity. 1e-8 (until 2026-12-02) left the check's probes of 2 eps = 2 nm tolerance-bound (measured on the tests'
@@ -542,3 +542,112 @@ def closed_loop_wear(scn, wheel: int, mi1, speed: float, d: dict, groups, tangen
             if g[2] is not None:
                 out[:, g[2]] = dW[:, i].imag
     return out
+
+
+def cell_closed_loop_wear(scn, wheel: int, mi, speed: float, d: dict, tangent, ref: CreepageReference):
+    """The wear's derivative at the cell's points along probe directions with the loop of u_bar closed, for one
+    wheel on a track cell (rail.growth_spectrum.cell.cell_linear_operators; closed_loop_wear's loop over the cell).
+
+    On a cell of N bays whose supports differ the smooth rail's state is periodic over the cell, not over a bay, so
+    there are no Bloch classes to keep apart: delta u_bar is taken in the real harmonics of the cell's period,
+    cos and sin(2 pi q k / n) for q = 1..J (J = N K, the head's and the forces' harmonics; k = i - spin the step,
+    n = N_x the cell's steps) and, with a free rotation, the slip rate (delta v_bar t). The tangent march gives
+    delta Q and the wear's derivative along the inputs and along that basis; the loop
+
+        c = Proj[ R[delta F] + A_Q delta Q ] + g_in,   delta Q = delta Q_in + T c,
+
+    is one real solve of 2 J (+ 1) unknowns: Proj the cell's harmonics 1..J of a sequence (the coefficients of
+    the basis), R the wheelset's response to F = (Q_{i-1} + Q_i) / 2 (exactly H_d(q) (1 + exp(-2 pi i q / n)) / 2
+    per harmonic on the smooth rail's uniform steps: discrete_mode_response), A_Q the cell's head operator as the
+    march applies it (rail.creepage.coupling.rail_operator: rail.creepage.rail_flexibility_cell.cell_head_operator), and g_in
+    the inputs' own part: the head's -A_P dP + V int E_P dP and the wheelset's response to the step times' change
+    (periodic_response_dt). With a free rotation the torque balance adds the row: the time mean of delta F (with
+    delta Q_ref from the mean load's change) is 0. Left out, as in closed_loop_wear: the wheelset's response above
+    the harmonic J.
+
+    Parameters
+    ----------
+    scn : Scenario
+        On a track cell of N = roughness.bays bays, K harmonics per bay; the wheel's material (chain.wheel_material)
+        with its sources of u_bar.
+    wheel : int
+    mi : rail.wear.MarchInputs
+        The smooth rail's march inputs of the wheel over the cell.
+    speed : float
+        V [m/s].
+    d : dict
+        The input directions (as wear_tangent's d: 'P', 'a', optionally 'shape', 'dt'), ncol real columns.
+    tangent : callable
+        tangent(material, ubar, d, dubar) -> (dwork at the cell's points (N_x, nc), dQ at the cell's steps
+        (N_x, nc)): the tangent march on mi (linear.bay_tangent).
+    ref : CreepageReference
+        The smooth rail's state with u_bar over the cell (creepage_reference with harmonics J).
+
+    Returns
+    -------
+    ndarray, shape (N_x, ncol)
+        The derivative of the work per unit area at the cell's points [J/m^2 per unit column].
+    """
+    from ..chain import wheel_material  # as closed_loop_wear
+
+    J = scn.roughness.bays * scn.harmonics
+    mat = wheel_material(scn, wheel)
+    bare = dataclasses.replace(mat, longitudinal=None, rail_flexibility=None)
+    modes, head = mat.longitudinal, mat.rail_flexibility
+    n, spin, steps = mi.Nx, mi.spin, mi.P.size
+    if not 2 * J < n:
+        raise ValueError(f"the cell's {n} steps do not resolve its {J} harmonics.")
+    dt_all = np.full(steps, mi.delta / speed) if mi.dt is None else np.asarray(mi.dt, dtype=float)
+    dub_in = ref.vbar * np.cumsum(d["dt"], axis=0) if ("dt" in d and ref.vbar != 0.0) else None
+    dW_in, dQ_in = tangent(bare, ref.ubar, d, dub_in)
+    q = np.arange(1, J + 1)
+    ang = 2 * np.pi * np.outer(np.arange(steps) - spin, q) / n
+    rigid = modes is not None and any(o == 0 for o in modes.omega)
+    B = np.hstack([np.cos(ang), np.sin(ang)] + ([np.cumsum(dt_all)[:, None]] if rigid else []))
+    zero = np.zeros_like(B)
+    dW_b, dQ_b = tangent(bare, ref.ubar, {"P": zero, "a": zero}, B)
+    op = coupling.rail_operator(head, speed, J, mi) if head is not None else None
+    Hm = (discrete_mode_response(modes, ref.dt, q, n) * 0.5 * (1 + np.exp(-2j * np.pi * q / n)) if modes is not None
+          else np.zeros(J, dtype=complex))
+
+    def proj(x):
+        """The basis's coefficients (cos 1..J, sin 1..J) of the real sequences x (n, c) over the cell's steps."""
+        X = np.fft.fft(x, axis=0)[1:J + 1] / n
+        return np.vstack([2 * X.real, -2 * X.imag])
+
+    def loop(dQ):
+        """Proj[R[delta F] + A_Q delta Q] of the force changes dQ (n, c)."""
+        X = np.fft.fft(dQ, axis=0)[1:J + 1] / n * Hm[:, None]
+        out = np.vstack([2 * X.real, -2 * X.imag])
+        if op is not None:
+            out = out + proj(np.array([op.from_force(c) for c in dQ.T]).T)
+        return out
+
+    ncol = dQ_in.shape[1]
+    g_in = loop(dQ_in)
+    dP = d["P"][spin:spin + n]
+    if op is not None:
+        g_in -= proj(np.array([op.from_vertical(c) for c in dP.T]).T)
+    F0 = 0.5 * (np.roll(ref.Q, 1) + ref.Q) - (ref.q_ref or 0.0)
+    if modes is not None and "dt" in d:
+        g_in += proj(np.real(periodic_response_dt(F0, dt_all[spin:spin + n], modes, d["dt"][spin:spin + n])))
+    A = np.eye(B.shape[1])
+    A[:2 * J] -= loop(dQ_b)
+    b = g_in
+    if rigid:
+        # the torque balance: the time mean of delta F = delta Q - delta Q_ref plus the step times' share (uniform steps)
+        dq_ref = np.zeros(ncol)
+        if modes.reference_force is None:
+            steady = steady_material(mat, speed)
+            h = 1e-6 * ref.P_mean
+            slope = (carter(0.0, ref.P_mean + h, steady, speed, mat.wheel_radius)[2]
+                     - carter(0.0, ref.P_mean - h, steady, speed, mat.wheel_radius)[2]) / (2 * h)
+            dq_ref = slope * np.mean(dP, axis=0)
+        warp_mean = np.zeros(ncol)
+        if "dt" in d:
+            ddt = d["dt"][spin:spin + n]
+            warp_mean = (F0 @ ddt - np.mean(F0) * ddt.sum(axis=0)) / (n * ref.dt)
+        A[-1] = np.mean(dQ_b, axis=0)
+        b = np.vstack([b, (-(np.mean(dQ_in, axis=0) - dq_ref + warp_mean))[None, :]])
+    c = np.linalg.solve(A, b)
+    return dW_in + dW_b @ c

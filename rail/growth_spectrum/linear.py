@@ -18,7 +18,7 @@ from .creepage import REFERENCE_STEPS, REFERENCE_TOL, closed_loop_wear, creepage
 from .probes import GridMismatch, batches
 
 __all__ = ["tangent_batches", "probe_roughness", "check_held_grid", "input_names", "column_chunk", "wear_tangent", "line_coefficient",
-           "cos_sin_column", "linear_rates", "warm_train_wear"]
+           "cos_sin_column", "linear_rates", "warm_train_wear", "bay_tangent"]
 
 
 def tangent_batches(free, locked_probes, N: int):
@@ -170,11 +170,28 @@ def wear_tangent(scn, wheel: int, ref, speed: float, d: dict):
     return scn.wear_law.depth(work[points]), kd * dwork[points]
 
 
-def _bay_tangent(scn, ref, speed: float, max_columns=None):
-    """tangent(material, ubar, d, dubar) for rail.growth_spectrum.creepage.closed_loop_wear: the tangent
-    march on the reference inputs ``ref`` with u_bar_0 given (ubar) and the directions d (as wear_tangent's)
-    and dubar (of u_bar, or None), in chunks of columns; returns the derivative of the work at the bay's
-    points x_k and of the tangential force at the bay's steps, each (N_x, nc)."""
+def bay_tangent(scn, ref, speed: float, max_columns=None):
+    """tangent(material, ubar, d, dubar) for rail.growth_spectrum.creepage.closed_loop_wear and cell_closed_loop_wear:
+    the tangent march on the reference inputs ``ref`` with u_bar_0 given (ubar) and the directions d (as
+    wear_tangent's) and dubar (of u_bar, or None), in chunks of columns.
+
+    Parameters
+    ----------
+    scn : Scenario
+        Its contact numerics (the closure).
+    ref : rail.wear.MarchInputs
+        The smooth rail's inputs over the period (one bay, or a track cell).
+    speed : float
+        V [m/s].
+    max_columns : int, optional
+        Most columns per march [-] (default: column_chunk's).
+
+    Returns
+    -------
+    callable
+        tangent(material, ubar, d, dubar) -> (dwork at the period's points x_k [J/m^2 per unit column],
+        dQ at the period's steps [N per unit column]), each (N_x, nc).
+    """
     nums = scn.contact_numerics
     points = ref.spin + ref.M + np.arange(ref.Nx)
     steps = ref.spin + np.arange(ref.Nx)
@@ -397,7 +414,7 @@ def linear_rates(scn, tabs, free, locked, eps, phase, max_columns=None, progress
             groups = [(j % N, c, c + 1 if kind == "free" else None) for c, (j, kind, imag) in enumerate(cols) if not imag]
             kd = scn.wear_law.coefficient / scn.wear_law.density
             pred = {}
-            gw += kd * closed_loop_wear(scn, l, mi1, tabs[0].speed, d, groups, _bay_tangent(scn, mi1, tabs[0].speed, max_columns),
+            gw += kd * closed_loop_wear(scn, l, mi1, tabs[0].speed, d, groups, bay_tangent(scn, mi1, tabs[0].speed, max_columns),
                                         ref=creep[w_i], predictions=pred)
             for c, (j, kind, imag) in enumerate(cols):
                 if not imag:
@@ -429,7 +446,7 @@ def linear_rates(scn, tabs, free, locked, eps, phase, max_columns=None, progress
     return R, side, Mout
 
 
-def warm_train_wear(scn, tabs, Z, grid_phase: float, refs, starts):
+def warm_train_wear(scn, tabs, Z, grid_phase: float, refs, starts, periods: int | None = None):
     """The wear of one train passage over the roughness Z (as rail.chain.train_wear: the wheels in turn, each on the
     profile the one before left), each wheel's march on its smooth rail's grid held and, with u_bar, its Newton
     steps (march_with_creepage to REFERENCE_TOL) started from the smooth rail's u_bar_0 plus a given change (the
@@ -454,6 +471,9 @@ def warm_train_wear(scn, tabs, Z, grid_phase: float, refs, starts):
     starts : list of (ndarray, complex) or None
         Per wheel: the change of u_bar's periodic part at the B N_x steps of the period from the bay's first
         [m] (its real part is taken) and of v_bar [m/s] where the Newton steps start (None: at u_bar_0).
+    periods : int, optional
+        The reference inputs' periods in Z's [-] (default B, the bays: one-bay references; 1 on a track cell,
+        whose references are over the cell).
 
     Returns
     -------
@@ -466,6 +486,7 @@ def warm_train_wear(scn, tabs, Z, grid_phase: float, refs, starts):
         Where the roughness moves a wheel's contact grid off its smooth rail's.
     """
     B = scn.roughness.bays
+    reps = B if periods is None else int(periods)
     rough = Roughness(np.asarray(Z, dtype=complex), B)
     forces = chain.solve_forces(scn, tabs, rough)
     nums = scn.contact_numerics
@@ -473,15 +494,15 @@ def warm_train_wear(scn, tabs, Z, grid_phase: float, refs, starts):
     current = rough
     for (l, mi1, cr), st in zip(refs, starts):
         mat = chain.wheel_material(scn, l)
-        mi = wear.march_inputs(forces, l, current, mat, nums, grid_phase, grid=(mi1.delta, mi1.Nx, mi1.M, mi1.spin))
-        check_held_grid(mi, mi1, B)
+        mi = wear.march_inputs(forces, l, current, mat, nums, grid_phase, grid=(mi1.delta, mi1.Nx * reps // B, mi1.M, mi1.spin))
+        check_held_grid(mi, mi1, reps)
         if cr is None:
             sol, _ = coupling.march_with_creepage(mi, mat, forces.speed, nums, harmonics=forces.harmonics)
         else:
             dtp = (np.full(mi.Nx, mi.delta / forces.speed) if mi.dt is None else np.asarray(mi.dt, dtype=float)[mi.spin:mi.spin + mi.Nx])
             phase = (np.cumsum(dtp) - dtp[0]) / float(np.sum(dtp))  # as march_with_creepage's: start.at(phase) is p
             du, dv = (np.zeros(mi.Nx), 0.0) if st is None else st
-            start = coupling.CreepageState(phase, np.tile(cr.p, B) + np.real(du), cr.vbar + float(np.real(dv)), grid=mi.Nx)
+            start = coupling.CreepageState(phase, np.tile(cr.p, reps) + np.real(du), cr.vbar + float(np.real(dv)), grid=mi.Nx)
             sol, _ = coupling.march_with_creepage(mi, mat, forces.speed, nums, tol=REFERENCE_TOL, max_iter=REFERENCE_STEPS,
                                          harmonics=forces.harmonics, start=start)
         depth = scn.wear_law.depth(sol.work[mi.spin + mi.M + np.arange(mi.Nx)])

@@ -13,7 +13,7 @@ from .. import chain
 from ..scenario import Scenario
 
 __all__ = ["GridMismatch", "batches", "wear_rates", "probe_rates", "RateSpectrum", "locked_operator", "locked_matrix", "smooth_roughness",
-           "sorted_eigenvalues", "linear_unsupported", "class_operator"]
+           "sorted_eigenvalues", "class_operator"]
 
 
 class GridMismatch(RuntimeError):
@@ -302,35 +302,6 @@ def sorted_eigenvalues(M):
     """
     ev = np.linalg.eigvals(M).astype(complex)
     return ev[np.argsort(ev.real)]
-
-
-def linear_unsupported(material) -> str:
-    """What of the contact a track cell's tangent march (rail.growth_spectrum.cell, method 'linear') does not
-    have, or ''.
-
-    On the uniform track the linear method carries every mechanism (rail.growth_spectrum.creepage: the
-    loop of u_bar closed per Bloch class, the falling friction's slope in the tangent march); a track
-    cell's tangent has none of them (a fixed creepage, the step friction law), so there the wheelset's
-    modes, the rail's longitudinal flexibility and falling friction make rate_spectrum fall back to the
-    probes.
-
-    Parameters
-    ----------
-    material : rail.contact.ContactMaterial
-
-    Returns
-    -------
-    str
-        The missing mechanisms as text [-] ('' when the tangent march applies).
-    """
-    parts = []
-    if material.longitudinal is not None:
-        parts.append("dynamic creepage from the wheelset")
-    if material.rail_flexibility is not None:
-        parts.append("dynamic creepage from the rail's longitudinal flexibility")
-    if material.friction_decay > 0:
-        parts.append("falling friction")
-    return " or ".join(parts)
 
 
 def class_operator(scn: Scenario, table, lines, eps: float = 1e-9, grid_phases: int = 2):

@@ -12,7 +12,7 @@ from ..moving import MovingReceptance
 from ..scenario import Scenario
 from .cell import cell_rate_spectrum
 from .linear import linear_rates, probe_roughness, warm_train_wear
-from .probes import GridMismatch, RateSpectrum, batches, linear_unsupported, locked_matrix, probe_rates, smooth_roughness, sorted_eigenvalues
+from .probes import GridMismatch, RateSpectrum, batches, locked_matrix, probe_rates, smooth_roughness, sorted_eigenvalues
 
 __all__ = ["rate_spectrum", "locked_kinds"]
 
@@ -63,8 +63,8 @@ def rate_spectrum(scn: Scenario, table, lines, eps: float = 1e-9, grid_phases: i
         march per line), the reference of the tests; about seven times the cost at the default
         resolution (four times on the irregular_voided cell). With the wheelset's dynamic creepage, the
         rail's longitudinal flexibility or falling friction (scn.material.longitudinal, rail_flexibility,
-        friction_decay) 'linear' linearises the periodic state with u_bar too (rail.growth_spectrum.creepage);
-        on a track cell it falls back to 'probe' for them, and the method says so.
+        friction_decay) 'linear' linearises the periodic state with u_bar too (rail.growth_spectrum.creepage:
+        per Bloch class on the uniform track, over the cell's harmonics on a track cell).
     progress : callable, optional
         Called with one line of text as the work proceeds ("<i> of <n> probe batches, grid phase
         <p> of <P>"; method 'linear'; on a cell "<i> of <n> probe inputs ..." or, for 'probe',
@@ -74,10 +74,10 @@ def rate_spectrum(scn: Scenario, table, lines, eps: float = 1e-9, grid_phases: i
     -------
     RateSpectrum
     """
-    lines, method, forced = _checked_arguments(scn, lines, eps, grid_phases, method)
+    lines, method = _checked_arguments(scn, lines, eps, grid_phases, method)
     if getattr(scn, "cell", None) is not None:
         sp = cell_rate_spectrum(scn, table, lines, eps, grid_phases, method, progress=progress)
-        return dataclasses.replace(sp, method=sp.method + forced)
+        return sp
     N = scn.roughness.bays
     tabs = (table,) if isinstance(table, MovingReceptance) else tuple(table)
     locked = locked_kinds(lines, N)
@@ -120,7 +120,7 @@ def rate_spectrum(scn: Scenario, table, lines, eps: float = 1e-9, grid_phases: i
                         source=source, grid_spread=spread, sideband=sideband, linearity=float(max(changes)) if changes else float("nan"),
                         eps=float(eps), bays=N,
                         grid_phases=int(grid_phases),
-                        method=(method + forced) if not fallbacks else f"{method}, probes at " + "; ".join(fallbacks), operator=operator)
+                        method=method if not fallbacks else f"{method}, probes at " + "; ".join(fallbacks), operator=operator)
 
 
 def _checked_arguments(scn: Scenario, lines, eps: float, grid_phases: int, method: str):
@@ -136,15 +136,7 @@ def _checked_arguments(scn: Scenario, lines, eps: float, grid_phases: int, metho
         raise ValueError(f"grid_phases = {grid_phases!r} is not allowed: it must be an integer >= 1.")
     if method not in ("linear", "probe"):
         raise ValueError(f"method = {method!r} is not allowed: it must be 'linear' or 'probe'.")
-    forced = ""
-    # a track cell's tangent lacks the mechanisms: every wheel's contact counts (its own wheelset's modes under a
-    # fleet: chain.wheel_material), not only the scenario's
-    if method == "linear" and getattr(scn, "cell", None) is not None:
-        why = " or ".join(dict.fromkeys(w for l in range(len(scn.wheels.positions))
-                                        if (w := linear_unsupported(chain.wheel_material(scn, l)))))
-        if why:
-            method, forced = "probe", f" (the tangent march of a track cell has no {why})"
-    return lines, method, forced
+    return lines, method
 
 
 def locked_kinds(lines, N: int):
