@@ -30,7 +30,8 @@ from .moving import MovingReceptance
 from .scenario import Scenario, TrackNumerics
 from .track import Track
 
-__all__ = ["wheel_offsets", "receptance_table", "track_table", "table_speed", "initial_roughness", "solve_forces", "contact_filtered",
+__all__ = ["cell_head_ready", "wheel_offsets", "receptance_table",
+           "track_table", "table_speed", "initial_roughness", "solve_forces", "contact_filtered",
            "wheel_material", "passage_wear", "train_wear", "grow", "fleet_tables", "fleet_wear",
            "fleet_wheels", "grow_fleet", "single_wheel", "ContactShift", "contact_shift",
            "SWEEP_ERROR_LIMIT"]
@@ -334,6 +335,46 @@ def train_wear(scn: Scenario, table: MovingReceptance, Z, grid_phase: float = 0.
     return dZ, slip
 
 
+def cell_head_ready(scn: Scenario, speed: float, say=None) -> float:
+    """Build (and cache for the run) the rail head's table over a track cell before the first passage, saying so: on a
+    cell of N bays the head's table (rail.creepage.rail_flexibility_cell.cell_head_table) holds the cell's 2 J + 1
+    harmonics (J = N K) and costs about Q (2 J + 1)^3 (Q attachments: the rod's and the beam's narrow peaks at every
+    harmonic set the wavenumber nodes, each node a Q J^2 product): seconds for two bays, most of an hour of CPU for
+    eight bays at K = 36 (docs/performance.md), silent in the log without this line.
+
+    Parameters
+    ----------
+    scn : Scenario
+        Its material's rail_flexibility (a CellHead on a track cell; otherwise nothing is built).
+    speed : float
+        V [m/s].
+    say : callable, optional
+        say(text) before and after the build.
+
+    Returns
+    -------
+    float
+        The build's wall time [s] (0 where there is no cell head).
+    """
+    import time
+
+    from .creepage.rail_flexibility_cell import CellHead, cell_head_operator
+
+    head = scn.material.rail_flexibility
+    if not isinstance(head, CellHead):
+        return 0.0
+    J = scn.roughness.bays * scn.harmonics
+    if say is not None:
+        say(f"the rail head's moving receptances over the cell of {head.cell.bays} bays at {speed:g} m/s: {2 * J + 1} harmonics, "
+            f"{len(head.cell.positions)} attachments (built once for the run)")
+    t0 = time.perf_counter()
+    cell_head_operator(head, float(speed), J)
+    dt = time.perf_counter() - t0
+    if say is not None:
+        say(f"the rail head's table over the cell built in {dt:.0f} s")
+    return dt
+
+
 def grow(scn: Scenario, table: MovingReceptance, roughness: Roughness | None = None, *, checkpoint=None,
          identity: dict | None = None, progress=sys.stderr, **kwargs) -> growth.GrowthHistory:
     """Roughness growth over scn.growth.passages wheel passages (sec. 5, rail.growth.run_growth).
@@ -359,6 +400,7 @@ def grow(scn: Scenario, table: MovingReceptance, roughness: Roughness | None = N
     GrowthHistory
     """
     rough = initial_roughness(scn, table_speed(table)) if roughness is None else roughness
+    cell_head_ready(scn, table_speed(table), None if progress is None else lambda t: print(t, file=progress, flush=True))
     ident = {"scenario": repr(scn), "speed": table_speed(table), "code": provenance.module_hash("rail.chain"), **(identity or {})}
     warm = coupling.WarmStates()  # the dynamic creepage's periodic state of each wheel, carried from update to update
     return growth.run_growth(lambda Z, phase: train_wear(scn, table, Z, phase, warm.states), rough, len(scn.wheels.positions),
@@ -469,6 +511,8 @@ def grow_fleet(classes, tables: dict, roughness: Roughness | None = None, *, che
             raise ValueError("roughness.frequency sets the wavelength at one speed: under a fleet at several speeds give "
                              "roughness.wavelength instead.")
         roughness = initial_roughness(scn, classes[0].speed)
+    for speed in sorted({c.speed for c in classes}):
+        cell_head_ready(scn, speed, None if progress is None else lambda t: print(t, file=progress, flush=True))
     ident = {"fleet": [(c.weight, repr(c.scenario)) for c in classes], "speeds": sorted(tables),
              "code": provenance.module_hash("rail.chain"), **(identity or {})}
     warm = coupling.WarmStates()  # each class's dynamic-creepage states, carried from update to update

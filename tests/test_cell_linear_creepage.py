@@ -69,3 +69,22 @@ def test_the_cells_linear_method_with_dynamic_creepage_matches_its_converged_pro
     assert moved.max() > 10 * err.max(), (moved, err)
     # the linearity check (probes of 2 eps by the nonlinear march, u_bar from the smooth rail's to 1e-10)
     assert 0 < fast.linearity < 1e-3
+
+
+def test_the_cell_heads_table_is_built_before_the_first_passage_and_said():
+    """The cell head's table, most of an hour of CPU for eight bays at K = 36, was built silently inside the first march of a
+    growth run or a spectrum: rail.chain.cell_head_ready builds it first and says what and how long; nothing on the uniform
+    track or without the rail's flexibility."""
+    from rail.creepage.rail_flexibility_cell import cell_head_table
+    scn, _ = _case("rail")
+    small = dataclasses.replace(scn, track_numerics=dataclasses.replace(scn.track_numerics, harmonics=2))
+    told = []
+    assert chain.cell_head_ready(small, V, told.append) >= 0.0
+    assert told[0] == "the rail head's moving receptances over the cell of 3 bays at 40 m/s: 13 harmonics, 3 attachments (built once for the run)"
+    assert told[1].startswith("the rail head's table over the cell built in ") and len(told) == 2
+    hits = cell_head_table.cache_info().hits
+    chain.cell_head_ready(small, V)
+    assert cell_head_table.cache_info().hits == hits + 1  # built once: the march's own call finds it
+    for other in (_case("motored")[0], dataclasses.replace(small, cell=None, material=_case("none")[0].material)):
+        said = []
+        assert chain.cell_head_ready(other, V, said.append) == 0.0 and said == []

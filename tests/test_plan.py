@@ -448,3 +448,21 @@ def test_rail_flexibility_target_is_dyn_fixed_and_every_case_of_its_study_file(P
     got = P.study_file_targets("rail_flexibility")
     want = ["dyn_fixed"] + list(study["cases"])
     assert sorted(got) == sorted(f"results/spectrum/{n}/rate_spectrum.png" for n in want)
+
+
+def test_a_cells_jobs_ask_the_cluster_for_the_rail_heads_table_they_build_first(P):
+    """A growth run or a spectrum on a track cell with the rail's flexibility first builds the head's table over the cell
+    (rail.chain.cell_head_ready), about 9 min of CPU for the irregular track's 8-bay cells: the growth job's runtime
+    estimate holds it (rule rate_spectrum_speed adds three times it, workflow/rules/spectrum.smk), and nothing is added
+    where there is no cell head."""
+    from rail.creepage.rail_flexibility_cell import table_seconds
+    scn = P.objects["irregular_stiff_pad"]
+    head = scn.material.rail_flexibility
+    assert P.cell_head_seconds("irregular_stiff_pad") == table_seconds(head, scn.roughness.bays * scn.harmonics) > 300
+    assert P.growth_seconds("irregular_stiff_pad") > P.cell_head_seconds("irregular_stiff_pad")
+    assert P.cell_head_seconds("irregular_dampers") < P.cell_head_seconds("irregular_voided") < P.cell_head_seconds("irregular_stiff_pad")
+    assert P.cell_head_seconds("default") == 0.0 and P.cell_head_seconds("irregular_uniform") == 0.0
+    # and the memory they peak at (1,838 and 3,382 MB measured there, against the uniform track's rules' 1,600 and 1,400)
+    from rail.creepage.rail_flexibility_cell import cell_memory_mb
+    assert cell_memory_mb(scn, 1600, 1.5) > 1838 and cell_memory_mb(scn, 1400, 4.5) > 3382
+    assert cell_memory_mb(P.objects["default"], 1400, 4.5) == 1400

@@ -65,7 +65,8 @@ from .rail_flexibility import DEFAULT_HEAD_HEIGHT, DEFAULT_LONGITUDINAL_STIFFNES
 from ..quadrature import adaptive_panels
 from ..track import Track, damped_stiffness, lattice_tails
 
-__all__ = ["CellHead", "cell_head_matrix", "cell_head_table", "cell_head_operator", "rod_poles", "rod_point_stiffness"]
+__all__ = ["CellHead", "cell_head_matrix", "cell_head_table", "cell_head_operator", "rod_poles", "rod_point_stiffness", "table_seconds",
+           "cell_memory_mb"]
 
 
 @dataclass(frozen=True)
@@ -450,3 +451,58 @@ def cell_head_operator(head: CellHead, speed: float, harmonics: int, rtol: float
     if not math.isfinite(speed) or speed <= 0:
         raise ValueError(f"speed = {speed!r} m/s is not allowed: it must be a finite number > 0.")
     return HeadOperator((cell_head_table(head, float(speed), int(harmonics), rtol),), 1, head.cell.period)
+
+
+# The cost of cell_head_table: seconds x attachments x harmonics^1.8 on one core of the 2-core machine of
+# docs/cluster.md, fitted to the irregular track's cells at 40 m/s, K = 36: 23 s for 2 bays (145 harmonics,
+# 4 attachments) and about 9 min for 8 bays (577 harmonics, 8 attachments); the 8-bay damper cell of the mitigation
+# study at 60 m/s (1,025 harmonics, 16 attachments), 2,331 s for its whole spectrum by the probes, is below it
+TABLE_SECONDS = 7.4e-4
+
+
+def table_seconds(head, harmonics: int) -> float:
+    """Estimated CPU seconds of cell_head_table (the cluster runtime of the jobs that build it, rail.setup.plan).
+
+    The rod's and the beam's narrow peaks at every harmonic set the wavenumber nodes, and each node adds a product of
+    the attachments' reactions over the harmonics: measured to grow as Q (2 J + 1)^1.8 (TABLE_SECONDS).
+
+    Parameters
+    ----------
+    head : CellHead or None
+        The cell's head (anything else: no table, 0 s).
+    harmonics : int
+        J [-], the cell's harmonics (N K).
+
+    Returns
+    -------
+    float
+        [s] on one core.
+    """
+    if not isinstance(head, CellHead):
+        return 0.0
+    return TABLE_SECONDS * len(head.cell.positions) * (2 * int(harmonics) + 1) ** 1.8
+
+
+def cell_memory_mb(scn, base: float, per_harmonic: float) -> int:
+    """Memory of a workflow job on the scenario [MB]: ``base``, and on a track cell with the rail's flexibility
+    ``per_harmonic`` MB per harmonic of the cell (2 N K + 1) for the head's table and the linear spectrum's basis of
+    u_bar over the cell (measured on the irregular track's 8-bay stiff-pad cell, 577 harmonics: the growth job 1,838 MB
+    and the spectrum 3,382 MB peak RSS, docs/cluster.md; the rules take 1.5 and 4.5 MB per harmonic).
+
+    Parameters
+    ----------
+    scn : rail.scenario.Scenario
+        Its material's rail_flexibility, roughness period N [bays] and harmonics K per bay.
+    base : float
+        The job's memory without a cell head [MB].
+    per_harmonic : float
+        MB per harmonic of the cell [MB].
+
+    Returns
+    -------
+    int
+        [MB].
+    """
+    if not isinstance(scn.material.rail_flexibility, CellHead):
+        return int(base)
+    return int(base + per_harmonic * (2 * scn.roughness.bays * scn.harmonics + 1))

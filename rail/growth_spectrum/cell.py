@@ -173,6 +173,7 @@ def cell_rate_spectrum(scn: Scenario, table: MovingReceptance, lines, eps: float
     if not (isinstance(table, MovingReceptance) and table.supports is not None and table.bays == N):
         raise ValueError(f"a track cell of {N} bays needs its one table over the cell's harmonics (rail.moving.cell_receptance_table).")
     J = len(smooth_roughness(scn)) // 2
+    chain.cell_head_ready(scn, table.speed, progress)
     Ms = np.zeros((grid_phases, lines.size, 2, 2))
     source = np.zeros(lines.size)
     changes, fallbacks = [], []

@@ -37,6 +37,7 @@ from .inputs import check_inputs, check_speed, fleet_checked, noise_files, noise
 from .study_files import (SPEED_STUDY, check_convergence_study, class_estimate, class_key, read_studies, study_summary, traffic_cases,
                           uncertainty_study)
 from .tables import table_key
+from ..creepage.rail_flexibility_cell import table_seconds
 from .targets import (CHARACTERISATION, DEFAULT_SOURCE, FORCE_FIGURES, FORCE_KEYS, GROWTH_FIGURE_KEYS, GROWTH_FIGURES,
                       HALFSPACE_FIGURES, HALFSPACE_KEYS, IRREGULAR_SPEED, PRIORITY_KERNELS, PRIORITY_TABLES,
                       REPORT_SUFFIXES, WEAR_CASE_KEYS, WEAR_FIGURES, Sweep, SweepPoint, Table, closure_label, config_part,
@@ -153,7 +154,13 @@ class Plan:
         wheels = (sum(len(c.scenario.wheels.positions) for c in self.fleet_classes[name]) if name in self.fleet_classes
                   else len(scn.wheels.positions))
         updates = scn.growth.passages / scn.growth.passages_per_update
-        return 0.5 * updates * wheels * scn.roughness.bays * (scn.contact_numerics.nodes / 61) ** 2
+        return 0.5 * updates * wheels * scn.roughness.bays * (scn.contact_numerics.nodes / 61) ** 2 + self.cell_head_seconds(name)
+
+    def cell_head_seconds(self, name: str) -> float:
+        """Estimated CPU seconds of the rail head's table over a track cell that a growth run and a spectrum on the cell
+        each build first (rail.creepage.rail_flexibility_cell.table_seconds; 0 without a cell head)."""
+        scn = self.objects[name]
+        return table_seconds(scn.material.rail_flexibility, scn.roughness.bays * scn.harmonics)
 
     def has_default_run(self, speed: float) -> bool:
         """Whether the default scenario runs at this speed (a growth run to compare with)."""

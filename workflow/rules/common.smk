@@ -7,6 +7,7 @@ from pathlib import Path
 
 from snakemake.utils import validate
 
+from rail.creepage.rail_flexibility_cell import cell_memory_mb
 from rail.provenance import code_hash
 from rail.setup.config import load_yaml, validate_config
 from rail.setup.inputs import measured_decay_file

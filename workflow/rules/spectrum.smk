@@ -23,8 +23,8 @@ rule rate_spectrum_speed:
     benchmark:
         "benchmarks/spectrum/{scenario}/V{speed}.tsv"
     resources:
-        mem_mb=1400,
-        runtime=20,
+        mem_mb=lambda w: cell_memory_mb(PLAN.objects[w.scenario], 1400, 4.5),
+        runtime=lambda w: int(20 + 3 * PLAN.cell_head_seconds(w.scenario) / 60),  # the cell head's table (docs/cluster.md)
     script:
         "../scripts/rate_spectrum.py"
 
