@@ -69,6 +69,10 @@ def test_the_cells_linear_method_with_dynamic_creepage_matches_its_converged_pro
     assert moved.max() > 10 * err.max(), (moved, err)
     # the linearity check (probes of 2 eps by the nonlinear march, u_bar from the smooth rail's to 1e-10)
     assert 0 < fast.linearity < 1e-3
+    if mechanism == "motored":  # the probes' columns handed over in chunks (the loop's basis held per wheel): the same rates
+        # (an 8-bay cell's 170 columns at once peaked at 4.6 GB: cell_linear_operators chunks them as without u_bar)
+        chunked = gs.cell_rate_spectrum(scn, tab, LINES, 1e-9, 1, max_columns=3)
+        assert np.allclose(chunked.rate, fast.rate, rtol=1e-9, atol=0) and np.allclose(chunked.rate_other, fast.rate_other, rtol=1e-9, atol=0)
 
 
 def test_the_cell_heads_table_is_built_before_the_first_passage_and_said():

@@ -88,9 +88,10 @@ def cell_linear_operators(scn, table, lines, eps, phase, max_columns=None, progr
         grid = (ref.delta, ref.Nx // N, ref.M, ref.spin)
         names = input_names(ref)
         gw = gws.setdefault(ref.Nx, np.zeros((ref.Nx, ncol)))
-        loop = has_creepage(mat)  # the loop of u_bar closed over the cell: every column's inputs at once
+        loop = has_creepage(mat)  # the loop of u_bar closed over the cell, its basis's tangent once per wheel (cache)
         cr = creepage_reference(ref, mat, table.speed, nums, J) if loop else None
-        chunk = ncol if loop else column_chunk(ref, ncol, max_columns)
+        cache = {}
+        chunk = column_chunk(ref, ncol, max_columns)
         depth = None
         for c0 in range(0, ncol, chunk):
             cs = range(c0, min(c0 + chunk, ncol))
@@ -108,7 +109,7 @@ def cell_linear_operators(scn, table, lines, eps, phase, max_columns=None, progr
             if loop:
                 depth = scn.wear_law.depth(cr.work)
                 gw[:, c0:cs.stop] += kd * cell_closed_loop_wear(scn, l, ref, table.speed, d, bay_tangent(scn, ref, table.speed, max_columns),
-                                                                cr)
+                                                                cr, cache)
             else:
                 depth, dd = wear_tangent(scn, l, ref, table.speed, d)
                 gw[:, c0:cs.stop] += dd

@@ -544,7 +544,7 @@ def closed_loop_wear(scn, wheel: int, mi1, speed: float, d: dict, groups, tangen
     return out
 
 
-def cell_closed_loop_wear(scn, wheel: int, mi, speed: float, d: dict, tangent, ref: CreepageReference):
+def cell_closed_loop_wear(scn, wheel: int, mi, speed: float, d: dict, tangent, ref: CreepageReference, cache: dict | None = None):
     """The wear's derivative at the cell's points along probe directions with the loop of u_bar closed, for one
     wheel on a track cell (rail.growth_spectrum.cell.cell_linear_operators; closed_loop_wear's loop over the cell).
 
@@ -582,6 +582,9 @@ def cell_closed_loop_wear(scn, wheel: int, mi, speed: float, d: dict, tangent, r
         (N_x, nc)): the tangent march on mi (linear.bay_tangent).
     ref : CreepageReference
         The smooth rail's state with u_bar over the cell (creepage_reference with harmonics J).
+    cache : dict, optional
+        Holds the basis's tangent and the loop's matrix between calls for one wheel and reference, so that the probes'
+        columns can be handed over in chunks (each column's loop is its own: the chunks' results are the whole's).
 
     Returns
     -------
@@ -601,11 +604,14 @@ def cell_closed_loop_wear(scn, wheel: int, mi, speed: float, d: dict, tangent, r
     dub_in = ref.vbar * np.cumsum(d["dt"], axis=0) if ("dt" in d and ref.vbar != 0.0) else None
     dW_in, dQ_in = tangent(bare, ref.ubar, d, dub_in)
     q = np.arange(1, J + 1)
-    ang = 2 * np.pi * np.outer(np.arange(steps) - spin, q) / n
     rigid = modes is not None and any(o == 0 for o in modes.omega)
-    B = np.hstack([np.cos(ang), np.sin(ang)] + ([np.cumsum(dt_all)[:, None]] if rigid else []))
-    zero = np.zeros_like(B)
-    dW_b, dQ_b = tangent(bare, ref.ubar, {"P": zero, "a": zero}, B)
+    cache = {} if cache is None else cache
+    if "dQ_b" not in cache:  # the tangent along the basis of delta u_bar, once per wheel
+        ang = 2 * np.pi * np.outer(np.arange(steps) - spin, q) / n
+        B = np.hstack([np.cos(ang), np.sin(ang)] + ([np.cumsum(dt_all)[:, None]] if rigid else []))
+        zero = np.zeros_like(B)
+        cache["dW_b"], cache["dQ_b"] = tangent(bare, ref.ubar, {"P": zero, "a": zero}, B)
+    dW_b, dQ_b = cache["dW_b"], cache["dQ_b"]
     op = coupling.rail_operator(head, speed, J, mi) if head is not None else None
     Hm = (discrete_mode_response(modes, ref.dt, q, n) * 0.5 * (1 + np.exp(-2j * np.pi * q / n)) if modes is not None
           else np.zeros(J, dtype=complex))
@@ -631,8 +637,13 @@ def cell_closed_loop_wear(scn, wheel: int, mi, speed: float, d: dict, tangent, r
     F0 = 0.5 * (np.roll(ref.Q, 1) + ref.Q) - (ref.q_ref or 0.0)
     if modes is not None and "dt" in d:
         g_in += proj(np.real(periodic_response_dt(F0, dt_all[spin:spin + n], modes, d["dt"][spin:spin + n])))
-    A = np.eye(B.shape[1])
-    A[:2 * J] -= loop(dQ_b)
+    if "A" not in cache:
+        A = np.eye(dQ_b.shape[1])
+        A[:2 * J] -= loop(dQ_b)
+        if rigid:
+            A[-1] = np.mean(dQ_b, axis=0)
+        cache["A"] = A
+    A = cache["A"]
     b = g_in
     if rigid:
         # the torque balance: the time mean of delta F = delta Q - delta Q_ref plus the step times' share (uniform steps)
@@ -647,7 +658,6 @@ def cell_closed_loop_wear(scn, wheel: int, mi, speed: float, d: dict, tangent, r
         if "dt" in d:
             ddt = d["dt"][spin:spin + n]
             warp_mean = (F0 @ ddt - np.mean(F0) * ddt.sum(axis=0)) / (n * ref.dt)
-        A[-1] = np.mean(dQ_b, axis=0)
         b = np.vstack([b, (-(np.mean(dQ_in, axis=0) - dq_ref + warp_mean))[None, :]])
     c = np.linalg.solve(A, b)
     return dW_in + dW_b @ c
