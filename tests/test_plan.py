@@ -462,7 +462,8 @@ def test_a_cells_jobs_ask_the_cluster_for_the_rail_heads_table_they_build_first(
     assert P.growth_seconds("irregular_stiff_pad") > P.cell_head_seconds("irregular_stiff_pad")
     assert P.cell_head_seconds("irregular_dampers") < P.cell_head_seconds("irregular_voided") < P.cell_head_seconds("irregular_stiff_pad")
     assert P.cell_head_seconds("default") == 0.0 and P.cell_head_seconds("irregular_uniform") == 0.0
-    # and the memory they peak at (1,838 and 3,382 MB measured there, against the uniform track's rules' 1,600 and 1,400)
+    # and the memory they peak at (growth 1,838 MB there and up to 2,353 MB on the random 8-bay cells, the spectrum 3,382 MB;
+    # against the uniform track's rules' 1,600 and 1,400)
     from rail.creepage.rail_flexibility_cell import cell_memory_mb
-    assert cell_memory_mb(scn, 1600, 1.5) > 1838 and cell_memory_mb(scn, 1400, 4.5) > 3382
+    assert cell_memory_mb(scn, 1600, 2.0) > 2353 and cell_memory_mb(scn, 1400, 4.5) > 3382
     assert cell_memory_mb(P.objects["default"], 1400, 4.5) == 1400

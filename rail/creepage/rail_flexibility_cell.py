@@ -486,8 +486,8 @@ def table_seconds(head, harmonics: int) -> float:
 def cell_memory_mb(scn, base: float, per_harmonic: float) -> int:
     """Memory of a workflow job on the scenario [MB]: ``base``, and on a track cell with the rail's flexibility
     ``per_harmonic`` MB per harmonic of the cell (2 N K + 1) for the head's table and the linear spectrum's basis of
-    u_bar over the cell (measured on the irregular track's 8-bay stiff-pad cell, 577 harmonics: the growth job 1,838 MB
-    and the spectrum 3,382 MB peak RSS, docs/cluster.md; the rules take 1.5 and 4.5 MB per harmonic).
+    u_bar over the cell (measured on the irregular track's 8-bay cells, 577 harmonics: the growth jobs 1,838-2,353 MB
+    and the stiff-pad spectrum 3,382 MB peak RSS, docs/cluster.md; the rules take 2.0 and 4.5 MB per harmonic).
 
     Parameters
     ----------

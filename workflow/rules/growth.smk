@@ -20,7 +20,7 @@ rule growth:
     benchmark:
         "benchmarks/growth/{scenario}/V{speed}.tsv"
     resources:
-        mem_mb=lambda w: cell_memory_mb(PLAN.objects[w.scenario], 1600, 1.5),
+        mem_mb=lambda w: cell_memory_mb(PLAN.objects[w.scenario], 1600, 2.0),
         runtime=growth_runtime,
     script:
         "../scripts/growth.py"
