@@ -338,9 +338,10 @@ def train_wear(scn: Scenario, table: MovingReceptance, Z, grid_phase: float = 0.
 def cell_head_ready(scn: Scenario, speed: float, say=None) -> float:
     """Build (and cache for the run) the rail head's table over a track cell before the first passage, saying so: on a
     cell of N bays the head's table (rail.creepage.rail_flexibility_cell.cell_head_table) holds the cell's 2 J + 1
-    harmonics (J = N K) and costs about Q (2 J + 1)^3 (Q attachments: the rod's and the beam's narrow peaks at every
-    harmonic set the wavenumber nodes, each node a Q J^2 product): seconds for two bays, most of an hour of CPU for
-    eight bays at K = 36 (docs/performance.md), silent in the log without this line.
+    harmonics (J = N K; Q attachments: the rod's and the beam's narrow peaks at every harmonic set the wavenumber nodes,
+    each node a Q J^2 product; measured to grow as Q (2 J + 1)^1.8, rail.creepage.rail_flexibility_cell.table_seconds):
+    23 s for two bays, about 9 min of CPU for eight bays at K = 36 (docs/performance.md), silent in the log without
+    this line.
 
     Parameters
     ----------

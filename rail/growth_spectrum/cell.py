@@ -92,7 +92,7 @@ def cell_linear_operators(scn, table, lines, eps, phase, max_columns=None, progr
         cr = creepage_reference(ref, mat, table.speed, nums, J) if loop else None
         cache = {}
         chunk = column_chunk(ref, ncol, max_columns)
-        depth = None
+        depth = scn.wear_law.depth(cr.work) if loop else None
         for c0 in range(0, ncol, chunk):
             cs = range(c0, min(c0 + chunk, ncol))
             d = {name: [] for name in names}
@@ -107,7 +107,6 @@ def cell_linear_operators(scn, table, lines, eps, phase, max_columns=None, progr
                     progress(done, ncol * len(order))
             d = {k: np.moveaxis(np.array(v), 0, -1) for k, v in d.items()}
             if loop:
-                depth = scn.wear_law.depth(cr.work)
                 gw[:, c0:cs.stop] += kd * cell_closed_loop_wear(scn, l, ref, table.speed, d, bay_tangent(scn, ref, table.speed, max_columns),
                                                                 cr, cache)
             else:
@@ -194,6 +193,7 @@ def cell_rate_spectrum(scn: Scenario, table: MovingReceptance, lines, eps: float
                 Ms[p], W0 = cell_linear_operators(scn, table, lines, eps, phase, max_columns=max_columns, progress=step, details=refs)
             except GridMismatch as err:  # the probes of the nonlinear march for this grid phase
                 fallbacks.append(f"grid phase {phase:g}: {err}")
+                refs = []  # the wheels done before the mismatch: not a reference for the check's warm start
         if W0 is None:
             W0, _ = chain.train_wear(scn, table, Z0, phase)
             for n, j in enumerate(lines):
@@ -205,7 +205,7 @@ def cell_rate_spectrum(scn: Scenario, table: MovingReceptance, lines, eps: float
         if p == 0:
             if progress is not None:
                 progress("linearity check: a probe of 2 eps at the first line by the nonlinear march")
-            if W0 is not None and any(cr is not None for _, _, cr in refs):
+            if any(cr is not None for _, _, cr in refs):
                 M2 = _warm_locked_matrix(scn, table, int(lines[0]), 2 * eps, phase, refs)
             else:
                 M2 = locked_matrix(scn, table, int(lines[0]), 2 * eps, phase, Z0, W0)
